@@ -1,0 +1,152 @@
+"""The locating-matrix algorithm of paper 003 (Schonstein & Panc, 2017), eqs. (1)–(23).
+
+A serial chain is described by its *matrix of nominal geometry* (paper 003, Table 1):
+one row per joint ``i = 1 … n`` with
+
+* the joint type, ``R`` (rotation, Δ_i = 1) or ``T`` (translation, Δ_i = 0),
+* ``P_i`` — the origin of frame {i} in frame {i−1} when q = 0, ``ⁱ⁻¹p̄_{i,i−1}``,
+* ``k_i`` — the unit joint axis in frame {i},
+* ``R_i`` — the constant rotation ``R_{i,i−1}`` of frame {i} in {i−1} at q = 0
+  (the identity for every R2T row; other arms need it),
+
+plus the tool row ``T_{n+1,n}`` (eq. 2). Then, eqs. (3)–(4),
+
+    T_{i−1,i}(q_i) = T_{i,i−1} · T_Δ(k_i; q_i),
+    T_Δ(k; q) = [ R(k; q·Δ) | (1 − Δ)·q·k ],
+
+and the locating matrices of every frame in the base, eqs. (8)–(9),
+
+    T_{i,0} = Π_{j ≤ i} T_{j−1,j},   T_{n+1,0} = T_{n,0} · T_{n+1,n}.
+
+This is also exactly the semantics of a URDF joint (``origin`` = T_{i,i−1}, ``axis`` = k_i),
+which is why every arm's URDF is generated from its table.
+
+The orientation angles of eq. (10)/(22) are α_x, β_y, γ_z with
+``R_{n+1,0} = R_z(γ_z)·R_y(β_y)·R_x(α_x)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+from armlab.kinematics.batch import as_batch
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["JointRow", "LocatingTable", "homogeneous", "orientation_angles", "rotation_about"]
+
+
+def rotation_about(k: ArrayLike, angle: ArrayLike) -> NDArray[np.float64]:
+    """R(k; θ): rotation by ``angle`` (shape ``S``) about the unit axis ``k``, shape ``S + (3, 3)``.
+
+    Rodrigues' formula ``R = I + sin θ [k]× + (1 − cos θ) [k]×²``.
+    """
+    k = np.asarray(k, dtype=float)
+    a = np.asarray(angle, dtype=float)[..., None, None]
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(a) * K + (1.0 - np.cos(a)) * (K @ K)
+
+
+def homogeneous(R: ArrayLike, p: ArrayLike) -> NDArray[np.float64]:
+    """The 4×4 matrix ``[R | p; 0 0 0 1]`` (eq. 1), broadcast over leading axes."""
+    R = np.asarray(R, dtype=float)
+    p = np.asarray(p, dtype=float)
+    shape = np.broadcast_shapes(R.shape[:-2], p.shape[:-1])
+    T = np.zeros(shape + (4, 4))
+    T[..., :3, :3] = R
+    T[..., :3, 3] = p
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def orientation_angles(R: ArrayLike) -> NDArray[np.float64]:
+    """(α_x, β_y, γ_z) of eqs. (10), (22) with ``R = R_z(γ) R_y(β) R_x(α)``, shape ``(..., 3)``.
+
+    The angles are found with the two-argument arctangent (the paper's ``A tan 2``, eq. 22).
+    At β_y = ±π/2 (gimbal lock) only α_x ∓ γ_z is defined; γ_z = 0 is returned there.
+    """
+    R = np.asarray(R, dtype=float)
+    cos_beta = np.hypot(R[..., 0, 0], R[..., 1, 0])
+    beta = np.arctan2(-R[..., 2, 0], cos_beta)
+    locked = cos_beta < 1e-12
+    alpha = np.where(locked, np.arctan2(-R[..., 1, 2], R[..., 1, 1]), np.arctan2(R[..., 2, 1], R[..., 2, 2]))
+    gamma = np.where(locked, 0.0, np.arctan2(R[..., 1, 0], R[..., 0, 0]))
+    return np.stack([alpha, beta, gamma], axis=-1)
+
+
+@dataclass(frozen=True)
+class JointRow:
+    """One row of the matrix of nominal geometry (paper 003, Table 1)."""
+
+    name: str
+    kind: Literal["R", "T"]
+    P: tuple[float, float, float]
+    k: tuple[float, float, float]
+    R: tuple[tuple[float, ...], ...] = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("R", "T"):
+            raise ValueError(f"joint {self.name!r}: type {self.kind!r} is not allowed (R or T)")
+        values = np.concatenate([np.ravel(self.P), np.ravel(self.k), np.ravel(self.R)])
+        if values.size != 15 or not np.all(np.isfinite(values)):
+            raise ValueError(f"joint {self.name!r}: P, k must be 3 finite numbers and R a 3×3 matrix")
+        norm = np.linalg.norm(self.k)
+        if abs(norm - 1.0) > 1e-9:
+            raise ValueError(f"joint {self.name!r}: axis k = {self.k} is not a unit vector")
+        R = np.asarray(self.R)
+        if np.abs(R.T @ R - np.eye(3)).max() > 1e-9 or np.linalg.det(R) < 0:
+            raise ValueError(f"joint {self.name!r}: R is not a rotation matrix")
+
+    @property
+    def delta(self) -> float:
+        """Δ_i: 1 for a rotation, 0 for a translation (eq. 3)."""
+        return 1.0 if self.kind == "R" else 0.0
+
+    @property
+    def T_fixed(self) -> NDArray[np.float64]:
+        """T_{i,i−1} of eq. (1): the constant part of the joint's locating matrix."""
+        return homogeneous(np.asarray(self.R, dtype=float), np.asarray(self.P, dtype=float))
+
+
+@dataclass(frozen=True)
+class LocatingTable:
+    """A serial chain as paper 003's matrix of nominal geometry plus the tool row T_{n+1,n}."""
+
+    rows: tuple[JointRow, ...]
+    tool: NDArray[np.float64] = field(default_factory=lambda: np.eye(4))
+
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return len(self.rows)
+
+    def T_delta(self, q: ArrayLike) -> NDArray[np.float64]:
+        """T_Δ(k_i; q_i) of eq. (3) for every joint, shape ``(..., n, 4, 4)``."""
+        q = as_batch(q, self.n)
+        out = np.empty(q.shape + (4, 4))
+        for i, row in enumerate(self.rows):
+            qi = q[..., i]
+            R = rotation_about(row.k, qi * row.delta)
+            p = (1.0 - row.delta) * qi[..., None] * np.asarray(row.k)
+            out[..., i, :, :] = homogeneous(R, p)
+        return out
+
+    def link_transforms(self, q: ArrayLike) -> NDArray[np.float64]:
+        """T_{i−1,i} = T_{i,i−1}·T_Δ(k_i; q_i), eq. (4), shape ``(..., n, 4, 4)``."""
+        fixed = np.stack([row.T_fixed for row in self.rows])
+        return fixed @ self.T_delta(q)
+
+    def frames(self, q: ArrayLike) -> NDArray[np.float64]:
+        """T_{i,0} for i = 0 … n+1 (eqs. 8–9): base, every link, tool; shape ``(..., n+2, 4, 4)``."""
+        links = self.link_transforms(q)
+        out = np.empty(links.shape[:-3] + (self.n + 2, 4, 4))
+        out[..., 0, :, :] = np.eye(4)
+        for i in range(self.n):
+            out[..., i + 1, :, :] = out[..., i, :, :] @ links[..., i, :, :]
+        out[..., self.n + 1, :, :] = out[..., self.n, :, :] @ self.tool
+        return out
+
+    def tool_pose(self, q: ArrayLike) -> NDArray[np.float64]:
+        """T_{n+1,0}, eq. (9), shape ``(..., 4, 4)``."""
+        return self.frames(q)[..., -1, :, :]

@@ -1,0 +1,78 @@
+"""Position vectors p1 … p7 of the 6-DOF URM-module arm, paper 004 (Ondočko et al.).
+
+Segments r1 … r7 lie along their module's local z axis; the active joints φ1 … φ6
+turn about the module's z axis, and the fixed bends θ2 … θ7 about its y axis.
+
+Rotation-matrix form, eqs. (1)–(7):
+
+    p1 = R_z1(φ1) r1                                                  (3)
+    p_k = p_{k−1} + R_z1(φ1) Π_{j=2..k} [R_yj(θj) R_zj(φj)] r_k         (4)–(7)
+
+(the seventh segment has a bend θ7 but no joint: φ7 = 0).
+
+Homogeneous form, eqs. (8)–(22), with T_y(θ, t) of eq. (10) carrying segment r_{j−1}:
+
+    p_{i+1} = T_z1(φ1) Π_{j=1..i} [T_y(j+1)(θ_{j+1}, r_j) T_z(j+1)(φ_{j+1})] r_{i+1}   (22)
+
+Both take φ of shape ``(..., 6)`` and return the points as ``(..., 7, 3)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from armlab.kinematics.basic_movements import T_Z5, T_Z6
+from armlab.kinematics.batch import as_batch
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["position_vectors", "position_vectors_homogeneous", "tool_pose"]
+
+
+def _angles(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> tuple[NDArray, NDArray, NDArray]:
+    phi = as_batch(phi, 6, "phi")
+    phi7 = np.concatenate([phi, np.zeros(phi.shape[:-1] + (1,))], axis=-1)  # no joint in module 7
+    theta = as_batch(theta, 6, "theta")  # θ2 … θ7
+    r = as_batch(r, 7, "r")  # |r1| … |r7|
+    return phi7, theta, r
+
+
+def position_vectors(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:
+    """p1 … p7 by the rotation matrices of eqs. (1)–(7), shape ``(..., 7, 3)``."""
+    phi7, theta, r = _angles(phi, theta, r)
+    R = T_Z6(phi7[..., 0])[..., :3, :3]  # R_z1(φ1), eq. (1)
+    p = R @ np.array([0.0, 0.0, r[0]])  # eq. (3)
+    points = [p]
+    for k in range(1, 7):  # eqs. (4)–(7)
+        R = R @ T_Z5(theta[..., k - 1])[..., :3, :3] @ T_Z6(phi7[..., k])[..., :3, :3]
+        p = p + R @ np.array([0.0, 0.0, r[k]])
+        points.append(p)
+    return np.stack(points, axis=-2)
+
+
+def _T_y(theta: ArrayLike, t_z: float) -> NDArray[np.float64]:
+    """T_y(θ, t) of eq. (10) for a segment t = (0, 0, t_z)."""
+    T = T_Z5(theta)
+    T[..., 2, 3] = t_z
+    return T
+
+
+def _module_frames(phi7: NDArray, theta: NDArray, r: NDArray) -> list[NDArray]:
+    """T_z1(φ1) Π_{j=1..i} [T_y(j+1)(θ_{j+1}, r_j) T_z(j+1)(φ_{j+1})] for i = 0 … 6 (eq. 22)."""
+    T = T_Z6(phi7[..., 0])  # T_z1(φ1), eq. (8)
+    frames = [T]
+    for i in range(1, 7):
+        T = T @ _T_y(theta[..., i - 1], r[i - 1]) @ T_Z6(phi7[..., i])  # eq. (16)
+        frames.append(T)
+    return frames
+
+
+def position_vectors_homogeneous(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:
+    """p1 … p7 by the homogeneous transformations of eqs. (8)–(22), shape ``(..., 7, 3)``."""
+    phi7, theta, r = _angles(phi, theta, r)
+    frames = _module_frames(phi7, theta, r)
+    return np.stack([(T @ np.array([0.0, 0.0, r[i], 1.0]))[..., :3] for i, T in enumerate(frames)], axis=-2)
+
+
+def tool_pose(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:
+    """Pose of the arm's end: point p7 with the orientation of module 7, shape ``(..., 4, 4)``."""
+    phi7, theta, r = _angles(phi, theta, r)
+    return _module_frames(phi7, theta, r)[-1] @ _T_y(0.0, r[6])

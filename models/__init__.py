@@ -1,0 +1,43 @@
+"""The arms: one module per paper arm, each citing its paper, plus users' own arms.
+
+``get_arm(name)`` returns an :class:`~armlab.models.arm.Arm` for a paper arm's name
+(see ``ARMS``), a URDF file path or a DH table file (``.csv``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+from armlab.models import arm4r, r2t, rr, rrrr, urm6
+from armlab.models.arm import Arm
+
+__all__ = ["ARMS", "Arm", "get_arm"]
+
+#: Paper arms by name: their modules (each with ``Parameters``, ``build(**overrides)``, ``PAPER``).
+ARMS: dict[str, ModuleType] = {"rr": rr, "rrrr": rrrr, "arm4r": arm4r, "r2t": r2t, "urm6": urm6}
+
+
+def get_arm(name: str, **overrides: float) -> Arm:
+    """A paper arm by name (parameters overridable), or a user arm from a ``.urdf``/``.csv`` file."""
+    if name in ARMS:
+        known = [f.name for f in fields(ARMS[name].Parameters)]
+        for key, value in overrides.items():
+            if key not in known:
+                raise ValueError(f"{name}: unknown parameter {key!r}; allowed: {', '.join(known)}")
+            if not np.isfinite(value):
+                raise ValueError(f"{name}: parameter {key} = {value} is not a finite number")
+        return ARMS[name].build(**overrides)
+    path = Path(name)
+    if path.suffix.lower() == ".urdf":
+        from armlab.models.custom import from_urdf
+
+        return from_urdf(path)
+    if path.suffix.lower() == ".csv":
+        from armlab.models.custom import from_dh, read_dh_csv
+
+        table, limits = read_dh_csv(path)
+        return from_dh(table, limits, name=path.stem)
+    raise ValueError(f"unknown arm {name!r}; allowed: {', '.join(ARMS)}, or a .urdf or DH .csv file")

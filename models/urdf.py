@@ -1,0 +1,166 @@
+"""The one URDF builder: an arm's matrix of nominal geometry plus its bodies → URDF text.
+
+Joint ``i`` of the URDF is row ``i`` of paper 003's matrix of nominal geometry
+(:class:`~armlab.kinematics.locating.LocatingTable`): ``origin`` is T_{i,i−1} (P_i and
+R_i as xyz/rpy) and ``axis`` is k_i, so the URDF's link frames are the table's frames
+{i} and its root link is the paper's base frame — no transform is added in code.
+
+Each moving link is a uniform solid cylinder from its frame's origin to the next
+frame's origin (mass and radius from the arm's parameters); named points and the tool
+are massless links on fixed joints. Every joint is actuated through a
+``SimpleTransmission``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+from armlab.kinematics.locating import LocatingTable, orientation_angles
+from numpy.typing import NDArray
+
+__all__ = ["Body", "JointLimits", "Point", "cylinder_inertia", "urdf_text"]
+
+
+@dataclass(frozen=True)
+class Body:
+    """Mass properties and look of one link: a uniform cylinder of ``mass`` and ``radius``."""
+
+    mass: float
+    radius: float
+    color: tuple[float, float, float, float] = (0.8, 0.45, 0.1, 1.0)
+
+
+@dataclass(frozen=True)
+class JointLimits:
+    """Position limits (``None`` = unlimited revolute), effort and velocity limits, SI."""
+
+    lower: float | None
+    upper: float | None
+    effort: float
+    velocity: float
+
+
+@dataclass(frozen=True)
+class Point:
+    """A named point: a frame on link ``link`` (0 base, 1 … n links, n+1 tool) at ``xyz``."""
+
+    name: str
+    link: int
+    xyz: tuple[float, float, float]
+
+
+def _f(x: float) -> str:
+    return repr(float(x)) if x != 0 else "0"
+
+
+def _origin(T: NDArray) -> str:
+    rpy = orientation_angles(T[:3, :3])
+    return f'<origin xyz="{" ".join(map(_f, T[:3, 3]))}" rpy="{" ".join(map(_f, rpy))}"/>'
+
+
+def _z_to(direction: NDArray) -> NDArray:
+    """A rotation taking the z axis onto ``direction`` (unit)."""
+    z = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(z, direction)
+    s, c = np.linalg.norm(axis), float(z @ direction)
+    if s < 1e-12:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]]) / s
+    return np.eye(3) + s * K + (1 - c) * K @ K
+
+
+def cylinder_inertia(mass: float, radius: float, length: float) -> NDArray:
+    """Inertia of a uniform solid cylinder about its centre, axis along z."""
+    side = mass * (3 * radius**2 + length**2) / 12
+    return np.diag([side, side, mass * radius**2 / 2])
+
+
+def _segment(axis: NDArray, end: NDArray, radius: float) -> tuple[NDArray, NDArray, float]:
+    """Frame (4×4, z along the cylinder, origin at its centre) and length of a link's cylinder."""
+    length = float(np.linalg.norm(end))
+    if length < 1e-9:  # no offset to the next frame: a short drum on the joint axis
+        length = 2 * radius
+        T = np.eye(4)
+        T[:3, :3] = _z_to(axis)
+        return T, np.zeros(3), length
+    T = np.eye(4)
+    T[:3, :3] = _z_to(end / length)
+    T[:3, 3] = end / 2
+    return T, end / 2, length
+
+
+def urdf_text(
+    name: str,
+    table: LocatingTable,
+    bodies: tuple[Body, ...],
+    limits: tuple[JointLimits, ...],
+    points: tuple[Point, ...],
+    tool_name: str = "tool",
+    comment: str = "",
+) -> str:
+    """URDF of the chain: links ``base_link``, ``link1`` … ``linkN``, ``tool_name`` and the points.
+
+    ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint.
+    """
+    n = table.n
+    if len(bodies) != n or len(limits) != n:
+        raise ValueError(f"{name}: need {n} bodies and {n} joint limits, got {len(bodies)} and {len(limits)}")
+    link_names = ["base_link"] + [f"link{i}" for i in range(1, n + 1)] + [tool_name]
+    out = ['<?xml version="1.0"?>']
+    if comment:
+        out.append(f"<!-- {comment} -->")
+    out.append(f"<robot name={quoteattr(name)}>")
+    out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
+    base_r = max(b.radius for b in bodies) * 2.5
+    out.append('  <link name="base_link">')
+    out.append(f'    <visual><origin xyz="0 0 {_f(-base_r / 4)}"/>'
+               f'<geometry><cylinder radius="{_f(base_r)}" length="{_f(base_r / 2)}"/></geometry>'
+               '<material name="base"/></visual>')
+    out.append("  </link>")
+    ends = [row.P for row in table.rows[1:]] + [tuple(table.tool[:3, 3])]
+    for i, (row, body, lim, end) in enumerate(zip(table.rows, bodies, limits, ends, strict=True), start=1):
+        seg, com, length = _segment(np.asarray(row.k), np.asarray(end, dtype=float), body.radius)
+        inertia = seg[:3, :3] @ cylinder_inertia(body.mass, body.radius, length) @ seg[:3, :3].T
+        joint_drum = np.eye(4)
+        joint_drum[:3, :3] = _z_to(np.asarray(row.k))
+        rgba = " ".join(map(_f, body.color))
+        out.append(f'  <link name="link{i}">')
+        out.append(f'    <inertial><origin xyz="{" ".join(map(_f, com))}"/><mass value="{_f(body.mass)}"/>'
+                   f'<inertia ixx="{_f(inertia[0, 0])}" ixy="{_f(inertia[0, 1])}" ixz="{_f(inertia[0, 2])}"'
+                   f' iyy="{_f(inertia[1, 1])}" iyz="{_f(inertia[1, 2])}" izz="{_f(inertia[2, 2])}"/></inertial>')
+        out.append(f'    <visual>{_origin(seg)}<geometry><cylinder radius="{_f(body.radius)}" '
+                   f'length="{_f(length)}"/></geometry><material name="link{i}"><color rgba="{rgba}"/>'
+                   "</material></visual>")
+        out.append(f'    <visual>{_origin(joint_drum)}<geometry><cylinder radius="{_f(body.radius * 1.4)}" '
+                   f'length="{_f(body.radius * 2.8)}"/></geometry><material name="joint">'
+                   '<color rgba="0.15 0.15 0.15 1"/></material></visual>')
+        out.append("  </link>")
+        kind = "prismatic" if row.kind == "T" else ("continuous" if lim.lower is None else "revolute")
+        out.append(f'  <joint name="{row.name}" type="{kind}">')
+        out.append(f'    <parent link="{link_names[i - 1]}"/><child link="link{i}"/>')
+        out.append(f"    {_origin(row.T_fixed)}")
+        out.append(f'    <axis xyz="{" ".join(map(_f, row.k))}"/>')
+        bounds = "" if lim.lower is None else f'lower="{_f(lim.lower)}" upper="{_f(lim.upper)}" '
+        out.append(f'    <limit {bounds}effort="{_f(lim.effort)}" velocity="{_f(lim.velocity)}"/>')
+        out.append("  </joint>")
+    out.append(f'  <link name="{tool_name}"><visual><geometry><sphere radius="{_f(bodies[-1].radius * 1.2)}"/>'
+               '</geometry><material name="tool"><color rgba="0.85 0.1 0.1 1"/></material></visual></link>')
+    out.append(f'  <joint name="{tool_name}_weld" type="fixed"><parent link="link{n}"/>'
+               f"<child link=\"{tool_name}\"/>{_origin(table.tool)}</joint>")
+    for point in points:
+        if point.name in link_names:
+            continue  # the point is already a link (e.g. the tool)
+        out.append(f'  <link name="{point.name}"/>')
+        out.append(f'  <joint name="{point.name}_weld" type="fixed"><parent link="{link_names[point.link]}"/>'
+                   f'<child link="{point.name}"/><origin xyz="{" ".join(map(_f, point.xyz))}"/></joint>')
+    for row in table.rows:
+        out.append(f'  <transmission name="{row.name}_transmission">'
+                   "<type>transmission_interface/SimpleTransmission</type>"
+                   f'<joint name="{row.name}"><hardwareInterface>hardware_interface/EffortJointInterface'
+                   "</hardwareInterface></joint>"
+                   f'<actuator name="{row.name}_motor"><mechanicalReduction>1</mechanicalReduction></actuator>'
+                   "</transmission>")
+    out.append("</robot>")
+    return "\n".join(out) + "\n"
