@@ -6,7 +6,8 @@ be empty for an unlimited revolute joint) and an optional first line
 ``# convention: standard`` or ``# convention: modified`` (standard if absent).
 
 A URDF file must describe one serial chain (fixed joints are folded into the next
-joint's origin); its root link is the base frame and its last link the tool.
+joint's origin; fixed side branches become named points); its root link is the base frame
+and the tool is the end of the chain (past the last joint, the first fixed child declared).
 """
 
 from __future__ import annotations
@@ -110,6 +111,15 @@ def _vector(text: str | None, what: str, default: str) -> np.ndarray:
     return np.array([_number(p, what) for p in parts])
 
 
+def _origin(joint: ET.Element, path: Path) -> np.ndarray:
+    """A URDF joint's ``<origin>`` as a 4×4 matrix (rpy: R = Rz(y)·Ry(p)·Rx(r))."""
+    origin = joint.find("origin")
+    name = joint.get("name")
+    xyz = _vector(None if origin is None else origin.get("xyz"), f"{path}: joint {name!r} origin xyz", "0 0 0")
+    rpy = _vector(None if origin is None else origin.get("rpy"), f"{path}: joint {name!r} origin rpy", "0 0 0")
+    return homogeneous((T_Z6(rpy[2]) @ T_Z5(rpy[1]) @ T_Z4(rpy[0]))[:3, :3], xyz)
+
+
 def from_urdf(path: str | Path) -> Arm:
     """An arm from a user's URDF file of one serial chain; errors name what is wrong."""
     path = Path(path)
@@ -134,24 +144,35 @@ def from_urdf(path: str | Path) -> Arm:
     roots = [name for name in links if name not in has_parent]
     if len(roots) != 1:
         raise ValueError(f"{path}: a serial arm has one root link, found {roots}")
+    def leads_to_motion(joint: ET.Element) -> bool:
+        if joint.get("type") != "fixed":
+            return True
+        return any(leads_to_motion(j) for j in children.get(joint.find("child").get("link"), []))
+
     rows, limits, masses, points = [], [], [], []
     carried = np.eye(4)
     link = roots[0]
     while link in children:
-        if len(children[link]) != 1:
-            raise ValueError(f"{path}: link {link!r} has {len(children[link])} child joints; armlab takes serial chains")
-        joint = children[link][0]
+        moving = [j for j in children[link] if leads_to_motion(j)]
+        if len(moving) > 1:
+            raise ValueError(
+                f"{path}: link {link!r} branches into {len(moving)} moving chains; armlab takes serial arms"
+            )
+        # side branches of fixed joints are named points; past the last joint the first is the tool
+        joint, *side = moving or children[link]
+        for other in side + [j for j in children[link] if j not in moving and j is not joint]:
+            T = carried @ _origin(other, path)
+            points.append(Point(other.find("child").get("link"), len(rows), tuple(T[:3, 3])))
         name, kind = joint.get("name"), joint.get("type")
-        origin = joint.find("origin")
-        xyz = _vector(None if origin is None else origin.get("xyz"), f"joint {name!r} origin xyz", "0 0 0")
-        rpy = _vector(None if origin is None else origin.get("rpy"), f"joint {name!r} origin rpy", "0 0 0")
-        T = carried @ homogeneous((T_Z6(rpy[2]) @ T_Z5(rpy[1]) @ T_Z4(rpy[0]))[:3, :3], xyz)
+        T = carried @ _origin(joint, path)
         link = joint.find("child").get("link")
         if kind == "fixed":
             carried = T
             continue
         if kind not in ("revolute", "continuous", "prismatic"):
-            raise ValueError(f"{path}: joint {name!r} has type {kind!r}; allowed: revolute, continuous, prismatic, fixed")
+            raise ValueError(
+                f"{path}: joint {name!r} has type {kind!r}; allowed: revolute, continuous, prismatic, fixed"
+            )
         axis = _vector(joint.find("axis").get("xyz") if joint.find("axis") is not None else None,
                        f"joint {name!r} axis", "1 0 0")
         if np.linalg.norm(axis) < 1e-12:
@@ -169,7 +190,6 @@ def from_urdf(path: str | Path) -> Arm:
             limits.append(JointLimits(lo, hi, _number(limit.get("effort", "100"), "effort"), 5.0))
         element = root.find(f"link[@name='{link}']/inertial/mass")
         masses.append(0.0 if element is None else _number(element.get("value", "0"), f"link {link!r} mass"))
-        points.append(Point(link, len(rows), (0.0, 0.0, 0.0)))
         carried = np.eye(4)
     if not rows:
         raise ValueError(f"{path}: the URDF has no movable joint")

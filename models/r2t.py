@@ -21,7 +21,10 @@ from armlab.kinematics.locating import JointRow, LocatingTable
 from armlab.models.arm import MODELS_DIR, Arm, chosen, from_paper, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point
 
-PAPER = "003: Schonstein & Panc, Kinematical modelling for R2T serial structure, Acta Technica Napocensis 2017, Table 1, eqs. (13)-(33)"
+PAPER = (
+    "003: Schonstein & Panc, Kinematical modelling for R2T serial structure, Acta Technica Napocensis 2017, "
+    "Table 1, eqs. (13)-(33)"
+)
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,9 @@ class Parameters:
     m2: float = chosen(1.5, "000 publishes no masses; a 40 cm tube of 30 mm radius")
     m3: float = chosen(1.0, "000 publishes no masses; a 30 cm tube of 25 mm radius")
     m4: float = chosen(0.5, "000 publishes no masses; a 20 cm tube of 20 mm radius")
-    theta_max: float = chosen(np.pi, "joints 2-4 limited to ±π; joint 1 turns without limit (000 runs ω01 = 7 rad/s for 15 s)")
+    theta_max: float = chosen(
+        np.pi, "joints 2-4 limited to ±π; joint 1 turns without limit (000 runs ω01 = 7 rad/s for 15 s)"
+    )
 
 
 def forward(q: NDArray, p: Parameters) -> Forward:

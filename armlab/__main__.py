@@ -1,0 +1,7 @@
+"""``python -m armlab`` runs the CLI."""
+
+import sys
+
+from armlab.cli import main
+
+sys.exit(main())

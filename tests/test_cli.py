@@ -1,0 +1,102 @@
+"""The ``armlab`` command line as a user runs it: output contract, errors, exit codes."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import ARM_NAMES
+
+from armlab.models import get_arm
+
+
+def armlab(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "armlab", *args], capture_output=True, text=True, timeout=120)
+
+
+def test_list_names_every_arm_with_paper_and_dof():
+    out = armlab("list")
+    assert out.returncode == 0
+    lines = out.stdout.strip().splitlines()
+    assert [line.split()[0] for line in lines] == ARM_NAMES
+    for line, name in zip(lines, ARM_NAMES, strict=True):
+        assert f"{get_arm(name).n} DOF" in line and "paper" in line
+
+
+@pytest.mark.parametrize("name", ARM_NAMES)
+def test_show_json(name):
+    out = armlab("show", name, "--json")
+    assert out.returncode == 0, out.stderr
+    info = json.loads(out.stdout)
+    assert set(info) == {"name", "paper", "joints", "parameters", "urdf", "tool_frame"}
+    arm = get_arm(name)
+    assert info["name"] == name and info["tool_frame"] == arm.tool_name
+    assert [j["name"] for j in info["joints"]] == arm.joint_names
+    assert all(set(j) == {"name", "type", "lower", "upper"} for j in info["joints"])
+    assert info["parameters"] == dict(arm.parameters)
+    assert info["urdf"].endswith(f"{name}.urdf")
+
+
+@pytest.mark.parametrize("name", ARM_NAMES)
+def test_fk_json_matches_the_library(name):
+    arm = get_arm(name)
+    q = np.array([0.3, -0.2, 0.25, 0.1, -0.4, 0.5][: arm.n])
+    q = np.where(arm.revolute, q, 0.1)  # prismatic joints: 0.1 m, inside the strokes
+    out = armlab("fk", name, "--q", ",".join(map(repr, q.tolist())), "--json")
+    assert out.returncode == 0, out.stderr
+    result = json.loads(out.stdout)
+    fk = arm.forward(q)
+    assert result["arm"] == name and result["q"] == q.tolist()
+    np.testing.assert_allclose(result["tool"]["position"], fk.tool[:3, 3], atol=1e-15)
+    np.testing.assert_allclose(result["tool"]["rotation"], fk.tool[:3, :3], atol=1e-15)
+    assert list(result["points"]) == list(fk.points)
+
+
+def test_fk_deg_converts_revolute_only():
+    out = armlab("fk", "r2t", "--q", "90,0.1,0.2", "--deg", "--json")
+    assert json.loads(out.stdout)["q"] == pytest.approx([np.pi / 2, 0.1, 0.2], abs=1e-15)
+
+
+def test_fk_urm6_table1_human_output():
+    out = armlab("fk", "urm6", "--q", "15,30,50,130,230,340", "--deg")
+    assert out.returncode == 0
+    assert "p7" in out.stdout and "+0.797180" in out.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (("fk", "puma", "--q", "1"), "unknown arm 'puma'"),
+        (("fk", "rr", "--q", "1,2,3"), "rr has 2 joints, got 3"),
+        (("fk", "rr", "--q", "1,nan"), "'nan' is not a finite number"),
+        (("fk", "rr", "--q", "1,inf"), "'inf' is not a finite number"),
+        (("fk", "rr", "--q", "1,abc"), "'abc' is not a number"),
+        (("fk", "arm4r", "--q", "170,0,0,0", "--deg"), "joint1 = 2.96706 rad is outside its limits"),
+        (("fk", "rr"), "required: --q"),
+        (("show", "/no/such/arm.urdf"), "cannot read URDF"),
+        (("ik", "rr", "--target", "2,0"), "2"),
+        (("ik", "rr", "--target", "0.5,nan"), "nan"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(args, message):
+    out = armlab(*args)
+    assert out.returncode == 2
+    assert out.stdout == ""
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("armlab: error:"), out.stderr
+    assert message in lines[0]
+
+
+def test_negative_values_need_no_equals_sign():
+    out = armlab("fk", "rr", "--q", "-38,98", "--deg", "--json")
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["tool"]["position"][:2] == pytest.approx([0.4652, 0.0135], abs=5e-5)
+
+
+def test_help_does_not_import_drake():
+    code = "import sys; from armlab.cli import build_parser; build_parser(); print('pydrake' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
