@@ -87,11 +87,10 @@ class DHTable:
     def frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{0,i} for i = 0 … n (base first), shape ``(..., n+1, 4, 4)``."""
         links = self.link_transforms(q)
-        out = np.empty(links.shape[:-3] + (self.n + 1, 4, 4))
-        out[..., 0, :, :] = np.eye(4)
+        frames = [np.broadcast_to(np.eye(4), links.shape[:-3] + (4, 4))]
         for i in range(self.n):
-            out[..., i + 1, :, :] = out[..., i, :, :] @ links[..., i, :, :]
-        return out
+            frames.append(frames[-1] @ np.ascontiguousarray(links[..., i, :, :]))
+        return np.stack(frames, axis=-3)
 
     def end_pose(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{0,n}, shape ``(..., 4, 4)``."""

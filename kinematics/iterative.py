@@ -97,7 +97,7 @@ def iterative_kinematics(
         for key, value in (("w", w), ("v", v), ("wd", wd), ("vd", vd)):
             out[key][..., i, :] = value
     RT = np.swapaxes(R0, -1, -2)
-    own = {key: np.einsum("...ij,...j->...i", RT, value) for key, value in out.items()}  # (28)–(31)
+    own = {key: (RT @ value[..., None])[..., 0] for key, value in out.items()}  # (28)–(31)
     return LinkMotion(
         w_0=out["w"], v_0=out["v"], wd_0=out["wd"], vd_0=out["vd"],
         w_i=own["w"], v_i=own["v"], wd_i=own["wd"], vd_i=own["vd"],

@@ -124,28 +124,27 @@ class LocatingTable:
     def T_delta(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_Δ(k_i; q_i) of eq. (3) for every joint, shape ``(..., n, 4, 4)``."""
         q = as_batch(q, self.n)
-        out = np.empty(q.shape + (4, 4))
+        out = []
         for i, row in enumerate(self.rows):
             qi = q[..., i]
             R = rotation_about(row.k, qi * row.delta)
             p = (1.0 - row.delta) * qi[..., None] * np.asarray(row.k)
-            out[..., i, :, :] = homogeneous(R, p)
-        return out
+            out.append(homogeneous(R, p))
+        return np.stack(out, axis=-3)
 
     def link_transforms(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{i−1,i} = T_{i,i−1}·T_Δ(k_i; q_i), eq. (4), shape ``(..., n, 4, 4)``."""
-        fixed = np.stack([row.T_fixed for row in self.rows])
-        return fixed @ self.T_delta(q)
+        T_delta = self.T_delta(q)
+        return np.stack([row.T_fixed @ T_delta[..., i, :, :] for i, row in enumerate(self.rows)], axis=-3)
 
     def frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{i,0} for i = 0 … n+1 (eqs. 8–9): base, every link, tool; shape ``(..., n+2, 4, 4)``."""
         links = self.link_transforms(q)
-        out = np.empty(links.shape[:-3] + (self.n + 2, 4, 4))
-        out[..., 0, :, :] = np.eye(4)
+        frames = [np.broadcast_to(np.eye(4), links.shape[:-3] + (4, 4))]
         for i in range(self.n):
-            out[..., i + 1, :, :] = out[..., i, :, :] @ links[..., i, :, :]
-        out[..., self.n + 1, :, :] = out[..., self.n, :, :] @ self.tool
-        return out
+            frames.append(frames[-1] @ np.ascontiguousarray(links[..., i, :, :]))
+        frames.append(frames[-1] @ self.tool)
+        return np.stack(frames, axis=-3)
 
     def tool_pose(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{n+1,0}, eq. (9), shape ``(..., 4, 4)``."""

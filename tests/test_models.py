@@ -91,3 +91,13 @@ def test_bad_parameter_overrides(bad):
 def test_unknown_arm():
     with pytest.raises(ValueError, match="unknown arm 'puma'"):
         get_arm("puma")
+
+
+def test_models_readme_lists_every_parameter_and_its_source():
+    from armlab.models.arm import MODELS_DIR
+
+    readme = (MODELS_DIR / "README.md").read_text()
+    for name in ARMS:
+        arm = get_arm(name)
+        for key, value in arm.parameters.items():
+            assert f"| {key} | {value:.6g} | {arm.notes[key]} |" in readme, (name, key)
