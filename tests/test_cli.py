@@ -8,9 +8,8 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import ARM_NAMES
-
 from armlab.models import get_arm
+from conftest import ARM_NAMES
 
 
 def armlab(*args: str) -> subprocess.CompletedProcess:
