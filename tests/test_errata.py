@@ -1,0 +1,111 @@
+"""The papers' misprints: printed forms disagree with Drake, corrected forms agree to 1e-9."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+from armlab.kinematics import symbolic as sym
+from armlab.kinematics.errata import ERRATA, Erratum, drake_sample, wrap_angle
+from armlab.models import get_arm
+from conftest import arm_and_plant, random_q
+
+N = 100
+TOL = 1e-9
+EVALUABLE = [e for e in ERRATA if e.evaluable]
+
+
+def _sample(erratum: Erratum, seed: int):
+    arm = get_arm(erratum.arm, **erratum.overrides)
+    rng = np.random.default_rng(seed)
+    q = random_q(arm, rng, N)
+    return drake_sample(arm, q, rng.normal(size=q.shape), rng.normal(size=q.shape))
+
+
+@pytest.mark.parametrize("erratum", EVALUABLE, ids=[f"{e.paper} {e.equation}" for e in EVALUABLE])
+def test_printed_disagrees_with_drake_corrected_agrees(erratum):
+    sample = _sample(erratum, 7)
+    reference = erratum.reference(sample)
+    printed, corrected = erratum.printed(sample), erratum.corrected(sample)
+    assert printed.shape == corrected.shape == reference.shape
+
+    def per_sample(value):
+        diff = value - reference
+        diff = wrap_angle(diff) if erratum.angle else diff
+        return np.abs(diff).reshape(N, -1).max(axis=1)
+
+    assert per_sample(corrected).max() < TOL
+    wrong = per_sample(printed) > 1e-6
+    assert wrong.mean() >= 0.9, f"printed form agrees with Drake at {np.count_nonzero(~wrong)} of {N} samples"
+    printed_error, corrected_error = erratum.errors(sample)
+    assert corrected_error < TOL < 1e-3 < printed_error
+
+
+def test_required_entries_are_listed():
+    listed = {(e.paper, e.equation) for e in ERRATA}
+    for key in (("003", "eqs. (19), (21)"), ("003", "eq. (45)"), ("001", "eq. (19)")):
+        assert key in listed
+    for e in ERRATA:
+        assert e.description and e.printed_form and e.corrected_form and e.printed_form != e.corrected_form
+
+
+def test_text_only_entries_cannot_be_evaluated():
+    text_only = [e for e in ERRATA if not e.evaluable]
+    assert text_only  # the m-file typos of paper 000
+    for e in text_only:
+        assert e.corrected is None and e.reference is None
+        with pytest.raises(ValueError, match="cannot be evaluated"):
+            e.errors(None)
+
+
+def test_drake_sample_matches_direct_queries_and_locating_frames(rng):
+    """The errata's Drake helper: tool pose and motion as in the brief's queries, link frames = paper 003's {i}."""
+    from pydrake.multibody.tree import JacobianWrtVariable
+
+    arm, plant, ctx = arm_and_plant("r2t")
+    q = random_q(arm, rng, 20)
+    qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape)
+    sample = drake_sample(arm, q, qd, qdd)
+    np.testing.assert_allclose(sample.pose, arm.table.frames(q)[:, 1:], atol=TOL, rtol=0)
+    world, tool = plant.world_frame(), plant.GetFrameByName(arm.tool_name)
+    for k in range(len(q)):
+        plant.SetPositions(ctx, q[k])
+        plant.SetVelocities(ctx, qd[k])
+        X = plant.CalcRelativeTransform(ctx, world, tool).GetAsMatrix4()
+        J = plant.CalcJacobianTranslationalVelocity(ctx, JacobianWrtVariable.kV, tool, np.zeros(3), world, world)
+        bias = plant.CalcBiasTranslationalAcceleration(ctx, JacobianWrtVariable.kV, tool, np.zeros(3), world, world)
+        np.testing.assert_allclose(sample.pose[k, -1], X, atol=TOL, rtol=0)
+        np.testing.assert_allclose(sample.v[k, -1], J @ qd[k], atol=TOL, rtol=0)
+        np.testing.assert_allclose(sample.v_dot[k, -1], J @ qdd[k] + bias[:, 0], atol=TOL, rtol=0)
+
+
+def test_003_eq20_R04_and_corrected_p4_equal_drake(rng):
+    arm, plant, ctx = arm_and_plant("r2t")
+    s = sym.r2t()
+    q = random_q(arm, rng, N)
+    l = np.array([arm.parameters[f"l{i}"] for i in range(1, 6)])
+    R04 = sym.batch_function(list(s.R04), [s.q])(q).reshape(N, 3, 3)
+    p4 = sym.batch_function(list(s.p4), [s.q, s.l])(q, l)
+    for k in range(N):
+        plant.SetPositions(ctx, q[k])
+        X = plant.CalcRelativeTransform(ctx, plant.world_frame(), plant.GetFrameByName(arm.tool_name))
+        np.testing.assert_allclose(R04[k], X.rotation().matrix(), atol=TOL, rtol=0)
+        np.testing.assert_allclose(p4[k], X.translation(), atol=TOL, rtol=0)
+    q1 = s.q[0]
+    assert s.R04 == sp.Matrix([[-sp.sin(q1), sp.cos(q1), 0], [sp.cos(q1), sp.sin(q1), 0], [0, 0, -1]])
+
+
+def test_001_eq19_corrected_form_is_what_the_ik_module_returns(rng):
+    """armlab.kinematics.ik.arm4r_ik implements θ2 = θ23 − θ3; one of its branches is the sampled q."""
+    from armlab.kinematics.ik import arm4r_ik
+
+    erratum = next(e for e in ERRATA if (e.paper, e.equation) == ("001", "eq. (19)"))
+    sample = _sample(erratum, 11)
+    p = sample.arm.parameters
+    corrected = erratum.corrected(sample)
+    for k in range(10):
+        pitch = sample.q[k, 1:].sum()
+        solutions = arm4r_ik(sample.pose[k, -1, :3, 3], pitch, p["a2"], p["a3"], p["d2"])
+        match = np.all(np.abs(wrap_angle(solutions - sample.q[k])) < 1e-9, axis=1)
+        assert match.any()
+        assert abs(wrap_angle(solutions[match][0, 1] - corrected[k])) < 1e-9
