@@ -1,1 +1,1 @@
-"""armlab.controllers."""
+"""Controllers of paper 000's Fig. 6: computed torque and pure inverse dynamics (:mod:`.inverse_dynamics`)."""

@@ -1,0 +1,130 @@
+"""Paper 000's Fig. 6 as a Drake Systems diagram, for any arm.
+
+Fig. 6 is a SimMechanics scheme: joint trajectories → inverse dynamics → the arm → scopes of the
+joint torques. Here, with Drake's own systems, named so that the graphviz picture reads the same:
+
+    TrajectorySource (q_d, q̇_d, q̈_d) → reference_split ─┬→ InverseDynamicsController → MultibodyPlant
+                                                         │          ↑ state feedback ─────────┘
+    loggers: log_reference, log_state, log_torque, log_tool (ToolPoint: p, v, a of the tool point)
+
+``mode="controller"`` is the closed loop (computed torque with reference acceleration, PD gains
+kp, kd, optional ki); ``mode="inverse_dynamics"`` is SimMechanics' inverse-dynamics mode: the
+torques computed from the reference alone (no feedback) and applied to the plant open-loop.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from armlab.controllers.inverse_dynamics import (
+    DEFAULT_KD,
+    DEFAULT_KP,
+    add_inverse_dynamics,
+    add_inverse_dynamics_controller,
+)
+from armlab.diagrams.plant import make_plant, resolve_gravity
+from armlab.kinematics.quintic import Motion, to_piecewise_polynomial
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
+    from pydrake.multibody.plant import MultibodyPlant
+    from pydrake.systems.framework import Diagram
+
+__all__ = ["DEFAULT_LOG_PERIOD", "MODES", "RunDiagram", "build_diagram", "check_log_period"]
+
+#: Default period (s) of the loggers: 1 ms.
+DEFAULT_LOG_PERIOD = 1e-3
+#: Diagram modes: closed-loop computed torque, or open-loop inverse dynamics (SimMechanics' mode).
+MODES = ("controller", "inverse_dynamics")
+
+
+def check_log_period(period: float, duration: float | None = None) -> float:
+    """The log period as a float; ``ValueError`` unless positive, finite and (if given) ≤ ``duration``."""
+    value = float(period)
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"log period = {period} s is not allowed: give a positive finite number of seconds")
+    if duration is not None and value > duration:
+        raise ValueError(f"log period = {period} s is longer than the motion ({duration:g} s)")
+    return value
+
+
+@dataclass
+class RunDiagram:
+    """A built diagram and handles to its parts (the loggers by role: reference, state, torque, tool)."""
+
+    diagram: Diagram
+    plant: MultibodyPlant
+    model: MultibodyPlant  # the controller's copy of the plant
+    loggers: dict[str, Any]
+    motion: Motion
+    gravity: NDArray[np.float64]
+    payload: float
+    mode: str
+    log_period: float
+
+
+def build_diagram(
+    arm: Arm,
+    motion: Motion,
+    gravity: str | ArrayLike | None = None,
+    payload: float = 0.0,
+    log_period: float = DEFAULT_LOG_PERIOD,
+    mode: str = "controller",
+    kp: float | ArrayLike = DEFAULT_KP,
+    kd: float | ArrayLike = DEFAULT_KD,
+    ki: float | ArrayLike = 0.0,
+) -> RunDiagram:
+    """Build Fig. 6 for ``arm`` following ``motion`` (one continuous run, see :meth:`Motion.runs`).
+
+    ``gravity``: see :func:`~armlab.diagrams.plant.resolve_gravity`; ``payload``: point mass (kg) at
+    the tool; ``log_period``: period (s) of every logger; ``mode``: one of :data:`MODES`.
+    """
+    from armlab.diagrams.tool_point import ToolPointKinematics
+    from pydrake.systems.framework import DiagramBuilder
+    from pydrake.systems.primitives import Demultiplexer, LogVectorOutput, TrajectorySource
+
+    if mode not in MODES:
+        raise ValueError(f"mode {mode!r} is not allowed; allowed: {', '.join(MODES)}")
+    if len(motion.runs()) != 1:
+        raise ValueError("build_diagram takes one continuous run; split the motion with Motion.runs()")
+    motion.check_limits(arm)
+    log_period = check_log_period(log_period, motion.duration)
+    g = resolve_gravity(arm, gravity)
+    n = arm.n
+
+    builder = DiagramBuilder()
+    plant = builder.AddNamedSystem("MultibodyPlant", make_plant(arm, g, payload))
+    model = make_plant(arm, g, payload)
+
+    source = builder.AddNamedSystem(
+        "TrajectorySource", TrajectorySource(to_piecewise_polynomial(motion), output_derivative_order=2)
+    )
+    split = builder.AddNamedSystem("reference_split", Demultiplexer([2 * n, n]))
+    builder.Connect(source.get_output_port(), split.get_input_port())
+    if mode == "controller":
+        control = add_inverse_dynamics_controller(builder, plant, model, kp, kd, ki)
+        builder.Connect(split.get_output_port(0), control.get_input_port_desired_state())
+        builder.Connect(split.get_output_port(1), control.get_input_port_desired_acceleration())
+        torque_port = control.get_output_port_control()
+    else:
+        control = add_inverse_dynamics(builder, plant, model)
+        builder.Connect(split.get_output_port(0), control.get_input_port_estimated_state())
+        builder.Connect(split.get_output_port(1), control.get_input_port_desired_acceleration())
+        torque_port = control.get_output_port_generalized_force()
+
+    tool = builder.AddSystem(ToolPointKinematics(plant, plant.GetFrameByName(arm.tool_name)))
+    builder.Connect(plant.get_state_output_port(), tool.get_input_port(0))
+    builder.Connect(plant.get_generalized_acceleration_output_port(), tool.get_input_port(1))
+
+    loggers = {}
+    for role, port in (("reference", source.get_output_port()), ("state", plant.get_state_output_port()),
+                       ("torque", torque_port), ("tool", tool.get_output_port())):
+        logger = LogVectorOutput(port, builder, log_period)
+        logger.set_name(f"log_{role}")
+        loggers[role] = logger
+    diagram = builder.Build()
+    diagram.set_name(f"{arm.name} Fig. 6 ({mode})")
+    return RunDiagram(diagram, plant, model, loggers, motion, g, float(payload), mode, log_period)

@@ -1,0 +1,206 @@
+"""``armlab simulate`` and ``armlab diagram``: paper 000's Fig. 6 run for any arm, and its picture.
+
+``armlab simulate ARM --out DIR`` runs the arm's paper motion (:func:`armlab.diagrams.motions.paper_motion`)
+or the motion the options give, through the Drake diagram of :mod:`armlab.diagrams.build`, and writes
+``log.csv``, ``summary.json``, ``diagram.svg`` (and ``.dot``) and the plots into DIR, all or nothing.
+``armlab diagram ARM --out FILE.{dot,svg,png}`` writes the diagram alone.
+
+Drake is imported only when a command runs, so ``armlab --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import textwrap
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from armlab.kinematics.quintic import Motion
+    from armlab.models.arm import Arm
+
+__all__ = ["cmd_diagram", "cmd_simulate", "motion_from_args", "register"]
+
+_MOTION_HELP = (
+    "Without motion options: the arm's paper motion — rr: paper 000 Fig. 3 (-38°,98° → 62°,68° in 2 s); "
+    "rr --path abcd: 000's A-B-C-D-A (Figs. 8-10, 2 s per segment); rrrr: 000's constant rates "
+    "ω = (7, 0.05, 0.05, 0.05) rad/s for 15 s; arm4r: 001's (2,0,0) → (1,1,1.4) m in 2 s; r2t: a demo part "
+    "transfer (3 s); urm6: a demo from φ = 0 to paper 004's Table 1 (4 s)."
+)
+
+
+def _gains(text: str | None, default: float, name: str) -> float | list[float]:
+    if text is None:
+        return default
+    from armlab.cli import parse_floats
+
+    values = parse_floats(text, name)
+    return values[0] if len(values) == 1 else values
+
+
+def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
+    """The motion the options give: ``--segments``, ``--from``/``--to``, or the paper motion (``--path``, ``--tf``)."""
+    from armlab.diagrams.motions import paper_motion, quintic_motion, read_segments
+
+    from armlab.cli import joint_values, parse_floats
+
+    tf = None
+    if args.tf is not None:
+        values = parse_floats(args.tf, "--tf") if isinstance(args.tf, str) else [args.tf]
+        if len(values) != 1:
+            raise ValueError(f"--tf {args.tf}: give one duration in seconds")
+        tf = values[0]
+    if args.segments is not None:
+        if args.q_from or args.q_to or args.path or tf is not None:
+            raise ValueError("--segments gives the whole motion: do not combine it with --from, --to, --path or --tf")
+        return read_segments(arm, args.segments)
+    if args.q_from or args.q_to:
+        if args.path:
+            raise ValueError("--path is a paper motion: do not combine it with --from/--to")
+        if not args.q_to:
+            raise ValueError("--from needs --to (the end joints)")
+        qf = joint_values(arm, args.q_to, args.deg, "--to")
+        q0 = (joint_values(arm, args.q_from, args.deg, "--from") if args.q_from
+              else paper_motion(arm).segments[0].q_start)
+        return quintic_motion(arm, q0, qf, 2.0 if tf is None else tf,
+                              f"rest-to-rest quintic from --from to --to in {2.0 if tf is None else tf:g} s")
+    return paper_motion(arm, args.path, tf)
+
+
+def _hold_motion(arm: Arm) -> Motion:
+    """Standing still for 1 s at q = 0 (clipped into the limits): a trajectory for drawing a user arm's diagram."""
+    from armlab.kinematics.quintic import Motion, QuinticSegment
+
+    lower = np.array([-np.inf if lim.lower is None else lim.lower for lim in arm.limits])
+    upper = np.array([np.inf if lim.upper is None else lim.upper for lim in arm.limits])
+    q = np.clip(np.zeros(arm.n), lower, upper)
+    return Motion((QuinticSegment(q, q, 1.0, "hold"),), "standing still")
+
+
+def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
+    """The diagram options shared by both commands, checked (ValueError) before anything runs."""
+    from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
+    from armlab.diagrams.plant import resolve_gravity
+
+    setup = {
+        "gravity": resolve_gravity(arm, args.gravity),
+        "payload": float(args.payload),
+        "mode": args.mode,
+        "kp": gain_vector(_gains(args.kp, DEFAULT_KP, "--kp"), arm.n, "--kp"),
+        "kd": gain_vector(_gains(args.kd, DEFAULT_KD, "--kd"), arm.n, "--kd"),
+        "ki": gain_vector(_gains(args.ki, 0.0, "--ki"), arm.n, "--ki"),
+    }
+    return setup
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
+    """``armlab simulate``: see the module docstring."""
+    from armlab.diagrams.build import check_log_period
+    from armlab.diagrams.graphviz import render, require_dot
+    from armlab.diagrams.output import RunFolder, write_log_csv, write_summary
+    from armlab.diagrams.plots import write_plots
+    from armlab.diagrams.simulate import DEFAULT_ACCURACY, simulate, summarize
+
+    from armlab.cli import load_arm
+
+    arm = load_arm(args.arm)
+    motion = motion_from_args(arm, args)
+    setup = _setup(arm, args)
+    log_period = check_log_period(args.dt, min(m.duration for _, m in motion.runs()))
+    accuracy = DEFAULT_ACCURACY if args.accuracy is None else float(args.accuracy)
+    if not np.isfinite(accuracy) or accuracy <= 0:
+        raise ValueError(f"--accuracy {args.accuracy}: give a positive finite target accuracy")
+    require_dot()
+    with RunFolder(args.out) as folder:
+        log = simulate(arm, motion, log_period=log_period, accuracy=accuracy, **setup)
+        summary = summarize(log)
+        write_log_csv(log, folder / "log.csv")
+        write_summary(summary, folder / "summary.json")
+        (folder / "diagram.dot").write_text(log.diagram_dot)
+        (folder / "diagram.svg").write_bytes(render(log.diagram_dot, "svg"))
+        plots = write_plots(log, folder)
+        written = ["log.csv", "summary.json", "diagram.svg", "diagram.dot", *(p.name for p in plots)]
+    units = summary["torque_units"]
+    print(f"{arm.name}: {motion.description}")
+    print(f"simulated {motion.duration:g} s in {log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× real time), "
+          f"mode {log.mode}, {summary['runs']['count']} run(s)")
+    print("max |τ|: " + ", ".join(f"τ{i + 1} = {v:.4f} {u}" for i, (v, u) in enumerate(zip(
+        summary["max_abs_torque"], units, strict=True))) + f"; peak power {summary['peak_power']:.4g} W; "
+          f"max tracking error {max(summary['max_tracking_error']):.3g}")
+    print(f"wrote {args.out}: {' '.join(written)}")
+    return 0
+
+
+def cmd_diagram(args: argparse.Namespace) -> int:
+    """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG or PNG (by the suffix of --out)."""
+    from armlab.diagrams.build import build_diagram
+    from armlab.diagrams.graphviz import FORMATS, write_graph
+    from armlab.diagrams.motions import paper_motion
+    from armlab.models import ARMS
+
+    from armlab.cli import load_arm
+
+    arm = load_arm(args.arm)
+    fmt = args.out.rsplit(".", 1)[-1].lower() if "." in args.out else ""
+    if fmt not in FORMATS:
+        raise ValueError(f"--out {args.out}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
+    setup = _setup(arm, args)
+    is_paper_arm = arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER
+    motion = paper_motion(arm).runs()[0][1] if is_paper_arm else _hold_motion(arm)
+    run = build_diagram(arm, motion, **setup)
+    path = write_graph(run.diagram.GetGraphvizString(max_depth=1), args.out)
+    print(f"wrote {path}")
+    return 0
+
+
+def _diagram_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--mode", choices=("controller", "inverse_dynamics"), default="controller",
+                   help="controller: computed torque with PD feedback (default); inverse_dynamics: torques from the "
+                        "reference alone, open loop (SimMechanics' inverse-dynamics mode of paper 000 Fig. 6)")
+    p.add_argument("--gravity", default="default",
+                   help="default (the arm's: rr -y, others -z), off, +x/-x/+y/-y/+z/-z (9.81 m/s²; write "
+                        "--gravity=-y), or gx,gy,gz in m/s²")
+    p.add_argument("--payload", type=float, default=0.0, metavar="KG",
+                   help="point mass at the tool point, kg (default 0; r2t's nominal payload is 20 kg)")
+    p.add_argument("--kp", help="position gain(s), 1/s²: one value or one per joint (default 100)")
+    p.add_argument("--kd", help="velocity gain(s), 1/s: one value or one per joint (default 20)")
+    p.add_argument("--ki", help="integral gain(s), 1/s³: one value or one per joint (default 0)")
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``simulate`` and ``diagram`` subcommands to the CLI's subparsers."""
+    from armlab.diagrams.motions import SEGMENTS_FILE_HELP
+
+    p = subparsers.add_parser(
+        "simulate",
+        help="simulate a motion through paper 000's Fig. 6 diagram; write log, summary, plots, diagram",
+        description=textwrap.fill(
+            "Simulate ARM through paper 000's Fig. 6 as a Drake diagram (trajectory source → inverse dynamics "
+            "controller → MultibodyPlant, with loggers) and write DIR/log.csv, summary.json, diagram.svg, "
+            "diagram.dot, joints.png, torques.png, tool_path.png, tool_motion.png.", 100)
+        + "\n\n" + textwrap.fill(_MOTION_HELP, 100),
+        epilog=SEGMENTS_FILE_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
+    p.add_argument("--from", dest="q_from", metavar="Q", help="start joints q1,q2,… (rad and m; see --deg)")
+    p.add_argument("--to", dest="q_to", metavar="Q", help="end joints q1,q2,…: a rest-to-rest quintic")
+    p.add_argument("--tf", metavar="T", help="duration, s (--from/--to: default 2; paper motions: their own; "
+                                             "--path: per segment)")
+    p.add_argument("--deg", action="store_true", help="revolute joint values in degrees")
+    p.add_argument("--path", choices=("abcd",), help="rr: paper 000's A-B-C-D-A path (Figs. 8-10)")
+    p.add_argument("--segments", metavar="FILE", help="a JSON file of segments (see below)")
+    p.add_argument("--dt", type=float, default=1e-3, metavar="S", help="log period, s (default 0.001)")
+    p.add_argument("--accuracy", type=float, help="integrator target accuracy (default 1e-6, Runge-Kutta 5)")
+    _diagram_options(p)
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder (written completely or not at all)")
+    p.set_defaults(func=cmd_simulate)
+
+    p = subparsers.add_parser("diagram", help="write paper 000's Fig. 6 diagram of an arm as .dot, .svg or .png",
+                              description="Write the Drake diagram of ARM (the one armlab simulate runs) as DOT, "
+                                          "or SVG/PNG through graphviz's dot, chosen by the suffix of --out.")
+    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
+    _diagram_options(p)
+    p.add_argument("--out", required=True, metavar="FILE", help="FILE.dot, FILE.svg or FILE.png")
+    p.set_defaults(func=cmd_diagram)

@@ -1,0 +1,91 @@
+"""The arm as a continuous-time Drake ``MultibodyPlant``, with gravity and an optional payload.
+
+Paper 000 simulates its RR arm in MSC Adams in a vertical plane with gravity and a basket at the
+tool (Fig. 26); paper 003's R2T robot carries a payload of about 20 kg. Here the payload is a point
+mass welded to the arm's tool frame (its centre of mass at the tool point), added before
+``Finalize`` so the plant and the controller's copy of it are the same model.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
+    from pydrake.multibody.plant import MultibodyPlant
+
+__all__ = ["GRAVITY_NAMES", "G", "make_plant", "resolve_gravity"]
+
+#: Standard gravity (m/s²), the magnitude of every arm's default gravity.
+G = 9.81
+
+#: Named gravity settings: "off", and a direction of magnitude G along a base axis.
+GRAVITY_NAMES = ("default", "off", "+x", "-x", "+y", "-y", "+z", "-z")
+
+
+def resolve_gravity(arm: Arm, gravity: str | ArrayLike | None = None) -> NDArray[np.float64]:
+    """The gravity vector (m/s², base frame) for ``gravity``.
+
+    ``None`` or ``"default"`` → the arm's default (rr: −y, the vertical plane of paper 000's Adams
+    model; the others: −z); ``"off"`` → zero; ``"+x"`` … ``"-z"`` → 9.81 m/s² along that base axis;
+    or three numbers (a sequence, or text ``"gx,gy,gz"``).
+    """
+    if gravity is None:
+        return np.asarray(arm.gravity, dtype=float)
+    if isinstance(gravity, str):
+        text = gravity.strip().lower()
+        if text == "default":
+            return np.asarray(arm.gravity, dtype=float)
+        if text == "off":
+            return np.zeros(3)
+        if text in GRAVITY_NAMES:
+            g = np.zeros(3)
+            g["xyz".index(text[1])] = G if text[0] == "+" else -G
+            return g
+        from armlab.cli import parse_floats
+
+        try:
+            values = parse_floats(gravity, "--gravity")
+        except ValueError as error:
+            raise ValueError(f"{error}; or one of {', '.join(GRAVITY_NAMES)}") from None
+        gravity = values
+    g = np.asarray(gravity, dtype=float)
+    if g.shape != (3,) or not np.all(np.isfinite(g)):
+        raise ValueError(f"gravity {np.ravel(g).tolist()} is not allowed: give 3 finite numbers gx,gy,gz (m/s²) "
+                         f"or one of {', '.join(GRAVITY_NAMES)}")
+    return g
+
+
+def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyPlant:
+    """A finalized continuous-time plant of ``arm`` with ``gravity`` and a ``payload`` point mass (kg) at the tool.
+
+    The plant's generalized positions, velocities and actuators must be in the arm's joint order
+    (joint1 … jointN), which the URDF guarantees; this is checked so that a trajectory in the
+    arm's joint order can be wired to the plant's ports directly.
+    """
+    from pydrake.multibody.plant import MultibodyPlant
+    from pydrake.multibody.tree import RotationalInertia, SpatialInertia
+
+    payload = float(payload)
+    if not np.isfinite(payload) or payload < 0:
+        raise ValueError(f"payload = {payload} kg is not allowed: a payload is a finite mass ≥ 0 kg")
+    plant = MultibodyPlant(0.0)
+    instance = arm.add_to_plant(plant)
+    if payload > 0:
+        body = plant.AddRigidBody(
+            "payload", instance, SpatialInertia.MakeFromCentralInertia(payload, np.zeros(3), RotationalInertia(0, 0, 0))
+        )
+        plant.WeldFrames(plant.GetFrameByName(arm.tool_name, instance), body.body_frame())
+    plant.mutable_gravity_field().set_gravity_vector(np.asarray(gravity, dtype=float))
+    plant.Finalize()
+    order = [plant.GetJointByName(name, instance) for name in arm.joint_names]
+    if [j.position_start() for j in order] != list(range(arm.n)) or [j.velocity_start() for j in order] != list(
+        range(arm.n)
+    ):
+        raise ValueError(f"{arm.name}: the plant's joint order differs from {', '.join(arm.joint_names)}")
+    if plant.num_actuators() != arm.n or not np.array_equal(plant.MakeActuationMatrix(), np.eye(arm.n)):
+        raise ValueError(f"{arm.name}: every joint needs one actuator, in joint order")
+    return plant

@@ -1,0 +1,414 @@
+"""Paper 000's Fig. 6 diagram: tracking, torques vs inverse dynamics and Lagrange, energy, open loop, CLI output."""
+
+from __future__ import annotations
+
+import functools
+import json
+import re
+import shutil
+import sys
+
+import numpy as np
+import pytest
+from armlab.diagrams import commands
+from armlab.diagrams.build import build_diagram
+from armlab.diagrams.motions import paper_motion
+from armlab.diagrams.output import csv_header
+from armlab.diagrams.plant import make_plant, resolve_gravity
+from armlab.diagrams.plots import PLOTS
+from armlab.diagrams.simulate import (
+    DEFAULT_ACCURACY,
+    DEFAULT_INTEGRATOR,
+    MAX_STEP,
+    SimulationLog,
+    simulate,
+    summarize,
+)
+from armlab.kinematics.quintic import Motion, QuinticSegment
+from armlab.models import get_arm
+
+from armlab.cli import _Parser
+
+#: Every paper motion armlab simulate runs by default (arm, --path).
+PAPER_MOTIONS = [("rr", None), ("rr", "abcd"), ("rrrr", None), ("arm4r", None), ("r2t", None), ("urm6", None)]
+IDS = [f"{a}-{p}" if p else a for a, p in PAPER_MOTIONS]
+
+
+@functools.cache
+def run(name: str, path: str | None = None, log_period: float = 0.01, mode: str = "controller",
+        gravity: str | None = None, payload: float = 0.0) -> SimulationLog:
+    """A paper motion simulated once per session (coarse log by default: the tests stay fast)."""
+    arm = get_arm(name)
+    return simulate(arm, paper_motion(arm, path), gravity=gravity, payload=payload, log_period=log_period, mode=mode)
+
+
+def inverse_dynamics(log: SimulationLog, q, qd, qdd) -> np.ndarray:
+    """Drake's CalcInverseDynamics (gravity included through the force elements), row by row."""
+    from pydrake.multibody.tree import MultibodyForces
+
+    plant = make_plant(log.arm, log.gravity, log.payload)
+    context = plant.CreateDefaultContext()
+    forces = MultibodyForces(plant)
+    out = []
+    for row in zip(q, qd, qdd, strict=True):
+        plant.SetPositions(context, row[0])
+        plant.SetVelocities(context, row[1])
+        plant.CalcForceElementsContribution(context, forces)
+        out.append(plant.CalcInverseDynamics(context, row[2], forces))
+    return np.array(out)
+
+
+# ----------------------------------------------------------------------------------------- the closed loop
+@pytest.mark.parametrize(("name", "path"), PAPER_MOTIONS, ids=IDS)
+def test_tracking_error_with_the_exact_model(name, path):
+    log = run(name, path)
+    assert log.t[0] == 0.0 and abs(log.t[-1] - log.motion.duration) < 1e-12
+    q_ref, qd_ref, qdd_ref = log.motion.evaluate(log.t)
+    # the logged reference is the trajectory (except at run joins, where the log holds both runs' ends)
+    inside = np.ones(log.t.shape, dtype=bool)
+    for start in log.run_starts[1:]:
+        inside &= ~((log.t == start) & (log.run < log.run.max()))
+    np.testing.assert_allclose(log.q_ref[inside], q_ref[inside], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(log.qd_ref[inside], qd_ref[inside], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(log.qdd_ref[inside], qdd_ref[inside], rtol=0, atol=1e-10)
+    assert np.max(np.abs(log.q - log.q_ref)) <= 1e-6
+
+
+@pytest.mark.parametrize(("name", "path"), PAPER_MOTIONS, ids=IDS)
+def test_torques_equal_drake_inverse_dynamics_along_the_reference(name, path):
+    log = run(name, path)
+    expected = inverse_dynamics(log, log.q_ref, log.qd_ref, log.qdd_ref)
+    np.testing.assert_allclose(log.tau, expected, rtol=0, atol=1e-6)
+
+
+def lagrange_rr(arm, q, qd, qdd, g):
+    """The two-link arm's Lagrange equations, written out (uniform cylinders along each link, gravity g ∈ x–y)."""
+    p = arm.parameters
+    L1, L2, m1, m2 = p["L1"], p["L2"], p["m1"], p["m2"]
+    I1 = m1 * (3 * p["r1"] ** 2 + L1**2) / 12  # about the centre, perpendicular to the link
+    I2 = m2 * (3 * p["r2"] ** 2 + L2**2) / 12
+    c1, c2 = L1 / 2, L2 / 2
+    t1, t2 = q[:, 0], q[:, 1]
+    cos2, sin2 = np.cos(t2), np.sin(t2)
+    M11 = I1 + I2 + m1 * c1**2 + m2 * (L1**2 + c2**2 + 2 * L1 * c2 * cos2)
+    M12 = I2 + m2 * (c2**2 + L1 * c2 * cos2)
+    M22 = I2 + m2 * c2**2
+    h = m2 * L1 * c2 * sin2
+    # potential V = −g·(m1 r_c1 + m2 r_c2); τ_g = ∂V/∂θ
+    gx, gy = g[0], g[1]
+
+    def dV(theta, lever):  # ∂/∂θ of −lever·g·(cos θ, sin θ)
+        return -lever * (-gx * np.sin(theta) + gy * np.cos(theta))
+
+    G1 = dV(t1, m1 * c1 + m2 * L1) + dV(t1 + t2, m2 * c2)
+    G2 = dV(t1 + t2, m2 * c2)
+    tau1 = M11 * qdd[:, 0] + M12 * qdd[:, 1] - h * (2 * qd[:, 0] * qd[:, 1] + qd[:, 1] ** 2) + G1
+    tau2 = M12 * qdd[:, 0] + M22 * qdd[:, 1] + h * qd[:, 0] ** 2 + G2
+    return np.stack([tau1, tau2], axis=-1)
+
+
+@pytest.mark.parametrize("path", [None, "abcd"])
+def test_rr_torques_equal_the_lagrange_equations(path):
+    log = run("rr", path)
+    np.testing.assert_allclose(log.tau, lagrange_rr(log.arm, log.q_ref, log.qd_ref, log.qdd_ref, log.gravity),
+                               rtol=0, atol=1e-6)
+
+
+def test_rr_gravity_along_the_joint_axes_leaves_pure_inertial_torques():
+    """Gravity ±z (along rr's joint axes) does no work: torques equal gravity off, as Table 3's pairs suggest."""
+    off = run("rr", "abcd", gravity="off")
+    np.testing.assert_array_equal(off.gravity, [0, 0, 0])
+    for g in ("+z", "-z"):
+        np.testing.assert_allclose(run("rr", "abcd", gravity=g).tau, off.tau, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(off.tau, lagrange_rr(off.arm, off.q_ref, off.qd_ref, off.qdd_ref, off.gravity),
+                               rtol=0, atol=1e-6)
+    assert np.max(np.abs(off.tau - run("rr", "abcd").tau)) > 1.0  # −y gravity (the default) matters
+
+
+def test_gravity_settings():
+    rr = get_arm("rr")
+    np.testing.assert_array_equal(resolve_gravity(rr), [0, -9.81, 0])
+    np.testing.assert_array_equal(resolve_gravity(rr, "default"), [0, -9.81, 0])
+    np.testing.assert_array_equal(resolve_gravity(get_arm("r2t"), None), [0, 0, -9.81])
+    np.testing.assert_array_equal(resolve_gravity(rr, "+x"), [9.81, 0, 0])
+    np.testing.assert_array_equal(resolve_gravity(rr, "1,2,-3.5"), [1, 2, -3.5])
+    for bad in ("up", "1,2", "1,nan,2", [1, 2]):
+        with pytest.raises(ValueError, match="gravity"):
+            resolve_gravity(rr, bad)
+
+
+def test_r2t_payload_adds_its_point_mass_dynamics():
+    """The 20 kg payload's extra torques are Jᵀ m (a − g) at the tool point, from the logged tool acceleration."""
+    base, loaded = run("r2t"), run("r2t", payload=20.0)
+    np.testing.assert_allclose(loaded.tool, base.tool, rtol=0, atol=1e-8)  # exact tracking: the same motion
+    from pydrake.multibody.tree import JacobianWrtVariable
+
+    plant = make_plant(base.arm, base.gravity)
+    context = plant.CreateDefaultContext()
+    frame, world = plant.GetFrameByName(base.arm.tool_name), plant.world_frame()
+    extra = []
+    for q, tool in zip(base.q_ref, base.tool, strict=True):
+        plant.SetPositions(context, q)
+        J = plant.CalcJacobianTranslationalVelocity(context, JacobianWrtVariable.kV, frame, np.zeros(3), world, world)
+        extra.append(J.T @ (20.0 * (tool[6:] - base.gravity)))
+    np.testing.assert_allclose(loaded.tau - base.tau, np.array(extra), rtol=0, atol=1e-6)
+    assert np.max(np.abs(loaded.tau[:, 1] - base.tau[:, 1])) > 150  # lifting 20 kg: ≈ 196 N more on the carriage
+
+
+# ------------------------------------------------------------------------------------- open loop, energy
+OPEN_LOOP = [("rr", None), ("rr", "abcd"), ("arm4r", None), ("r2t", None)]
+
+
+@pytest.mark.parametrize(("name", "path"), OPEN_LOOP, ids=[f"{a}-{p}" if p else a for a, p in OPEN_LOOP])
+def test_pure_inverse_dynamics_mode_agrees_with_the_controller(name, path):
+    """SimMechanics' inverse-dynamics mode (torques from the reference alone, open loop) gives the controller's
+    torques when tracking is exact, and drives the plant along the reference to the integrator's accuracy.
+
+    Not for rrrr's 15 s spin and urm6: their open-loop error dynamics are exponentially unstable (a 7 rad/s
+    whirl, a gravity-loaded stack), so round-off grows without feedback; that is what feedback is for.
+    """
+    closed, open_loop = run(name, path, log_period=1e-3), run(name, path, log_period=1e-3, mode="inverse_dynamics")
+    np.testing.assert_allclose(open_loop.tau, closed.tau, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(open_loop.tau, inverse_dynamics(open_loop, open_loop.q_ref, open_loop.qd_ref,
+                                                               open_loop.qdd_ref), rtol=0, atol=1e-9)
+    assert np.max(np.abs(open_loop.q - open_loop.q_ref)) <= 1e-6
+
+
+def test_logged_torques_replayed_open_loop_reproduce_the_trajectory():
+    """Feed the logged feed-forward torques (1 ms samples, cubic spline) to the bare plant: q follows the reference."""
+    from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
+    from pydrake.systems.framework import DiagramBuilder
+    from pydrake.systems.primitives import LogVectorOutput, TrajectorySource
+    from pydrake.trajectories import PiecewisePolynomial
+
+    log = run("rr", log_period=1e-3, mode="inverse_dynamics")
+    builder = DiagramBuilder()
+    plant = builder.AddSystem(make_plant(log.arm, log.gravity))
+    torque = PiecewisePolynomial.CubicWithContinuousSecondDerivatives(log.t, log.tau.T, periodic_end_condition=False)
+    source = builder.AddSystem(TrajectorySource(torque))
+    builder.Connect(source.get_output_port(), plant.get_actuation_input_port())
+    logger = LogVectorOutput(plant.get_state_output_port(), builder, 1e-3)
+    diagram = builder.Build()
+    simulator = Simulator(diagram)
+    plant.SetPositions(plant.GetMyMutableContextFromRoot(simulator.get_mutable_context()), log.q_ref[0])
+    ResetIntegratorFromFlags(simulator, DEFAULT_INTEGRATOR, MAX_STEP)  # the integrator armlab simulate uses
+    simulator.get_mutable_integrator().set_target_accuracy(DEFAULT_ACCURACY)
+    simulator.AdvanceTo(log.t[-1])
+    data = logger.FindLog(simulator.get_context())
+    q_ref = log.motion.evaluate(data.sample_times())[0]
+    assert np.max(np.abs(data.data()[:2].T - q_ref)) <= 1e-6
+
+
+@pytest.mark.parametrize(("name", "path", "payload"), [("rr", None, 0.0), ("rr", "abcd", 0.0), ("r2t", None, 20.0),
+                                                        ("arm4r", None, 0.0)])
+def test_energy_work_of_the_torques_equals_the_change_in_energy(name, path, payload):
+    """∫ τ·q̇ dt (composite Simpson over the 1 ms log) = Δ(kinetic + potential energy), Drake's energies."""
+    log = run(name, path, log_period=1e-3, payload=payload)
+    plant = make_plant(log.arm, log.gravity, log.payload)
+    context = plant.CreateDefaultContext()
+    for k in range(len(log.run_starts)):
+        rows = np.flatnonzero(log.run == k)
+        rows = rows[: len(rows) - (len(rows) - 1) % 2]  # an odd number of samples for Simpson's rule
+        t, power = log.t[rows], np.sum(log.tau[rows] * log.qd[rows], axis=1)
+        h = np.diff(t)
+        assert np.allclose(h, h[0], rtol=1e-9)
+        work = np.concatenate([[0.0], np.cumsum(h[0] / 3 * (power[:-2:2] + 4 * power[1:-1:2] + power[2::2]))])
+        energy = []
+        for i in rows[::2]:
+            plant.SetPositions(context, log.q[i])
+            plant.SetVelocities(context, log.qd[i])
+            energy.append(plant.CalcKineticEnergy(context) + plant.CalcPotentialEnergy(context))
+        energy = np.array(energy)
+        scale = max(1.0, np.max(np.abs(energy - energy[0])))
+        np.testing.assert_allclose(work, energy - energy[0], rtol=0, atol=1e-7 * scale)
+
+
+# --------------------------------------------------------------------------------------------- tool point
+def test_rr_tool_point_matches_the_papers_equations():
+    """x = L1 c1 + L2 c12, y = L1 s1 + L2 s12 (eqs. 1–2) and their time derivatives, written out."""
+    log = run("rr", "abcd")
+    L1, L2 = log.arm.parameters["L1"], log.arm.parameters["L2"]
+    (t1, t2), (w1, w2), (a1, a2) = log.q.T, log.qd.T, log.qdd_ref.T
+    t12, w12, a12 = t1 + t2, w1 + w2, a1 + a2
+    p = np.stack([L1 * np.cos(t1) + L2 * np.cos(t12), L1 * np.sin(t1) + L2 * np.sin(t12)], axis=-1)
+    v = np.stack([-L1 * np.sin(t1) * w1 - L2 * np.sin(t12) * w12, L1 * np.cos(t1) * w1 + L2 * np.cos(t12) * w12], -1)
+    a = np.stack([-L1 * (np.cos(t1) * w1**2 + np.sin(t1) * a1) - L2 * (np.cos(t12) * w12**2 + np.sin(t12) * a12),
+                  -L1 * (np.sin(t1) * w1**2 - np.cos(t1) * a1) - L2 * (np.sin(t12) * w12**2 - np.cos(t12) * a12)], -1)
+    np.testing.assert_allclose(log.tool[:, :2], p, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(log.tool[:, 3:5], v, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(log.tool[:, 6:8], a, rtol=0, atol=1e-6)  # v̇ of the plant = q̈_ref to tracking accuracy
+    np.testing.assert_array_equal(log.tool[:, [2, 5, 8]], 0.0)
+
+
+@pytest.mark.parametrize("name", ["rrrr", "arm4r", "r2t", "urm6"])
+def test_tool_point_matches_forward_kinematics_and_finite_differences(name):
+    log = run(name, log_period=1e-3) if name != "rrrr" else run(name)
+    np.testing.assert_allclose(log.tool[:, :3], log.arm.forward(log.q).tool[:, :3, 3], rtol=0, atol=1e-9)
+    h = log.t[1] - log.t[0]
+    for k in (0, 1):  # velocity from position, acceleration from velocity: central differences, O(h²)
+        x = log.tool[:, 3 * k: 3 * k + 3]
+        fd = (x[2:] - x[:-2]) / (2 * h)
+        d3 = np.max(np.abs(np.diff(log.tool[:, 3 * k + 3: 3 * k + 6], 2, axis=0))) / h**2  # ≈ max |third derivative|
+        np.testing.assert_allclose(log.tool[1:-1, 3 * k + 3: 3 * k + 6], fd, rtol=0, atol=h**2 * d3 / 6 * 1.5 + 1e-9)
+
+
+# ---------------------------------------------------------------------------------------------- diagram
+def test_dot_names_the_fig6_blocks():
+    arm = get_arm("rr")
+    for mode, controller in (("controller", "InverseDynamicsController"), ("inverse_dynamics", "InverseDynamics")):
+        dot = build_diagram(arm, paper_motion(arm), mode=mode).diagram.GetGraphvizString(max_depth=1)
+        for name in ("TrajectorySource", controller, "MultibodyPlant", "ToolPoint", "log_reference", "log_state",
+                     "log_torque", "log_tool"):
+            assert f"name={name}" in dot, name
+    with pytest.raises(ValueError, match="one continuous run"):
+        build_diagram(arm, paper_motion(arm, "abcd"))
+    with pytest.raises(ValueError, match="mode 'open' is not allowed"):
+        build_diagram(arm, paper_motion(arm), mode="open")
+    with pytest.raises(ValueError, match="log period = 0 s"):
+        build_diagram(arm, paper_motion(arm), log_period=0)
+
+
+# --------------------------------------------------------------------------------------------- the CLI
+def cli(*argv: str) -> int:
+    """The two commands through a parser like armlab's: ValueError → one stderr line and exit code 2, as in
+    armlab.cli; argparse's own errors exit 2 too."""
+    parser = _Parser(prog="armlab")
+    commands.register(parser.add_subparsers(dest="command", required=True, parser_class=_Parser))
+    try:
+        args = parser.parse_args(list(argv))
+        return args.func(args)
+    except ValueError as error:
+        print(f"armlab: error: {error}", file=sys.stderr)
+        return 2
+    except SystemExit as error:
+        return int(error.code)
+
+
+def test_simulate_writes_the_whole_run(tmp_path, capsys):
+    out = tmp_path / "runs" / "rr"
+    assert cli("simulate", "rr", "--path", "abcd", "--dt", "0.01", "--out", str(out)) == 0
+    files = {p.name for p in out.iterdir()}
+    assert files == {"log.csv", "summary.json", "diagram.svg", "diagram.dot", *PLOTS}
+    assert [p.name for p in (tmp_path / "runs").iterdir()] == ["rr"]  # no temporary folder left
+    header = (out / "log.csv").read_text().splitlines()[0].split(",")
+    assert header == csv_header(2)
+    assert header[:4] == ["t", "q1_ref", "q2_ref", "qd1_ref"] and header[-9:] == "x y z vx vy vz ax ay az".split()
+    table = np.loadtxt(out / "log.csv", delimiter=",", skiprows=1)
+    assert table.shape == (803, 1 + 6 * 2 + 9)  # 3 runs: 401 + 201 + 201 samples
+    summary = json.loads((out / "summary.json").read_text())
+    for key in ("max_abs_torque", "rms_torque", "peak_power", "max_tracking_error", "quintic_coefficients", "segments"):
+        assert key in summary, key
+    assert [s["label"] for s in summary["segments"]] == ["A-B", "B-C", "C-D", "D-A"]
+    assert np.array(summary["quintic_coefficients"]).shape == (4, 2, 6)
+    assert summary["runs"]["count"] == 3 and "reconfigure" in summary["runs"]["note"]
+    per_segment = np.array([s["max_abs_torque"] for s in summary["segments"]])
+    np.testing.assert_allclose(per_segment.max(axis=0), summary["max_abs_torque"])
+    np.testing.assert_allclose(summary["max_abs_torque"], np.max(np.abs(table[:, 11:13]), axis=0), rtol=1e-10)
+    assert (out / "diagram.svg").read_text().lstrip().startswith(("<?xml", "<svg"))
+    assert "wrote" in capsys.readouterr().out
+    # running again replaces the previous run
+    assert cli("simulate", "rr", "--dt", "0.01", "--out", str(out)) == 0
+    assert json.loads((out / "summary.json").read_text())["duration"] == 2.0
+
+
+@pytest.mark.parametrize("name", ["rrrr", "arm4r", "r2t", "urm6"])
+def test_simulate_every_arm(tmp_path, name):
+    out = tmp_path / name
+    extra = ("--tf", "1") if name == "rrrr" else ()
+    assert cli("simulate", name, "--dt", "0.01", *extra, "--out", str(out)) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["arm"] == name and max(summary["max_tracking_error"]) <= 1e-6
+    assert {p.name for p in out.iterdir()} == {"log.csv", "summary.json", "diagram.svg", "diagram.dot", *PLOTS}
+
+
+def test_simulate_motion_options(tmp_path):
+    out = tmp_path / "run"
+    cli("simulate", "r2t", "--from", "0,0.1,0.1", "--to", "90,0.2,0.0", "--deg", "--tf", "1.5", "--payload", "20",
+        "--gravity", "off", "--mode", "inverse_dynamics", "--dt", "0.007", "--out", str(out))
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["duration"] == 1.5 and summary["payload_kg"] == 20 and summary["gravity"] == [0, 0, 0]
+    assert summary["mode"] == "inverse_dynamics"
+    np.testing.assert_allclose(summary["segments"][0]["q_end"], [np.pi / 2, 0.2, 0.0])
+    table = np.loadtxt(out / "log.csv", delimiter=",", skiprows=1)
+    assert table.shape[0] == 216 and table[-2, 0] == pytest.approx(1.498) and table[-1, 0] == 1.5  # 7 ms, and the end
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (("rr", "--tf", "0"), "tf = 0.0 s is not allowed"),
+    (("rr", "--tf", "nan"), "not a finite number"),
+    (("rr", "--tf", "1,2"), "give one duration"),
+    (("rr", "--from", "0,0", "--to", "0,nan"), "not a finite number"),
+    (("rr", "--from", "0,0", "--to", "0,300", "--deg"), "outside its limits"),
+    (("rr", "--from", "0,0"), "--from needs --to"),
+    (("rr", "--from", "0,0,0", "--to", "0,0"), "rr has 2 joints"),
+    (("arm4r", "--path", "abcd"), "invalid choice|not available"),
+    (("rr", "--dt", "0"), "log period = 0.0 s"),
+    (("rr", "--dt", "5"), "longer than the motion"),
+    (("rr", "--payload", "-1"), "payload"),
+    (("rr", "--gravity", "sideways"), "gravity"),
+    (("rr", "--kp", "1,2,3"), "kp has 3 values"),
+    (("rr", "--segments", "x.json", "--tf", "1"), "do not combine"),
+])
+def test_simulate_bad_input_is_one_clear_error_and_writes_nothing(tmp_path, capsys, argv, message):
+    assert cli("simulate", *argv, "--out", str(tmp_path / "run")) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and err.startswith("armlab: error:"), err
+    assert re.search(message, err), err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_unwritable_out_is_an_error_before_simulating(tmp_path, monkeypatch, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    monkeypatch.setattr("armlab.diagrams.simulate.simulate", lambda *a, **k: pytest.fail("simulated anyway"))
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "notes.txt").write_text("keep me")
+    for out, message in ((blocker / "run", "cannot write in"), (blocker, "exists and is not a folder"),
+                         (tmp_path / "mine", "not an armlab run folder")):
+        assert cli("simulate", "rr", "--out", str(out)) == 2
+        assert message in capsys.readouterr().err
+    assert (tmp_path / "mine" / "notes.txt").read_text() == "keep me"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "mine"]
+
+
+def test_failed_run_leaves_no_folder(tmp_path, monkeypatch, capsys):
+    def broken(*args, **kwargs):
+        raise ValueError("boom")
+
+    monkeypatch.setattr("armlab.diagrams.plots.write_plots", broken)
+    assert cli("simulate", "rr", "--dt", "0.01", "--out", str(tmp_path / "run")) == 2
+    assert "boom" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.skipif(shutil.which("dot") is None, reason="graphviz's dot is not installed (make system-deps)")
+@pytest.mark.parametrize("suffix", ["dot", "svg", "png"])
+def test_diagram_command(tmp_path, suffix):
+    out = tmp_path / f"fig6.{suffix}"
+    assert cli("diagram", "arm4r", "--out", str(out)) == 0
+    data = out.read_bytes()
+    if suffix == "dot":
+        text = data.decode()
+        assert text.startswith("digraph") and "name=InverseDynamicsController" in text and "name=log_tool" in text
+    elif suffix == "svg":
+        assert b"<svg" in data and b"TrajectorySource" in data
+    else:
+        assert data.startswith(b"\x89PNG")
+    assert cli("diagram", "rr", "--out", str(tmp_path / "fig6.pdf")) == 2
+
+
+def test_summarize_single_segment_keys():
+    log = run("rr")
+    summary = summarize(log)
+    assert summary["segments"][0]["label"] == "Fig3" and summary["runs"]["count"] == 1
+    np.testing.assert_allclose(summary["quintic_coefficients"][0], log.motion.coefficients()[0])
+    assert summary["peak_power"] == pytest.approx(np.max(np.abs(np.sum(log.tau * log.qd, axis=1))))
+
+
+def test_hold_motion_for_the_diagram_of_a_still_arm():
+    arm = get_arm("rr")
+    motion = Motion((QuinticSegment(np.zeros(2), np.zeros(2), 1.0),))
+    log = simulate(arm, motion, log_period=0.05)
+    np.testing.assert_allclose(log.q, 0.0, atol=1e-12)
+    # holding still against gravity: τ = gravity torques, the Lagrange equations with q̇ = q̈ = 0
+    np.testing.assert_allclose(log.tau, lagrange_rr(arm, log.q, 0 * log.q, 0 * log.q, log.gravity), atol=1e-9)
