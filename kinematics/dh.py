@@ -20,7 +20,7 @@ from typing import Literal
 
 import numpy as np
 from armlab.kinematics.basic_movements import T_Z1, T_Z3, T_Z4, T_Z6
-from armlab.kinematics.batch import as_batch
+from armlab.kinematics.batch import as_batch, chain_frames
 from armlab.kinematics.locating import JointRow, LocatingTable
 from numpy.typing import ArrayLike, NDArray
 
@@ -64,33 +64,25 @@ class DHTable:
         """Number of joints."""
         return len(self.rows)
 
-    def _variables(self, q: NDArray, i: int) -> tuple[NDArray, NDArray]:
+    def _link(self, q: NDArray, i: int) -> NDArray[np.float64]:
+        """T_{i−1,i} of row ``i`` at the joint values ``q``, shape ``(..., 4, 4)``."""
         row = self.rows[i]
         qi = q[..., i]
         theta = row.theta + (qi if row.kind == "R" else 0.0)
         d = row.d + (qi if row.kind == "T" else 0.0)
-        return np.asarray(theta), np.asarray(d)
+        if self.convention == "standard":
+            return T_Z3(d) @ T_Z6(theta) @ T_Z1(row.a) @ T_Z4(row.alpha)  # 000 eq. (9)
+        return T_Z4(row.alpha) @ T_Z1(row.a) @ T_Z6(theta) @ T_Z3(d)  # 001 eq. (1)
 
     def link_transforms(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{i−1,i} for every row, shape ``(..., n, 4, 4)``."""
         q = as_batch(q, self.n)
-        out = []
-        for i, row in enumerate(self.rows):
-            theta, d = self._variables(q, i)
-            if self.convention == "standard":
-                T = T_Z3(d) @ T_Z6(theta) @ T_Z1(row.a) @ T_Z4(row.alpha)  # 000 eq. (9)
-            else:
-                T = T_Z4(row.alpha) @ T_Z1(row.a) @ T_Z6(theta) @ T_Z3(d)  # 001 eq. (1)
-            out.append(T)
-        return np.stack(out, axis=-3)
+        return np.stack([self._link(q, i) for i in range(self.n)], axis=-3)
 
     def frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{0,i} for i = 0 … n (base first), shape ``(..., n+1, 4, 4)``."""
-        links = self.link_transforms(q)
-        frames = [np.broadcast_to(np.eye(4), links.shape[:-3] + (4, 4))]
-        for i in range(self.n):
-            frames.append(frames[-1] @ np.ascontiguousarray(links[..., i, :, :]))
-        return np.stack(frames, axis=-3)
+        q = as_batch(q, self.n)
+        return chain_frames([self._link(q, i) for i in range(self.n)], q.shape[:-1])
 
     def end_pose(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{0,n}, shape ``(..., 4, 4)``."""

@@ -96,8 +96,9 @@ def iterative_kinematics(
         w, v, wd, vd = w_new, v_new, wd_new, vd_new
         for key, value in (("w", w), ("v", v), ("wd", wd), ("vd", vd)):
             out[key][..., i, :] = value
-    RT = np.swapaxes(R0, -1, -2)
-    own = {key: (RT @ value[..., None])[..., 0] for key, value in out.items()}  # (28)–(31)
+    # (28)–(31): ⁱx_i = ⁰_i[R]ᵀ·⁰x_i, the four vectors of every link projected in one batched product
+    projected = np.swapaxes(R0, -1, -2) @ np.stack(list(out.values()), axis=-1)
+    own = {key: projected[..., j] for j, key in enumerate(out)}
     return LinkMotion(
         w_0=out["w"], v_0=out["v"], wd_0=out["wd"], vd_0=out["vd"],
         w_i=own["w"], v_i=own["v"], wd_i=own["wd"], vd_i=own["vd"],

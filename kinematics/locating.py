@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
-from armlab.kinematics.batch import as_batch
+from armlab.kinematics.batch import as_batch, chain_frames
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["JointRow", "LocatingTable", "homogeneous", "orientation_angles", "rotation_about"]
@@ -121,30 +121,22 @@ class LocatingTable:
         """Number of joints."""
         return len(self.rows)
 
-    def T_delta(self, q: ArrayLike) -> NDArray[np.float64]:
-        """T_Δ(k_i; q_i) of eq. (3) for every joint, shape ``(..., n, 4, 4)``."""
-        q = as_batch(q, self.n)
-        out = []
-        for i, row in enumerate(self.rows):
-            qi = q[..., i]
-            R = rotation_about(row.k, qi * row.delta)
-            p = (1.0 - row.delta) * qi[..., None] * np.asarray(row.k)
-            out.append(homogeneous(R, p))
-        return np.stack(out, axis=-3)
+    def _link(self, q: NDArray, i: int) -> NDArray[np.float64]:
+        """T_{i−1,i}(q_i) = T_{i,i−1}·T_Δ(k_i; q_i), eqs. (3)–(4), shape ``(..., 4, 4)``."""
+        row, qi = self.rows[i], q[..., i]
+        k = np.asarray(row.k)
+        T_delta = homogeneous(rotation_about(k, qi * row.delta), (1.0 - row.delta) * qi[..., None] * k)  # eq. (3)
+        return row.T_fixed @ T_delta  # eq. (4)
 
     def link_transforms(self, q: ArrayLike) -> NDArray[np.float64]:
-        """T_{i−1,i} = T_{i,i−1}·T_Δ(k_i; q_i), eq. (4), shape ``(..., n, 4, 4)``."""
-        T_delta = self.T_delta(q)
-        return np.stack([row.T_fixed @ T_delta[..., i, :, :] for i, row in enumerate(self.rows)], axis=-3)
+        """T_{i−1,i} for every joint, eq. (4), shape ``(..., n, 4, 4)``."""
+        q = as_batch(q, self.n)
+        return np.stack([self._link(q, i) for i in range(self.n)], axis=-3)
 
     def frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{i,0} for i = 0 … n+1 (eqs. 8–9): base, every link, tool; shape ``(..., n+2, 4, 4)``."""
-        links = self.link_transforms(q)
-        frames = [np.broadcast_to(np.eye(4), links.shape[:-3] + (4, 4))]
-        for i in range(self.n):
-            frames.append(frames[-1] @ np.ascontiguousarray(links[..., i, :, :]))
-        frames.append(frames[-1] @ self.tool)
-        return np.stack(frames, axis=-3)
+        q = as_batch(q, self.n)
+        return chain_frames([self._link(q, i) for i in range(self.n)] + [self.tool], q.shape[:-1])
 
     def tool_pose(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{n+1,0}, eq. (9), shape ``(..., 4, 4)``."""

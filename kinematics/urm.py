@@ -24,7 +24,7 @@ from armlab.kinematics.basic_movements import T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["position_vectors", "position_vectors_homogeneous", "tool_pose"]
+__all__ = ["position_vectors", "position_vectors_homogeneous", "rotation_form"]
 
 
 def _angles(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> tuple[NDArray, NDArray, NDArray]:
@@ -35,8 +35,8 @@ def _angles(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> tuple[NDArray, ND
     return phi7, theta, r
 
 
-def position_vectors(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:
-    """p1 … p7 by the rotation matrices of eqs. (1)–(7), shape ``(..., 7, 3)``."""
+def rotation_form(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Eqs. (1)–(7): the points p1 … p7, shape ``(..., 7, 3)``, and module 7's rotation, ``(..., 3, 3)``."""
     phi7, theta, r = _angles(phi, theta, r)
     R = T_Z6(phi7[..., 0])[..., :3, :3]  # R_z1(φ1), eq. (1)
     p = R @ np.array([0.0, 0.0, r[0]])  # eq. (3)
@@ -45,7 +45,12 @@ def position_vectors(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[
         R = R @ T_Z5(theta[..., k - 1])[..., :3, :3] @ T_Z6(phi7[..., k])[..., :3, :3]
         p = p + R @ np.array([0.0, 0.0, r[k]])
         points.append(p)
-    return np.stack(points, axis=-2)
+    return np.stack(points, axis=-2), R
+
+
+def position_vectors(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:
+    """p1 … p7 by the rotation matrices of eqs. (1)–(7), shape ``(..., 7, 3)``."""
+    return rotation_form(phi, theta, r)[0]
 
 
 def _T_y(theta: ArrayLike, t_z: float) -> NDArray[np.float64]:
@@ -70,9 +75,3 @@ def position_vectors_homogeneous(phi: ArrayLike, theta: ArrayLike, r: ArrayLike)
     phi7, theta, r = _angles(phi, theta, r)
     frames = _module_frames(phi7, theta, r)
     return np.stack([(T @ np.array([0.0, 0.0, r[i], 1.0]))[..., :3] for i, T in enumerate(frames)], axis=-2)
-
-
-def tool_pose(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:
-    """Pose of the arm's end: point p7 with the orientation of module 7, shape ``(..., 4, 4)``."""
-    phi7, theta, r = _angles(phi, theta, r)
-    return _module_frames(phi7, theta, r)[-1] @ _T_y(0.0, r[6])

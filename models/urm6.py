@@ -13,8 +13,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 from armlab.kinematics.basic_movements import T_Z3, T_Z5
-from armlab.kinematics.locating import JointRow, LocatingTable
-from armlab.kinematics.urm import position_vectors, tool_pose
+from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
+from armlab.kinematics.urm import rotation_form
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point
 from numpy.typing import NDArray
@@ -57,8 +57,8 @@ class Parameters:
 
 def forward(q: NDArray, p: Parameters) -> Forward:
     """Eqs. (3)–(7): the position vectors p1 … p7; the tool frame is module 7's at p7."""
-    points = position_vectors(q, p.theta, p.r)
-    return Forward(tool_pose(q, p.theta, p.r), {f"p{k + 1}": points[..., k, :] for k in range(7)})
+    points, R = rotation_form(q, p.theta, p.r)
+    return Forward(homogeneous(R, points[..., 6, :]), {f"p{k + 1}": points[..., k, :] for k in range(7)})
 
 
 def locating_table(p: Parameters) -> LocatingTable:
