@@ -7,8 +7,10 @@ R_i as xyz/rpy) and ``axis`` is k_i, so the URDF's link frames are the table's f
 
 Each moving link is a uniform solid cylinder from its frame's origin to the next
 frame's origin (mass and radius from the arm's parameters); named points and the tool
-are massless links on fixed joints. Every joint is actuated through a
-``SimpleTransmission``.
+are massless links on fixed joints. Visuals only (no mass): a base disc, a column from
+the base to joint 1, a dark drum on each revolute axis, a dark block on each prismatic
+axis and the guide it slides on (over its stroke) on the parent link, a red ball at the
+tool. Every joint is actuated through a ``SimpleTransmission``.
 """
 
 from __future__ import annotations
@@ -91,6 +93,25 @@ def _segment(axis: NDArray, end: NDArray, radius: float) -> tuple[NDArray, NDArr
     return T, end / 2, length
 
 
+_JOINT_MATERIAL = '<material name="joint"><color rgba="0.15 0.15 0.15 1"/></material>'
+
+
+def _cylinder_visual(T: NDArray, radius: float, length: float, material: str) -> str:
+    return (f'<visual>{_origin(T)}<geometry><cylinder radius="{_f(radius)}" length="{_f(length)}"/></geometry>'
+            f'<material name="{material}"/></visual>')
+
+
+def _rail_visual(T_fixed: NDArray, axis: NDArray, lim: JointLimits, radius: float) -> str:
+    """A prismatic joint's guide: a bar along its axis over the stroke [lower, upper], in the parent's frame."""
+    T = np.eye(4)
+    T[:3, :3] = _z_to(axis)
+    T[:3, 3] = axis * (lim.lower + lim.upper) / 2
+    T = T_fixed @ T
+    width = _f(radius * 0.8)
+    return (f'<visual>{_origin(T)}<geometry><box size="{width} {width} {_f(lim.upper - lim.lower + 2 * radius)}"/>'
+            '</geometry><material name="rail"/></visual>')
+
+
 def urdf_text(
     name: str,
     table: LocatingTable,
@@ -113,13 +134,23 @@ def urdf_text(
         out.append(f"<!-- {comment} -->")
     out.append(f"<robot name={quoteattr(name)}>")
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
+    out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')
     base_r = max(b.radius for b in bodies) * 2.5
-    out.append('  <link name="base_link">')
-    out.append(f'    <visual><origin xyz="0 0 {_f(-base_r / 4)}"/>'
-               f'<geometry><cylinder radius="{_f(base_r)}" length="{_f(base_r / 2)}"/></geometry>'
-               '<material name="base"/></visual>')
-    out.append("  </link>")
+    visuals: list[list[str]] = [[] for _ in range(n + 1)]  # per link 0 (base) … n, drawn in that link's frame
+    visuals[0].append(f'<visual><origin xyz="0 0 {_f(-base_r / 4)}"/>'
+                      f'<geometry><cylinder radius="{_f(base_r)}" length="{_f(base_r / 2)}"/></geometry>'
+                      '<material name="base"/></visual>')
+    pedestal = np.asarray(table.rows[0].P, dtype=float)
+    if np.linalg.norm(pedestal) > 1e-9:  # a column from the base to joint 1
+        seg, _, length = _segment(np.asarray(table.rows[0].k), pedestal, bodies[0].radius)
+        visuals[0].append(_cylinder_visual(seg, bodies[0].radius, length, "base"))
+    for i, (row, body, lim) in enumerate(zip(table.rows, bodies, limits, strict=True), start=1):
+        if row.kind == "T" and lim.lower is not None:  # the guide the slider runs on, on the parent link
+            visuals[i - 1].append(_rail_visual(row.T_fixed, np.asarray(row.k, dtype=float), lim, body.radius))
     ends = [row.P for row in table.rows[1:]] + [tuple(table.tool[:3, 3])]
+    out.append('  <link name="base_link">')
+    out.extend(f"    {visual}" for visual in visuals[0])
+    out.append("  </link>")
     for i, (row, body, lim, end) in enumerate(zip(table.rows, bodies, limits, ends, strict=True), start=1):
         seg, com, length = _segment(np.asarray(row.k), np.asarray(end, dtype=float), body.radius)
         inertia = seg[:3, :3] @ cylinder_inertia(body.mass, body.radius, length) @ seg[:3, :3].T
@@ -133,9 +164,14 @@ def urdf_text(
         out.append(f'    <visual>{_origin(seg)}<geometry><cylinder radius="{_f(body.radius)}" '
                    f'length="{_f(length)}"/></geometry><material name="link{i}"><color rgba="{rgba}"/>'
                    "</material></visual>")
-        out.append(f'    <visual>{_origin(joint_drum)}<geometry><cylinder radius="{_f(body.radius * 1.4)}" '
-                   f'length="{_f(body.radius * 2.8)}"/></geometry><material name="joint">'
-                   '<color rgba="0.15 0.15 0.15 1"/></material></visual>')
+        if row.kind == "T":  # a slider block on the joint axis
+            side = _f(body.radius * 2.2)
+            out.append(f'    <visual>{_origin(joint_drum)}<geometry><box size="{side} {side} {side}"/></geometry>'
+                       f'{_JOINT_MATERIAL}</visual>')
+        else:  # a drum on the joint axis
+            out.append(f'    <visual>{_origin(joint_drum)}<geometry><cylinder radius="{_f(body.radius * 1.3)}" '
+                       f'length="{_f(body.radius * 2.4)}"/></geometry>{_JOINT_MATERIAL}</visual>')
+        out.extend(f"    {visual}" for visual in visuals[i])
         out.append("  </link>")
         kind = "prismatic" if row.kind == "T" else ("continuous" if lim.lower is None else "revolute")
         out.append(f'  <joint name="{row.name}" type="{kind}">')
