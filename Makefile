@@ -39,6 +39,7 @@ lint: setup
 	$(BIN)/ruff check .
 
 bench: setup system-deps
+	$(BIN)/python scripts/bench_kinematics.py
 	$(BIN)/python scripts/bench_simulate.py
 
 clean:

@@ -59,7 +59,7 @@ def joint_values(arm: Arm, text: str, deg: bool = False, name: str = "--q") -> n
         raise ValueError(f"{name}: {arm.name} has {arm.n} joints, got {values.size} values ({text})")
     if deg:
         values = np.where(arm.revolute, np.radians(values), values)
-    return arm.check_q(values, name)
+    return arm.check_q(values, name, deg)
 
 
 def _fmt(values: Sequence[float]) -> str:
@@ -147,6 +147,9 @@ def _cmd_ik(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``armlab`` argument parser with every subcommand."""
+    from armlab.diagrams import commands, view
+    from armlab.scripts import reproduce
+
     parser = _Parser(prog="armlab", description="Serial robot arms modelled, checked and simulated with Drake.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
@@ -174,6 +177,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--deg", action="store_true", help="angles in degrees")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_ik)
+
+    commands.register(sub)
+    view.register(sub)
+    reproduce.register(sub)
 
     return parser
 

@@ -2,7 +2,8 @@
 
 ``armlab simulate ARM --out DIR`` runs the arm's paper motion (:func:`armlab.diagrams.motions.paper_motion`)
 or the motion the options give, through the Drake diagram of :mod:`armlab.diagrams.build`, and writes
-``log.csv``, ``summary.json``, ``diagram.svg`` (and ``.dot``) and the plots into DIR, all or nothing.
+``log.csv``, ``summary.json``, ``diagram.svg`` (and ``.dot``), the plots and ``replay.html`` (the run as
+a 3-D animation, :mod:`armlab.diagrams.replay`) into DIR, all or nothing.
 ``armlab diagram ARM --out FILE.{dot,svg,png}`` writes the diagram alone.
 
 Drake is imported only when a command runs, so ``armlab --help`` stays fast.
@@ -98,8 +99,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     """``armlab simulate``: see the module docstring."""
     from armlab.diagrams.build import check_log_period
     from armlab.diagrams.graphviz import render, require_dot
-    from armlab.diagrams.output import RunFolder, write_log_csv, write_summary
+    from armlab.diagrams.output import run_folder, write_log_csv, write_summary
     from armlab.diagrams.plots import write_plots
+    from armlab.diagrams.replay import write_replay
     from armlab.diagrams.simulate import DEFAULT_ACCURACY, simulate, summarize
 
     from armlab.cli import load_arm
@@ -112,19 +114,20 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if not np.isfinite(accuracy) or accuracy <= 0:
         raise ValueError(f"--accuracy {args.accuracy}: give a positive finite target accuracy")
     require_dot()
-    with RunFolder(args.out) as folder:
+    with run_folder(args.out) as folder:
+        print(f"{arm.name}: {motion.description}", flush=True)
         log = simulate(arm, motion, log_period=log_period, accuracy=accuracy, **setup)
         summary = summarize(log)
+        units = summary["torque_units"]
+        print(f"simulated {motion.duration:g} s in {log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× real "
+              f"time), mode {log.mode}, {summary['runs']['count']} run(s)", flush=True)
         write_log_csv(log, folder / "log.csv")
         write_summary(summary, folder / "summary.json")
         (folder / "diagram.dot").write_text(log.diagram_dot)
         (folder / "diagram.svg").write_bytes(render(log.diagram_dot, "svg"))
         plots = write_plots(log, folder)
-        written = ["log.csv", "summary.json", "diagram.svg", "diagram.dot", *(p.name for p in plots)]
-    units = summary["torque_units"]
-    print(f"{arm.name}: {motion.description}")
-    print(f"simulated {motion.duration:g} s in {log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× real time), "
-          f"mode {log.mode}, {summary['runs']['count']} run(s)")
+        write_replay(arm, log.t, log.q, folder / "replay.html", tool_path=log.tool[:, :3])
+        written = ["log.csv", "summary.json", "diagram.svg", "diagram.dot", *(p.name for p in plots), "replay.html"]
     print("max |τ|: " + ", ".join(f"τ{i + 1} = {v:.4f} {u}" for i, (v, u) in enumerate(zip(
         summary["max_abs_torque"], units, strict=True))) + f"; peak power {summary['peak_power']:.4g} W; "
           f"max tracking error {max(summary['max_tracking_error']):.3g}")
@@ -178,7 +181,8 @@ def register(subparsers: Any) -> None:
         description=textwrap.fill(
             "Simulate ARM through paper 000's Fig. 6 as a Drake diagram (trajectory source → inverse dynamics "
             "controller → MultibodyPlant, with loggers) and write DIR/log.csv, summary.json, diagram.svg, "
-            "diagram.dot, joints.png, torques.png, tool_path.png, tool_motion.png.", 100)
+            "diagram.dot, joints.png, torques.png, tool_path.png, tool_motion.png and replay.html (the run as a 3-D "
+            "animation that plays in any browser, no server or network needed).", 100)
         + "\n\n" + textwrap.fill(_MOTION_HELP, 100),
         epilog=SEGMENTS_FILE_HELP,
         formatter_class=argparse.RawDescriptionHelpFormatter,

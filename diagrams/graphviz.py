@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import os
 import shutil
 import subprocess
-import tempfile
 from pathlib import Path
+
+from armlab.files import write_file
 
 __all__ = ["FORMATS", "render", "require_dot", "write_graph"]
 
@@ -36,23 +36,9 @@ def render(dot_text: str, fmt: str) -> bytes:
 
 
 def write_graph(dot_text: str, path: str | Path) -> Path:
-    """Write ``dot_text`` to ``path`` in the format its suffix names, atomically (temporary file, then rename)."""
+    """Write ``dot_text`` to ``path`` in the format its suffix names, atomically (:func:`~armlab.files.write_file`)."""
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     if fmt not in FORMATS:
         raise ValueError(f"--out {path}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
-    data = render(dot_text, fmt)
-    parent = path.parent if str(path.parent) else Path(".")
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
-    except OSError as error:
-        raise ValueError(f"--out {path}: cannot write in {parent}: {error.strerror or error}") from None
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return write_file(path, render(dot_text, fmt))

@@ -1,26 +1,25 @@
 """Writing a simulation run into its folder: completely or not at all.
 
-:class:`RunFolder` makes a temporary folder next to the requested one before anything is
-simulated (so an unwritable place is an error up front), collects the files there, and renames it
-onto the requested folder only when every file is written. A previous armlab run in that folder is
-replaced; any other non-empty folder is left alone (an error).
+:func:`run_folder` is an :class:`~armlab.files.OutputFolder` for a run: made before anything is
+simulated (so an unwritable place is an error up front), renamed onto the requested folder only
+when every file is written. A previous armlab run in that folder is replaced; any other non-empty
+folder is left alone (an error).
 """
 
 from __future__ import annotations
 
 import json
-import os
-import shutil
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armlab.files import OutputFolder
+
 if TYPE_CHECKING:
     from armlab.diagrams.simulate import SimulationLog
 
-__all__ = ["RUN_FILES", "RunFolder", "csv_header", "write_log_csv", "write_summary"]
+__all__ = ["RUN_FILES", "csv_header", "run_folder", "write_log_csv", "write_summary"]
 
 #: Files that mark a folder as an armlab run (which ``--out`` may replace).
 RUN_FILES = ("log.csv", "summary.json")
@@ -47,46 +46,7 @@ def write_summary(summary: dict[str, Any], path: str | Path) -> Path:
     return Path(path)
 
 
-class RunFolder:
-    """``with RunFolder(out) as tmp:`` write into ``tmp``; on success it becomes ``out``, on error it is removed."""
-
-    def __init__(self, out: str | Path) -> None:
-        self.out = Path(out)
-        if self.out.exists():
-            if not self.out.is_dir():
-                raise ValueError(f"--out {self.out}: exists and is not a folder")
-            contents = {p.name for p in self.out.iterdir()}
-            if contents and not set(RUN_FILES) <= contents:
-                raise ValueError(f"--out {self.out}: exists and is not an armlab run folder (no "
-                                 f"{' and '.join(RUN_FILES)}); give a new or empty folder")
-        parent = self.out.absolute().parent
-        try:
-            parent.mkdir(parents=True, exist_ok=True)
-            self.tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.out.name}.", suffix=".tmp"))
-            umask = os.umask(0o022)
-            os.umask(umask)
-            self.tmp.chmod(0o777 & ~umask)  # mkdtemp makes it private; the run folder is an ordinary folder
-        except OSError as error:
-            raise ValueError(f"--out {self.out}: cannot write in {parent}: {error.strerror or error}") from None
-
-    def __enter__(self) -> Path:
-        return self.tmp
-
-    def __exit__(self, kind, value, traceback) -> None:
-        if kind is not None:
-            shutil.rmtree(self.tmp, ignore_errors=True)
-            return
-        old = None
-        if self.out.exists():
-            old = Path(tempfile.mkdtemp(dir=self.tmp.parent, prefix=f".{self.out.name}.", suffix=".old"))
-            os.replace(self.out, old / "run")
-        try:
-            os.replace(self.tmp, self.out)
-        except OSError:
-            if old is not None:
-                os.replace(old / "run", self.out)
-            shutil.rmtree(self.tmp, ignore_errors=True)
-            raise
-        finally:
-            if old is not None:
-                shutil.rmtree(old, ignore_errors=True)
+def run_folder(out: str | Path) -> OutputFolder:
+    """``with run_folder(out) as tmp:`` write a run into ``tmp``; on success it becomes ``out``."""
+    return OutputFolder(out, lambda folder: all((folder / name).exists() for name in RUN_FILES),
+                        f"an armlab run folder (no {' and '.join(RUN_FILES)})")

@@ -103,8 +103,11 @@ class Arm:
             for row, lim in zip(self.table.rows, self.limits, strict=True)
         ]
 
-    def check_q(self, q: ArrayLike, name: str = "q") -> NDArray[np.float64]:
-        """``q`` as an array, raising ``ValueError`` for a wrong count, NaN/inf or a value outside limits."""
+    def check_q(self, q: ArrayLike, name: str = "q", deg: bool = False) -> NDArray[np.float64]:
+        """``q`` as an array, raising ``ValueError`` for a wrong count, NaN/inf or a value outside limits.
+
+        ``deg``: the user gave revolute values in degrees, so the error quotes them in degrees.
+        """
         q = as_batch(q, self.n, name)
         for i, (row, lim) in enumerate(zip(self.table.rows, self.limits, strict=True)):
             if lim.lower is None:
@@ -112,12 +115,11 @@ class Arm:
             values = q[..., i]
             bad = (values < lim.lower - 1e-12) | (values > lim.upper + 1e-12)
             if np.any(bad):
-                value = float(values[bad].flat[0])
-                unit = "rad" if row.kind == "R" else "m"
-                raise ValueError(
-                    f"{self.name}: {row.name} = {value:.6g} {unit} is outside its limits "
-                    f"[{lim.lower:.6g}, {lim.upper:.6g}] {unit}"
-                )
+                shown = np.array([values[bad].flat[0], lim.lower, lim.upper])
+                unit = "m" if row.kind == "T" else ("deg" if deg else "rad")
+                value, lower, upper = np.degrees(shown) if unit == "deg" else shown
+                raise ValueError(f"{self.name}: {row.name} = {value:.6g} {unit} is outside its limits "
+                                 f"[{lower:.6g}, {upper:.6g}] {unit}")
         return q
 
     # ------------------------------------------------------------ kinematics

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import functools
 import json
+import os
 import re
-import shutil
+import stat
 import sys
 
 import numpy as np
@@ -288,8 +289,13 @@ def test_simulate_writes_the_whole_run(tmp_path, capsys):
     out = tmp_path / "runs" / "rr"
     assert cli("simulate", "rr", "--path", "abcd", "--dt", "0.01", "--out", str(out)) == 0
     files = {p.name for p in out.iterdir()}
-    assert files == {"log.csv", "summary.json", "diagram.svg", "diagram.dot", *PLOTS}
+    assert files == {"log.csv", "summary.json", "diagram.svg", "diagram.dot", *PLOTS, "replay.html"}
     assert [p.name for p in (tmp_path / "runs").iterdir()] == ["rr"]  # no temporary folder left
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o777 & ~umask  # an ordinary folder and files, not mkdtemp's 0700 …
+    for path in out.iterdir():  # … or mkstemp's 0600
+        assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~umask, path.name
     header = (out / "log.csv").read_text().splitlines()[0].split(",")
     assert header == csv_header(2)
     assert header[:4] == ["t", "q1_ref", "q2_ref", "qd1_ref"] and header[-9:] == "x y z vx vy vz ax ay az".split()
@@ -318,7 +324,8 @@ def test_simulate_every_arm(tmp_path, name):
     assert cli("simulate", name, "--dt", "0.01", *extra, "--out", str(out)) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["arm"] == name and max(summary["max_tracking_error"]) <= 1e-6
-    assert {p.name for p in out.iterdir()} == {"log.csv", "summary.json", "diagram.svg", "diagram.dot", *PLOTS}
+    assert {p.name for p in out.iterdir()} == {"log.csv", "summary.json", "diagram.svg", "diagram.dot", *PLOTS,
+                                               "replay.html"}
 
 
 def test_simulate_motion_options(tmp_path):
@@ -381,7 +388,6 @@ def test_failed_run_leaves_no_folder(tmp_path, monkeypatch, capsys):
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.skipif(shutil.which("dot") is None, reason="graphviz's dot is not installed (make system-deps)")
 @pytest.mark.parametrize("suffix", ["dot", "svg", "png"])
 def test_diagram_command(tmp_path, suffix):
     out = tmp_path / f"fig6.{suffix}"

@@ -1,0 +1,197 @@
+"""``armlab view ARM``: the arm in Meshcat with a slider per joint, the tool position shown live.
+
+Paper 001 drives its arm with a slider per joint in a 3-D figure (the Robotics Toolbox "teach");
+here Drake's ``JointSliders`` move the arm's plant in a Meshcat page served on localhost. The
+tool position — Drake's pose of the arm's tool frame — is shown on the page (a line of the
+control panel and the tool point's trail drawn as a line) and printed in the terminal when it
+changes. The scene is set up as in the replay (:mod:`armlab.diagrams.replay`): white background,
+camera framing everything the arm can reach.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from typing import TYPE_CHECKING, Any, TextIO
+
+import numpy as np
+from armlab.diagrams.replay import TOOL_PATH, build_scene, frame_camera, reach_points, start_meshcat, style_scene
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
+    from pydrake.geometry import Meshcat
+
+__all__ = ["PORT_TRIES", "Viewer", "open_meshcat", "register", "run_view"]
+
+#: How many consecutive ports ``--port P`` tries (P, P+1, …) before giving up.
+PORT_TRIES = 10
+#: Slider range of a joint without limits (rad): one turn either way.
+_UNLIMITED = 2 * np.pi
+_TRAIL = 2000  # most points kept in the tool's trail
+_STOP = "Stop viewer"
+
+
+def open_meshcat(port: int | None = None, tries: int = PORT_TRIES, out: TextIO = sys.stdout) -> Meshcat:
+    """A Meshcat server on localhost (loopback only): on ``port`` or, if it is in use, the next free
+    one of ``tries`` consecutive ports; ``port=None`` lets Meshcat pick the first free one from 7000.
+
+    Raises ``ValueError`` for a port outside 1024 … 65535 or when every port tried is in use.
+    """
+    if port is None:
+        try:
+            return start_meshcat(None)
+        except RuntimeError:
+            raise ValueError("--port: no free port in 7000 … 7999 for Meshcat; choose one with --port") from None
+    if not 1024 <= port <= 65535 - tries + 1:
+        raise ValueError(f"--port: {port} is not allowed (use 1024 … {65535 - tries + 1})")
+    for candidate in range(port, port + tries):
+        try:
+            return start_meshcat(candidate)
+        except RuntimeError:
+            print(f"port {candidate} is in use, trying {candidate + 1}", file=out)
+    raise ValueError(f"--port: ports {port} … {port + tries - 1} are all in use; choose another --port")
+
+
+class Viewer:
+    """The arm's plant in Meshcat, posed by a ``JointSliders`` slider per joint.
+
+    :meth:`step` reads the sliders and, when they moved, poses the arm, extends the tool's trail
+    and updates the tool position on the page.
+    """
+
+    def __init__(self, arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None = None,
+                 out: TextIO = sys.stdout) -> None:
+        from pydrake.multibody.meshcat import JointSliders
+
+        self.arm = arm
+        q0 = np.clip(np.zeros(arm.n), *self._limits()) if q0 is None else arm.check_q(q0, "--q")
+        self.meshcat = open_meshcat(port, out=out)
+        lower, upper = self._limits()
+        holder: dict[str, Any] = {}
+
+        def add_sliders(builder: Any, plant: Any) -> None:
+            index = [plant.GetJointByName(name).position_start() for name in arm.joint_names]
+            order = np.argsort(index)  # plant position order → arm joint order
+            holder["sliders"] = builder.AddSystem(JointSliders(
+                self.meshcat, plant, initial_value=q0[order],
+                lower_limit=np.minimum(lower, q0)[order], upper_limit=np.maximum(upper, q0)[order],
+                step=np.where(arm.revolute, 1e-3, 1e-4)[order],
+            ))
+
+        self.scene = build_scene(arm, self.meshcat, extra=add_sliders)
+        self.sliders = holder["sliders"]
+        self._sliders_context = self.sliders.GetMyContextFromRoot(self.scene.context)
+        plant = self.scene.plant
+        self._tool = plant.GetFrameByName(arm.tool_name)
+        style_scene(self.meshcat)
+        radius = max(body.radius for body in arm.bodies)
+        frame_camera(self.meshcat, reach_points(arm, self._reach_samples()), margin=2.5 * radius)
+        self.meshcat.AddButton(_STOP, "Escape")
+        self._q0 = np.asarray(q0, dtype=float)
+        self._reading: NDArray[np.float64] | None = None  # the sliders' values at the last step
+        self.q: NDArray[np.float64] | None = None  # the pose shown
+        self.trail: list[NDArray[np.float64]] = []
+        self._label = ""
+
+    @property
+    def url(self) -> str:
+        """The page's address, ``http://localhost:PORT``."""
+        return self.meshcat.web_url()
+
+    @property
+    def stop_requested(self) -> bool:
+        """True once the page's stop button (or Escape) was pressed."""
+        return self.meshcat.GetButtonClicks(_STOP) > 0
+
+    def _limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        lower = np.array([-_UNLIMITED if lim.lower is None else lim.lower for lim in self.arm.limits])
+        upper = np.array([_UNLIMITED if lim.upper is None else lim.upper for lim in self.arm.limits])
+        return lower, upper
+
+    def _reach_samples(self, count: int = 512) -> NDArray[np.float64]:
+        """Configurations spread over the joint ranges (seeded), to frame everything the arm can reach."""
+        lower, upper = self._limits()
+        return np.random.default_rng(0).uniform(lower, upper, size=(count, self.arm.n))
+
+    def tool_position(self) -> NDArray[np.float64]:
+        """Position of the tool frame in the world (Drake's pose of the arm's tool frame), metres."""
+        context = self.scene.plant.GetMyContextFromRoot(self.scene.context)
+        return np.asarray(self._tool.CalcPoseInWorld(context).translation())
+
+    def step(self) -> bool:
+        """Read the sliders; if they moved, pose the arm and update the tool's trail and readout.
+
+        Returns True when the pose changed.
+        """
+        reading = np.asarray(self.sliders.get_output_port().Eval(self._sliders_context))[self.scene.position_index]
+        if self._reading is not None and np.array_equal(reading, self._reading):
+            return False
+        # The sliders round to their step; the first pose is the initial q exactly.
+        q = self._q0 if self._reading is None else reading
+        self._reading = reading.copy()
+        self.q = q.copy()
+        self.scene.show(q)
+        p = self.tool_position()
+        self.trail = (self.trail + [p])[-_TRAIL:]
+        if len(self.trail) > 1:
+            self.meshcat.SetLine(TOOL_PATH, np.array(self.trail).T.copy(), line_width=3.0)
+        label = f"tool {self.arm.tool_name} [m]: " + "  ".join(f"{c} {v:+.4f}" for c, v in zip("xyz", p, strict=True))
+        if self._label:
+            self.meshcat.DeleteButton(self._label)
+        self.meshcat.AddButton(label)  # a line of the control panel that reads the tool position
+        self._label = label
+        return True
+
+    def close(self) -> None:
+        """Remove the controls from the page."""
+        self.meshcat.DeleteAddedControls()
+
+
+def run_view(arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None = None,
+             duration: float | None = None, out: TextIO = sys.stdout, poll: float = 0.05) -> int:
+    """Serve the arm with joint sliders until Ctrl-C, the page's stop button, or ``duration`` seconds.
+
+    Prints the page's URL, then the joints and tool position whenever the sliders move. Returns 0.
+    """
+    if duration is not None and not (np.isfinite(duration) and duration > 0):
+        raise ValueError(f"--duration: {duration} is not a positive number of seconds")
+    viewer = Viewer(arm, q0, port, out=out)
+    unit = ["rad" if r else "m" for r in arm.revolute]
+    print(f"armlab view {arm.name}: open {viewer.url} in a browser (Ctrl-C or the page's "
+          f"'{_STOP}' button to stop)", file=out, flush=True)
+    end = None if duration is None else time.monotonic() + duration
+    try:
+        while not viewer.stop_requested and (end is None or time.monotonic() < end):
+            if viewer.step():
+                p = viewer.tool_position()
+                joints = "  ".join(f"{v:+.4f} {u}" for v, u in zip(viewer.q, unit, strict=True))
+                print(f"q = {joints}   tool {arm.tool_name} = ({p[0]:+.4f}, {p[1]:+.4f}, {p[2]:+.4f}) m",
+                      file=out, flush=True)
+            time.sleep(poll)
+    except KeyboardInterrupt:
+        print("stopped", file=out)
+    finally:
+        viewer.close()
+    return 0
+
+
+def _cmd_view(args: argparse.Namespace) -> int:
+    from armlab.cli import joint_values, load_arm
+
+    arm = load_arm(args.arm)
+    q0 = joint_values(arm, args.q, args.deg) if args.q is not None else None
+    return run_view(arm, q0, port=args.port, duration=args.duration)
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``view`` subcommand to the CLI's subparsers."""
+    p = subparsers.add_parser("view", help="3-D view of an arm with a slider per joint (Meshcat, in a browser)")
+    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
+    p.add_argument("--q", help="initial joint values v1,v2,… (rad and m; see --deg); default: zeros within limits")
+    p.add_argument("--deg", action="store_true", help="revolute values in degrees")
+    p.add_argument("--port", type=int, help=f"first port to try (then the next {PORT_TRIES - 1}); default: "
+                   "the first free one from 7000")
+    p.add_argument("--duration", type=float, help="stop after this many seconds (default: run until Ctrl-C)")
+    p.set_defaults(func=_cmd_view)

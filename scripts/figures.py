@@ -1,0 +1,84 @@
+"""Shared matplotlib style for the reproduction figures: engineering plots, headless (Agg).
+
+Every figure is titled with the paper's figure number, has labelled axes with units and a
+legend where more than one curve shares an axis, and is saved as PNG (120 dpi) and SVG.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+__all__ = ["DPI", "draw_chain_3d", "new_figure", "save", "set_equal_3d"]
+
+DPI = 120
+
+_STYLE = {
+    "font.size": 9,
+    "axes.titlesize": 10,
+    "axes.labelsize": 9,
+    "legend.fontsize": 8,
+    "axes.grid": True,
+    "grid.alpha": 0.35,
+    "grid.linestyle": ":",
+    "lines.linewidth": 1.4,
+    "axes.prop_cycle": None,  # filled in below
+    "svg.fonttype": "none",
+}
+
+
+def new_figure(title: str, nrows: int = 1, ncols: int = 1, size: tuple[float, float] = (7.0, 4.5),
+               projection: str | None = None, **kwargs: Any) -> tuple[Any, Any]:
+    """A titled figure with ``nrows × ncols`` axes (``projection="3d"`` for 3-D), Agg backend."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from cycler import cycler
+
+    style = dict(_STYLE, **{"axes.prop_cycle": cycler(color=["#1f5fa8", "#c0392b", "#2e8b57", "#8e44ad",
+                                                                "#d68910", "#5d6d7e", "#17a2b8"])})
+    plt.rcParams.update(style)  # the whole process plots headless in this one style
+    subplot_kw = {"projection": projection} if projection else None
+    fig, axes = plt.subplots(nrows, ncols, figsize=size, squeeze=False, subplot_kw=subplot_kw, layout="constrained",
+                             **kwargs)
+    fig.suptitle(title, fontweight="bold")
+    return fig, axes if nrows * ncols > 1 else axes[0, 0]
+
+
+def save(fig: Any, stem: Path) -> list[Path]:
+    """Save ``fig`` as ``stem.png`` and ``stem.svg`` and close it; returns both paths."""
+    import matplotlib.pyplot as plt
+
+    stem = Path(stem)
+    paths = [stem.with_suffix(".png"), stem.with_suffix(".svg")]
+    fig.savefig(paths[0], dpi=DPI)
+    fig.savefig(paths[1])
+    plt.close(fig)
+    return paths
+
+
+def set_equal_3d(ax: Any, points: ArrayLike) -> None:
+    """Equal scale on the three axes of a 3-D plot around ``points`` (N, 3)."""
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    centre = (p.max(axis=0) + p.min(axis=0)) / 2
+    half = max(float(np.ptp(p, axis=0).max()) / 2, 1e-3) * 1.1
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_zlim(centre[2] - half, centre[2] + half)
+    ax.set_box_aspect((1, 1, 1))
+
+
+def draw_chain_3d(ax: Any, points: ArrayLike, label: str | None = None, color: str = "#1f5fa8",
+                  names: Sequence[str] = (), alpha: float = 1.0) -> None:
+    """The arm as a polyline through its joint points (N, 3), base first, joints as dots, optional names."""
+    p = np.asarray(points, dtype=float)
+    ax.plot(p[:, 0], p[:, 1], p[:, 2], "-", color=color, lw=3, alpha=alpha, label=label, solid_capstyle="round")
+    ax.scatter(p[:-1, 0], p[:-1, 1], p[:-1, 2], color="k", s=14, alpha=alpha, depthshade=False)
+    ax.scatter(p[-1:, 0], p[-1:, 1], p[-1:, 2], color=color, marker="D", s=24, alpha=alpha, depthshade=False)
+    for name, xyz in zip(names, p, strict=False):
+        ax.text(*xyz, f" {name}", fontsize=7)

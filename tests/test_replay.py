@@ -1,0 +1,282 @@
+"""The 3-D replay and the live viewer, checked as a person would see them.
+
+The replay HTML that ``armlab simulate`` writes is opened from disk by headless Chromium (no
+server, no network) and screenshotted at two playback times: the arm must be visible and large
+in both, in two different poses. Negative controls (a blank page, a page whose scene data is cut off, a run
+that does not move) must fail the same checks. The live viewer is served on localhost: its
+page must answer, its sliders must move the arm, and Drake's tool position it shows must
+equal the paper's forward kinematics.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import re
+import shutil
+import socket
+import subprocess
+import tempfile
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+from armlab.diagrams.replay import MAX_FPS, MAX_FRAMES, write_replay
+from armlab.diagrams.view import Viewer, open_meshcat, register, run_view
+from armlab.models import get_arm
+from conftest import ARM_NAMES
+from matplotlib.image import imread
+
+WINDOW = (1000, 800)
+#: Seek the replay's animation to a playback time once the page has loaded it (test-only script).
+SEEK_SCRIPT = """<script>
+(function armlabSeek() {{
+  const animator = viewer.animator;
+  if (animator.actions.length === 0) {{ setTimeout(armlabSeek, 10); return; }}
+  animator.pause(); animator.seek({time}); viewer.set_dirty();
+}})();
+</script>
+"""
+
+
+def chromium() -> str:
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        if path := shutil.which(name):
+            return path
+    pytest.fail("headless Chromium is needed to check the replay: apt-get install -y chromium (make setup does it)")
+
+
+def screenshots(html: Path, times: tuple[float, ...], tmp: Path) -> list[Path]:
+    """Screenshots of ``html`` opened from disk, with playback sought to each of ``times`` (in parallel)."""
+    text = html.read_text()
+    end = text.rfind("</body>")
+    jobs = []
+    for k, t in enumerate(times):
+        page = tmp / f"{html.stem}-at-{k}.html"
+        page.write_text(text[:end] + SEEK_SCRIPT.format(time=repr(float(t))) + text[end:] if end >= 0 else text)
+        png = tmp / f"{html.stem}-at-{k}.png"
+        profile = tempfile.mkdtemp(prefix="chromium-", dir=tmp)
+        cmd = [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+               "--disable-background-networking", "--disable-component-update", "--disable-sync",
+               f"--user-data-dir={profile}", f"--screenshot={png}", f"--window-size={WINDOW[0]},{WINDOW[1]}",
+               "--virtual-time-budget=3000", page.as_uri()]
+        jobs.append((png, subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)))
+    for png, job in jobs:
+        assert job.wait(timeout=90) == 0, f"chromium failed to screenshot {png.name}"
+        assert png.exists(), f"chromium wrote no {png.name}"
+    return [png for png, _ in jobs]
+
+
+def image(png: Path) -> np.ndarray:
+    """RGB in 0 … 1 below Meshcat's "Open Controls" bar (the top 24 rows are cropped)."""
+    return imread(png)[24:, :, :3]
+
+
+def solid(mask: np.ndarray) -> np.ndarray:
+    """``mask`` eroded twice (3×3): one- or two-pixel lines — the tool path, anti-aliasing — vanish,
+    bodies drawn several pixels thick remain."""
+    for _ in range(2):
+        inner = np.zeros_like(mask)
+        inner[1:-1, 1:-1] = np.logical_and.reduce(
+            [mask[1 + i : mask.shape[0] - 1 + i, 1 + j : mask.shape[1] - 1 + j] for i in (-1, 0, 1) for j in (-1, 0, 1)]
+        )
+        mask = inner
+    return mask
+
+
+def assert_shows_arm_moving(png_a: Path, png_b: Path) -> None:
+    """Both screenshots show the arm, large, on the replay's white background, and the arm is in
+    a different pose in each."""
+    for png in (png_a, png_b):
+        drawn = np.abs(image(png) - 1.0).max(axis=-1) > 0.1
+        assert drawn.mean() < 0.7, f"{png.name}: {drawn.mean():.0%} of the image is not the replay's white background"
+        bodies = solid(drawn)
+        assert bodies.mean() > 0.004, f"{png.name}: only {bodies.mean():.2%} of the image shows solid bodies drawn"
+        rows, cols = np.nonzero(bodies)
+        extent = max(np.ptp(cols) / bodies.shape[1], np.ptp(rows) / bodies.shape[0])
+        assert extent > 0.2, f"{png.name}: the arm spans only {extent:.0%} of the view"
+    moved = solid(np.abs(image(png_a) - image(png_b)).max(axis=-1) > 0.1).mean()
+    assert moved > 0.002, f"the two playback times look the same ({moved:.3%} of the image differs)"
+
+
+def sweep(arm, times: np.ndarray) -> np.ndarray:
+    """A motion over a good part of every joint's range (unlimited joints: ±0.6π)."""
+    lo = np.array([-np.pi if lim.lower is None else lim.lower for lim in arm.limits])
+    hi = np.array([np.pi if lim.upper is None else lim.upper for lim in arm.limits])
+    s = np.sin(np.pi * times[:, None] / times[-1] - np.pi / 2 + 0.3 * np.arange(arm.n))
+    return (lo + hi) / 2 + 0.6 * (hi - lo) / 2 * s
+
+
+# ---------------------------------------------------------------------------------- replay file
+def test_replay_file_is_self_contained_and_written_atomically(tmp_path):
+    arm = get_arm("urm6")
+    t = np.linspace(0.0, 2.0, 101)
+    path = write_replay(arm, t, sweep(arm, t), tmp_path / "run" / "replay.html")
+    assert path == tmp_path / "run" / "replay.html"
+    html = path.read_text()
+    assert html.lstrip().startswith("<!DOCTYPE html>")
+    scripts = re.findall(r"<script\b[^>]*>", html)
+    assert scripts and not any("src=" in tag for tag in scripts), scripts  # three.js is inlined
+    assert not re.search(r"""<(?:link|img|iframe)\b[^>]*(?:href|src)\s*=\s*["']https?:""", html)
+    assert [p.name for p in path.parent.iterdir()] == ["replay.html"]  # no temporary file left behind
+
+
+def test_long_runs_are_capped_in_frames_and_size(tmp_path):
+    arm = get_arm("urm6")
+
+    def size(duration: float) -> int:
+        t = np.linspace(0.0, duration, 2001)
+        return write_replay(arm, t, sweep(arm, t), tmp_path / f"{duration}.html").stat().st_size
+
+    per_frame = (size(4.0) - size(2.0)) / (2.0 * MAX_FPS)  # bytes per frame at the full rate
+    assert per_frame > 0
+    hour = size(3600.0)  # 108 000 frames at the full rate: capped at MAX_FRAMES
+    assert hour < size(2.0) + 1.05 * (MAX_FRAMES - 2.0 * MAX_FPS) * per_frame
+
+
+@pytest.mark.parametrize(
+    ("times", "q", "message"),
+    [
+        (np.array([0.0, 1.0]), np.zeros((2, 5)), "shape"),
+        (np.array([0.0, 1.0]), np.array([[0.0] * 6, [np.nan] + [0.0] * 5]), "finite"),
+        (np.array([1.0, 0.5]), np.zeros((2, 6)), "non-decreasing"),
+        (np.array([-1.0, 0.5]), np.zeros((2, 6)), "≥ 0"),
+        (np.array([]), np.zeros((0, 6)), "non-empty"),
+    ],
+)
+def test_replay_rejects_bad_runs(tmp_path, times, q, message):
+    with pytest.raises(ValueError, match=message):
+        write_replay(get_arm("urm6"), times, q, tmp_path / "replay.html")
+    assert not (tmp_path / "replay.html").exists()
+
+
+def test_replay_rejects_a_bad_tool_path(tmp_path):
+    t = np.linspace(0, 1, 5)
+    with pytest.raises(ValueError, match="tool_path"):
+        write_replay(get_arm("rr"), t, np.zeros((5, 2)), tmp_path / "replay.html", tool_path=np.zeros((4, 3)))
+
+
+# ------------------------------------------------------------------------ what a person sees
+@pytest.mark.parametrize("name", ARM_NAMES)
+def test_simulate_replay_in_chromium_shows_the_arm_in_two_poses(tmp_path, name):
+    """What ``armlab simulate ARM --out DIR`` writes, opened from disk as a user would."""
+    from armlab.cli import main
+
+    extra = ("--tf", "2") if name == "rrrr" else ()  # the paper's 15 s run, shortened
+    assert main(["simulate", name, "--dt", "0.01", *extra, "--out", str(tmp_path / "run")]) == 0
+    assert_shows_arm_moving(*screenshots(tmp_path / "run" / "replay.html", (0.3, 1.7), tmp_path))
+
+
+def test_the_checks_fail_on_a_blank_a_broken_and_a_still_page(tmp_path):
+    arm = get_arm("rrrr")
+    blank = tmp_path / "blank.html"
+    blank.write_text("<!DOCTYPE html><html><body></body></html>")
+    (png,) = screenshots(blank, (0.3,), tmp_path)
+    with pytest.raises(AssertionError, match="drawn"):
+        assert_shows_arm_moving(png, png)
+
+    t = np.linspace(0.0, 2.0, 41)
+    good = write_replay(arm, t, sweep(arm, t), tmp_path / "good.html").read_text()
+    broken = tmp_path / "broken.html"  # the scene data never reaches the viewer
+    broken.write_text(good.replace("buffer => viewer.handle_command_bytearray(", "buffer => void ("))
+    (png,) = screenshots(broken, (0.3,), tmp_path)
+    with pytest.raises(AssertionError, match="white background"):
+        assert_shows_arm_moving(png, png)
+
+    still = write_replay(arm, t, np.repeat(sweep(arm, t)[:1], t.size, axis=0), tmp_path / "still.html")
+    with pytest.raises(AssertionError, match="look the same"):
+        assert_shows_arm_moving(*screenshots(still, (0.3, 1.7), tmp_path))
+
+
+def test_playback_time_is_the_runs_time_even_when_a_long_run_is_thinned(tmp_path):
+    arm = get_arm("arm4r")
+    times = np.array([0.0, 59.9, 60.1, 120.0])  # 120 s: fewer than MAX_FPS frames per second
+    assert 120.0 * MAX_FPS > MAX_FRAMES
+    q = np.array([[0.0, -0.3, 0.6, 0.0], [0.0, -0.3, 0.6, 0.0], [1.5, -1.8, 1.8, 0.5], [1.5, -1.8, 1.8, 0.5]])
+    path = write_replay(arm, times, q, tmp_path / "step.html")
+    before, also_before, after = screenshots(path, (10.0, 50.0, 70.0), tmp_path)
+    assert_shows_arm_moving(also_before, after)  # the pose changes at 60 s of playback …
+    with pytest.raises(AssertionError, match="look the same"):
+        assert_shows_arm_moving(before, also_before)  # … and not before
+
+
+# ----------------------------------------------------------------------------------- viewer
+def test_viewer_serves_the_page_and_its_sliders_move_the_tool():
+    arm = get_arm("arm4r")
+    q0 = np.array([0.3123456789, -0.8, 0.9, 0.2])  # not on the sliders' step: shown exactly all the same
+    viewer = Viewer(arm, q0)
+    try:
+        with urllib.request.urlopen(viewer.url, timeout=10) as response:
+            assert response.status == 200 and b"meshcat" in response.read().lower()
+        assert re.fullmatch(r"http://localhost:\d+", viewer.url)
+        assert viewer.step() and np.array_equal(viewer.q, q0)
+        np.testing.assert_allclose(viewer.tool_position(), arm.forward(q0).tool[:3, 3], atol=1e-9)
+        assert not viewer.step()  # sliders untouched: nothing to redraw
+        viewer.meshcat.SetSliderValue("joint2", -1.2)
+        assert viewer.step()
+        q1 = np.array([0.3123456789, -1.2, 0.9, 0.2])
+        np.testing.assert_allclose(viewer.q, q1, atol=1e-3)  # joint 1 now as the slider has it (its step)
+        assert viewer.q[1] == -1.2
+        np.testing.assert_allclose(viewer.tool_position(), arm.forward(viewer.q).tool[:3, 3], atol=1e-9)
+        assert len(viewer.trail) == 2
+    finally:
+        viewer.close()
+
+
+def test_viewer_rejects_joint_values_outside_the_limits():
+    with pytest.raises(ValueError, match="joint2 = 2 rad is outside its limits"):
+        Viewer(get_arm("arm4r"), np.array([0.0, 2.0, 0.0, 0.0]))
+
+
+def test_a_busy_port_moves_on_to_the_next_or_says_so():
+    with socket.socket() as busy:
+        busy.bind(("localhost", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        out = io.StringIO()
+        meshcat = open_meshcat(port, out=out)
+        assert meshcat.port() != port and f"port {port} is in use" in out.getvalue()
+        with pytest.raises(ValueError, match=f"ports {port} … {port} are all in use"):
+            open_meshcat(port, tries=1, out=io.StringIO())
+    with pytest.raises(ValueError, match="--port: 80 is not allowed"):
+        open_meshcat(80)
+
+
+def test_run_view_prints_the_url_and_stops_after_its_duration():
+    out = io.StringIO()
+    assert run_view(get_arm("rr"), np.array([0.5, -0.5]), duration=0.3, out=out) == 0
+    lines = out.getvalue().splitlines()
+    assert re.search(r"open http://localhost:\d+ in a browser", lines[0])
+    assert lines[1].startswith("q = +0.5000 rad  -0.5000 rad   tool M = (")
+
+
+def test_run_view_ends_cleanly_on_ctrl_c(monkeypatch):
+    def interrupt(_seconds):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("armlab.diagrams.view.time.sleep", interrupt)
+    out = io.StringIO()
+    assert run_view(get_arm("rr"), out=out) == 0
+    assert out.getvalue().splitlines()[-1] == "stopped"
+
+
+def parse_view(*argv: str) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(prog="armlab")
+    register(parser.add_subparsers(dest="command", required=True))
+    return parser.parse_args(["view", *argv])
+
+
+def test_view_subcommand_rejects_an_unknown_arm_and_bad_q():
+    args = parse_view("nosucharm")
+    with pytest.raises(ValueError, match="unknown arm 'nosucharm'"):
+        args.func(args)
+    args = parse_view("rr", "--q", "1,2,3")
+    with pytest.raises(ValueError, match="rr has 2 joints, got 3 values"):
+        args.func(args)
+    args = parse_view("arm4r", "--q", "0,200,0,0", "--deg")
+    with pytest.raises(ValueError, match="outside its limits"):
+        args.func(args)
+    args = parse_view("rr", "--duration", "-1")
+    with pytest.raises(ValueError, match="--duration"):
+        args.func(args)
