@@ -7,7 +7,10 @@
   torques from the reference alone, τ = M(q_d) q̈_d + C(q_d, q̇_d) q̇_d − τ_g(q_d), no feedback
   (Drake's ``InverseDynamics`` in ``kInverseDynamics`` mode fed the reference state).
 
-Both use ``model``, a separate finalized copy of the plant (same URDF, gravity and payload) as
+* :func:`joint_torques` — the same τ along a sampled trajectory, without a diagram (e.g. to size the
+  drives for a path given point by point).
+
+The controllers use ``model``, a separate finalized copy of the plant (same URDF, gravity and payload) as
 the controller's model of the arm, and drive the simulated ``plant``'s actuation input.
 """
 
@@ -19,11 +22,19 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
+    from armlab.models.arm import Arm
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.controllers import InverseDynamics, InverseDynamicsController
     from pydrake.systems.framework import DiagramBuilder
 
-__all__ = ["DEFAULT_KD", "DEFAULT_KP", "add_inverse_dynamics", "add_inverse_dynamics_controller", "gain_vector"]
+__all__ = [
+    "DEFAULT_KD",
+    "DEFAULT_KP",
+    "add_inverse_dynamics",
+    "add_inverse_dynamics_controller",
+    "gain_vector",
+    "joint_torques",
+]
 
 #: Default position gain (1/s²): natural frequency 10 rad/s of the error dynamics ë + kd ė + kp e = 0.
 DEFAULT_KP = 100.0
@@ -89,3 +100,32 @@ def add_inverse_dynamics(
     builder.AddSystem(inverse_dynamics)
     builder.Connect(inverse_dynamics.get_output_port_generalized_force(), plant.get_actuation_input_port())
     return inverse_dynamics
+
+
+def joint_torques(
+    arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
+    payload: float = 0.0,
+) -> NDArray[np.float64]:
+    """τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) at each sample (arrays ``(N, n)``), by Drake's ``CalcInverseDynamics``.
+
+    ``gravity`` and ``payload`` as in :func:`armlab.diagrams.plant.make_plant` (default: the arm's gravity, no
+    payload); gravity enters as the plant's force elements.
+    """
+    from armlab.diagrams.plant import make_plant, resolve_gravity
+    from armlab.kinematics.batch import as_batch
+    from pydrake.multibody.tree import MultibodyForces
+
+    q, qd, qdd = np.broadcast_arrays(*(np.atleast_2d(as_batch(a, arm.n, name)) for a, name in
+                                       ((q, "q"), (qd, "qd"), (qdd, "qdd"))))
+    if q.ndim != 2:
+        raise ValueError(f"q, qd, qdd have shape {q.shape}; expected samples of shape (N, {arm.n})")
+    plant = make_plant(arm, resolve_gravity(arm, gravity), payload)
+    context = plant.CreateDefaultContext()
+    forces = MultibodyForces(plant)
+    tau = np.empty_like(qdd)
+    for k in range(qdd.shape[0]):
+        plant.SetPositions(context, q[k])
+        plant.SetVelocities(context, qd[k])
+        plant.CalcForceElementsContribution(context, forces)
+        tau[k] = plant.CalcInverseDynamics(context, qdd[k], forces)
+    return tau

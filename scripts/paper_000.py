@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from armlab.controllers.inverse_dynamics import joint_torques
 from armlab.scripts.report import MATCHES, PaperOutput, Row, compare, differs, not_reproducible
 
 PAPER = "000"
@@ -94,8 +95,8 @@ def _fig3_kinematics(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> 
     out.table("quintic_coefficients", "§4 — quintic coefficients of Fig. 3's motion (rad, s)",
               ["joint", "a1 (t^5)", "a2 (t^4)", "a3 (t^3)", "a4 (t^2)", "a5 (t)", "a6 (1)"], table,
               note=f"θ(t) = a1 t⁵ + a2 t⁴ + a3 t³ + a4 t² + a5 t + a6 (paper eqs. 3-6; 'b' for θ2), "
-                   f"t_f = {motion.duration:g} s. Paper: a1 = 0.3272, a2 = -1.6362, a3 = 2.1817, b1 = -0.0982, "
-                   "b2 = 0.4909, b3 = -0.6545.")
+                   f"t_f = {motion.duration:g} s. Paper: "
+                   + ", ".join(f"{key} = {value:g}" for key, value in PAPER_COEFFICIENTS.items()) + ".")
     q, qd, qdd = motion.evaluate(t)
     M = arm.forward(q).points["M"]
     O2 = arm.forward(q).points["O2"]
@@ -198,23 +199,6 @@ def _cartesian_arc(arm: Any, centre: np.ndarray, radius: float, t: np.ndarray, t
     return {key: np.stack(value) for key, value in out.items()}
 
 
-def inverse_dynamics(arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, payload: float = 0.0) -> np.ndarray:
-    """τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) by Drake's ``CalcInverseDynamics`` for each sample (N, n)."""
-    from armlab.diagrams.plant import make_plant, resolve_gravity
-    from pydrake.multibody.tree import MultibodyForces
-
-    plant = make_plant(arm, resolve_gravity(arm), payload)
-    context = plant.CreateDefaultContext()
-    forces = MultibodyForces(plant)
-    tau = np.empty_like(q)
-    for k in range(q.shape[0]):
-        plant.SetPositions(context, q[k])
-        plant.SetVelocities(context, qd[k])
-        plant.CalcForceElementsContribution(context, forces)  # gravity, as the applied force
-        tau[k] = plant.CalcInverseDynamics(context, qdd[k], forces)
-    return tau
-
-
 def _segment_samples(motion: Any, k: int, tau: np.ndarray) -> np.ndarray:
     """q, q̇, q̈ of segment ``k`` at its local times ``tau``, each (m, n)."""
     return motion.evaluate(motion.breaks[k] + np.clip(tau, 0, motion.segments[k].duration * (1 - 1e-12)))
@@ -270,9 +254,9 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     # ---- simulation (Fig. 6 diagram) and inverse dynamics of the same reference
     log = simulate(arm, motion, log_period=log_period)
     out.simulated_run(log, "abcd", "the A-B-C-D-A run (Figs. 8-10)")
-    tau_id = inverse_dynamics(arm, log.q_ref, log.qd_ref, log.qdd_ref)
+    tau_id = joint_torques(arm, log.q_ref, log.qd_ref, log.qdd_ref)
     id_gap = float(np.abs(tau_id - log.tau).max())
-    tau_arc = np.stack([inverse_dynamics(arm, q, qd, qdd) for q, qd, qdd in zip(arc["q"], arc["qd"], arc["qdd"],
+    tau_arc = np.stack([joint_torques(arm, q, qd, qdd) for q, qd, qdd in zip(arc["q"], arc["qd"], arc["qdd"],
                                                                               strict=True)])
     table3, claim_rows = [], []
     for k, label in enumerate(labels):
@@ -376,7 +360,7 @@ def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> Non
 
     log = simulate(arm, motion, log_period=log_period)
     out.simulated_run(log, "fig07", "Fig. 3's motion (Figs. 5, 7)")
-    tau_id = inverse_dynamics(arm, log.q_ref, log.qd_ref, log.qdd_ref)
+    tau_id = joint_torques(arm, log.q_ref, log.qd_ref, log.qdd_ref)
     id_gap = float(np.abs(tau_id - log.tau).max())
     peak = np.abs(log.tau).max(axis=0)
     for j in range(2):
@@ -535,16 +519,10 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     out.chosen("log period of the simulations", f"{log_period * 1e3:g} ms", "sampling of the plotted courses")
     out.chosen("Cartesian alternative", "quintic in the polar angle about the circle's centre, IK branch 0",
                "the paper has none; the same 2 s per segment")
-    out.errata()
     return out.finish()
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run this paper alone: ``--out DIR`` (default out/000)."""
+if __name__ == "__main__":
     from armlab.scripts.reproduce import run_alone
 
-    return run_alone(PAPER, run, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_alone(PAPER, run))

@@ -159,16 +159,10 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     out.chosen("motion", "rest-to-rest quintic per joint in 2 s", "the Robotics Toolbox's jtraj is a quintic; §3's 2 s")
     out.chosen("target orientation", f"pitch θ2+θ3+θ4 = {np.degrees(sum(motion.segments[0].q0[1:])):g}° (the start's)",
                "the stop values are garbled; 'the state is the same with the original state'")
-    out.errata()
     return out.finish()
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run this paper alone: ``--out DIR`` (default out/001)."""
+if __name__ == "__main__":
     from armlab.scripts.reproduce import run_alone
 
-    return run_alone(PAPER, run, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_alone(PAPER, run))

@@ -109,36 +109,35 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
     return sample, motion
 
 
+def _end_effector(out: PaperOutput, t: np.ndarray, v: np.ndarray, w: np.ndarray, vd: np.ndarray, wd: np.ndarray,
+                  frame: str, title: str, stem: str, label: str, caption: str) -> None:
+    """The tool's v, ω, v̇, ω̇ (each (N, 3), projected on ``frame``, "0" or "4") in a 2 × 2 figure."""
+    from armlab.scripts.figures import new_figure
+
+    prefix = "" if frame == "0" else "⁴"
+    fig, axes = new_figure(title, 2, 2, size=(11, 6.5), sharex=True)
+    panels = ((v, "v4 [m/s]"), (w, "ω4 [rad/s]"), (vd, "v̇4 [m/s²]"), (wd, "ω̇4 [rad/s²]"))
+    for ax, (values, name) in zip(axes.ravel(), panels, strict=True):
+        for i, axis in enumerate("xyz"):
+            ax.plot(t, values[:, i], label=f"{axis}{frame}")
+        ax.set_ylabel(prefix + name)
+        ax.legend(loc="best")
+    for ax in axes[1]:
+        ax.set_xlabel("t [s]")
+    out.figure(fig, stem, label, caption)
+
+
 def _figures(out: PaperOutput, arm: Any, t: np.ndarray, motion: Any, drake_gap: float) -> None:
     from armlab.scripts.figures import new_figure
 
-    fig, axes = new_figure("Paper 003 — end effector (tool P4) velocity and acceleration in {0}, eqs. (32)-(33), "
-                           "demo transfer", 2, 2, size=(11, 6.5), sharex=True)
-    panels = ((motion.v_0[:, -1], "v4 [m/s]"), (motion.w_0[:, -1], "ω4 [rad/s]"),
-              (motion.vd_0[:, -1], "v̇4 [m/s²]"), (motion.wd_0[:, -1], "ω̇4 [rad/s²]"))
-    for ax, (values, label) in zip(axes.ravel(), panels, strict=True):
-        for i, axis in enumerate("xyz"):
-            ax.plot(t, values[:, i], label=f"{axis}0")
-        ax.set_ylabel(label)
-        ax.legend(loc="best")
-    for ax in axes[1]:
-        ax.set_xlabel("t [s]")
-    out.figure(fig, "fig_end_effector", "End-effector courses (eqs. 32-33, 46-49)",
-               f"tool velocity and acceleration in {{0}} by the iterative algorithm; Drake agrees to {drake_gap:.1e}")
-
-    fig, axes = new_figure("Paper 003 — end effector in its own frame {4}, eqs. (62)-(69), demo transfer", 2, 2,
-                           size=(11, 6.5), sharex=True)
-    panels = ((motion.v_i[:, -1], "⁴v4 [m/s]"), (motion.w_i[:, -1], "⁴ω4 [rad/s]"),
-              (motion.vd_i[:, -1], "⁴v̇4 [m/s²]"), (motion.wd_i[:, -1], "⁴ω̇4 [rad/s²]"))
-    for ax, (values, label) in zip(axes.ravel(), panels, strict=True):
-        for i, axis in enumerate("xyz"):
-            ax.plot(t, values[:, i], label=f"{axis}4")
-        ax.set_ylabel(label)
-        ax.legend(loc="best")
-    for ax in axes[1]:
-        ax.set_xlabel("t [s]")
-    out.figure(fig, "fig_end_effector_own_frame", "End effector in {4} (eqs. 62-69)",
-               "tool velocity and acceleration projected on the tool frame")
+    _end_effector(out, t, motion.v_0[:, -1], motion.w_0[:, -1], motion.vd_0[:, -1], motion.wd_0[:, -1], "0",
+                  "Paper 003 — end effector (tool P4) velocity and acceleration in {0}, eqs. (32)-(33), demo transfer",
+                  "fig_end_effector", "End-effector courses (eqs. 32-33, 46-49)",
+                  f"tool velocity and acceleration in {{0}}, iterative algorithm; Drake agrees to {drake_gap:.1e}")
+    _end_effector(out, t, motion.v_i[:, -1], motion.w_i[:, -1], motion.vd_i[:, -1], motion.wd_i[:, -1], "4",
+                  "Paper 003 — end effector in its own frame {4}, eqs. (62)-(69), demo transfer",
+                  "fig_end_effector_own_frame", "End effector in {4} (eqs. 62-69)",
+                  "tool velocity and acceleration projected on the tool frame")
 
     fig, axes = new_figure("Paper 003 — every link: speed and acceleration magnitudes (eqs. 24-27), demo transfer",
                            2, 2, size=(11, 6.5), sharex=True)
@@ -201,16 +200,10 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     _symbolic(out)
     out.chosen_parameters(arm, ("l1", "l2", "l3", "l4", "l5", "q2_max", "q3_max", "m1", "m2", "m3"))
     out.chosen("demo motion", demo.description, "paper 003 prints no motion")
-    out.errata()
     return out.finish()
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run this paper alone: ``--out DIR`` (default out/003)."""
+if __name__ == "__main__":
     from armlab.scripts.reproduce import run_alone
 
-    return run_alone(PAPER, run, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_alone(PAPER, run))

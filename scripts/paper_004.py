@@ -101,16 +101,10 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
                 "here: the paper's eqs. (1)-(7) vs Drake's plant from the URDF; tolerance 1e-9 mm"))
     _figure(out, rotation_form, names, np.asarray(TABLE1_PHI_DEG))
     out.chosen_parameters(arm, ("module_mass",))
-    out.errata()
     return out.finish()
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run this paper alone: ``--out DIR`` (default out/004)."""
+if __name__ == "__main__":
     from armlab.scripts.reproduce import run_alone
 
-    return run_alone(PAPER, run, argv)
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+    raise SystemExit(run_alone(PAPER, run))

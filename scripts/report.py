@@ -232,7 +232,8 @@ class PaperOutput:
             self.chosen(f"{arm.name} {key}", f"{arm.parameters[key]:g}", arm.notes[key].removeprefix(prefix))
 
     def finish(self) -> list[Row]:
-        """Write ``rows.csv`` and ``manifest.json``; return the rows."""
+        """Record the paper's errata, write ``rows.csv`` and ``manifest.json``; return the rows."""
+        self.errata()
         with open(self.folder / "rows.csv", "w", newline="") as handle:
             writer = csv.writer(handle)
             writer.writerow(["paper", "quantity", "paper_value", "armlab_value", "deviation", "verdict", "note"])
