@@ -6,6 +6,7 @@ legend where more than one curve shares an axis, and is saved as PNG (120 dpi) a
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -13,13 +14,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["DPI", "draw_chain_3d", "new_figure", "save", "set_equal_3d"]
+__all__ = ["DPI", "draw_chain_3d", "new_figure", "save", "set_equal_3d", "wrap_title"]
 
 DPI = 120
 
 _STYLE = {
     "font.size": 9,
     "axes.titlesize": 10,
+    "figure.titlesize": 11,
     "axes.labelsize": 9,
     "legend.fontsize": 8,
     "axes.grid": True,
@@ -46,8 +48,18 @@ def new_figure(title: str, nrows: int = 1, ncols: int = 1, size: tuple[float, fl
     subplot_kw = {"projection": projection} if projection else None
     fig, axes = plt.subplots(nrows, ncols, figsize=size, squeeze=False, subplot_kw=subplot_kw, layout="constrained",
                              **kwargs)
-    fig.suptitle(title, fontweight="bold")
+    fig.suptitle(wrap_title(title, size[0]), fontweight="bold")
     return fig, axes if nrows * ncols > 1 else axes[0, 0]
+
+
+def wrap_title(title: str, width_inches: float) -> str:
+    """``title`` broken into lines that fit a figure ``width_inches`` wide in the bold title font.
+
+    A bold character of the 11 pt title is about 0.62 em wide on average, so a line holds about
+    ``width · 72 / (11 · 0.62)`` characters; explicit line breaks are kept.
+    """
+    chars = max(20, int(width_inches * 72 / (_STYLE["figure.titlesize"] * 0.62)))
+    return "\n".join(textwrap.fill(line, chars) for line in title.splitlines())
 
 
 def save(fig: Any, stem: Path) -> list[Path]:

@@ -45,22 +45,28 @@ def drake_points(arm: Any, q: np.ndarray, names: list[str]) -> np.ndarray:
 
 
 def _figure(out: PaperOutput, points_mm: np.ndarray, names: list[str], phi_deg: np.ndarray) -> None:
+    """The whole arm with its position vectors, and the wrist (p4 … p7, which lie within 0.1 m) enlarged."""
     from armlab.scripts.figures import draw_chain_3d, new_figure, set_equal_3d
 
-    fig, ax = new_figure("Paper 004, Fig. 4 — URM arm and its position vectors p1…p7 (Table 1 configuration)",
-                         size=(7.5, 6.5), projection="3d")
+    fig, axes = new_figure("Paper 004, Fig. 4 — URM arm and its position vectors p1…p7 (Table 1 configuration); "
+                           "right: the wrist p4…p7 enlarged", 1, 2, size=(12, 6.2), projection="3d")
+    ax, wrist = axes[0]
     chain = np.vstack([np.zeros(3), points_mm])
-    draw_chain_3d(ax, chain, label="segments r1…r7", names=["O"] + names)
+    draw_chain_3d(ax, chain, label="segments r1…r7", names=["O", *names[:4]])
     for k, p in enumerate(points_mm):
         ax.quiver(0, 0, 0, *p, color=f"C{k % 7}", arrow_length_ratio=0.04, lw=0.9, alpha=0.75,
                   label=f"{names[k]} = ({p[0]:.1f}, {p[1]:.1f}, {p[2]:.1f}) mm")
-    ax.set_xlabel("x0 [mm]")
-    ax.set_ylabel("y0 [mm]")
-    ax.set_zlabel("z0 [mm]")
     set_equal_3d(ax, chain)
-    ax.view_init(elev=22, azim=-60)
     ax.legend(loc="upper left", bbox_to_anchor=(0.0, 1.0), fontsize=7, title="φ = " + ", ".join(
         f"{v:g}" for v in phi_deg) + "°", title_fontsize=7)
+    draw_chain_3d(wrist, points_mm[3:], label="segments r5…r7", names=names[3:])
+    set_equal_3d(wrist, points_mm[3:])
+    wrist.legend(loc="upper left", fontsize=7)
+    for a in (ax, wrist):
+        a.set_xlabel("x0 [mm]")
+        a.set_ylabel("y0 [mm]")
+        a.set_zlabel("z0 [mm]")
+        a.view_init(elev=22, azim=-60)
     out.figure(fig, "fig04_arm_3d", "Fig. 4", "the arm in 3-D with its position vectors p1…p7 (Table 1 configuration)")
 
 
