@@ -5,14 +5,16 @@ BIN := $(VENV)/bin
 # python3.12: on PATH, or any pyenv 3.12 (pyenv shims answer even when 3.12 is not selected)
 PYTHON ?= $(shell for p in python3.12 $$HOME/.pyenv/versions/3.12*/bin/python3.12 /usr/local/bin/python3.12 /usr/bin/python3.12; do \
 	"$$p" -c 'import sys; assert sys.version_info[:2] == (3, 12)' >/dev/null 2>&1 && { echo "$$p"; break; }; done)
-SYSTEM_PACKAGES := graphviz:dot chromium:chromium
+# system packages as package:command — graphviz's `dot` draws the diagrams, headless Chromium checks the replays
+RUN_PACKAGES := graphviz:dot
+TEST_PACKAGES := $(RUN_PACKAGES) chromium:chromium
 
-.PHONY: run test setup system-deps lint bench clean
+.PHONY: run test setup run-deps test-deps lint bench clean
 
-run: setup system-deps
+run: setup run-deps
 	$(BIN)/armlab reproduce --out out
 
-test: setup system-deps
+test: setup test-deps
 	$(BIN)/ruff check .
 	$(BIN)/pytest -q
 
@@ -25,20 +27,27 @@ $(VENV)/.installed: pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	@touch $@
 
-# graphviz's `dot` (diagram SVGs) and headless Chromium (replay tests): installed when missing and root.
-system-deps:
-	@missing=""; for pair in $(SYSTEM_PACKAGES); do command -v $${pair#*:} >/dev/null || missing="$$missing $${pair%%:*}"; done; \
+# The system packages $(1) (package:command pairs): installed when missing and running as root, else named.
+define system_deps
+	@missing=""; for pair in $(1); do command -v $${pair#*:} >/dev/null || missing="$$missing $${pair%%:*}"; done; \
 	if [ -n "$$missing" ]; then \
 	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
 	    echo "installing system packages:$$missing"; \
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
 	  else echo "armlab needs system packages:$$missing — run: sudo apt-get install -y$$missing"; exit 1; fi; \
 	fi
+endef
+
+run-deps:
+	$(call system_deps,$(RUN_PACKAGES))
+
+test-deps:
+	$(call system_deps,$(TEST_PACKAGES))
 
 lint: setup
 	$(BIN)/ruff check .
 
-bench: setup system-deps
+bench: setup
 	$(BIN)/python scripts/bench_kinematics.py
 	$(BIN)/python scripts/bench_simulate.py
 

@@ -131,7 +131,10 @@ def _cmd_ik(args: argparse.Namespace) -> int:
     target = np.array(parse_floats(args.target, "--target"))
     pitch = None
     if args.pitch is not None:
-        (pitch,) = parse_floats(args.pitch, "--pitch")
+        values = parse_floats(args.pitch, "--pitch")
+        if len(values) != 1:
+            raise ValueError(f"--pitch {args.pitch}: give one angle (the tool pitch θ2+θ3+θ4 of arm4r)")
+        (pitch,) = values
         pitch = math.radians(pitch) if args.deg else pitch
     near = joint_values(arm, args.near, args.deg, "--near") if args.near else None
     solutions = solve(arm, target, pitch=pitch, near=near, all_solutions=args.all)
@@ -171,7 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("ik", help="inverse kinematics: joint values reaching a target")
     p.add_argument("arm")
     p.add_argument("--target", required=True, help="x,y,z in metres (rr: x,y)")
-    p.add_argument("--pitch", help="tool pitch θ2+θ3+θ4 (arm4r)")
+    p.add_argument("--pitch", help="tool pitch θ2+θ3+θ4 (arm4r only; default 0: the tool x axis horizontal)")
     p.add_argument("--near", help="current joints v1,v2,…: nearest solution first")
     p.add_argument("--all", action="store_true", help="every solution within the joint limits")
     p.add_argument("--deg", action="store_true", help="angles in degrees")
@@ -189,10 +192,11 @@ _VALUE_OPTIONS = ("--q", "--target", "--near", "--from", "--to", "--pitch", "--g
 
 
 def _join_negative_values(argv: Sequence[str]) -> list[str]:
-    """``--q -1,2`` → ``--q=-1,2``: argparse would take ``-1,2`` for an option."""
+    """``--q -1,2`` → ``--q=-1,2`` and ``--gravity -y`` → ``--gravity=-y``: argparse would take them for options."""
     out: list[str] = []
     for item in argv:
-        if out and out[-1] in _VALUE_OPTIONS and item[:1] == "-" and (item[1:2].isdigit() or item[1:2] == "."):
+        negative = item[:1] == "-" and (item[1:2].isdigit() or item[1:2] == "." or item in ("-x", "-y", "-z"))
+        if out and out[-1] in _VALUE_OPTIONS and negative:
             out[-1] = f"{out[-1]}={item}"
         else:
             out.append(item)

@@ -22,10 +22,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
-    from armlab.models.arm import Arm
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.controllers import InverseDynamics, InverseDynamicsController
     from pydrake.systems.framework import DiagramBuilder
+
+    from armlab.models.arm import Arm
 
 __all__ = [
     "DEFAULT_KD",
@@ -111,9 +112,10 @@ def joint_torques(
     ``gravity`` and ``payload`` as in :func:`armlab.diagrams.plant.make_plant` (default: the arm's gravity, no
     payload); gravity enters as the plant's force elements.
     """
+    from pydrake.multibody.tree import MultibodyForces
+
     from armlab.diagrams.plant import make_plant, resolve_gravity
     from armlab.kinematics.batch import as_batch
-    from pydrake.multibody.tree import MultibodyForces
 
     q, qd, qdd = np.broadcast_arrays(*(np.atleast_2d(as_batch(a, arm.n, name)) for a, name in
                                        ((q, "q"), (qd, "qd"), (qdd, "qdd"))))

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from armlab.controllers.inverse_dynamics import (
     DEFAULT_KD,
     DEFAULT_KP,
@@ -26,12 +28,12 @@ from armlab.controllers.inverse_dynamics import (
 )
 from armlab.diagrams.plant import make_plant, resolve_gravity
 from armlab.kinematics.quintic import Motion, to_piecewise_polynomial
-from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
-    from armlab.models.arm import Arm
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.framework import Diagram
+
+    from armlab.models.arm import Arm
 
 __all__ = ["DEFAULT_LOG_PERIOD", "MODES", "RunDiagram", "build_diagram", "check_log_period"]
 
@@ -82,9 +84,10 @@ def build_diagram(
     ``gravity``: see :func:`~armlab.diagrams.plant.resolve_gravity`; ``payload``: point mass (kg) at
     the tool; ``log_period``: period (s) of every logger; ``mode``: one of :data:`MODES`.
     """
-    from armlab.diagrams.tool_point import ToolPointKinematics
     from pydrake.systems.framework import DiagramBuilder
     from pydrake.systems.primitives import Demultiplexer, LogVectorOutput, TrajectorySource
+
+    from armlab.diagrams.tool_point import ToolPointKinematics
 
     if mode not in MODES:
         raise ValueError(f"mode {mode!r} is not allowed; allowed: {', '.join(MODES)}")

@@ -42,9 +42,8 @@ def _gains(text: str | None, default: float, name: str) -> float | list[float]:
 
 def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
     """The motion the options give: ``--segments``, ``--from``/``--to``, or the paper motion (``--path``, ``--tf``)."""
-    from armlab.diagrams.motions import paper_motion, quintic_motion, read_segments
-
     from armlab.cli import joint_values, parse_floats
+    from armlab.diagrams.motions import paper_motion, quintic_motion, read_segments
 
     tf = None
     if args.tf is not None:
@@ -73,9 +72,7 @@ def _hold_motion(arm: Arm) -> Motion:
     """Standing still for 1 s at q = 0 (clipped into the limits): a trajectory for drawing a user arm's diagram."""
     from armlab.kinematics.quintic import Motion, QuinticSegment
 
-    lower = np.array([-np.inf if lim.lower is None else lim.lower for lim in arm.limits])
-    upper = np.array([np.inf if lim.upper is None else lim.upper for lim in arm.limits])
-    q = np.clip(np.zeros(arm.n), lower, upper)
+    q = np.clip(np.zeros(arm.n), *arm.limit_arrays())
     return Motion((QuinticSegment(q, q, 1.0, "hold"),), "standing still")
 
 
@@ -97,14 +94,13 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``armlab simulate``: see the module docstring."""
+    from armlab.cli import load_arm
     from armlab.diagrams.build import check_log_period
     from armlab.diagrams.graphviz import render, require_dot
     from armlab.diagrams.output import run_folder, write_log_csv, write_summary
     from armlab.diagrams.plots import write_plots
     from armlab.diagrams.replay import write_replay
     from armlab.diagrams.simulate import DEFAULT_ACCURACY, simulate, summarize
-
-    from armlab.cli import load_arm
 
     arm = load_arm(args.arm)
     motion = motion_from_args(arm, args)
@@ -137,12 +133,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 def cmd_diagram(args: argparse.Namespace) -> int:
     """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG or PNG (by the suffix of --out)."""
+    from armlab.cli import load_arm
     from armlab.diagrams.build import build_diagram
     from armlab.diagrams.graphviz import FORMATS, write_graph
     from armlab.diagrams.motions import paper_motion
     from armlab.models import ARMS
-
-    from armlab.cli import load_arm
 
     arm = load_arm(args.arm)
     fmt = args.out.rsplit(".", 1)[-1].lower() if "." in args.out else ""
@@ -162,8 +157,8 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
                    help="controller: computed torque with PD feedback (default); inverse_dynamics: torques from the "
                         "reference alone, open loop (SimMechanics' inverse-dynamics mode of paper 000 Fig. 6)")
     p.add_argument("--gravity", default="default",
-                   help="default (the arm's: rr -y, others -z), off, +x/-x/+y/-y/+z/-z (9.81 m/s²; write "
-                        "--gravity=-y), or gx,gy,gz in m/s²")
+                   help="default (the arm's: rr -y, others -z), off, +x/-x/+y/-y/+z/-z (9.81 m/s²), or gx,gy,gz in "
+                        "m/s²")
     p.add_argument("--payload", type=float, default=0.0, metavar="KG",
                    help="point mass at the tool point, kg (default 0; r2t's nominal payload is 20 kg)")
     p.add_argument("--kp", help="position gain(s), 1/s²: one value or one per joint (default 100)")

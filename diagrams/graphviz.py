@@ -19,7 +19,7 @@ def require_dot() -> str:
     dot = shutil.which("dot")
     if dot is None:
         raise ValueError("graphviz's 'dot' program is needed for SVG/PNG diagrams and was not found: install graphviz "
-                         "(apt-get install graphviz, or run 'make system-deps'), or write a .dot file")
+                         "(apt-get install graphviz, or run 'make run-deps'), or write a .dot file")
     return dot
 
 

@@ -28,8 +28,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, Segment, check_duration
 from numpy.typing import ArrayLike, NDArray
+
+from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, Segment, check_duration
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -92,8 +93,12 @@ def point_to_joints(
         raise ValueError(f"IK branch {branch!r} is not allowed: branches are 0 (θ2 ≥ 0) and 1 (θ2 ≤ 0) of the rr arm; "
                          "for other arms give no branch (the solution nearest the previous joints is taken)")
     p = np.asarray(point, dtype=float)
-    if p.shape == (3,) and p[2] == 0.0:
+    if p.shape == (3,):
+        if p[2] != 0.0:
+            raise ValueError(f"point z = {p[2]:g} is not allowed: the rr arm moves in the plane z = 0")
         p = p[:2]
+    if p.shape != (2,):
+        raise ValueError(f"point {p.tolist()} has {p.size} coordinates; the rr arm takes x,y (or x,y,0) in m")
     q = rr_ik(p, arm.parameters["L1"], arm.parameters["L2"])[branch]
     fitted, violations = fit_limits(arm, q, near=q)
     if violations[0] is not None:
@@ -119,8 +124,7 @@ def abcd_motion(arm: Arm, tf: float = 2.0) -> Motion:
 
 
 def _demo_r2t(arm: Arm, tf: float) -> Motion:
-    lo = np.array([lim.lower for lim in arm.limits])
-    hi = np.array([lim.upper for lim in arm.limits])
+    lo, hi = arm.limit_arrays()
     q0 = np.array([-np.pi / 4, lo[1] + 0.2 * (hi[1] - lo[1]), lo[2] + 0.1 * (hi[2] - lo[2])])
     qf = np.array([np.pi / 4, lo[1] + 0.8 * (hi[1] - lo[1]), lo[2] + 0.9 * (hi[2] - lo[2])])
     return Motion((QuinticSegment(q0, qf, tf, "transfer"),),
@@ -187,15 +191,31 @@ def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> 
     return motion
 
 
+def _is_number(raw: Any) -> bool:
+    return isinstance(raw, (int, float)) and not isinstance(raw, bool)
+
+
+def _number(raw: Any, name: str) -> float:
+    """A JSON number, finite; ``ValueError`` naming ``name`` otherwise."""
+    if not _is_number(raw) or not np.isfinite(raw):
+        raise ValueError(f"{name} = {json.dumps(raw)} must be a finite number")
+    return float(raw)
+
+
+def _numbers(raw: Any, name: str) -> NDArray[np.float64]:
+    """A JSON list of finite numbers as an array; ``ValueError`` naming ``name`` otherwise."""
+    if not isinstance(raw, list) or not raw or not all(_is_number(v) for v in raw):
+        raise ValueError(f"{name} = {json.dumps(raw)} must be a list of numbers")
+    values = np.array(raw, dtype=float)
+    if not np.all(np.isfinite(values)):
+        raise ValueError(f"{name} = {json.dumps(raw)} has a value that is not a finite number")
+    return values
+
+
 def _values(arm: Arm, raw: Any, deg: bool, name: str) -> NDArray[np.float64]:
-    try:
-        values = np.array(raw, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} = {raw!r} is not a list of numbers") from None
+    values = _numbers(raw, name)
     if values.shape != (arm.n,):
         raise ValueError(f"{name} has {values.size} values; {arm.name} has {arm.n} joints")
-    if not np.all(np.isfinite(values)):
-        raise ValueError(f"{name} = {values.tolist()} has a value that is not a finite number")
     return np.where(arm.revolute, np.radians(values), values) if deg else values
 
 
@@ -207,11 +227,16 @@ def _end(arm: Arm, spec: Mapping[str, Any], which: str, deg: bool, near: NDArray
         return _values(arm, joints, deg, f"{where} {which}")
     if point is None:
         return None
+    xyz = _numbers(point, f"{where} {which}_point")
     pitch = spec.get(f"{which}_pitch")
     if pitch is not None:
-        pitch = float(np.radians(pitch)) if deg else float(pitch)
+        pitch = _number(pitch, f"{where} {which}_pitch")
+        pitch = float(np.radians(pitch)) if deg else pitch
+    branch = spec.get(f"{which}_branch")
+    if branch is not None and not (_is_number(branch) and isinstance(branch, int) and branch in (0, 1)):
+        raise ValueError(f"{where} {which}_branch = {json.dumps(branch)} is not allowed: 0 (θ2 ≥ 0) or 1 (θ2 ≤ 0)")
     try:
-        return point_to_joints(arm, np.asarray(point, dtype=float), spec.get(f"{which}_branch"), pitch, near)
+        return point_to_joints(arm, xyz, branch, pitch, near)
     except ValueError as error:
         raise ValueError(f"{where} {which}_point: {error}") from None
 
@@ -223,11 +248,15 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
         data = json.loads(path.read_text())
     except OSError as error:
         raise ValueError(f"--segments {path}: cannot read it: {error.strerror or error}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"--segments {path}: cannot read it: it is not UTF-8 text") from None
     except json.JSONDecodeError as error:
         raise ValueError(f"--segments {path}: not valid JSON: {error}") from None
     if not isinstance(data, dict) or not isinstance(data.get("segments"), list) or not data["segments"]:
         raise ValueError(f"--segments {path}: expected an object with a non-empty list \"segments\"")
-    deg = bool(data.get("deg", False))
+    deg = data.get("deg", False)
+    if not isinstance(deg, bool):
+        raise ValueError(f"--segments {path}: \"deg\" = {json.dumps(deg)} must be true or false")
     segments: list[Segment] = []
     known = {"label", "tf", "from", "from_point", "from_branch", "from_pitch", "to", "to_point", "to_branch",
              "to_pitch", "rate"}

@@ -14,15 +14,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armlab.diagrams.plots import PLOTS
 from armlab.files import OutputFolder
 
 if TYPE_CHECKING:
     from armlab.diagrams.simulate import SimulationLog
 
-__all__ = ["RUN_FILES", "csv_header", "run_folder", "write_log_csv", "write_summary"]
+__all__ = ["RUN_FILES", "RUN_OUTPUTS", "csv_header", "run_folder", "write_log_csv", "write_summary"]
 
-#: Files that mark a folder as an armlab run (which ``--out`` may replace).
+#: Files that mark a folder as an armlab run (which ``--out`` may replace) …
 RUN_FILES = ("log.csv", "summary.json")
+#: … if it holds nothing but the files a run writes.
+RUN_OUTPUTS = (*RUN_FILES, "diagram.svg", "diagram.dot", *PLOTS, "replay.html")
 
 
 def csv_header(n: int) -> list[str]:
@@ -46,7 +49,16 @@ def write_summary(summary: dict[str, Any], path: str | Path) -> Path:
     return Path(path)
 
 
+def _is_run(folder: Path) -> bool:
+    names = {p.name for p in folder.iterdir()}
+    return set(RUN_FILES) <= names <= set(RUN_OUTPUTS)
+
+
 def run_folder(out: str | Path) -> OutputFolder:
-    """``with run_folder(out) as tmp:`` write a run into ``tmp``; on success it becomes ``out``."""
-    return OutputFolder(out, lambda folder: all((folder / name).exists() for name in RUN_FILES),
-                        f"an armlab run folder (no {' and '.join(RUN_FILES)})")
+    """``with run_folder(out) as tmp:`` write a run into ``tmp``; on success it becomes ``out``.
+
+    An existing ``out`` is replaced only if it is empty or an earlier run: :data:`RUN_FILES` and
+    nothing but :data:`RUN_OUTPUTS`.
+    """
+    return OutputFolder(out, _is_run, f"an armlab run folder (one with {' and '.join(RUN_FILES)} and nothing but "
+                                      "the files armlab simulate writes)")

@@ -14,8 +14,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
-    from armlab.models.arm import Arm
     from pydrake.multibody.plant import MultibodyPlant
+
+    from armlab.models.arm import Arm
 
 __all__ = ["GRAVITY_NAMES", "G", "make_plant", "resolve_gravity"]
 
@@ -64,7 +65,8 @@ def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyP
 
     The plant's generalized positions, velocities and actuators must be in the arm's joint order
     (joint1 … jointN), which the URDF guarantees; this is checked so that a trajectory in the
-    arm's joint order can be wired to the plant's ports directly.
+    arm's joint order can be wired to the plant's ports directly. The mass matrix must be positive
+    definite (at q = 0), or the simulation could not solve for the accelerations.
     """
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.multibody.tree import RotationalInertia, SpatialInertia
@@ -87,5 +89,12 @@ def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyP
     ):
         raise ValueError(f"{arm.name}: the plant's joint order differs from {', '.join(arm.joint_names)}")
     if plant.num_actuators() != arm.n or not np.array_equal(plant.MakeActuationMatrix(), np.eye(arm.n)):
-        raise ValueError(f"{arm.name}: every joint needs one actuator, in joint order")
+        raise ValueError(f"{arm.name}: every joint needs one actuator, in joint order ({', '.join(arm.joint_names)}): "
+                         "declare the URDF's <transmission> elements in that order, or none")
+    mass_matrix = plant.CalcMassMatrix(plant.CreateDefaultContext())
+    if np.any(np.linalg.eigvalsh(mass_matrix) <= 1e-12 * max(1.0, np.abs(mass_matrix).max())):
+        still = [name for name, m in zip(arm.joint_names, np.diag(mass_matrix), strict=True) if m <= 1e-12]
+        raise ValueError(f"{arm.name}: the mass matrix is singular (joint(s) {', '.join(still) or 'together'} move "
+                         "no mass or inertia): to simulate, every moving link needs an <inertial> with mass > 0 and "
+                         "inertia")
     return plant

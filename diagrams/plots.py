@@ -19,8 +19,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from armlab.diagrams.simulate import SimulationLog
     from matplotlib.axes import Axes
+
+    from armlab.diagrams.simulate import SimulationLog
 
 __all__ = ["PLOTS", "write_plots"]
 

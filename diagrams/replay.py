@@ -24,8 +24,9 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.files import write_file
 
 if TYPE_CHECKING:
-    from armlab.models.arm import Arm
     from pydrake.geometry import Meshcat
+
+    from armlab.models.arm import Arm
 
 __all__ = [
     "MAX_FPS",

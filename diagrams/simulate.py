@@ -14,10 +14,11 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, RunDiagram, build_diagram, check_log_period
 from armlab.kinematics.quintic import Motion
-from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -68,6 +69,12 @@ class SimulationLog:
     run_starts: list[float]
     wall_time: float
     diagram_dot: str
+
+    def segment_rows(self, k: int) -> NDArray[np.bool_]:
+        """The samples of segment ``k``, both ends included (a join's time belongs to both segments it joins)."""
+        breaks = self.motion.breaks
+        run = int(self.run[np.argmax(self.segment == k)])
+        return (self.run == run) & (self.t >= breaks[k] - 1e-12) & (self.t <= breaks[k + 1] + 1e-12)
 
 
 def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY) -> dict[str, NDArray[np.float64]]:
@@ -178,8 +185,8 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
     segments = []
     breaks = motion.breaks
     for k, (label, s) in enumerate(zip(motion.labels, motion.segments, strict=True)):
-        run = int(log.run[np.argmax(log.segment == k)])
-        rows = (log.run == run) & (log.t >= breaks[k] - 1e-12) & (log.t <= breaks[k + 1] + 1e-12)
+        rows = log.segment_rows(k)
+        run = int(log.run[rows][0])
         entry = {"label": label, "kind": type(s).__name__, "t_start": float(breaks[k]), "t_end": float(breaks[k + 1]),
                  "q_start": s.q_start.tolist(), "q_end": s.q_end.tolist(), "run": run}
         if k > 0:

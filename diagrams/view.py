@@ -16,12 +16,14 @@ import time
 from typing import TYPE_CHECKING, Any, TextIO
 
 import numpy as np
-from armlab.diagrams.replay import TOOL_PATH, build_scene, frame_camera, reach_points, start_meshcat, style_scene
 from numpy.typing import NDArray
 
+from armlab.diagrams.replay import TOOL_PATH, build_scene, frame_camera, reach_points, start_meshcat, style_scene
+
 if TYPE_CHECKING:
-    from armlab.models.arm import Arm
     from pydrake.geometry import Meshcat
+
+    from armlab.models.arm import Arm
 
 __all__ = ["PORT_TRIES", "Viewer", "open_meshcat", "register", "run_view"]
 
@@ -66,9 +68,9 @@ class Viewer:
         from pydrake.multibody.meshcat import JointSliders
 
         self.arm = arm
-        q0 = np.clip(np.zeros(arm.n), *self._limits()) if q0 is None else arm.check_q(q0, "--q")
+        q0 = np.clip(np.zeros(arm.n), *self.arm.limit_arrays(_UNLIMITED)) if q0 is None else arm.check_q(q0, "--q")
         self.meshcat = open_meshcat(port, out=out)
-        lower, upper = self._limits()
+        lower, upper = self.arm.limit_arrays(_UNLIMITED)
         holder: dict[str, Any] = {}
 
         def add_sliders(builder: Any, plant: Any) -> None:
@@ -105,14 +107,9 @@ class Viewer:
         """True once the page's stop button (or Escape) was pressed."""
         return self.meshcat.GetButtonClicks(_STOP) > 0
 
-    def _limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        lower = np.array([-_UNLIMITED if lim.lower is None else lim.lower for lim in self.arm.limits])
-        upper = np.array([_UNLIMITED if lim.upper is None else lim.upper for lim in self.arm.limits])
-        return lower, upper
-
     def _reach_samples(self, count: int = 512) -> NDArray[np.float64]:
         """Configurations spread over the joint ranges (seeded), to frame everything the arm can reach."""
-        lower, upper = self._limits()
+        lower, upper = self.arm.limit_arrays(_UNLIMITED)
         return np.random.default_rng(0).uniform(lower, upper, size=(count, self.arm.n))
 
     def tool_position(self) -> NDArray[np.float64]:

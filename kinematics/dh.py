@@ -19,10 +19,11 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from armlab.kinematics.basic_movements import T_Z1, T_Z3, T_Z4, T_Z6
 from armlab.kinematics.batch import as_batch, chain_frames
 from armlab.kinematics.locating import JointRow, LocatingTable
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["DHRow", "DHTable"]
 
@@ -73,11 +74,6 @@ class DHTable:
         if self.convention == "standard":
             return T_Z3(d) @ T_Z6(theta) @ T_Z1(row.a) @ T_Z4(row.alpha)  # 000 eq. (9)
         return T_Z4(row.alpha) @ T_Z1(row.a) @ T_Z6(theta) @ T_Z3(d)  # 001 eq. (1)
-
-    def link_transforms(self, q: ArrayLike) -> NDArray[np.float64]:
-        """T_{i−1,i} for every row, shape ``(..., n, 4, 4)``."""
-        q = as_batch(q, self.n)
-        return np.stack([self._link(q, i) for i in range(self.n)], axis=-3)
 
     def frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{0,i} for i = 0 … n (base first), shape ``(..., n+1, 4, 4)``."""

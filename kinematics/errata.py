@@ -23,9 +23,10 @@ from functools import cache
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from armlab.kinematics.basic_movements import DH_TO_YUP
 from armlab.kinematics.batch import as_batch
-from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -66,8 +67,9 @@ class Sample:
 
 def drake_sample(arm: Arm, q: ArrayLike, qd: ArrayLike | None = None, qdd: ArrayLike | None = None) -> Sample:
     """Query Drake at each configuration of the batch ``q`` (N, n) with rates ``qd`` and ``qdd`` (default 0)."""
-    from armlab.kinematics.ik import drake_arm
     from pydrake.multibody.tree import JacobianWrtVariable
+
+    from armlab.kinematics.ik import drake_arm
 
     q = np.atleast_2d(as_batch(q, arm.n, "q"))
     qd = np.broadcast_to(np.zeros(arm.n) if qd is None else as_batch(qd, arm.n, "qd"), q.shape)
@@ -155,6 +157,7 @@ def _stack(*columns: ArrayLike) -> NDArray[np.float64]:
 def _symbolic_function(key: str) -> Callable[..., NDArray]:
     """Lambdified expressions of :mod:`armlab.kinematics.symbolic` used as corrected (or printed) forms."""
     import sympy as sp
+
     from armlab.kinematics import symbolic
 
     if key.startswith("r2t."):
@@ -597,8 +600,7 @@ def check(samples: int = 100, seed: int = 0) -> list[tuple[Erratum, float, float
         if not erratum.evaluable or erratum.arm is None:
             continue
         arm = get_arm(erratum.arm, **erratum.overrides)
-        lo = np.array([-2 * np.pi if lim.lower is None else lim.lower for lim in arm.limits])
-        hi = np.array([2 * np.pi if lim.upper is None else lim.upper for lim in arm.limits])
+        lo, hi = arm.limit_arrays(unlimited=2 * np.pi)
         q = rng.uniform(lo, hi, size=(samples, arm.n))
         sample = drake_sample(arm, q, rng.normal(size=q.shape), rng.normal(size=q.shape))
         out.append((erratum, *erratum.errors(sample)))

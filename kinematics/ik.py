@@ -18,12 +18,13 @@ realized because of the structure limitation … the nearest set of solution wil
 
 from __future__ import annotations
 
-from functools import lru_cache
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from armlab.kinematics.batch import as_batch
 from numpy.typing import ArrayLike, NDArray
+
+from armlab.kinematics.batch import as_batch
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -55,6 +56,12 @@ def _single(position: ArrayLike, n: int, name: str = "target") -> NDArray[np.flo
     return p
 
 
+def _unreachable(bad: NDArray, p: NDArray, strict: bool, message: Callable[[NDArray], str]) -> None:
+    """Raise ``message(first bad point)`` if a target is out of reach, unless a non-strict batch (NaN rows then)."""
+    if np.any(bad) and (strict or p.ndim == 1):
+        raise ValueError(message(p.reshape(-1, p.shape[-1])[np.argmax(np.ravel(bad))]))
+
+
 # --------------------------------------------------------------------------- paper 000
 def rr_ik(target: ArrayLike, L1: float, L2: float, strict: bool = True) -> NDArray[np.float64]:
     """Both inverse-kinematics branches of paper 000's planar RR arm (Fig. 2), shape ``(..., 2, 2)``.
@@ -82,12 +89,9 @@ def rr_ik(target: ArrayLike, L1: float, L2: float, strict: bool = True) -> NDArr
     inner, outer = abs(L1 - L2), L1 + L2
     tol = REACH_RTOL * outer
     unreachable = (distance > outer + tol) | (distance < inner - tol)
-    if np.any(unreachable) and (strict or p.ndim == 1):
-        xy = p.reshape(-1, 2)[np.argmax(np.ravel(unreachable))]
-        raise ValueError(
-            f"target {_fmt(xy)} is out of reach of the RR arm: |target| = {np.hypot(*xy):.6g} m, "
-            f"reachable annulus {inner:.6g} m ≤ |target| ≤ {outer:.6g} m"
-        )
+    _unreachable(unreachable, p, strict, lambda xy: (
+        f"target {_fmt(xy)} is out of reach of the RR arm: |target| = {np.hypot(*xy):.6g} m, "
+        f"reachable annulus {inner:.6g} m ≤ |target| ≤ {outer:.6g} m"))
     c2 = np.clip((x**2 + y**2 - L1**2 - L2**2) / (2 * L1 * L2), -1.0, 1.0)  # law of cosines
     theta2 = np.stack([np.arccos(c2), -np.arccos(c2)], axis=-1)  # branch 0: θ2 ≥ 0, branch 1: θ2 ≤ 0
     theta1 = np.arctan2(y, x)[..., None] - np.arctan2(L2 * np.sin(theta2), L1 + L2 * np.cos(theta2))
@@ -98,9 +102,10 @@ def rr_ik(target: ArrayLike, L1: float, L2: float, strict: bool = True) -> NDArr
 
 # --------------------------------------------------------------------------- paper 001
 def arm4r_ik(
-    position: ArrayLike, pitch: float, a2: float, a3: float, d2: float, theta1_free: float = 0.0
+    position: ArrayLike, pitch: ArrayLike, a2: float, a3: float, d2: float, theta1_free: float = 0.0,
+    strict: bool = True,
 ) -> NDArray[np.float64]:
-    """Paper 001's analytical inverse kinematics of the 4R arm, eqs. (9)–(21): shape ``(4, 4)``.
+    """Paper 001's analytical inverse kinematics of the 4R arm, eqs. (9)–(21): shape ``(..., 4, 4)``.
 
     With the modified DH of Table 1 the tool position is (eq. 5, checked against
     :func:`armlab.models.arm4r.forward`)
@@ -125,49 +130,54 @@ def arm4r_ik(
     * θ4 = pitch − θ23: eq. (21) reads θ4 off the tool orientation (the o vector); for the
       orientations this arm can reach, that orientation is the pitch.
 
-    Rows are the four sign combinations (θ1 root +, θ3 +), (+, −), (−, +), (−, −); at
-    singular targets some coincide. Angles are not wrapped or checked against the joint
-    limits (see :func:`solve`). A position out of reach raises ``ValueError``.
+    ``position`` is one point ``(3,)`` or a batch ``(..., 3)`` (``pitch`` a scalar or one per
+    point). Rows ``out[..., k, :]`` are the four sign combinations (θ1 root +, θ3 +), (+, −),
+    (−, +), (−, −); at singular targets some coincide. Angles are not wrapped or checked against
+    the joint limits (see :func:`solve`). A position out of reach raises ``ValueError``; only
+    for a batch with ``strict=False`` are the unreachable entries NaN instead.
     """
     _positive_lengths(a2=a2, a3=a3)
     if not np.isfinite(d2):
         raise ValueError(f"d2 = {d2} must be a finite length")
-    if not np.isfinite(pitch):
+    p = as_batch(position, 3, "target")
+    pitch = np.asarray(pitch, dtype=float)
+    if not np.all(np.isfinite(pitch)):
         raise ValueError(f"pitch = {pitch} is not a finite number")
-    px, py, pz = p = _single(position, 3)
+    pitch = np.broadcast_to(pitch, p.shape[:-1])
+    px, py, pz = p[..., 0], p[..., 1], p[..., 2]
     tol = REACH_RTOL * (a2 + a3 + abs(d2))
     rho = np.hypot(px, py)
-    if rho < abs(d2) - tol:
-        raise ValueError(
-            f"target {_fmt(p)} is out of reach of arm4r: its distance from the z0 axis, {rho:.6g} m, "
-            f"is less than the offset |d2| = {abs(d2):.6g} m (eq. 9 has no solution)"
-        )
-    in_plane = np.sqrt(max(px**2 + py**2 + pz**2 - d2**2, 0.0))  # |(r, pz)|: shoulder → wrist in the arm's plane
-    if in_plane > a2 + a3 + tol or in_plane < abs(a2 - a3) - tol:
-        raise ValueError(
-            f"target {_fmt(p)} is out of reach of arm4r: √(px²+py²+pz²−d2²) = {in_plane:.6g} m must lie in "
-            f"[|a2 − a3|, a2 + a3] = [{abs(a2 - a3):.6g}, {a2 + a3:.6g}] m (eq. 13 has no solution)"
-        )
-    h = np.sqrt(max(rho**2 - d2**2, 0.0))
-    azimuth = theta1_free if rho <= tol and abs(d2) <= tol else np.arctan2(py, px)
+    in_plane = np.sqrt(np.maximum(px**2 + py**2 + pz**2 - d2**2, 0.0))  # |(r, pz)|: shoulder → wrist in the plane
+    too_close = rho < abs(d2) - tol
+    too_far = (in_plane > a2 + a3 + tol) | (in_plane < abs(a2 - a3) - tol)
+    _unreachable(too_close, p, strict, lambda x: (
+        f"target {_fmt(x)} is out of reach of arm4r: its distance from the z0 axis, {np.hypot(x[0], x[1]):.6g} m, "
+        f"is less than the offset |d2| = {abs(d2):.6g} m (eq. 9 has no solution)"))
+    _unreachable(too_far, p, strict, lambda x: (
+        f"target {_fmt(x)} is out of reach of arm4r: √(px²+py²+pz²−d2²) = {np.sqrt(max(x @ x - d2**2, 0)):.6g} m "
+        f"must lie in [|a2 − a3|, a2 + a3] = [{abs(a2 - a3):.6g}, {a2 + a3:.6g}] m (eq. 13 has no solution)"))
+    h = np.sqrt(np.maximum(rho**2 - d2**2, 0.0))
+    azimuth = np.where((rho <= tol) & (abs(d2) <= tol), theta1_free, np.arctan2(py, px))
     offset = np.arctan2(d2, h)
-    theta1 = np.array([azimuth - offset, azimuth - (np.pi - offset)])  # eq. (11), the two roots
+    theta1 = np.stack([azimuth - offset, azimuth - (np.pi - offset)], axis=-1)  # eq. (11), the two roots
     c3 = np.clip((px**2 + py**2 + pz**2 - d2**2 - a2**2 - a3**2) / (2 * a2 * a3), -1.0, 1.0)
-    theta3 = np.array([np.arccos(c3), -np.arccos(c3)])  # eq. (13), the two roots
-    t1, t3 = (a.ravel() for a in np.meshgrid(theta1, theta3, indexing="ij"))
-    r = np.cos(t1) * px + np.sin(t1) * py  # eq. (12): c1 px + s1 py = a2 c2 + a3 c23
+    theta3 = np.stack([np.arccos(c3), -np.arccos(c3)], axis=-1)  # eq. (13), the two roots
+    t1, t3 = theta1[..., [0, 0, 1, 1]], theta3[..., [0, 1, 0, 1]]
+    r = np.cos(t1) * px[..., None] + np.sin(t1) * py[..., None]  # eq. (12): c1 px + s1 py = a2 c2 + a3 c23
     A, B = a3 + a2 * np.cos(t3), a2 * np.sin(t3)
-    theta23 = np.arctan2(B * r - A * pz, A * r + B * pz)  # eq. (18)
+    theta23 = np.arctan2(B * r - A * pz[..., None], A * r + B * pz[..., None])  # eq. (18)
     theta2 = theta23 - t3  # eq. (19), corrected: the paper prints "θ1 = θ23 − θ3"
-    theta4 = pitch - theta23  # pitch = θ2 + θ3 + θ4 (eq. 21 for the reachable orientations)
-    return np.stack([t1, theta2, t3, theta4], axis=-1)
+    theta4 = pitch[..., None] - theta23  # pitch = θ2 + θ3 + θ4 (eq. 21 for the reachable orientations)
+    out = np.stack([t1, theta2, t3, theta4], axis=-1)
+    out[too_close | too_far] = np.nan
+    return out
 
 
 # --------------------------------------------------------------------------- paper 003
 def r2t_ik(
-    position: ArrayLike, l1: float, l2: float, l3: float, l4: float, l5: float
+    position: ArrayLike, l1: float, l2: float, l3: float, l4: float, l5: float, strict: bool = True
 ) -> NDArray[np.float64]:
-    """Closed-form inverse kinematics of paper 003's R-T-T robot, shape ``(2, 3)``.
+    """Closed-form inverse kinematics of paper 003's R-T-T robot, shape ``(..., 2, 3)``.
 
     Eq. (21), corrected (the printed one has stray "c q1"/"s q1" factors):
 
@@ -177,49 +187,45 @@ def r2t_ik(
 
         q1 = atan2(py, px) − atan2(u, l3),   q3 = u − l4,   q2 = pz − l1 − l2 + l5.
 
-    Row 0 takes u ≥ 0 (arm pointing out), row 1 u ≤ 0. Strokes are not checked here (see
-    :func:`solve`). A point closer than |l3| to the column axis raises ``ValueError``.
+    ``position`` is one point ``(3,)`` or a batch ``(..., 3)``. Row 0 takes u ≥ 0 (arm pointing
+    out), row 1 u ≤ 0. Strokes are not checked here (see :func:`solve`). A point closer than
+    |l3| to the column axis raises ``ValueError``; only for a batch with ``strict=False`` are
+    such entries NaN instead.
     """
     for name, value in {"l1": l1, "l2": l2, "l3": l3, "l4": l4, "l5": l5}.items():
         if not np.isfinite(value):
             raise ValueError(f"{name} = {value} must be a finite length")
-    px, py, pz = p = _single(position, 3)
+    p = as_batch(position, 3, "target")
+    px, py, pz = p[..., 0], p[..., 1], p[..., 2]
     rho = np.hypot(px, py)
-    if rho < abs(l3) - REACH_RTOL * (abs(l3) + abs(l4)):
-        raise ValueError(
-            f"target {_fmt(p)} is out of reach of r2t: its distance from the column axis, {rho:.6g} m, "
-            f"is less than the arm offset |l3| = {abs(l3):.6g} m"
-        )
-    u = np.sqrt(max(rho**2 - l3**2, 0.0)) * np.array([1.0, -1.0])
-    q1 = np.arctan2(py, px) - np.arctan2(u, l3)
-    q2 = np.full(2, pz - l1 - l2 + l5)
-    return np.stack([q1, q2, u - l4], axis=-1)
+    too_close = rho < abs(l3) - REACH_RTOL * (abs(l3) + abs(l4))
+    _unreachable(too_close, p, strict, lambda x: (
+        f"target {_fmt(x)} is out of reach of r2t: its distance from the column axis, {np.hypot(x[0], x[1]):.6g} m, "
+        f"is less than the arm offset |l3| = {abs(l3):.6g} m"))
+    u = np.sqrt(np.maximum(rho**2 - l3**2, 0.0))[..., None] * np.array([1.0, -1.0])
+    q1 = np.arctan2(py, px)[..., None] - np.arctan2(u, l3)
+    q2 = np.broadcast_to((pz - l1 - l2 + l5)[..., None], u.shape)
+    out = np.stack([q1, q2, u - l4], axis=-1)
+    out[too_close] = np.nan
+    return out
 
 
 # --------------------------------------------------------------------------- numeric (Drake)
-@lru_cache(maxsize=8)
-def _drake_arm(urdf: str, base_link: str, tool_name: str, joint_names: tuple[str, ...]) -> tuple[Any, Any, NDArray]:
-    """A finalized plant of the URDF, its tool frame and the plant index of each arm joint."""
-    from pydrake.multibody.parsing import Parser
-    from pydrake.multibody.plant import MultibodyPlant
-
-    plant = MultibodyPlant(0.0)
-    (instance,) = Parser(plant).AddModels(file_name=urdf)
-    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(base_link, instance))
-    plant.Finalize()
-    index = np.array([plant.GetJointByName(name, instance).position_start() for name in joint_names])
-    return plant, plant.GetFrameByName(tool_name, instance), index
+#: Plants built by :func:`drake_arm`, by URDF file, base, tool and joints.
+_PLANTS: dict[tuple[str, str, str, tuple[str, ...]], tuple[Any, Any, NDArray]] = {}
 
 
 def drake_arm(arm: Arm) -> tuple[Any, Any, NDArray]:
-    """``(plant, tool_frame, index)`` for ``arm``: ``q_plant[index] = q_arm`` (cached per URDF)."""
-    return _drake_arm(str(arm.urdf_path), arm.base_link, arm.tool_name, tuple(arm.joint_names))
+    """``(plant, tool_frame, index)`` for ``arm`` (:meth:`Arm.make_plant`): ``q_plant[index] = q_arm``.
 
-
-def _limit_arrays(arm: Arm) -> tuple[NDArray, NDArray]:
-    lower = np.array([-np.inf if lim.lower is None else lim.lower for lim in arm.limits])
-    upper = np.array([np.inf if lim.upper is None else lim.upper for lim in arm.limits])
-    return lower, upper
+    Built once per URDF file and kept: IK and the errata checks query it many times.
+    """
+    key = (str(arm.urdf_path), arm.base_link, arm.tool_name, tuple(arm.joint_names))
+    if key not in _PLANTS:
+        plant = arm.make_plant()
+        index = np.array([plant.GetJointByName(name).position_start() for name in arm.joint_names])
+        _PLANTS[key] = (plant, plant.GetFrameByName(arm.tool_name), index)
+    return _PLANTS[key]
 
 
 def numeric_ik(
@@ -240,7 +246,7 @@ def numeric_ik(
     """
     target = _single(position, 3)
     q0 = np.zeros(arm.n) if q0 is None else _single(q0, arm.n, "q0")
-    lower, upper = _limit_arrays(arm)
+    lower, upper = arm.limit_arrays()
     rng = np.random.default_rng(0)
     box_lo, box_hi = np.where(np.isfinite(lower), lower, -np.pi), np.where(np.isfinite(upper), upper, np.pi)
     starts = [np.clip(q0, lower, upper)] + [rng.uniform(box_lo, box_hi) for _ in range(seeds - 1)]
@@ -277,7 +283,7 @@ def _drake_search(
     plant_q0 = to_plant.copy()
     plant_q0[index] = q0
     prog.AddQuadraticErrorCost(np.eye(plant.num_positions()), plant_q0, ik.q())
-    lower, upper = _limit_arrays(arm) if with_limits else (np.full(arm.n, -np.inf), np.full(arm.n, np.inf))
+    lower, upper = arm.limit_arrays() if with_limits else (np.full(arm.n, -np.inf), np.full(arm.n, np.inf))
     best = np.inf
     for start in starts:
         guess = to_plant.copy()

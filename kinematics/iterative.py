@@ -24,9 +24,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.locating import LocatingTable
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["LinkMotion", "iterative_kinematics"]
 

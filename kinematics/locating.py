@@ -31,8 +31,9 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
-from armlab.kinematics.batch import as_batch, chain_frames
 from numpy.typing import ArrayLike, NDArray
+
+from armlab.kinematics.batch import as_batch, chain_frames
 
 __all__ = ["JointRow", "LocatingTable", "homogeneous", "orientation_angles", "rotation_about"]
 
@@ -128,16 +129,7 @@ class LocatingTable:
         T_delta = homogeneous(rotation_about(k, qi * row.delta), (1.0 - row.delta) * qi[..., None] * k)  # eq. (3)
         return row.T_fixed @ T_delta  # eq. (4)
 
-    def link_transforms(self, q: ArrayLike) -> NDArray[np.float64]:
-        """T_{i−1,i} for every joint, eq. (4), shape ``(..., n, 4, 4)``."""
-        q = as_batch(q, self.n)
-        return np.stack([self._link(q, i) for i in range(self.n)], axis=-3)
-
     def frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{i,0} for i = 0 … n+1 (eqs. 8–9): base, every link, tool; shape ``(..., n+2, 4, 4)``."""
         q = as_batch(q, self.n)
         return chain_frames([self._link(q, i) for i in range(self.n)] + [self.tool], q.shape[:-1])
-
-    def tool_pose(self, q: ArrayLike) -> NDArray[np.float64]:
-        """T_{n+1,0}, eq. (9), shape ``(..., 4, 4)``."""
-        return self.frames(q)[..., -1, :, :]

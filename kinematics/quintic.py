@@ -23,12 +23,14 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-from armlab.kinematics.batch import as_batch
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.kinematics.batch import as_batch
+
 if TYPE_CHECKING:
-    from armlab.models.arm import Arm
     from pydrake.trajectories import PiecewisePolynomial
+
+    from armlab.models.arm import Arm
 
 __all__ = [
     "ConstantRate",

@@ -33,8 +33,9 @@ from typing import Literal
 
 import numpy as np
 import sympy as sp
-from armlab.kinematics.batch import as_batch
 from numpy.typing import ArrayLike, NDArray
+
+from armlab.kinematics.batch import as_batch
 
 __all__ = [
     "T_Z1",

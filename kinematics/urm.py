@@ -20,9 +20,10 @@ Both take φ of shape ``(..., 6)`` and return the points as ``(..., 7, 3)``.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from armlab.kinematics.basic_movements import T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
-from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["position_vectors", "position_vectors_homogeneous", "rotation_form"]
 

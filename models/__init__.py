@@ -11,6 +11,7 @@ from pathlib import Path
 from types import ModuleType
 
 import numpy as np
+
 from armlab.models import arm4r, r2t, rr, rrrr, urm6
 from armlab.models.arm import Arm
 

@@ -17,10 +17,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.locating import LocatingTable
 from armlab.models.urdf import Body, JointLimits, Point, urdf_text
-from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
@@ -103,6 +104,12 @@ class Arm:
             for row, lim in zip(self.table.rows, self.limits, strict=True)
         ]
 
+    def limit_arrays(self, unlimited: float = np.inf) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Lower and upper joint limits (rad or m); a joint without limits gets ``−unlimited``, ``+unlimited``."""
+        lower = np.array([-unlimited if lim.lower is None else lim.lower for lim in self.limits])
+        upper = np.array([unlimited if lim.upper is None else lim.upper for lim in self.limits])
+        return lower, upper
+
     def check_q(self, q: ArrayLike, name: str = "q", deg: bool = False) -> NDArray[np.float64]:
         """``q`` as an array, raising ``ValueError`` for a wrong count, NaN/inf or a value outside limits.
 
@@ -169,13 +176,31 @@ class Arm:
 
     # ----------------------------------------------------------------- Drake
     def add_to_plant(self, plant: MultibodyPlant) -> Any:
-        """Parse the URDF into ``plant`` and weld its root link to the world (no offset)."""
+        """Parse the URDF into ``plant``, weld its root link to the world (no offset); returns the model instance.
+
+        ``package://NAME/…`` paths resolve through the ``package.xml`` of the URDF's folder or of the two
+        above it (a ROS package's layout). A joint without a ``<transmission>`` gets an actuator of its own.
+        ``ValueError`` if Drake cannot load the file.
+        """
         from pydrake.multibody.parsing import Parser
+        from pydrake.multibody.tree import JointActuatorIndex
 
         parser = Parser(plant)
         parser.SetAutoRenaming(True)
-        (instance,) = parser.AddModels(file_name=str(self.urdf_path))
+        urdf = self.urdf_path
+        for folder in list(urdf.parents)[:3]:
+            if (folder / "package.xml").is_file():
+                parser.package_map().AddPackageXml(str(folder / "package.xml"))
+        try:
+            (instance,) = parser.AddModels(file_name=str(urdf))
+        except RuntimeError as error:
+            raise ValueError(f"{urdf}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
         plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(self.base_link, instance))
+        actuators = (plant.get_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
+        actuated = {a.joint().name() for a in actuators if a.model_instance() == instance}
+        for name in self.joint_names:
+            if name not in actuated:
+                plant.AddJointActuator(f"{name}_actuator", plant.GetJointByName(name, instance))
         return instance
 
     def make_plant(

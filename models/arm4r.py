@@ -14,10 +14,11 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
+from numpy.typing import NDArray
+
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point
-from numpy.typing import NDArray
 
 PAPER = "001: Qin et al., Four degree of freedom manipulator's kinematics simulation analysis based on MATLAB, Table 1"
 

@@ -17,6 +17,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
+
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
@@ -45,6 +46,8 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits]]:
         lines = path.read_text().splitlines()
     except OSError as error:
         raise ValueError(f"cannot read DH table {path}: {error.strerror}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"cannot read DH table {path}: it is not UTF-8 text") from None
     convention = "standard"
     if lines and lines[0].startswith("#"):
         key, _, value = lines[0].lstrip("#").partition(":")
@@ -57,7 +60,10 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits]]:
         raise ValueError(f"{path}: header {reader.fieldnames} must be {','.join(_DH_COLUMNS)}")
     rows, limits = [], []
     for number, record in enumerate(reader, start=1):
-        record = {k.strip(): (v or "").strip() for k, v in record.items() if k is not None}
+        if None in record:  # csv.DictReader keeps values beyond the header under the key None
+            raise ValueError(f"{path}: row {number} has {len(_DH_COLUMNS) + len(record[None])} values; "
+                             f"expected {len(_DH_COLUMNS)} ({','.join(_DH_COLUMNS)})")
+        record = {k.strip(): (v or "").strip() for k, v in record.items()}
         kind = record["type"].upper()
         if kind not in ("R", "T"):
             raise ValueError(f"{path}: row {number}: type {record['type']!r} is not allowed (R or T)")
@@ -189,7 +195,10 @@ def from_urdf(path: str | Path) -> Arm:
             hi = _number(limit.get("upper"), f"joint {name!r} upper")
             limits.append(JointLimits(lo, hi, _number(limit.get("effort", "100"), "effort"), 5.0))
         element = root.find(f"link[@name='{link}']/inertial/mass")
-        masses.append(0.0 if element is None else _number(element.get("value", "0"), f"link {link!r} mass"))
+        mass = 0.0 if element is None else _number(element.get("value", "0"), f"{path}: link {link!r} mass")
+        if mass < 0:
+            raise ValueError(f"{path}: link {link!r} mass = {mass:g} kg is not allowed: a mass is ≥ 0 kg")
+        masses.append(mass)
         carried = np.eye(4)
     if not rows:
         raise ValueError(f"{path}: the URDF has no movable joint")

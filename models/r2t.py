@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
+
 from armlab.kinematics.locating import JointRow, LocatingTable
 from armlab.models.arm import MODELS_DIR, Arm, chosen, from_paper, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point

@@ -13,11 +13,12 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 import numpy as np
+from numpy.typing import NDArray
+
 from armlab.kinematics.basic_movements import rrrr_dh_chain
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point
-from numpy.typing import NDArray
 
 PAPER = "000: Hroncová et al., Robot trajectory planning, MM Science Journal 2022, Figs. 11-25, eqs. (21)-(47)"
 

@@ -19,8 +19,9 @@ from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
-from armlab.kinematics.locating import LocatingTable, orientation_angles
 from numpy.typing import NDArray
+
+from armlab.kinematics.locating import LocatingTable, orientation_angles
 
 __all__ = ["Body", "JointLimits", "Point", "cylinder_inertia", "urdf_text"]
 

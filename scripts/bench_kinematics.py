@@ -12,6 +12,7 @@ import argparse
 import time
 
 import numpy as np
+
 from armlab.kinematics.iterative import iterative_kinematics
 from armlab.models import ARMS, get_arm
 

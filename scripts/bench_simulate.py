@@ -15,6 +15,7 @@ import argparse
 import time
 
 import numpy as np
+
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD
 from armlab.diagrams.motions import paper_motion
 from armlab.diagrams.plant import make_plant, resolve_gravity

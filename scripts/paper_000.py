@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
 from armlab.controllers.inverse_dynamics import joint_torques
 from armlab.scripts.report import MATCHES, PaperOutput, Row, compare, differs, not_reproducible
 
@@ -206,7 +207,7 @@ def _segment_samples(motion: Any, k: int, tau: np.ndarray) -> np.ndarray:
 
 def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     from armlab.diagrams.motions import ABCD_POINTS, ABCD_SEGMENTS, abcd_motion
-    from armlab.diagrams.simulate import simulate
+    from armlab.diagrams.simulate import simulate, summarize
     from armlab.scripts.figures import new_figure
 
     motion = abcd_motion(arm, SEGMENT_TIME)
@@ -259,9 +260,9 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     tau_arc = np.stack([joint_torques(arm, q, qd, qdd) for q, qd, qdd in zip(arc["q"], arc["qd"], arc["qdd"],
                                                                               strict=True)])
     table3, claim_rows = [], []
+    segments = summarize(log)["segments"]  # per segment, both ends included, as armlab simulate reports them
     for k, label in enumerate(labels):
-        rows = log.segment == k
-        peak = np.abs(log.tau[rows]).max(axis=0)
+        peak = np.array(segments[k]["max_abs_torque"])
         peak_arc = np.abs(tau_arc[k]).max(axis=0)
         for j in range(2):
             out.add(Row(PAPER, f"Table 3 {label} τ{j + 1}max [N·m]", PAPER_TABLE3[label][j], float(peak[j]),
@@ -288,19 +289,27 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
         ["segment", "max radial dev. joint-space [m]", "max radial dev. Cartesian [m]", "τ1max joint [N·m]",
          "τ2max joint [N·m]", "τ1max Cartesian [N·m]", "τ2max Cartesian [N·m]"], claim_rows,
         ["fig08_abcd_path.png", "fig10_abcd_torques.png"])
-    jumps = []
+    jumps, reconfigurations = [], []
     segments = motion.segments
     for k in range(4):
         a, b = segments[k], segments[(k + 1) % 4]
-        jumps.append([f"{labels[k]} → {labels[(k + 1) % 4]}", *_deg(a.qf).tolist(), *_deg(b.q0).tolist(),
-                      float(np.abs(_deg(b.q0 - a.qf)).max())])
+        end, start = _deg(a.qf), _deg(b.q0)
+        jump = float(np.abs(start - end).max())
+        jumps.append([f"{labels[k]} → {labels[(k + 1) % 4]}", *end.tolist(), *start.tolist(), jump])
+        if jump > 1e-9:
+            shown = np.round(np.concatenate([end, start]), 2) + 0.0  # + 0.0: no "-0.00"
+            reconfigurations.append(f"at {labels[k][-1]} (reached at ({shown[0]:.2f}°, {shown[1]:.2f}°), left at "
+                                    f"({shown[2]:.2f}°, {shown[3]:.2f}°))")
+    runs = ["-".join([piece.labels[0].split("-")[0]] + [label.split("-")[1] for label in piece.labels])
+            for _, piece in motion.runs()]
+    closes = bool(np.allclose(arc["q"][0, 0], arc["q"][-1, -1], atol=1e-9))
     out.claim(
         "Table 2 describes one closed motion; its IK branch switches between segments",
-        "Table 2's end angles of one segment are not the start angles of the next at C (reached on branch 1 at "
-        "θ2 = −90°, left on branch 0 at +90°), at D (reached at θ2 = +180°, left at −180°: the same pose, but the "
-        "joint would unwind a full turn) and at A (reached at (0°, −90°), left at (−73.74°, 90°)). The robot would "
-        "have to reconfigure at rest between those segments; armlab simulates A-B-C, C-D and D-A as separate runs. "
-        "On the Cartesian alternative the arm stays on branch 0 and the loop closes in joint space.",
+        f"Table 2's end angles of one segment are not the start angles of the next {'; '.join(reconfigurations)}: "
+        "the IK branch changes there, or θ2 jumps by a full turn (the same pose, but the joint would have to "
+        "unwind). The robot would have to reconfigure at rest between those segments; armlab simulates "
+        f"{', '.join(runs)} as separate runs. On the Cartesian alternative the arm stays on IK branch 0 and the loop "
+        + ("closes in joint space." if closes else "does not close in joint space either."),
         ["join", "θ1 end [deg]", "θ2 end [deg]", "θ1 next start [deg]", "θ2 next start [deg]", "max jump [deg]"], jumps)
 
     # ---- Figs. 8, 9, 10
@@ -339,7 +348,7 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     fig, axes = new_figure("Paper 000, Fig. 10 — joint torques τ1, τ2 for a) A-B, b) B-C, c) C-D, d) D-A "
                            "(joint-space simulated; Cartesian arc dashed)", 2, 4, size=(12, 6), sharex=True)
     for k, label in enumerate(labels):
-        rows = log.segment == k
+        rows = log.segment_rows(k)
         t_local = log.t[rows] - motion.breaks[k]
         for j in range(2):
             axes[j, k].plot(t_local, log.tau[rows, j], label=f"τ{j + 1} joint-space (simulated)")
@@ -447,6 +456,7 @@ def _rrrr(out: PaperOutput) -> None:
 def _symbolic(out: PaperOutput) -> None:
     """Figs. 15-17, 22-23 rederived with sympy; each printed form compared at random points."""
     import sympy as sp
+
     from armlab.kinematics.errata import ERRATA
     from armlab.kinematics.symbolic import latex_table, rrrr_dh, rrrr_yup
 
@@ -495,13 +505,14 @@ def _symbolic(out: PaperOutput) -> None:
 # ----------------------------------------------------------------------------- the whole paper
 def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> list[Row]:
     """Reproduce paper 000 into ``out_dir``; ``fast``: fewer samples and a 20 ms log period."""
+    from armlab.diagrams.build import DEFAULT_LOG_PERIOD
     from armlab.diagrams.motions import paper_motion
     from armlab.models import get_arm
 
     out = PaperOutput(PAPER, Path(out_dir), progress)
     arm = get_arm("rr")
     motion = paper_motion(arm, tf=SEGMENT_TIME)
-    log_period = 0.02 if fast else 0.005
+    log_period = 0.02 if fast else DEFAULT_LOG_PERIOD
     t = np.linspace(0.0, motion.duration, 101 if fast else 401)
     _fig3_kinematics(out, arm, motion, t)
     _fig4_workspace(out, arm, fast)
@@ -516,7 +527,8 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     out.chosen("gravity", "−9.81 m/s² along −y", "the Adams model moves in the vertical plane (§8); direction not "
                "given for Figs. 7, 10")
     out.chosen("tool (basket) of Figs. 26-29", f"{TOOL_MASS:g} kg point mass at M", "no tool mass is published")
-    out.chosen("log period of the simulations", f"{log_period * 1e3:g} ms", "sampling of the plotted courses")
+    out.chosen("log period of the simulations", f"{log_period * 1e3:g} ms",
+               "armlab simulate's default; peaks are the largest logged samples")
     out.chosen("Cartesian alternative", "quintic in the polar angle about the circle's centre, IK branch 0",
                "the paper has none; the same 2 s per segment")
     return out.finish()

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
 from armlab.scripts.report import MATCHES, PaperOutput, Row, differs
 
 PAPER = "001"
@@ -127,6 +128,7 @@ def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> Non
 
 def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> list[Row]:
     """Reproduce paper 001 into ``out_dir``; ``fast``: fewer samples."""
+    from armlab.diagrams.build import DEFAULT_LOG_PERIOD
     from armlab.diagrams.motions import paper_motion
     from armlab.models import get_arm
 
@@ -154,7 +156,7 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
                     "values are garbled, so its target orientation is unknown"),
                 "along the quintic from the start to the IK solution nearest it"))
     _figures(out, arm, motion, t)
-    _dynamics(out, arm, motion, 0.02 if fast else 0.005)
+    _dynamics(out, arm, motion, 0.02 if fast else DEFAULT_LOG_PERIOD)
     out.chosen_parameters(arm, ("a2", "a3", "d2", "m1", "m2", "m3", "m4"))
     out.chosen("motion", "rest-to-rest quintic per joint in 2 s", "the Robotics Toolbox's jtraj is a quintic; §3's 2 s")
     out.chosen("target orientation", f"pitch θ2+θ3+θ4 = {np.degrees(sum(motion.segments[0].q0[1:])):g}° (the start's)",

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
 from armlab.scripts.report import MATCHES, PaperOutput, Row, differs
 
 PAPER = "003"

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
 from armlab.scripts.report import MATCHES, PaperOutput, Row, compare, differs
 
 PAPER = "004"

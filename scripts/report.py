@@ -31,6 +31,7 @@ __all__ = [
     "Row",
     "compare",
     "differs",
+    "load_rows",
     "markdown_table",
     "not_reproducible",
     "verdict_counts",
@@ -240,8 +241,19 @@ class PaperOutput:
             for row in self.rows:
                 writer.writerow([repr(v) if isinstance(v, float) else ("" if v is None else v)
                                  for v in asdict(row).values()])
+        self.manifest["rows"] = [asdict(row) for row in self.rows]
         (self.folder / MANIFEST).write_text(json.dumps(self.manifest, indent=1, ensure_ascii=False))
         return self.rows
+
+
+def load_rows(folder: Path) -> list[Row] | None:
+    """The report rows a paper folder's ``manifest.json`` recorded, or ``None`` if it has none."""
+    try:
+        manifest = json.loads((Path(folder) / MANIFEST).read_text())
+    except (OSError, ValueError):
+        return None
+    rows = manifest.get("rows") if isinstance(manifest, dict) else None
+    return None if rows is None else [Row(**row) for row in rows]
 
 
 # --------------------------------------------------------------------------- errata

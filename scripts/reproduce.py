@@ -4,13 +4,16 @@
 (``scripts/paper_NNN.py``, each also runnable alone) into a temporary folder beside ``DIR``,
 writes ``report.md`` and ``report.html`` there, and only then renames it into place: the
 output folder is complete or untouched (:class:`~armlab.files.OutputFolder`). An existing
-``DIR`` is replaced only if it is empty or an earlier reproduction (it holds :data:`MARKER`).
+``DIR`` is replaced only if it is empty or an earlier reproduction (it holds :data:`MARKER`);
+reproducing some papers keeps the others an earlier reproduction there holds, and the report
+covers them all.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import shutil
 import sys
 import time
 from collections.abc import Callable, Sequence
@@ -70,17 +73,32 @@ def output_folder(out: str | Path) -> OutputFolder:
 def reproduce(
     out: Path, papers: Sequence[str] = PAPERS, fast: bool = False, progress: Callable[[str], Any] = print
 ) -> ReproduceResult:
-    """Run the paper scripts into ``out`` (complete or nothing) and write the report; see the module doc."""
-    from armlab.scripts.report import verdict_counts, write_report
+    """Run the paper scripts into ``out`` (complete or nothing) and write the report; see the module doc.
+
+    Papers not in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the
+    new output, their rows read back), so reproducing one paper updates it and the report alone.
+    """
+    from armlab.diagrams.graphviz import require_dot
+    from armlab.scripts.report import load_rows, verdict_counts, write_report
 
     start = time.perf_counter()
     for paper in papers:
         select_papers(paper)
+    require_dot()  # the Systems diagrams need it: say so before any work
     folder = output_folder(out)
+    earlier = {p: load_rows(folder.out / p) for p in PAPERS if p not in papers} if folder.out.is_dir() else {}
+    kept = {paper: rows for paper, rows in earlier.items() if rows is not None}
     with folder as tmp:
-        rows = [row for paper in papers for row in _script(paper).run(tmp / paper, fast=fast, progress=progress)]
+        rows = []
+        for paper in PAPERS:
+            if paper in papers:
+                rows += _script(paper).run(tmp / paper, fast=fast, progress=progress)
+            elif paper in kept:
+                shutil.copytree(folder.out / paper, tmp / paper)
+                rows += kept[paper]
+                progress(f"[{paper}] kept from the earlier reproduction in {folder.out}")
         (tmp / MARKER).write_text("armlab reproduce output; `armlab reproduce` may replace this folder\n")
-        write_report(tmp, papers, rows, time.perf_counter() - start)
+        write_report(tmp, [p for p in PAPERS if p in papers or p in kept], rows, time.perf_counter() - start)
     return ReproduceResult(folder.out / "report.md", rows, verdict_counts(rows), time.perf_counter() - start)
 
 
@@ -100,7 +118,8 @@ def _cmd(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``reproduce`` subcommand to the ``armlab`` CLI's subparsers."""
     p = subparsers.add_parser("reproduce", help="regenerate the papers' figures and tables, with a report")
-    p.add_argument("--paper", default="all", help="000, 001, 003, 004 or all (default all)")
+    p.add_argument("--paper", default="all", help="000, 001, 003, 004 or all (default all); one paper is redone, "
+                   "the others an earlier reproduction in --out holds are kept in the report")
     p.add_argument("--out", default="out", help="output folder (default out/)")
     p.add_argument("--fast", action="store_true", help="coarser sampling and log period (for CI)")
     p.set_defaults(func=_cmd)

@@ -6,6 +6,7 @@ import functools
 
 import numpy as np
 import pytest
+
 from armlab.models import ARMS, get_arm
 from armlab.models.arm import Arm
 
@@ -22,9 +23,7 @@ def arm_and_plant(name: str):
 
 def random_q(arm: Arm, rng: np.random.Generator, size: int) -> np.ndarray:
     """``size`` random configurations within the joint limits (unlimited joints: ±2π)."""
-    lo = np.array([-2 * np.pi if lim.lower is None else lim.lower for lim in arm.limits])
-    hi = np.array([2 * np.pi if lim.upper is None else lim.upper for lim in arm.limits])
-    return rng.uniform(lo, hi, size=(size, arm.n))
+    return rng.uniform(*arm.limit_arrays(unlimited=2 * np.pi), size=(size, arm.n))
 
 
 @pytest.fixture(params=ARM_NAMES)

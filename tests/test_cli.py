@@ -8,8 +8,9 @@ import sys
 
 import numpy as np
 import pytest
-from armlab.models import get_arm
 from conftest import ARM_NAMES
+
+from armlab.models import get_arm
 
 
 def armlab(*args: str) -> subprocess.CompletedProcess:
@@ -80,6 +81,8 @@ def test_fk_urm6_table1_human_output():
         (("show", "/no/such/arm.urdf"), "cannot read URDF"),
         (("ik", "rr", "--target", "2,0"), "2"),
         (("ik", "rr", "--target", "0.5,nan"), "nan"),
+        (("ik", "arm4r", "--target", "1,1,1.4", "--pitch", "1,2"), "--pitch 1,2: give one angle"),
+        (("ik", "rr", "--target", "0.5,0.2", "--pitch", "0.1"), "pitch = 0.1 applies only to arm4r"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(args, message):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models import get_arm
 from armlab.models.custom import from_dh, from_urdf
@@ -72,6 +73,7 @@ def test_user_urdf_round_trip(tmp_path):
         ("a,b\n1,2\n", "header"),
         ("type,a,alpha,d,theta,lower,upper\n", "no rows"),
         ("# convention: weird\ntype,a,alpha,d,theta,lower,upper\nR,0,0,0,0,,\n", "convention"),
+        ("type,a,alpha,d,theta,lower,upper\nR,0.4,0,0,0,-3,3,9\n", "row 1 has 8 values; expected 7"),
     ],
 )
 def test_malformed_dh_tables(tmp_path, text, message):
@@ -99,6 +101,9 @@ def test_malformed_dh_tables(tmp_path, text, message):
          '<child link="zz"/></joint></robot>', "naming links"),
         ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="continuous"><parent link="a"/>'
          '<child link="b"/><origin xyz="1 2"/></joint></robot>', "must be three numbers"),
+        ('<robot name="r"><link name="a"/><link name="b"><inertial><mass value="-1"/></inertial></link>'
+         '<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint></robot>',
+         "link 'b' mass = -1 kg is not allowed"),
     ],
 )
 def test_malformed_urdf(tmp_path, text, message):
@@ -106,6 +111,96 @@ def test_malformed_urdf(tmp_path, text, message):
     path.write_text(text)
     with pytest.raises(ValueError, match=message):
         get_arm(str(path))
+
+
+def test_files_that_are_not_text(tmp_path):
+    for name in ("bad.csv", "bad.urdf"):
+        (tmp_path / name).write_bytes(b"\xff\xfe\x00garbage")
+        with pytest.raises(ValueError, match=name):
+            get_arm(str(tmp_path / name))
+
+
+def two_link_urdf(mass2: float = 0.5, mesh: str | None = None) -> str:
+    """A planar two-link arm as users write them: no <transmission>, optionally a mesh on link 2."""
+    visual = f'<visual><geometry><mesh filename="{mesh}"/></geometry></visual>' if mesh else ""
+    inertial = ("" if mass2 == 0 else f'<inertial><origin xyz="0.15 0 0"/><mass value="{mass2}"/>'
+                '<inertia ixx="1e-4" ixy="0" ixz="0" iyy="4e-3" iyz="0" izz="4e-3"/></inertial>')
+    return f"""<robot name="two">
+  <link name="base"/>
+  <link name="upper"><inertial><origin xyz="0.2 0 0"/><mass value="1"/>
+    <inertia ixx="1e-4" ixy="0" ixz="0" iyy="1.4e-2" iyz="0" izz="1.4e-2"/></inertial></link>
+  <link name="fore">{inertial}{visual}</link>
+  <link name="hand"/>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <joint name="wrist" type="fixed"><parent link="fore"/><child link="hand"/><origin xyz="0.3 0 0"/></joint>
+</robot>
+"""
+
+
+def armlab_cli(*argv: str) -> int:
+    from armlab.cli import main
+
+    return main(list(argv))
+
+
+def test_user_urdf_without_transmissions_simulates(tmp_path, capsys):
+    """Every joint gets an actuator; the run tracks and its torques are Drake's inverse dynamics."""
+    from armlab.controllers.inverse_dynamics import joint_torques
+
+    path = tmp_path / "two.urdf"
+    path.write_text(two_link_urdf())
+    out = tmp_path / "run"
+    assert armlab_cli("simulate", str(path), "--from", "0,0.5", "--to", "1,-0.5", "--dt", "0.01", "--out",
+                      str(out)) == 0
+    table = np.loadtxt(out / "log.csv", delimiter=",", skiprows=1)
+    q_ref, qd_ref, qdd_ref, q, tau = (table[:, 1 + 2 * k: 3 + 2 * k] for k in (0, 1, 2, 3, 5))
+    assert np.abs(q - q_ref).max() < 1e-6
+    arm = get_arm(str(path))
+    np.testing.assert_allclose(tau, joint_torques(arm, q_ref, qd_ref, qdd_ref), atol=1e-6)
+    np.testing.assert_allclose(table[:, -9:-6], arm.forward(q).tool[:, :3, 3], atol=1e-9)
+
+
+def test_user_urdf_that_cannot_be_simulated_says_why(tmp_path, capsys):
+    path = tmp_path / "limp.urdf"
+    path.write_text(two_link_urdf(mass2=0))  # the forearm moves no mass: the mass matrix is singular
+    assert armlab_cli("simulate", str(path), "--from", "0,0", "--to", "1,1", "--out", str(tmp_path / "run")) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "mass matrix is singular (joint(s) elbow move no mass" in err[0]
+    assert not (tmp_path / "run").exists()
+
+
+def test_user_urdf_meshes_from_its_ros_package(tmp_path, capsys):
+    """package://NAME/… resolves through the package.xml above the URDF (a ROS package); an unknown
+    package is a one-line error, not a traceback."""
+    package = tmp_path / "my_robot"
+    (package / "urdf").mkdir(parents=True)
+    (package / "meshes").mkdir()
+    (package / "package.xml").write_text('<?xml version="1.0"?><package format="2"><name>my_robot</name>'
+                                         "<version>0.1.0</version><description>d</description>"
+                                         '<maintainer email="a@b.c">a</maintainer><license>MIT</license></package>')
+    (package / "meshes" / "fore.obj").write_text(
+        "v 0 -0.02 -0.02\nv 0.3 -0.02 -0.02\nv 0.3 0.02 -0.02\nv 0 0.02 -0.02\nv 0 0 0.02\nv 0.3 0 0.02\n"
+        "f 1 2 3\nf 1 3 4\nf 1 2 6\nf 1 6 5\nf 4 3 6\nf 4 6 5\nf 1 4 5\nf 2 3 6\n")
+    path = package / "urdf" / "two.urdf"
+    path.write_text(two_link_urdf(mesh="package://my_robot/meshes/fore.obj"))
+    arm = get_arm(str(path))
+    q = np.random.default_rng(6).uniform(-3, 3, (20, 2))
+    np.testing.assert_allclose(arm.forward(q).tool, _drake_tool(arm, q), atol=1e-9)
+    from armlab.diagrams.replay import build_scene, start_meshcat
+
+    scene = build_scene(arm, start_meshcat())  # with a scene graph, so the mesh is loaded
+    assert len(scene.plant.GetVisualGeometriesForBody(scene.plant.GetBodyByName("fore"))) == 1
+    out = tmp_path / "ok"
+    assert armlab_cli("simulate", str(path), "--from", "0,0", "--to", "1,1", "--dt", "0.05", "--out", str(out)) == 0
+    assert (out / "replay.html").exists()
+
+    path.write_text(two_link_urdf(mesh="package://elsewhere/fore.obj"))
+    assert armlab_cli("simulate", str(path), "--from", "0,0", "--to", "1,1", "--out", str(tmp_path / "run")) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "Drake cannot load it" in err[-1] and "elsewhere" in err[-1]
 
 
 def test_missing_file():

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from armlab.kinematics.iterative import iterative_kinematics
 from conftest import arm_and_plant, random_q
+
+from armlab.kinematics.iterative import iterative_kinematics
 
 N = 120
 TOL = 1e-9

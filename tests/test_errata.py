@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
+from conftest import arm_and_plant, random_q
+
 from armlab.kinematics import symbolic as sym
 from armlab.kinematics.errata import ERRATA, Erratum, drake_sample, wrap_angle
 from armlab.models import get_arm
-from conftest import arm_and_plant, random_q
 
 N = 100
 TOL = 1e-9

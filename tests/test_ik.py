@@ -12,14 +12,15 @@ import re
 
 import numpy as np
 import pytest
+from conftest import ARM_NAMES, arm_and_plant, random_q
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.kinematics.ik import arm4r_ik, fit_limits, numeric_ik, r2t_ik, rr_ik, solve
 from armlab.models import get_arm
 from armlab.models.custom import from_dh
 from armlab.models.urdf import JointLimits
-from conftest import ARM_NAMES, arm_and_plant, random_q
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 TOL = 1e-9
 
@@ -164,6 +165,35 @@ def test_rr_batch_and_nan_only_for_unreachable(rng: np.random.Generator) -> None
     assert nan[2, 3] and nan.sum() == 1 and np.isnan(out[2, 3]).all()
     with pytest.raises(ValueError, match=r"\(0\.05, 0\)"):  # one target: never NaN
         rr_ik([0.05, 0.0], 0.4, 0.3, strict=False)
+
+
+def test_arm4r_and_r2t_batches_equal_one_point_at_a_time(rng: np.random.Generator) -> None:
+    """The closed forms over a (4, 5) grid of targets: each entry as solved alone, NaN only where unreachable."""
+    arm = get_arm("arm4r", a2=0.7, a3=0.45, d2=0.2)
+    qs = random_q(arm, rng, 20).reshape(4, 5, 4)
+    targets, pitch = tool_position(arm, qs), qs[..., 1] + qs[..., 2] + qs[..., 3]
+    out = arm4r_ik(targets, pitch, 0.7, 0.45, 0.2)
+    assert out.shape == (4, 5, 4, 4)
+    for i, j in np.ndindex(4, 5):
+        np.testing.assert_array_equal(out[i, j], arm4r_ik(targets[i, j], pitch[i, j], 0.7, 0.45, 0.2))
+    np.testing.assert_allclose(tool_position(arm, out), np.broadcast_to(targets[..., None, :], out.shape[:-1] + (3,)),
+                               rtol=0, atol=TOL)
+    targets[1, 2] = (3.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match=r"target \(3, 0, 0\) is out of reach of arm4r"):
+        arm4r_ik(targets, pitch, 0.7, 0.45, 0.2)
+    nan = np.isnan(arm4r_ik(targets, pitch, 0.7, 0.45, 0.2, strict=False)).any(axis=(-1, -2))
+    assert nan[1, 2] and nan.sum() == 1
+
+    r2t = get_arm("r2t")
+    prm = [r2t.parameters[f"l{i}"] for i in range(1, 6)]
+    targets = tool_position(r2t, random_q(r2t, rng, 12).reshape(3, 4, 3))
+    out = r2t_ik(targets, *prm)
+    assert out.shape == (3, 4, 2, 3)
+    for i, j in np.ndindex(3, 4):
+        np.testing.assert_array_equal(out[i, j], r2t_ik(targets[i, j], *prm))
+    targets[0, 1] = (0.01, 0.0, 1.0)  # inside the arm offset l3 = 0.1 m
+    nan = np.isnan(r2t_ik(targets, *prm, strict=False)).any(axis=(-1, -2))
+    assert nan[0, 1] and nan.sum() == 1
 
 
 # ------------------------------------------------------------------ paper values

@@ -6,8 +6,9 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
-from armlab.models import ARMS, get_arm
 from conftest import arm_and_plant
+
+from armlab.models import ARMS, get_arm
 
 
 def test_committed_urdf_is_what_the_builder_writes(arm_name):

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+from conftest import arm_and_plant
+
 from armlab.kinematics.basic_movements import DH_TO_YUP, rrrr_dh_chain, rrrr_point_M, rrrr_yup_chain
 from armlab.kinematics.locating import orientation_angles
 from armlab.kinematics.urm import position_vectors, position_vectors_homogeneous
 from armlab.models import get_arm
 from armlab.models.urm6 import TABLE1_PHI_DEG
-from conftest import arm_and_plant
 
 # Paper 004, Table 2 (mm), both of its models.
 TABLE2_MM = np.array([

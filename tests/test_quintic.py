@@ -6,6 +6,8 @@ import json
 
 import numpy as np
 import pytest
+from conftest import ARM_NAMES, random_q
+
 from armlab.diagrams.motions import ABCD_POINTS, paper_motion, point_to_joints, read_segments
 from armlab.kinematics.quintic import (
     ConstantRate,
@@ -16,7 +18,6 @@ from armlab.kinematics.quintic import (
     to_piecewise_polynomial,
 )
 from armlab.models import get_arm
-from conftest import ARM_NAMES, random_q
 
 
 def test_paper_000_coefficients_to_4_decimals():
@@ -201,6 +202,13 @@ def test_segments_file(tmp_path, rng):
         ({"segments": [{"from": [0, 0], "to": [0, 300], "tf": 1}], "deg": True}, "outside its limits"),
         ({"segments": [{"from": [0, 0], "to_point": [2, 0], "tf": 1}]}, "out of reach"),
         ({"segments": [{"from": [0, 0], "to": [0, 1], "tf": 1, "speed": 3}]}, "unknown key"),
+        ({"segments": [{"from": [0, 0], "to": [30, 40], "tf": 1}], "deg": "no"}, 'deg" = "no" must be true or'),
+        ({"segments": [{"from": [0, 0], "to": ["0", 1], "tf": 1}]}, r'to = \["0", 1\] must be a list of numbers'),
+        ({"segments": [{"from": [0, 0], "to_point": {"x": 1}, "tf": 1}]}, 'to_point = {"x": 1} must be a list'),
+        ({"segments": [{"from": [0, 0], "to_point": [0.4, 0.3], "to_branch": 1.0, "tf": 1}]}, "to_branch = 1.0 is not"),
+        ({"segments": [{"from": [0, 0], "to_point": [0.4, 0.3], "to_branch": True, "tf": 1}]}, "to_branch = true"),
+        ({"segments": [{"from": [0, 0], "to_point": [0.4, 0.3, 0.1], "to_branch": 0, "tf": 1}]}, "z = 0.1 is not"),
+        ({"segments": [{"from": [0, 0], "to_point": [0.4], "to_branch": 0, "tf": 1}]}, "has 1 coordinates"),
     ]
     for data, message in bad:
         path.write_text(json.dumps(data))
@@ -211,6 +219,10 @@ def test_segments_file(tmp_path, rng):
         read_segments(arm, path)
     with pytest.raises(ValueError, match="cannot read it"):
         read_segments(arm, tmp_path / "missing.json")
+    path.write_text(json.dumps({"segments": [{"from": [0, 0, 0, 0], "to_point": [1, 1, 1.4], "to_pitch": "x",
+                                              "tf": 1}]}))
+    with pytest.raises(ValueError, match='to_pitch = "x" must be a finite number'):
+        read_segments(get_arm("arm4r"), path)
 
 
 def test_random_segments_stay_within_limits(rng):

@@ -22,11 +22,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import ARM_NAMES
+from matplotlib.image import imread
+
 from armlab.diagrams.replay import MAX_FPS, MAX_FRAMES, write_replay
 from armlab.diagrams.view import Viewer, open_meshcat, register, run_view
 from armlab.models import get_arm
-from conftest import ARM_NAMES
-from matplotlib.image import imread
 
 WINDOW = (1000, 800)
 #: Seek the replay's animation to a playback time once the page has loaded it (test-only script).
@@ -44,7 +45,7 @@ def chromium() -> str:
     for name in ("chromium", "chromium-browser", "google-chrome"):
         if path := shutil.which(name):
             return path
-    pytest.fail("headless Chromium is needed to check the replay: apt-get install -y chromium (make setup does it)")
+    pytest.fail("headless Chromium is needed to check the replay: apt-get install -y chromium (make test does it)")
 
 
 def screenshots(html: Path, times: tuple[float, ...], tmp: Path) -> list[Path]:
@@ -102,8 +103,7 @@ def assert_shows_arm_moving(png_a: Path, png_b: Path) -> None:
 
 def sweep(arm, times: np.ndarray) -> np.ndarray:
     """A motion over a good part of every joint's range (unlimited joints: ±0.6π)."""
-    lo = np.array([-np.pi if lim.lower is None else lim.lower for lim in arm.limits])
-    hi = np.array([np.pi if lim.upper is None else lim.upper for lim in arm.limits])
+    lo, hi = arm.limit_arrays(unlimited=np.pi)
     s = np.sin(np.pi * times[:, None] / times[-1] - np.pi / 2 + 0.3 * np.arange(arm.n))
     return (lo + hi) / 2 + 0.6 * (hi - lo) / 2 * s
 

@@ -8,6 +8,7 @@ import re
 
 import numpy as np
 import pytest
+
 from armlab.scripts.report import MATCHES, Row, compare, verdict_counts
 from armlab.scripts.reproduce import MARKER, PAPERS, output_folder, reproduce
 
@@ -187,6 +188,23 @@ def test_out_dir_checks(tmp_path):
         reproduce(foreign, ("004",))
     assert (foreign / "notes.txt").read_text() == "mine" and sorted(p.name for p in tmp_path.iterdir()) == [
         "file.txt", "foreign"]  # nothing written before the check
+
+
+def test_one_paper_again_keeps_the_others(run, tmp_path):
+    import shutil
+
+    out, result, _ = run
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    lines: list[str] = []
+    again = reproduce(copy, ("004",), fast=True, progress=lines.append)
+    assert sorted(p.name for p in copy.iterdir() if p.is_dir()) == list(PAPERS)
+    assert [row.quantity for row in again.rows] == [row.quantity for row in result.rows]
+    assert again.counts == result.counts
+    assert sum(line.startswith(("[000] kept", "[001] kept", "[003] kept")) for line in lines) == 3
+    report = (copy / "report.md").read_text()
+    assert all(f"### Paper {paper} (" in report for paper in PAPERS)
+    assert (copy / "000" / "replay_abcd.html").exists()
 
 
 def test_a_failed_reproduction_leaves_the_previous_one(tmp_path, monkeypatch):

@@ -7,11 +7,11 @@ import json
 import os
 import re
 import stat
-import sys
 
 import numpy as np
 import pytest
-from armlab.diagrams import commands
+
+from armlab.cli import main
 from armlab.diagrams.build import build_diagram
 from armlab.diagrams.motions import paper_motion
 from armlab.diagrams.output import csv_header
@@ -27,8 +27,6 @@ from armlab.diagrams.simulate import (
 )
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.models import get_arm
-
-from armlab.cli import _Parser
 
 #: Every paper motion armlab simulate runs by default (arm, --path).
 PAPER_MOTIONS = [("rr", None), ("rr", "abcd"), ("rrrr", None), ("arm4r", None), ("r2t", None), ("urm6", None)]
@@ -287,16 +285,9 @@ def test_dot_names_the_fig6_blocks():
 
 # --------------------------------------------------------------------------------------------- the CLI
 def cli(*argv: str) -> int:
-    """The two commands through a parser like armlab's: ValueError → one stderr line and exit code 2, as in
-    armlab.cli; argparse's own errors exit 2 too."""
-    parser = _Parser(prog="armlab")
-    commands.register(parser.add_subparsers(dest="command", required=True, parser_class=_Parser))
+    """``armlab ARGV`` in this process: its exit code (argparse's own errors exit 2 too)."""
     try:
-        args = parser.parse_args(list(argv))
-        return args.func(args)
-    except ValueError as error:
-        print(f"armlab: error: {error}", file=sys.stderr)
-        return 2
+        return main(list(argv))
     except SystemExit as error:
         return int(error.code)
 
@@ -354,6 +345,8 @@ def test_simulate_motion_options(tmp_path):
     np.testing.assert_allclose(summary["segments"][0]["q_end"], [np.pi / 2, 0.2, 0.0])
     table = np.loadtxt(out / "log.csv", delimiter=",", skiprows=1)
     assert table.shape[0] == 216 and table[-2, 0] == pytest.approx(1.498) and table[-1, 0] == 1.5  # 7 ms, and the end
+    cli("simulate", "r2t", "--gravity", "-x", "--tf", "1", "--dt", "0.01", "--out", str(out))  # -x: not an option
+    assert json.loads((out / "summary.json").read_text())["gravity"] == [-9.81, 0, 0]
 
 
 @pytest.mark.parametrize(("argv", "message"), [
@@ -390,6 +383,11 @@ def test_unwritable_out_is_an_error_before_simulating(tmp_path, monkeypatch, cap
                          (tmp_path / "mine", "not an armlab run folder")):
         assert cli("simulate", "rr", "--out", str(out)) == 2
         assert message in capsys.readouterr().err
+    assert (tmp_path / "mine" / "notes.txt").read_text() == "keep me"
+    for name in ("log.csv", "summary.json"):  # a run's files beside a file of the user's: still not a run folder
+        (tmp_path / "mine" / name).write_text("")
+    assert cli("simulate", "rr", "--out", str(tmp_path / "mine")) == 2
+    assert "not an armlab run folder" in capsys.readouterr().err
     assert (tmp_path / "mine" / "notes.txt").read_text() == "keep me"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "mine"]
 

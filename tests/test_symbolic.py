@@ -7,11 +7,12 @@ import functools
 import numpy as np
 import pytest
 import sympy as sp
+from conftest import arm_and_plant, random_q
+
 from armlab.kinematics import basic_movements
 from armlab.kinematics import symbolic as sym
 from armlab.kinematics.basic_movements import T_Z2, T_Z5, rrrr_dh_chain, rrrr_yup_chain
 from armlab.kinematics.iterative import iterative_kinematics
-from conftest import arm_and_plant, random_q
 
 N = 100
 TOL = 1e-9
