@@ -79,11 +79,11 @@ def _hold_motion(arm: Arm) -> Motion:
 def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
     """The diagram options shared by both commands, checked (ValueError) before anything runs."""
     from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
-    from armlab.diagrams.plant import resolve_gravity
+    from armlab.diagrams.plant import check_payload, resolve_gravity
 
     setup = {
         "gravity": resolve_gravity(arm, args.gravity),
-        "payload": float(args.payload),
+        "payload": check_payload(args.payload),
         "mode": args.mode,
         "kp": gain_vector(_gains(args.kp, DEFAULT_KP, "--kp"), arm.n, "--kp"),
         "kd": gain_vector(_gains(args.kd, DEFAULT_KD, "--kd"), arm.n, "--kd"),

@@ -18,7 +18,7 @@ if TYPE_CHECKING:
 
     from armlab.models.arm import Arm
 
-__all__ = ["GRAVITY_NAMES", "G", "make_plant", "resolve_gravity"]
+__all__ = ["GRAVITY_NAMES", "G", "check_payload", "make_plant", "resolve_gravity"]
 
 #: Standard gravity (m/s²), the magnitude of every arm's default gravity.
 G = 9.81
@@ -60,6 +60,14 @@ def resolve_gravity(arm: Arm, gravity: str | ArrayLike | None = None) -> NDArray
     return g
 
 
+def check_payload(payload: float) -> float:
+    """``payload`` (kg) as a float; ``ValueError`` unless it is a finite mass ≥ 0."""
+    value = float(payload)
+    if not np.isfinite(value) or value < 0:
+        raise ValueError(f"payload = {payload} kg is not allowed: a payload is a finite mass ≥ 0 kg")
+    return value
+
+
 def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyPlant:
     """A finalized continuous-time plant of ``arm`` with ``gravity`` and a ``payload`` point mass (kg) at the tool.
 
@@ -71,9 +79,7 @@ def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyP
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.multibody.tree import RotationalInertia, SpatialInertia
 
-    payload = float(payload)
-    if not np.isfinite(payload) or payload < 0:
-        raise ValueError(f"payload = {payload} kg is not allowed: a payload is a finite mass ≥ 0 kg")
+    payload = check_payload(payload)
     plant = MultibodyPlant(0.0)
     instance = arm.add_to_plant(plant)
     if payload > 0:

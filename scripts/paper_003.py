@@ -60,8 +60,9 @@ def _wrap(x: np.ndarray) -> np.ndarray:
     return wrap_angle(x)
 
 
-def _check(out: PaperOutput, quantity: str, printed: str, gap: float, tol: float, note: str) -> None:
-    out.add(Row(PAPER, quantity, printed, "Drake / locating matrices", gap,
+def _check(out: PaperOutput, quantity: str, printed: str, computed: str, gap: float, tol: float, note: str) -> None:
+    """A row comparing a printed form with what armlab computes (``computed`` says what, at the samples)."""
+    out.add(Row(PAPER, quantity, printed, computed, gap,
                 MATCHES if gap <= tol else differs(f"the printed form is off by up to {gap:.3g}"), note))
 
 
@@ -77,27 +78,31 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
     motion = iterative_kinematics(arm.table, q, qd, qdd)
     where = f"at {q.shape[0]} samples of the demo motion; tolerance 1e-9"
     _check(out, "eq. (17): ⁰₃[T], max |entry difference|", "printed ⁰₃[T]",
+           "⁰₃[T] of the locating matrices and of Drake",
            float(max(np.abs(paper_T03(q, l) - frames[:, 3, :3]).max(),
                      np.abs(paper_T03(q, l) - sample.pose[:, 2, :3]).max())),
            1e-9, f"vs the locating matrices (eqs. 8-9) and Drake's link 3 pose {where}")
     R = sample.pose[:, -1, :3, :3]
     _check(out, "eq. (20): ⁰₄[R], max |entry difference|", "[[−s1, c1, 0], [c1, s1, 0], [0, 0, −1]]",
+           "Drake's tool rotation and the locating matrices'",
            float(max(np.abs(paper_R04(q) - R).max(), np.abs(paper_R04(q) - frames[:, -1, :3, :3]).max())), 1e-9,
            f"vs Drake's tool rotation and the locating matrices {where}")
     angles = orientation_angles(R)
     for i, (name, printed) in enumerate((("α_x", "π"), ("β_y", "0"), ("γ_z", "π/2 + q1"))):
         gap = float(np.abs(_wrap(angles[:, i] - paper_angles(q)[:, i])).max())
-        _check(out, f"eqs. (22)-(23): {name} [rad]", printed, gap, 1e-9,
+        span = f"{angles[:, i].min() + 0.0:.6g} … {angles[:, i].max() + 0.0:.6g} over the samples"
+        _check(out, f"eqs. (22)-(23): {name} [rad]", printed, span, gap, 1e-9,
                f"R = Rz(γ) Ry(β) Rx(α) of Drake's tool rotation (kinematics.locating.orientation_angles), modulo 2π, "
                f"{where}")
     v3 = paper_v3(q, qd, l)
     gap = float(max(np.abs(v3 - sample.v[:, 2]).max(), np.abs(v3 - motion.v_0[:, 2]).max()))
-    _check(out, "eq. (43): ⁰v3 [m/s]", "printed ⁰v3", gap, 1e-9, f"vs Drake and the iterative algorithm {where}")
+    _check(out, "eq. (43): ⁰v3 [m/s]", "printed ⁰v3", "⁰v3 of Drake and of the iterative algorithm", gap, 1e-9,
+           f"vs Drake and the iterative algorithm {where}")
     omega = np.stack([np.zeros(len(q)), np.zeros(len(q)), qd[:, 0]], -1)
-    _check(out, "eq. (46): ⁰ω4 = (0, 0, q̇1) [rad/s]", "(0, 0, q̇1)", float(np.abs(omega - sample.omega[:, -1]).max()),
-           1e-9, f"vs Drake {where}")
+    _check(out, "eq. (46): ⁰ω4 = (0, 0, q̇1) [rad/s]", "(0, 0, q̇1)", "Drake's ⁰ω4",
+           float(np.abs(omega - sample.omega[:, -1]).max()), 1e-9, f"vs Drake {where}")
     omega_dot = np.stack([np.zeros(len(q)), np.zeros(len(q)), qdd[:, 0]], -1)
-    _check(out, "eq. (48): ⁰ω̇4 = (0, 0, q̈1) [rad/s²]", "(0, 0, q̈1)",
+    _check(out, "eq. (48): ⁰ω̇4 = (0, 0, q̈1) [rad/s²]", "(0, 0, q̈1)", "Drake's ⁰ω̇4",
            float(np.abs(omega_dot - sample.omega_dot[:, -1]).max()), 1e-9, f"vs Drake {where}")
     for e in ERRATA:
         if e.paper != PAPER or not e.evaluable:
