@@ -192,11 +192,11 @@ _VALUE_OPTIONS = ("--q", "--target", "--near", "--from", "--to", "--pitch", "--g
 
 
 def _join_negative_values(argv: Sequence[str]) -> list[str]:
-    """``--q -1,2`` → ``--q=-1,2`` and ``--gravity -y`` → ``--gravity=-y``: argparse would take them for options."""
+    """``--q -1,2`` → ``--q=-1,2``, ``--gravity -y`` → ``--gravity=-y``: argparse takes a value starting with
+    "-" for an option. A value option takes the next item as its value unless that is a long option."""
     out: list[str] = []
     for item in argv:
-        negative = item[:1] == "-" and (item[1:2].isdigit() or item[1:2] == "." or item in ("-x", "-y", "-z"))
-        if out and out[-1] in _VALUE_OPTIONS and negative:
+        if out and out[-1] in _VALUE_OPTIONS and item[:1] == "-" and item[:2] != "--":
             out[-1] = f"{out[-1]}={item}"
         else:
             out.append(item)

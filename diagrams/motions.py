@@ -85,20 +85,14 @@ def point_to_joints(
 ) -> NDArray[np.float64]:
     """Joint values reaching ``point``: rr's IK ``branch`` (0: θ2 ≥ 0, 1: θ2 ≤ 0) if given, else the
     solution of :func:`armlab.kinematics.ik.solve` nearest ``near`` (arm4r: with tool ``pitch``)."""
-    from armlab.kinematics.ik import fit_limits, rr_ik, solve
+    from armlab.kinematics.ik import fit_limits, planar_target, rr_ik, solve
 
     if branch is None:
         return solve(arm, point, pitch=pitch, near=near)[0]
     if arm.name != "rr" or branch not in (0, 1):
         raise ValueError(f"IK branch {branch!r} is not allowed: branches are 0 (θ2 ≥ 0) and 1 (θ2 ≤ 0) of the rr arm; "
                          "for other arms give no branch (the solution nearest the previous joints is taken)")
-    p = np.asarray(point, dtype=float)
-    if p.shape == (3,):
-        if p[2] != 0.0:
-            raise ValueError(f"point z = {p[2]:g} is not allowed: the rr arm moves in the plane z = 0")
-        p = p[:2]
-    if p.shape != (2,):
-        raise ValueError(f"point {p.tolist()} has {p.size} coordinates; the rr arm takes x,y (or x,y,0) in m")
+    p = planar_target(point)
     q = rr_ik(p, arm.parameters["L1"], arm.parameters["L2"])[branch]
     fitted, violations = fit_limits(arm, q, near=q)
     if violations[0] is not None:

@@ -29,7 +29,17 @@ from armlab.kinematics.batch import as_batch
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["ANALYTIC_ARMS", "arm4r_ik", "drake_arm", "fit_limits", "numeric_ik", "r2t_ik", "rr_ik", "solve"]
+__all__ = [
+    "ANALYTIC_ARMS",
+    "arm4r_ik",
+    "drake_arm",
+    "fit_limits",
+    "numeric_ik",
+    "planar_target",
+    "r2t_ik",
+    "rr_ik",
+    "solve",
+]
 
 #: Relative tolerance on lengths when deciding reachability at a workspace boundary (round-off only).
 REACH_RTOL = 1e-12
@@ -54,6 +64,18 @@ def _single(position: ArrayLike, n: int, name: str = "target") -> NDArray[np.flo
     if p.ndim != 1:
         raise ValueError(f"{name} has shape {p.shape}; expected one point of {n} coordinates")
     return p
+
+
+def planar_target(target: ArrayLike) -> NDArray[np.float64]:
+    """The rr arm's target as (x, y): given as x,y or as x,y,0 (the arm moves in the plane z = 0)."""
+    p = np.asarray(target, dtype=float)
+    if p.shape == (3,):
+        if p[2] != 0.0:
+            raise ValueError(f"target z = {p[2]:g} is not allowed: the rr arm moves in the plane z = 0")
+        p = p[:2]
+    if p.shape != (2,):
+        raise ValueError(f"target {np.ravel(p).tolist()} has {p.size} values; rr takes x,y (or x,y,0) in m")
+    return _single(p, 2)
 
 
 def _unreachable(bad: NDArray, p: NDArray, strict: bool, message: Callable[[NDArray], str]) -> None:
@@ -406,12 +428,14 @@ def solve(
     a target reachable only outside the joint limits (naming the joint and its limits).
     """
     name = arm.name
-    p = np.asarray(target, dtype=float)
-    allowed = (2, 3) if name == "rr" and _analytic(arm) else (3,)
-    if p.ndim != 1 or p.size not in allowed:
-        raise ValueError(f"target {np.ravel(p).tolist()} has {p.size} values; {name} takes "
-                         + " or ".join(f"{k}" for k in allowed) + " coordinates (x,y,z in m)")
-    p = _single(p, p.size)
+    if name == "rr" and _analytic(arm):
+        p = planar_target(target)
+    else:
+        p = np.asarray(target, dtype=float)
+        if p.shape != (3,):
+            raise ValueError(f"target {np.ravel(p).tolist()} has {p.size} values; {name} takes 3 coordinates "
+                             "(x,y,z in m)")
+        p = _single(p, 3)
     near = np.zeros(arm.n) if near is None else _single(near, arm.n, "near")
     if pitch is not None and not (name == "arm4r" and _analytic(arm)):
         raise ValueError(f"pitch = {pitch} applies only to arm4r (its tool pitch θ2+θ3+θ4), not to {name}")
@@ -419,9 +443,7 @@ def solve(
     if not _analytic(arm):
         candidates = numeric_ik(arm, p, q0=near)[None, :]
     elif name == "rr":
-        if p.size == 3 and p[2] != 0.0:
-            raise ValueError(f"target z = {p[2]} is not allowed: the rr arm moves in the plane z = 0")
-        candidates = rr_ik(p[:2], prm["L1"], prm["L2"])
+        candidates = rr_ik(p, prm["L1"], prm["L2"])
     elif name == "arm4r":
         pitch = 0.0 if pitch is None else float(pitch)
         candidates = arm4r_ik(p, pitch, prm["a2"], prm["a3"], prm["d2"], theta1_free=float(near[0]))

@@ -480,9 +480,7 @@ def _symbolic(out: PaperOutput) -> None:
                     "max |printed − rederived| at 200 random (q, L); tolerance 1e-12"))
         notes[key] = "matches the paper's printed form" if verdict == MATCHES else verdict
     errata = {e.equation: e for e in ERRATA if e.paper == PAPER}
-    lines = ["# Paper 000 — symbolic expressions (Figs. 15-17, 22-23), rederived with sympy", "",
-             "Each expression is rederived from the paper's matrices of basic movements "
-             "(kinematics.symbolic) and compared with the printed Matlab output at 200 random (q, L).", ""]
+    entries = []
     for item in latex_table(include_accelerations=True):
         if not item.source.startswith("000"):
             continue
@@ -498,8 +496,11 @@ def _symbolic(out: PaperOutput) -> None:
             note = match[0]
         else:
             note = "not printed in the paper (derived: v_0M, a_0M by time differentiation, §7)"
-        lines += [f"## {item.label} — {item.source}", "", f"$$\n{item.latex}\n$$", "", f"*{note}*", ""]
-    out.text("symbolic", "Symbolic expressions, Figs. 15-17, 22-23 (LaTeX)", "\n".join(lines))
+        entries.append((item, note))
+    out.expressions("symbolic", "Symbolic expressions, Figs. 15-17, 22-23 (LaTeX)",
+                    "Paper 000 — symbolic expressions (Figs. 15-17, 22-23), rederived with sympy",
+                    "Each expression is rederived from the paper's matrices of basic movements (kinematics.symbolic) "
+                    "and compared with the printed Matlab output at 200 random (q, L).", entries)
 
 
 # ----------------------------------------------------------------------------- the whole paper

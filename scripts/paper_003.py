@@ -167,9 +167,7 @@ def _symbolic(out: PaperOutput) -> None:
 
     errata = [e for e in ERRATA if e.paper == PAPER]
     checked = {"17", "20", "43", "46", "48"}  # the printed forms _rows evaluates
-    lines = ["# Paper 003 — symbolic expressions (eqs. 17, 19-21, 43-49, 61-65), rederived with sympy", "",
-             "Rederived from the locating matrices (eqs. 13-18) and by time differentiation "
-             "(kinematics.symbolic); each note says whether the paper's printed form agrees.", ""]
+    entries = []
     for item in latex_table(include_accelerations=False):
         if not item.source.startswith("003"):
             continue
@@ -181,8 +179,11 @@ def _symbolic(out: PaperOutput) -> None:
             note = f"matches the paper's printed form (checked against Drake: the eq. ({min(numbers & checked)}) row)"
         else:
             note = "the paper's printed form is missing from the text extraction; not compared"
-        lines += [f"## {item.label} — {item.source}", "", f"$$\n{item.latex}\n$$", "", f"*{note}*", ""]
-    out.text("symbolic", "Symbolic expressions, eqs. 17, 19-21, 43-49, 61-65 (LaTeX)", "\n".join(lines))
+        entries.append((item, note))
+    out.expressions("symbolic", "Symbolic expressions, eqs. 17, 19-21, 43-49, 61-65 (LaTeX)",
+                    "Paper 003 — symbolic expressions (eqs. 17, 19-21, 43-49, 61-65), rederived with sympy",
+                    "Rederived from the locating matrices (eqs. 13-18) and by time differentiation "
+                    "(kinematics.symbolic); each note says whether the paper's printed form agrees.", entries)
 
 
 def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> list[Row]:

@@ -180,9 +180,13 @@ class PaperOutput:
                                         "note": note})
         self._say(label, [f"{stem}.csv", f"{stem}.md"])
 
-    def text(self, stem: str, label: str, markdown: str) -> None:
-        """Write a Markdown document (e.g. the symbolic expressions with LaTeX) as ``stem.md``."""
-        (self.folder / f"{stem}.md").write_text(markdown)
+    def expressions(self, stem: str, label: str, title: str, intro: str, entries: Sequence[tuple[Any, str]]) -> None:
+        """Write printed expressions as ``stem.md``: per entry (a :class:`~armlab.kinematics.symbolic.LatexItem`
+        and a note whether it matches the paper's printed form) a heading, the LaTeX and the note."""
+        lines = [f"# {title}", "", intro, ""]
+        for item, note in entries:
+            lines += [f"## {item.label} — {item.source}", "", f"$$\n{item.latex}\n$$", "", f"*{note}*", ""]
+        (self.folder / f"{stem}.md").write_text("\n".join(lines))
         self.manifest["texts"].append({"label": label, "md": f"{stem}.md"})
         self._say(label, [f"{stem}.md"])
 

@@ -208,7 +208,7 @@ def test_segments_file(tmp_path, rng):
         ({"segments": [{"from": [0, 0], "to_point": [0.4, 0.3], "to_branch": 1.0, "tf": 1}]}, "to_branch = 1.0 is not"),
         ({"segments": [{"from": [0, 0], "to_point": [0.4, 0.3], "to_branch": True, "tf": 1}]}, "to_branch = true"),
         ({"segments": [{"from": [0, 0], "to_point": [0.4, 0.3, 0.1], "to_branch": 0, "tf": 1}]}, "z = 0.1 is not"),
-        ({"segments": [{"from": [0, 0], "to_point": [0.4], "to_branch": 0, "tf": 1}]}, "has 1 coordinates"),
+        ({"segments": [{"from": [0, 0], "to_point": [0.4], "to_branch": 0, "tf": 1}]}, "has 1 values; rr takes x,y"),
     ]
     for data, message in bad:
         path.write_text(json.dumps(data))
