@@ -48,6 +48,7 @@ lint: setup
 	$(BIN)/ruff check .
 
 bench: setup
+	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
 	$(BIN)/python scripts/bench_kinematics.py
 	$(BIN)/python scripts/bench_simulate.py
 

@@ -79,6 +79,15 @@ class Arm:
     forward_fn: ForwardFn | None = None
     urdf_file: Path | None = None  # a committed file, when the parameters are the defaults
     base_link: str = "base_link"
+    #: False for a kinematic arm: one whose file gives no mass data (torques cannot be computed).
+    has_dynamics: bool = True
+
+    def require_dynamics(self, what: str) -> None:
+        """``ValueError`` (saying how to add mass data) unless the arm has mass data; ``what`` needs it."""
+        if not self.has_dynamics:
+            raise ValueError(f"{self.name} is a kinematic arm (its file gives no masses): {what} needs mass data; "
+                             "add the mass columns to the DH table (mass,cx,cy,cz,Ixx,…; see the README) "
+                             "or <inertial> elements to the URDF")
 
     # ------------------------------------------------------------------ joints
     @property

@@ -1,0 +1,1 @@
+"""Workspaces, singular configurations and design studies (sweeps on a Dask cluster)."""
