@@ -79,6 +79,7 @@ def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyP
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.multibody.tree import RotationalInertia, SpatialInertia
 
+    arm.require_dynamics("simulate")
     payload = check_payload(payload)
     plant = MultibodyPlant(0.0)
     instance = arm.add_to_plant(plant)

@@ -242,7 +242,7 @@ def drake_arm(arm: Arm) -> tuple[Any, Any, NDArray]:
 
     Built once per URDF file and kept: IK and the errata checks query it many times.
     """
-    key = (str(arm.urdf_path), arm.base_link, arm.tool_name, tuple(arm.joint_names))
+    key = (arm.urdf_key, arm.base_link, arm.tool_name, tuple(arm.joint_names))
     if key not in _PLANTS:
         plant = arm.make_plant()
         index = np.array([plant.GetJointByName(name).position_start() for name in arm.joint_names])

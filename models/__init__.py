@@ -37,8 +37,7 @@ def get_arm(name: str, **overrides: float) -> Arm:
 
         return from_urdf(path)
     if path.suffix.lower() == ".csv":
-        from armlab.models.custom import from_dh, read_dh_csv
+        from armlab.models.custom import from_dh_csv
 
-        table, limits = read_dh_csv(path)
-        return from_dh(table, limits, name=path.stem)
+        return from_dh_csv(path)
     raise ValueError(f"unknown arm {name!r}; allowed: {', '.join(ARMS)}, or a .urdf or DH .csv file")

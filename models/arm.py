@@ -10,7 +10,6 @@ tests check against Drake.
 from __future__ import annotations
 
 import hashlib
-import tempfile
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -21,10 +20,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.locating import LocatingTable
-from armlab.models.urdf import Body, JointLimits, Point, urdf_text
+from armlab.models.urdf import Body, JointLimits, Point, link_inertials, urdf_text
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
+
+    from armlab.kinematics.dh import DHTable
 
 __all__ = ["MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
 
@@ -81,6 +82,10 @@ class Arm:
     base_link: str = "base_link"
     #: False for a kinematic arm: one whose file gives no mass data (torques cannot be computed).
     has_dynamics: bool = True
+    #: The moving links' names, base to tool (a URDF's own); empty: ``link1`` … ``linkN`` (generated URDFs).
+    link_names: tuple[str, ...] = ()
+    #: The DH table the arm was made from (a user's DH ``.csv``), else ``None``.
+    dh: DHTable | None = None
 
     def require_dynamics(self, what: str) -> None:
         """``ValueError`` (saying how to add mass data) unless the arm has mass data; ``what`` needs it."""
@@ -138,6 +143,34 @@ class Arm:
                                  f"[{lower:.6g}, {upper:.6g}] {unit}")
         return q
 
+    # -------------------------------------------------------------- dynamics
+    def mass_properties(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Each moving link's mass (kg, ``(n,)``), centre of mass (m, ``(n, 3)``) and inertia (kg·m², ``(n, 3, 3)``).
+
+        The inertia is about the centre of mass. Expressed in the link frames {i} of the arm's URDF
+        (:attr:`table`'s frames; the frame of joint i's child link), exactly what the Drake plant is
+        built from. ``ValueError`` for a kinematic arm.
+        """
+        self.require_dynamics("the mass properties")
+        masses, coms, inertias = zip(*link_inertials(self.table, self.bodies), strict=True)
+        return np.array(masses), np.array(coms), np.array(inertias)
+
+    def links(self) -> list[dict[str, Any]]:
+        """``[{name, joint, mass, com, inertia}]`` per moving link, base to tool, in the link frame {i} (SI).
+
+        ``mass`` kg, ``com`` [x, y, z] m, ``inertia`` 3×3 kg·m² about the centre of mass;
+        all three ``None`` for a kinematic arm (no mass data).
+        """
+        names = self.link_names or tuple(f"link{i}" for i in range(1, self.n + 1))
+        out = []
+        for i, (name, joint) in enumerate(zip(names, self.joint_names, strict=True)):
+            entry: dict[str, Any] = {"name": name, "joint": joint, "mass": None, "com": None, "inertia": None}
+            if self.has_dynamics:
+                mass, com, inertia = link_inertials(self.table, self.bodies)[i]
+                entry.update(mass=mass, com=com.tolist(), inertia=inertia.tolist())
+            out.append(entry)
+        return out
+
     # ------------------------------------------------------------ kinematics
     def forward(self, q: ArrayLike) -> Forward:
         """The paper's forward kinematics of one configuration or a batch ``(..., n)``.
@@ -170,40 +203,48 @@ class Arm:
 
     @property
     def urdf_path(self) -> Path:
-        """Path of the URDF file: the committed one for default parameters, else a generated copy."""
+        """The arm's URDF file: the committed one (default parameters) or the user's.
+
+        ``ValueError`` for an arm whose URDF is generated (a DH table, overridden parameters): that
+        URDF is never written to disk; :meth:`urdf` gives its text, :attr:`urdf_key` names it.
+        """
+        if self.urdf_file is None:
+            raise ValueError(f"{self.name}: its URDF is generated in memory, not a file (arm.urdf() gives the text)")
+        return self.urdf_file
+
+    @property
+    def urdf_key(self) -> str:
+        """A name for the arm's URDF, for caches: the file's path, or ``sha256:…`` of the generated text."""
         if self.urdf_file is not None:
-            return self.urdf_file
-        text = self.urdf()
-        digest = hashlib.sha1(text.encode()).hexdigest()[:12]
-        path = Path(tempfile.gettempdir()) / "armlab-urdf" / f"{self.name}-{digest}.urdf"
-        if not path.exists():
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_suffix(f".{digest}.tmp")
-            tmp.write_text(text)
-            tmp.replace(path)
-        return path
+            return str(self.urdf_file)
+        return "sha256:" + hashlib.sha256(self.urdf().encode()).hexdigest()
 
     # ----------------------------------------------------------------- Drake
     def add_to_plant(self, plant: MultibodyPlant) -> Any:
         """Parse the URDF into ``plant``, weld its root link to the world (no offset); returns the model instance.
 
-        ``package://NAME/…`` paths resolve through the ``package.xml`` of the URDF's folder or of the two
-        above it (a ROS package's layout). A joint without a ``<transmission>`` gets an actuator of its own.
-        ``ValueError`` if Drake cannot load the file.
+        A generated URDF is parsed from its text in memory (never through a file). A URDF file's
+        ``package://NAME/…`` paths resolve through the ``package.xml`` of its folder or of the two above
+        it (a ROS package's layout; :func:`armlab.models.custom.package_roots`). A joint without a
+        ``<transmission>`` gets an actuator of its own. ``ValueError`` if Drake cannot load the URDF.
         """
         from pydrake.multibody.parsing import Parser
         from pydrake.multibody.tree import JointActuatorIndex
 
         parser = Parser(plant)
         parser.SetAutoRenaming(True)
-        urdf = self.urdf_path
-        for folder in list(urdf.parents)[:3]:
-            if (folder / "package.xml").is_file():
-                parser.package_map().AddPackageXml(str(folder / "package.xml"))
         try:
-            (instance,) = parser.AddModels(file_name=str(urdf))
+            if self.urdf_file is None:
+                (instance,) = parser.AddModelsFromString(self.urdf(), "urdf")
+            else:
+                from armlab.models.custom import package_roots
+
+                for package_xml in package_roots(self.urdf_file).values():
+                    parser.package_map().AddPackageXml(str(package_xml))
+                (instance,) = parser.AddModels(file_name=str(self.urdf_file))
         except RuntimeError as error:
-            raise ValueError(f"{urdf}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
+            source = self.urdf_file or f"{self.name}'s generated URDF"
+            raise ValueError(f"{source}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
         plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(self.base_link, instance))
         actuators = (plant.get_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
         actuated = {a.joint().name() for a in actuators if a.model_instance() == instance}
@@ -225,3 +266,77 @@ class Arm:
         )
         plant.Finalize()
         return plant
+
+    # ------------------------------------------------- the Python API (armlab.load(...).fk(q), …)
+    def fk(self, q: ArrayLike) -> NDArray[np.float64]:
+        """The tool pose in the base (world) frame: ``(4, 4)`` for ``q`` ``(n,)``, ``(N, 4, 4)`` for ``(N, n)``.
+
+        ``q``: joint values (rad, m), checked for count, finite values and the joint limits.
+        """
+        return self.forward(self.check_q(q)).tool
+
+    def jacobian(self, q: ArrayLike) -> NDArray[np.float64]:
+        """Geometric Jacobian of the tool point in the world frame, rows [v; ω]: ``(6, n)`` or ``(N, 6, n)``.
+
+        Column j maps q̇_j (rad/s or m/s) to the tool point's velocity (m/s) and angular velocity (rad/s).
+        """
+        from armlab.kinematics.differential import jacobian
+
+        return jacobian(self, self.check_q(q))
+
+    def tool_motion(
+        self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The tool point's twist [v; ω] (m/s, rad/s) and classical acceleration [a; ω̇] (m/s², rad/s²), world frame.
+
+        Each ``(6,)`` for one state, ``(N, 6)`` for a batch; ``qd``, ``qdd`` shaped like ``q``.
+        """
+        from armlab.kinematics.batch import as_batch
+        from armlab.kinematics.differential import tool_motion
+
+        return tool_motion(self, self.check_q(q), as_batch(qd, self.n, "qd"), as_batch(qdd, self.n, "qdd"))
+
+    def inverse_dynamics(
+        self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
+        payload: float = 0.0,
+    ) -> NDArray[np.float64]:
+        """Joint torques τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) (N·m, or N for prismatic joints): ``(n,)`` or ``(N, n)``.
+
+        ``gravity``: ``None`` (the arm's), ``"off"``, ``"-z"`` …, or (gx, gy, gz) m/s²; ``payload``: a point mass
+        (kg) at the tool point. The arm needs mass data (``has_dynamics``).
+        """
+        from armlab.kinematics.batch import as_batch
+        from armlab.kinematics.rnea import inverse_dynamics
+
+        return inverse_dynamics(self, self.check_q(q), as_batch(qd, self.n, "qd"), as_batch(qdd, self.n, "qdd"),
+                                gravity=gravity, payload=payload)
+
+    def manipulability(self, q: ArrayLike, axes: str | None = None) -> NDArray[np.float64] | float:
+        """Yoshikawa's manipulability √det(J Jᵀ) of the tool: the product of the singular values of J's rows ``axes``.
+
+        ``axes``: ``"trans"`` (rows v), ``"rot"`` (ω) or ``"all"``; default ``"all"`` for n ≥ 6, else ``"trans"``.
+        A float for one ``q``, ``(N,)`` for a batch; 0 at a singular configuration.
+        """
+        from armlab.kinematics.differential import manipulability
+
+        return manipulability(self.jacobian(q), axes)
+
+    def sigma_min(self, q: ArrayLike, axes: str | None = None) -> NDArray[np.float64] | float:
+        """The smallest singular value of the tool Jacobian's rows ``axes`` (see :meth:`manipulability`)."""
+        from armlab.kinematics.differential import sigma_min
+
+        return sigma_min(self.jacobian(q), axes)
+
+    def ik(
+        self, target: ArrayLike, all: bool = False, near: ArrayLike | None = None, pitch: float | None = None,
+    ) -> NDArray[np.float64]:
+        """Joint values reaching ``target``, within the limits: ``(k, n)``, nearest to ``near`` first.
+
+        ``target``: a tool position ``(3,)`` (rr: ``(2,)``) or a pose ``(4, 4)``. ``all``: every solution (the
+        closed-form branches of rr, arm4r and r2t; for other arms every distinct solution a multi-start search
+        finds), else the one nearest ``near`` (default q = 0). ``pitch``: arm4r's tool pitch θ2+θ3+θ4 (rad).
+        ``ValueError`` for an unreachable target (with the closest distance) or one outside the joint limits.
+        """
+        from armlab.kinematics.ik import solve
+
+        return np.array(solve(self, target, pitch=pitch, near=near, all_solutions=all))

@@ -23,26 +23,38 @@ from numpy.typing import NDArray
 
 from armlab.kinematics.locating import LocatingTable, orientation_angles
 
-__all__ = ["Body", "JointLimits", "Point", "cylinder_inertia", "urdf_text"]
+__all__ = ["Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_inertials", "urdf_text"]
 
 
 @dataclass(frozen=True)
 class Body:
-    """Mass properties and look of one link: a uniform cylinder of ``mass`` and ``radius``."""
+    """Mass properties and look of one link (``radius`` sizes its drawing).
+
+    Without ``com`` and ``inertia`` the link is a uniform solid cylinder of ``mass`` and ``radius``
+    from its frame's origin to the next frame's origin (the paper arms). With them, the link has
+    that ``mass`` (kg), its centre of mass at ``com`` (m, in the link frame {i}) and the inertia
+    ``inertia`` (kg·m², 3×3 about the centre of mass, axes of {i}). ``mass = 0`` with neither:
+    a link without mass data (a kinematic arm's), written with no ``<inertial>``.
+    """
 
     mass: float
     radius: float
     color: tuple[float, float, float, float] = (0.8, 0.45, 0.1, 1.0)
+    com: tuple[float, float, float] | None = None
+    inertia: tuple[tuple[float, float, float], ...] | None = None
 
 
 @dataclass(frozen=True)
 class JointLimits:
-    """Position limits (``None`` = unlimited revolute), effort and velocity limits, SI."""
+    """Position limits (``None`` = unlimited revolute), effort (N·m or N) and velocity (rad/s or m/s) limits.
+
+    ``effort`` or ``velocity`` ``None``: the limit is unknown (the arm's file gives none).
+    """
 
     lower: float | None
     upper: float | None
-    effort: float
-    velocity: float
+    effort: float | None = None
+    velocity: float | None = None
 
 
 @dataclass(frozen=True)
@@ -92,6 +104,50 @@ def _segment(axis: NDArray, end: NDArray, radius: float) -> tuple[NDArray, NDArr
     T[:3, :3] = _z_to(end / length)
     T[:3, 3] = end / 2
     return T, end / 2, length
+
+
+def check_inertia(mass: float, inertia: NDArray, what: str) -> None:
+    """``ValueError`` naming ``what`` unless ``mass`` (kg) and ``inertia`` (3×3 about the centre of mass) are physical.
+
+    Physical: a finite mass ≥ 0, a finite symmetric inertia whose principal moments are ≥ 0 and each at
+    most the sum of the other two (the triangle inequality); a massless link has no inertia.
+    """
+    inertia = np.asarray(inertia, dtype=float)
+    if not np.isfinite(mass) or mass < 0:
+        raise ValueError(f"{what}: mass = {mass:g} kg is not allowed: a mass is a finite number ≥ 0 kg")
+    if not np.all(np.isfinite(inertia)):
+        raise ValueError(f"{what}: the inertia {inertia.tolist()} has a value that is not a finite number")
+    for k, axis in enumerate("xyz"):
+        if inertia[k, k] < 0:
+            raise ValueError(f"{what}: I{axis}{axis} = {inertia[k, k]:g} kg·m² is negative: "
+                             "a moment of inertia is ≥ 0")
+    scale = max(1.0, float(np.abs(inertia).max())) * 1e-12
+    if mass == 0 and np.abs(inertia).max() > scale:
+        raise ValueError(f"{what}: mass 0 kg with a nonzero inertia is not physical: give the link's mass")
+    moments = np.linalg.eigvalsh(inertia)  # ascending
+    if moments[0] < -scale or moments[0] + moments[1] < moments[2] - scale:
+        raise ValueError(f"{what}: the inertia is not physical: its principal moments "
+                         f"({', '.join(f'{m:.6g}' for m in moments)}) kg·m² must be ≥ 0 and each at most "
+                         "the sum of the other two (the triangle inequality)")
+
+
+def link_inertials(table: LocatingTable, bodies: tuple[Body, ...]) -> list[tuple[float, NDArray, NDArray]]:
+    """Each moving link's ``(mass, com, inertia)`` in its link frame {i} (kg, m (3,), kg·m² (3, 3) about the com).
+
+    A body with an explicit ``com``/``inertia`` keeps them; otherwise it is the uniform cylinder from
+    {i}'s origin to the next frame's origin (see :class:`Body`).
+    """
+    ends = [row.P for row in table.rows[1:]] + [tuple(table.tool[:3, 3])]
+    out = []
+    for row, body, end in zip(table.rows, bodies, ends, strict=True):
+        if body.com is not None or body.inertia is not None:
+            com = np.zeros(3) if body.com is None else np.asarray(body.com, dtype=float)
+            inertia = np.zeros((3, 3)) if body.inertia is None else np.asarray(body.inertia, dtype=float)
+        else:
+            seg, com, length = _segment(np.asarray(row.k), np.asarray(end, dtype=float), body.radius)
+            inertia = seg[:3, :3] @ cylinder_inertia(body.mass, body.radius, length) @ seg[:3, :3].T
+        out.append((float(body.mass), com, inertia))
+    return out
 
 
 _JOINT_MATERIAL = '<material name="joint"><color rgba="0.15 0.15 0.15 1"/></material>'
@@ -152,16 +208,20 @@ def urdf_text(
     out.append('  <link name="base_link">')
     out.extend(f"    {visual}" for visual in visuals[0])
     out.append("  </link>")
-    for i, (row, body, lim, end) in enumerate(zip(table.rows, bodies, limits, ends, strict=True), start=1):
-        seg, com, length = _segment(np.asarray(row.k), np.asarray(end, dtype=float), body.radius)
-        inertia = seg[:3, :3] @ cylinder_inertia(body.mass, body.radius, length) @ seg[:3, :3].T
+    inertials = link_inertials(table, bodies)
+    for i, (row, body, lim, end, (mass, com, inertia)) in enumerate(
+        zip(table.rows, bodies, limits, ends, inertials, strict=True), start=1
+    ):
+        seg, _, length = _segment(np.asarray(row.k), np.asarray(end, dtype=float), body.radius)
         joint_drum = np.eye(4)
         joint_drum[:3, :3] = _z_to(np.asarray(row.k))
         rgba = " ".join(map(_f, body.color))
         out.append(f'  <link name="link{i}">')
-        out.append(f'    <inertial><origin xyz="{" ".join(map(_f, com))}"/><mass value="{_f(body.mass)}"/>'
-                   f'<inertia ixx="{_f(inertia[0, 0])}" ixy="{_f(inertia[0, 1])}" ixz="{_f(inertia[0, 2])}"'
-                   f' iyy="{_f(inertia[1, 1])}" iyz="{_f(inertia[1, 2])}" izz="{_f(inertia[2, 2])}"/></inertial>')
+        if mass > 0:  # a link without mass data has no <inertial> (Drake needs none for kinematics)
+            out.append(f'    <inertial><origin xyz="{" ".join(map(_f, com))}"/><mass value="{_f(mass)}"/>'
+                       f'<inertia ixx="{_f(inertia[0, 0])}" ixy="{_f(inertia[0, 1])}" ixz="{_f(inertia[0, 2])}"'
+                       f' iyy="{_f(inertia[1, 1])}" iyz="{_f(inertia[1, 2])}" izz="{_f(inertia[2, 2])}"/>'
+                       "</inertial>")
         out.append(f'    <visual>{_origin(seg)}<geometry><cylinder radius="{_f(body.radius)}" '
                    f'length="{_f(length)}"/></geometry><material name="link{i}"><color rgba="{rgba}"/>'
                    "</material></visual>")
@@ -179,8 +239,11 @@ def urdf_text(
         out.append(f'    <parent link="{link_names[i - 1]}"/><child link="link{i}"/>')
         out.append(f"    {_origin(row.T_fixed)}")
         out.append(f'    <axis xyz="{" ".join(map(_f, row.k))}"/>')
-        bounds = "" if lim.lower is None else f'lower="{_f(lim.lower)}" upper="{_f(lim.upper)}" '
-        out.append(f'    <limit {bounds}effort="{_f(lim.effort)}" velocity="{_f(lim.velocity)}"/>')
+        attributes = [f'{key}="{_f(value)}"' for key, value in
+                      (("lower", lim.lower), ("upper", lim.upper), ("effort", lim.effort), ("velocity", lim.velocity))
+                      if value is not None]  # an unknown effort or velocity limit is left out (unlimited)
+        if attributes:
+            out.append(f"    <limit {' '.join(attributes)}/>")
         out.append("  </joint>")
     out.append(f'  <link name="{tool_name}"><visual><geometry><sphere radius="{_f(bodies[-1].radius * 1.2)}"/>'
                '</geometry><material name="tool"><color rgba="0.85 0.1 0.1 1"/></material></visual></link>')

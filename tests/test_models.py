@@ -66,7 +66,9 @@ def test_parameters_are_the_papers_names_and_overridable():
     assert {f"l{i}" for i in range(1, 6)} <= set(get_arm("r2t").parameters)
     assert {f"r{i}" for i in range(1, 8)} | {f"theta{i}" for i in range(2, 8)} <= set(get_arm("urm6").parameters)
     longer = get_arm("rr", L1=0.5)
-    assert longer.urdf_file is None and longer.urdf_path.exists()
+    assert longer.urdf_file is None and longer.urdf_key.startswith("sha256:")  # built in memory, no file
+    with pytest.raises(ValueError, match="generated in memory"):
+        longer.urdf_path  # noqa: B018
     np.testing.assert_allclose(longer.forward(np.zeros(2)).points["M"], [0.8, 0, 0])
     plant = longer.make_plant()
     ctx = plant.CreateDefaultContext()
