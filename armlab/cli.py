@@ -150,11 +150,17 @@ def _cmd_ik(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``armlab`` argument parser with every subcommand."""
-    from armlab.diagrams import commands, view
+    from armlab import __version__
+    from armlab.diagrams import commands, draw, view
     from armlab.scripts import reproduce
 
-    parser = _Parser(prog="armlab", description="Serial robot arms modelled, checked and simulated with Drake.")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    parser = _Parser(prog="armlab", description="Serial robot arms modelled, checked and simulated with Drake.",
+                     epilog="'armlab COMMAND --help' explains a command. 'armlab' alone prints this help and "
+                            "exits with code 2; bad input ends with one line 'armlab: error: …' and code 2.")
+    parser.add_argument("--version", action="version", version=f"armlab {__version__}",
+                        help="print armlab's version and exit")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser, title="commands",
+                                metavar="COMMAND")
 
     p = sub.add_parser("list", help="the arms, one line each")
     p.set_defaults(func=_cmd_list)
@@ -165,24 +171,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_show)
 
     p = sub.add_parser("fk", help="forward kinematics: tool pose and named points")
-    p.add_argument("arm")
+    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
     p.add_argument("--q", required=True, help="joint values v1,v2,… (rad and m; see --deg)")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_fk)
 
     p = sub.add_parser("ik", help="inverse kinematics: joint values reaching a target")
-    p.add_argument("arm")
+    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
     p.add_argument("--target", required=True, help="x,y,z in metres (rr: x,y)")
     p.add_argument("--pitch", help="tool pitch θ2+θ3+θ4 (arm4r only; default 0: the tool x axis horizontal)")
     p.add_argument("--near", help="current joints v1,v2,…: nearest solution first")
     p.add_argument("--all", action="store_true", help="every solution within the joint limits")
     p.add_argument("--deg", action="store_true", help="angles in degrees")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_ik)
 
     commands.register(sub)
     view.register(sub)
+    draw.register(sub)
     reproduce.register(sub)
 
     return parser
@@ -206,7 +213,11 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; returns the exit code."""
     parser = build_parser()
-    args = parser.parse_args(_join_negative_values(sys.argv[1:] if argv is None else argv))
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if not argv:  # no command: the usage and the list of commands, exit code 2 (as for any usage error)
+        parser.print_help()
+        return 2
+    args = parser.parse_args(_join_negative_values(argv))
     try:
         return int(args.func(args) or 0)
     except (ValueError, OSError) as error:

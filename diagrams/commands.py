@@ -4,7 +4,7 @@
 or the motion the options give, through the Drake diagram of :mod:`armlab.diagrams.build`, and writes
 ``log.csv``, ``summary.json``, ``diagram.svg`` (and ``.dot``), the plots and ``replay.html`` (the run as
 a 3-D animation, :mod:`armlab.diagrams.replay`) into DIR, all or nothing.
-``armlab diagram ARM --out FILE.{dot,svg,png}`` writes the diagram alone.
+``armlab diagram ARM --out FILE.{dot,svg,png,pdf}`` writes the diagram alone.
 
 Drake is imported only when a command runs, so ``armlab --help`` stays fast.
 """
@@ -132,22 +132,21 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def cmd_diagram(args: argparse.Namespace) -> int:
-    """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG or PNG (by the suffix of --out)."""
+    """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG, PNG or PDF (by the suffix of --out)."""
     from armlab.cli import load_arm
     from armlab.diagrams.build import build_diagram
-    from armlab.diagrams.graphviz import FORMATS, write_graph
+    from armlab.diagrams.graphviz import fig6_dot, graph_format, write_graph
     from armlab.diagrams.motions import paper_motion
     from armlab.models import ARMS
 
     arm = load_arm(args.arm)
-    fmt = args.out.rsplit(".", 1)[-1].lower() if "." in args.out else ""
-    if fmt not in FORMATS:
-        raise ValueError(f"--out {args.out}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
+    graph_format(args.out)
     setup = _setup(arm, args)
     is_paper_arm = arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER
     motion = paper_motion(arm).runs()[0][1] if is_paper_arm else _hold_motion(arm)
     run = build_diagram(arm, motion, **setup)
-    path = write_graph(run.diagram.GetGraphvizString(max_depth=1), args.out)
+    dot = run.diagram.GetGraphvizString(max_depth=1)
+    path = write_graph(dot if args.full else fig6_dot(dot), args.out)
     print(f"wrote {path}")
     return 0
 
@@ -196,10 +195,14 @@ def register(subparsers: Any) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (written completely or not at all)")
     p.set_defaults(func=cmd_simulate)
 
-    p = subparsers.add_parser("diagram", help="write paper 000's Fig. 6 diagram of an arm as .dot, .svg or .png",
-                              description="Write the Drake diagram of ARM (the one armlab simulate runs) as DOT, "
-                                          "or SVG/PNG through graphviz's dot, chosen by the suffix of --out.")
+    p = subparsers.add_parser("diagram", help="write paper 000's Fig. 6 diagram of an arm as .dot, .svg, .png or .pdf",
+                              description="Write the Drake diagram of ARM (the one armlab simulate runs) as paper "
+                                          "000's Fig. 6 (connected ports only, signals named; --full: Drake's whole "
+                                          "graph) as DOT, or SVG/PNG/PDF through graphviz's dot, chosen by the "
+                                          "suffix of --out.")
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
     _diagram_options(p)
-    p.add_argument("--out", required=True, metavar="FILE", help="FILE.dot, FILE.svg or FILE.png")
+    p.add_argument("--out", required=True, metavar="FILE", help="FILE.dot, FILE.svg, FILE.png or FILE.pdf")
+    p.add_argument("--full", action="store_true", help="Drake's full graph (every port of every system) instead "
+                                                       "of the Fig. 6 view (connected ports only, signals named)")
     p.set_defaults(func=cmd_diagram)

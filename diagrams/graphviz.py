@@ -1,30 +1,48 @@
-"""Graphviz export of a diagram: DOT text always, SVG and PNG through graphviz's ``dot`` program."""
+"""Graphviz export of a diagram: DOT text always, SVG, PNG and PDF through graphviz's ``dot`` program.
+
+Two pictures of one Drake diagram:
+
+* Drake's own graph (``Diagram.GetGraphvizString``): every system with every port, connected or
+  not — complete, but a plant shows some twenty unused ports;
+* the **Fig. 6 view** (:func:`fig6_dot`): paper 000's Fig. 6 drawn from the same graph, every
+  system as one box, only the connected ports, left to right from the trajectory source through
+  the inverse dynamics and the plant to the loggers (Simulink's scopes), each connection labelled
+  with the signal it carries (q, q̇, q̈, τ, state). Nothing is typed in: the systems and the
+  connections are read from Drake's graph (:func:`parse_drake_dot`); the signal names come from
+  the ports' names. Each edge of the Fig. 6 SVG carries the connection it draws as its ``id``
+  (``"log_state.data<-MultibodyPlant.state"``), so a test can compare the picture with the
+  diagram's ``connection_map()``.
+"""
 
 from __future__ import annotations
 
+import html
+import re
 import shutil
 import subprocess
+from dataclasses import dataclass
 from pathlib import Path
 
 from armlab.files import write_file
 
-__all__ = ["FORMATS", "render", "require_dot", "write_graph"]
+__all__ = ["FORMATS", "Connection", "DrakeGraph", "fig6_dot", "parse_drake_dot", "render", "require_dot",
+           "write_graph"]
 
 #: Output formats by file suffix.
-FORMATS = ("dot", "svg", "png")
+FORMATS = ("dot", "svg", "png", "pdf")
 
 
 def require_dot() -> str:
     """Path of graphviz's ``dot``, or ``ValueError`` saying how to install it."""
     dot = shutil.which("dot")
     if dot is None:
-        raise ValueError("graphviz's 'dot' program is needed for SVG/PNG diagrams and was not found: install graphviz "
-                         "(apt-get install graphviz, or run 'make run-deps'), or write a .dot file")
+        raise ValueError("graphviz's 'dot' program is needed for SVG/PNG/PDF diagrams and was not found: install "
+                         "graphviz (apt-get install graphviz, or run 'make run-deps'), or write a .dot file")
     return dot
 
 
 def render(dot_text: str, fmt: str) -> bytes:
-    """``dot_text`` as ``fmt`` (``dot``, ``svg`` or ``png``) bytes; SVG and PNG by ``dot -T<fmt>``."""
+    """``dot_text`` as ``fmt`` (``dot``, ``svg``, ``png`` or ``pdf``) bytes; the others by ``dot -T<fmt>``."""
     if fmt not in FORMATS:
         raise ValueError(f"diagram format {fmt!r} is not allowed; allowed: {', '.join(FORMATS)}")
     if fmt == "dot":
@@ -35,10 +53,152 @@ def render(dot_text: str, fmt: str) -> bytes:
     return result.stdout
 
 
-def write_graph(dot_text: str, path: str | Path) -> Path:
-    """Write ``dot_text`` to ``path`` in the format its suffix names, atomically (:func:`~armlab.files.write_file`)."""
-    path = Path(path)
-    fmt = path.suffix.lower().lstrip(".")
+def graph_format(path: str | Path) -> str:
+    """The format :func:`write_graph` writes for ``path`` (its suffix); ``ValueError`` for any other suffix."""
+    fmt = Path(path).suffix.lower().lstrip(".")
     if fmt not in FORMATS:
         raise ValueError(f"--out {path}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
-    return write_file(path, render(dot_text, fmt))
+    return fmt
+
+
+def write_graph(dot_text: str, path: str | Path) -> Path:
+    """Write ``dot_text`` to ``path`` in the format its suffix names, atomically (:func:`~armlab.files.write_file`)."""
+    return write_file(path, render(dot_text, graph_format(path)))
+
+
+# --------------------------------------------------------------------------- Drake's graph, read
+@dataclass(frozen=True)
+class Connection:
+    """One connection of a diagram: output port ``source.output`` feeds input port ``target.input``."""
+
+    source: str  # system name
+    output: str  # output port name
+    target: str
+    input: str
+
+    @property
+    def id(self) -> str:
+        """``"target.input<-source.output"``: unique in a diagram (an input port has one source)."""
+        return f"{self.target}.{self.input}<-{self.source}.{self.output}"
+
+
+@dataclass
+class DrakeGraph:
+    """A diagram as ``GetGraphvizString`` draws it: its name, its systems (name → class) and connections."""
+
+    name: str
+    systems: dict[str, str]
+    connections: list[Connection]
+
+
+_NODE = re.compile(r'^(s\d+) \[shape=none, border=0, label=<\n(.*?)\n>\];$', re.M | re.S)
+_HEAD = re.compile(r"<B>(.*?)</B><BR/>\s*name=(.*?)\s*</TD>", re.S)
+_PORT = re.compile(r'<TD PORT="([uy]\d+)"[^>]*>(?:<FONT[^>]*>)?([^<]*)')
+_EDGE = re.compile(r"^(s\d+):(y\d+):e -> (s\d+):(u\d+):w$", re.M)
+_TITLE = re.compile(r"<B>Diagram</B><BR/>\s*name=(.*?)\s*</TD>", re.S)
+
+
+def parse_drake_dot(dot_text: str) -> DrakeGraph:
+    """The systems and connections of a diagram from its ``GetGraphvizString(max_depth=1)`` text.
+
+    ``ValueError`` if the text is not such a graph (no systems found, or an edge naming an unknown port).
+    """
+    title = _TITLE.search(dot_text)
+    systems: dict[str, tuple[str, str]] = {}
+    ports: dict[tuple[str, str], str] = {}
+    for node, body in _NODE.findall(dot_text):
+        head = _HEAD.search(body)
+        if head is None:
+            continue
+        systems[node] = (html.unescape(head.group(2)), html.unescape(head.group(1)))
+        ports.update({(node, port): html.unescape(name) for port, name in _PORT.findall(body)})
+    if not systems:
+        raise ValueError("not a Drake diagram's graphviz text: no systems found")
+    connections = []
+    for src, out, dst, inp in _EDGE.findall(dot_text):
+        if (src, out) not in ports or (dst, inp) not in ports:
+            raise ValueError(f"Drake graph edge {src}:{out} -> {dst}:{inp} names a port that is not drawn")
+        connections.append(Connection(systems[src][0], ports[src, out], systems[dst][0], ports[dst, inp]))
+    return DrakeGraph(html.unescape(title.group(1)) if title else "", dict(systems.values()), connections)
+
+
+# --------------------------------------------------------------------------- the Fig. 6 view
+#: Signal carried by an output port, by port name (HTML-like Graphviz labels).
+_SIGNALS = {
+    "state": "x = (q, q̇)",
+    "generalized_acceleration": "q̈",
+    "actuation": "τ",
+    "generalized_force": "τ",
+    "tool_pva": "p, v, a of the tool point",
+}
+#: Signal into an input port fed by the reference split, by input port name.
+_REFERENCE_SIGNALS = {
+    "desired_state": "x<SUB>d</SUB> = (q<SUB>d</SUB>, q̇<SUB>d</SUB>)",
+    "estimated_state": "x<SUB>d</SUB> = (q<SUB>d</SUB>, q̇<SUB>d</SUB>)",
+    "desired_acceleration": "q̈<SUB>d</SUB>",
+}
+_REFERENCE = "q<SUB>d</SUB>, q̇<SUB>d</SUB>, q̈<SUB>d</SUB>"
+#: Column of each kind of system, left to right (by class; anything else goes in the middle).
+_COLUMNS = {"TrajectorySource": 0, "Demultiplexer": 1, "InverseDynamicsController": 2, "InverseDynamics": 2,
+            "MultibodyPlant": 3, "VectorLogSink": 5}
+#: Box colours by column: reference, control, plant, derived signals, scopes.
+_FILL = {0: "#e8f0fe", 1: "#e8f0fe", 2: "#fdecea", 3: "#e6f4ea", 4: "#fef7e0", 5: "#f1f3f4"}
+
+
+def _short_class(cls: str) -> str:
+    return cls.rsplit(".", 1)[-1]
+
+
+def _signal(graph: DrakeGraph, c: Connection) -> str:
+    """The signal a connection carries, named from its ports (and the source's class)."""
+    source_class = _short_class(graph.systems[c.source])
+    if source_class == "TrajectorySource":
+        return _REFERENCE
+    if source_class == "Demultiplexer":
+        return _REFERENCE_SIGNALS.get(c.input, html.escape(c.output))
+    return _SIGNALS.get(c.output, html.escape(c.output))
+
+
+def _q(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def fig6_dot(dot_text: str, title: str | None = None) -> str:
+    """Paper 000's Fig. 6 view of the diagram whose ``GetGraphvizString`` is ``dot_text``, as DOT.
+
+    Every system of the diagram that takes part in a connection is one box (name, Drake class);
+    every connection is one edge labelled with its signal; unconnected ports are left out. Boxes
+    flow left to right: trajectory source → reference split → inverse dynamics → plant → tool
+    point → loggers ("scopes"). ``title`` (default: the diagram's name) is drawn above, clear of
+    every edge. Each edge's SVG ``id`` is its :attr:`Connection.id`.
+    """
+    graph = parse_drake_dot(dot_text)
+    used = {name for c in graph.connections for name in (c.source, c.target)}
+    lines = [
+        "digraph fig6 {",
+        "rankdir=LR; newrank=true; nodesep=0.35; ranksep=0.7; splines=spline;",
+        f"labelloc=t; fontname=Helvetica; fontsize=16; label={_q(title if title is not None else graph.name)};",
+        'node [shape=box, style="rounded,filled", fontname=Helvetica, fontsize=12, penwidth=1.2];',
+        "edge [fontname=Helvetica, fontsize=11, penwidth=1.2, arrowsize=0.8];",
+    ]
+    columns: dict[int, list[str]] = {}
+    for name, cls in graph.systems.items():
+        if name not in used:
+            continue
+        short = _short_class(cls)
+        column = _COLUMNS.get(short, 4)
+        columns.setdefault(column, []).append(name)
+        kind = "" if short == name else f"<BR/><FONT POINT-SIZE='9' COLOR='#555555'>{html.escape(short)}</FONT>"
+        group = ", group=main" if column <= 3 else ""  # the forward chain drawn as one straight line
+        lines.append(f'{_q(name)} [id={_q("system:" + name)}, label=<<B>{html.escape(name)}</B>{kind}>, '
+                     f'fillcolor="{_FILL[column]}"{group}];')
+    for column in sorted(columns):
+        lines.append("{rank=same; " + " ".join(_q(n) for n in columns[column]) + "}")
+    for c in graph.connections:
+        backward = _COLUMNS.get(_short_class(graph.systems[c.target]), 4) <= _COLUMNS.get(
+            _short_class(graph.systems[c.source]), 4)
+        style = ", constraint=false, style=dashed" if backward else ""  # feedback: drawn, not ranked
+        lines.append(f"{_q(c.source)} -> {_q(c.target)} [id={_q(c.id)}, label=<{_signal(graph, c)}>, "
+                     f"tooltip={_q(c.id)}{style}];")
+    lines.append("}")
+    return "\n".join(lines) + "\n"

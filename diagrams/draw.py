@@ -1,0 +1,308 @@
+"""``armlab draw ARM``: the arm's kinematic scheme, drawn from its model like the papers' figures.
+
+The papers open with each arm's kinematic scheme (000 Figs. 1, 11–13, 20; 001 Figs. 1–2; 003
+Figs. 1–2; 004 Figs. 1–3). :func:`draw_arm` draws it for any arm, paper or user's, at joint
+values q, from the same model every other command uses:
+
+* the links as a polyline through the frames' origins, the base as a grey block;
+* each joint's axis: a revolute joint as a cylinder with an arrow along its axis, a prismatic
+  joint as a slider box along its axis;
+* the frames {0} … {n} and the tool frame as RGB triads (x red, y green, z blue) with their labels
+  (frames at one point share one label);
+* the parameters: a DH arm's table (a, α, d, θ; standard or modified, as its model has it) with the
+  non-zero lengths written on the links, or a locating-table arm's rows (P_i, k_i, paper 003) with
+  P_i written on the links; and the direction of gravity.
+
+The DH frames are DH's own ({i} after row i), computed by :class:`~armlab.kinematics.dh.DHTable`;
+the locating frames are :meth:`~armlab.kinematics.locating.LocatingTable.frames`. Both end where
+the arm's tool frame is (checked: ``ValueError`` otherwise). The view: a planar arm (every joint
+axis parallel, every origin in one plane) is seen face-on along its axes; any other arm from the
+front-right, above. Axes are to scale (equal).
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armlab.files import write_file
+
+if TYPE_CHECKING:
+    from armlab.kinematics.dh import DHTable
+    from armlab.models.arm import Arm
+
+__all__ = ["FORMATS", "Scheme", "draw_arm", "register", "scheme"]
+
+#: Picture formats by file suffix.
+FORMATS = ("png", "svg", "pdf")
+#: The papers' figures of each paper arm's scheme (for the title).
+PAPER_FIGURES = {"rr": "000 Fig. 1", "rrrr": "000 Figs. 11-13, 20", "arm4r": "001 Figs. 1-2",
+                 "r2t": "003 Figs. 1-2", "urm6": "004 Figs. 1-3"}
+_AXIS_COLORS = ("#d62728", "#2ca02c", "#1f5fa8")  # x, y, z
+_LINK = "#4d5656"
+
+
+@dataclass
+class Scheme:
+    """What the scheme shows, in the world frame at one q.
+
+    ``frames``: (label, 4×4 pose) per drawn frame; ``joints``: (origin, unit axis, "R"/"T") per
+    joint; ``chain``: (M, 3) polyline of the links; ``link_labels``: (text, midpoint of the link it
+    names); ``table``: the parameter table's title and rows, as text.
+    """
+
+    frames: list[tuple[str, NDArray[np.float64]]]
+    joints: list[tuple[NDArray[np.float64], NDArray[np.float64], str]]
+    chain: NDArray[np.float64]
+    link_labels: list[tuple[str, NDArray[np.float64]]]
+    table_title: str
+    table: list[str]
+
+
+def _dh_table(arm: Arm) -> DHTable | None:
+    """The arm's DH table, if it has one: a paper arm's module ``dh_table`` or a user's DH table.
+
+    A user's DH arm keeps its rows as parameters a1, alpha1, d1, theta1, …; the convention is the
+    one (standard or modified) whose chain ends at the arm's tool frame.
+    """
+    from dataclasses import fields
+
+    from armlab.kinematics.dh import DHRow, DHTable
+    from armlab.models import ARMS
+
+    module = ARMS.get(arm.name)
+    if module is not None and arm.paper == module.PAPER:
+        if not hasattr(module, "dh_table"):
+            return None
+        known = {f.name for f in fields(module.Parameters)}
+        return module.dh_table(module.Parameters(**{k: v for k, v in arm.parameters.items() if k in known}))
+    keys = [f"{key}{i + 1}" for i in range(arm.n) for key in ("a", "alpha", "d", "theta")]
+    if set(arm.parameters) != set(keys):
+        return None
+    rows = tuple(DHRow(*(arm.parameters[f"{key}{i + 1}"] for key in ("a", "alpha", "d", "theta")),
+                       arm.table.rows[i].kind) for i in range(arm.n))
+    q = np.random.default_rng(0).uniform(-1.0, 1.0, size=(4, arm.n))
+    for convention in ("standard", "modified"):
+        table = DHTable(rows, convention)
+        if np.allclose(table.end_pose(q), arm.table.frames(q)[:, -1], atol=1e-9):
+            return table
+    return None
+
+
+def _rotation(R: NDArray) -> str:
+    """A constant rotation R_i as ", R: <angle>° about (axis)"; nothing for the identity."""
+    angle = np.arccos(np.clip((np.trace(R) - 1) / 2, -1.0, 1.0))
+    if angle < 1e-12:
+        return ""
+    axis = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+    if np.linalg.norm(axis) < 1e-9:  # a half turn: the axis is R + I's largest column
+        axis = (R + np.eye(3))[:, int(np.argmax(np.diag(R)))]
+    axis = axis / np.linalg.norm(axis)
+    return f", R: {_angle(angle)} about ({', '.join(_fmt(v + 0.0) for v in np.round(axis, 4))})"
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.4g}"
+
+
+def _angle(x: float) -> str:
+    return f"{np.degrees(x):.4g}°"
+
+
+def scheme(arm: Arm, q: ArrayLike) -> Scheme:
+    """The frames, joint axes, links and parameters of ``arm`` at ``q`` (n,) in the world frame."""
+    q = arm.check_q(q, "q")
+    tool = arm.fk(q)
+    table = _dh_table(arm)
+    if table is not None:
+        frames = table.frames(q)  # DH frames {0} … {n}
+        if table.convention == "standard":  # joint i turns about / slides along z_{i−1}
+            joints = [(frames[i, :3, 3], frames[i, :3, 2], row.kind) for i, row in enumerate(table.rows)]
+        else:  # modified: about / along z_i
+            joints = [(frames[i + 1, :3, 3], frames[i + 1, :3, 2], row.kind) for i, row in enumerate(table.rows)]
+        chain = frames[:, :3, 3]
+        labels = [f"{{{i}}}" for i in range(arm.n + 1)]
+        sub = (lambda i: i - 1) if table.convention == "modified" else (lambda i: i)
+        link_labels = []
+        for i, row in enumerate(table.rows, start=1):
+            lengths = [f"{name}{sub(i)} = {_fmt(v)}" for name, v, k in (("d", row.d, i), ("a", row.a, sub(i)))
+                       if v != 0 and k >= 0]
+            if lengths:
+                link_labels.append((", ".join(lengths), (chain[i - 1] + chain[i]) / 2))
+        a, alpha = ("a_{i-1}", "α_{i-1}") if table.convention == "modified" else ("a_i", "α_i")
+        title = f"{table.convention} DH\ni: {a}, {alpha}, d_i, θ_i"
+        rows = [f"{i + 1}: {_fmt(r.a)} m, {_angle(r.alpha)}, "
+                + (f"q{i + 1}" + (f" + {_fmt(r.d)}" if r.d else "") if r.kind == "T" else f"{_fmt(r.d)} m")
+                + ", " + (f"q{i + 1}" + (f" + {_angle(r.theta)}" if r.theta else "") if r.kind == "R"
+                          else _angle(r.theta))
+                for i, r in enumerate(table.rows)]
+    else:
+        frames = arm.table.frames(q)[:-1]  # {0} base, {i} link i (the tool below)
+        joints = [(frames[i + 1, :3, 3], frames[i + 1, :3, :3] @ np.asarray(row.k, dtype=float), row.kind)
+                  for i, row in enumerate(arm.table.rows)]
+        chain = np.concatenate([frames[:, :3, 3], tool[None, :3, 3]])
+        labels = [f"{{{i}}}" for i in range(arm.n + 1)]
+        link_labels = [(f"P{i + 1}", (chain[i] + chain[i + 1]) / 2) for i in range(arm.n)
+                       if np.linalg.norm(chain[i + 1] - chain[i]) > 1e-9]
+        title = "locating table (paper 003)\ni: kind, P_i [m], k_i (, R_i)"
+        rows = [f"{i + 1}: {r.kind}, ({', '.join(_fmt(v) for v in r.P)}), ({', '.join(_fmt(v) for v in r.k)})"
+                + _rotation(np.asarray(r.R, dtype=float)) for i, r in enumerate(arm.table.rows)]
+        rows.append(f"tool: ({', '.join(_fmt(v) for v in arm.table.tool[:3, 3])})")
+    drawn = list(zip(labels, frames, strict=True))
+    if not np.allclose(chain[-1], tool[:3, 3], atol=1e-9):
+        raise ValueError(f"{arm.name}: the drawn chain ends at {chain[-1]}, not at the tool {tool[:3, 3]}")
+    if np.allclose(frames[-1], tool, atol=1e-9):
+        drawn[-1] = (f"{drawn[-1][0]} = tool {arm.tool_name}", frames[-1])
+    else:
+        drawn.append((f"tool {arm.tool_name}", tool))
+    return Scheme(drawn, [(np.asarray(o), np.asarray(k) / np.linalg.norm(k), kind) for o, k, kind in joints],
+                  np.asarray(chain), link_labels, title, rows)
+
+
+def _basis(axis: NDArray) -> tuple[NDArray, NDArray]:
+    """Two unit vectors perpendicular to ``axis`` and to each other."""
+    helper = np.eye(3)[int(np.argmin(np.abs(axis)))]
+    u = np.cross(axis, helper)
+    u /= np.linalg.norm(u)
+    return u, np.cross(axis, u)
+
+
+def _cylinder(ax: Any, origin: NDArray, axis: NDArray, radius: float, length: float, color: str) -> None:
+    u, v = _basis(axis)
+    phi = np.linspace(0, 2 * np.pi, 24)
+    s = np.array([-length / 2, length / 2])
+    ring = radius * (np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * v)  # (24, 3)
+    pts = origin + ring[None, :, :] + s[:, None, None] * axis  # (2, 24, 3)
+    ax.plot_surface(pts[..., 0], pts[..., 1], pts[..., 2], color=color, alpha=0.55, linewidth=0, shade=True)
+
+
+def _box(ax: Any, origin: NDArray, axis: NDArray, half_width: float, length: float, color: str) -> None:
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    u, v = _basis(axis)
+    corners = np.array([origin + a * length / 2 * axis + b * half_width * u + c * half_width * v
+                        for a in (-1, 1) for b in (-1, 1) for c in (-1, 1)])
+    faces = [[0, 1, 3, 2], [4, 5, 7, 6], [0, 1, 5, 4], [2, 3, 7, 6], [0, 2, 6, 4], [1, 3, 7, 5]]
+    ax.add_collection3d(Poly3DCollection([corners[f] for f in faces], facecolor=color, edgecolor="k",
+                                         linewidths=0.4, alpha=0.45))
+
+
+def _view(s: Scheme) -> tuple[float, float]:
+    """(elevation, azimuth) in degrees: face-on along the common axis of a planar arm, else front-right above."""
+    axes = np.array([k for _, k, _ in s.joints])
+    normal = axes[0]
+    points = np.concatenate([s.chain, [T[:3, 3] for _, T in s.frames]])
+    planar = (np.all(np.abs(np.abs(axes @ normal) - 1) < 1e-9)
+              and np.all(np.abs((points - points[0]) @ normal) < 1e-9))
+    if not planar:
+        return 22.0, -58.0
+    normal = normal if normal[np.argmax(np.abs(normal))] > 0 else -normal
+    elevation = np.degrees(np.arcsin(np.clip(normal[2], -1, 1)))
+    azimuth = np.degrees(np.arctan2(normal[1], normal[0])) if abs(normal[2]) < 1 - 1e-9 else -90.0
+    return float(elevation), float(azimuth)
+
+
+def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
+    """Draw the kinematic scheme of ``arm`` at joint values ``q`` (n,), SI, into ``path``.
+
+    The format follows the suffix (``.png``, ``.svg``, ``.pdf``); the file is written completely or
+    not at all. ``ValueError`` for a bad suffix or q (count, limits).
+    """
+    from armlab.scripts.figures import DPI, new_figure, set_equal_3d
+
+    path = Path(path)
+    fmt = path.suffix.lower().lstrip(".")
+    if fmt not in FORMATS:
+        raise ValueError(f"--out {path}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
+    q = arm.check_q(q, "q")
+    s = scheme(arm, q)
+    qtext = ", ".join(f"{np.degrees(v):.4g}°" if r else f"{v:.4g} m" for v, r in zip(q, arm.revolute, strict=True))
+    figure = PAPER_FIGURES.get(arm.name) if arm.name in PAPER_FIGURES and "user" not in arm.paper else None
+    title = f"{arm.name}: kinematic scheme at q = ({qtext})" + (f" — cf. paper {figure}" if figure else "")
+    fig, axes = new_figure(title, ncols=2, size=(10.5, 6.5), projection="3d", width_ratios=(3.0, 1.2))
+    ax, panel = axes[0]
+    panel.remove()
+    panel = fig.add_subplot(panel.get_subplotspec())
+    panel.set_axis_off()
+
+    points = np.concatenate([s.chain, [T[:3, 3] for _, T in s.frames]])
+    size = max(float(np.ptp(points, axis=0).max()), 1e-3)
+    triad, radius = 0.12 * size, 0.03 * size
+
+    ax.plot(*s.chain.T, "-", color=_LINK, lw=4, solid_capstyle="round", label="links", zorder=2)
+    ax.scatter(*s.chain[-1], color=_LINK, marker="D", s=30, depthshade=False)
+    _box(ax, s.frames[0][1][:3, 3] - np.array([0, 0, radius]), np.array([0.0, 0.0, 1.0]), 1.6 * radius,
+         2 * radius, "#aab7b8")  # the base
+    for origin, axis, kind in s.joints:
+        if kind == "R":
+            _cylinder(ax, origin, axis, radius, 2.5 * radius, "#f0b27a")
+            ax.quiver(*origin, *(axis * 1.6 * triad), color="k", lw=1.0, arrow_length_ratio=0.15, alpha=0.6)
+        else:
+            _box(ax, origin, axis, radius, 0.25 * size, "#85c1e9")
+    groups: dict[tuple, list[str]] = {}
+    for label, T in s.frames:
+        for j in range(3):
+            ax.quiver(*T[:3, 3], *(T[:3, j] * triad), color=_AXIS_COLORS[j], lw=1.6, arrow_length_ratio=0.2)
+        groups.setdefault(tuple(np.round(T[:3, 3], 9)), []).append(label)
+    for origin, labels in groups.items():
+        ax.text(*(np.array(origin) + 0.03 * size), ", ".join(labels), fontsize=9, fontweight="bold", color="k",
+                zorder=10)
+    for text, where in s.link_labels:
+        ax.text(*where, text, fontsize=8, color="#7b241c", ha="right", va="top", zorder=9)
+    g = np.asarray(arm.gravity, dtype=float)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    if np.linalg.norm(g) > 0:  # an arrow beside the arm: at its top-left-back corner, above it against gravity
+        g = g / np.linalg.norm(g)
+        start = np.array([lo[0], hi[1], hi[2]]) - g * 0.25 * size
+        ax.quiver(*start, *(g * 0.2 * size), color="#8e44ad", lw=1.6, arrow_length_ratio=0.25)
+        ax.text(*start, "  g", color="#8e44ad", fontsize=10)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    set_equal_3d(ax, np.vstack([points, lo - 0.05 * size, hi + 0.08 * size]))
+    elevation, azimuth = _view(s)
+    ax.view_init(elev=elevation, azim=azimuth)
+    if abs(abs(elevation) - 90) < 1e-6:  # face-on along z: z is the depth, not an axis one can read
+        ax.set_zticks([])
+        ax.set_zlabel("")
+    g_text = ("gravity: " + ", ".join(f"{v:+.3g}" for v in arm.gravity) + " m/s²") if np.any(arm.gravity) else ""
+    legend = ["frames: x red, y green, z blue", "revolute joint: cylinder", "  + arrow along its axis",
+              "prismatic joint: slider box", g_text, "", *s.table_title.splitlines(), *s.table]
+    panel.text(0.0, 0.98, "\n".join(legend), fontsize=8, family="monospace", va="top", ha="left",
+               transform=panel.transAxes)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format=fmt, dpi=DPI)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return write_file(path, buffer.getvalue())
+
+
+def _cmd_draw(args: argparse.Namespace) -> int:
+    from armlab.cli import joint_values, load_arm
+
+    arm = load_arm(args.arm)
+    q = joint_values(arm, args.q, args.deg) if args.q is not None else np.clip(np.zeros(arm.n), *arm.limit_arrays())
+    path = draw_arm(arm, q, args.out)
+    print(f"wrote {path}")
+    return 0
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``draw`` subcommand to the CLI's subparsers."""
+    p = subparsers.add_parser("draw", help="draw an arm's kinematic scheme (frames, joint axes, DH or locating "
+                                           "parameters) as .png, .svg or .pdf",
+                              description="Draw ARM's kinematic scheme at the joint values --q, like the papers' "
+                                          "figures: links, joint axes, frames {0}…{n} and the tool as RGB triads, "
+                                          "and the DH (a, α, d, θ) or locating (P_i, k_i) parameters.")
+    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
+    p.add_argument("--q", help="joint values v1,v2,… (rad and m; see --deg); default: zeros, within the limits")
+    p.add_argument("--deg", action="store_true", help="revolute values in degrees")
+    p.add_argument("--out", required=True, metavar="FILE", help="FILE.png, FILE.svg or FILE.pdf")
+    p.set_defaults(func=_cmd_draw)
