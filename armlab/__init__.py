@@ -1,8 +1,39 @@
 """armlab: serial robot arms modelled, checked and simulated with Drake.
 
-The subpackages are ``armlab.models`` (the arms and their URDF files),
-``armlab.kinematics`` (each paper's method), ``armlab.controllers``,
-``armlab.diagrams`` and ``armlab.scripts``. Drake is imported only where needed.
+The Python API (:mod:`armlab.api`), in one session::
+
+    import armlab
+    arm = armlab.load("urm6")                  # a paper arm, a .urdf or a DH .csv file
+    T = arm.fk(q)                               # tool pose 4×4 (a batch (N, n) gives (N, 4, 4))
+    J = arm.jacobian(q)                         # 6×n, rows [v; ω], world frame
+    tau = arm.inverse_dynamics(q, qd, qdd)      # N·m (N for prismatic joints)
+    sols = arm.ik(target, all=True)             # every branch, (k, n)
+    run = armlab.simulate(arm, armlab.quintic(arm, q0, qf, 2.0))
+
+The subpackages are ``armlab.models`` (the arms and their URDF files), ``armlab.kinematics``
+(each paper's method), ``armlab.controllers``, ``armlab.diagrams``, ``armlab.analysis`` and
+``armlab.scripts``. Drake is imported only where needed.
 """
 
+from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, through
+from armlab.diagrams.run import Run
+from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
+from armlab.models.arm import Arm
+
 __version__ = "0.1.0"
+
+__all__ = [
+    "Arm",
+    "ConstantRate",
+    "Motion",
+    "QuinticSegment",
+    "Run",
+    "__version__",
+    "constant_rate",
+    "load",
+    "paper_motion",
+    "quintic",
+    "read_segments",
+    "simulate",
+    "through",
+]

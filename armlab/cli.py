@@ -11,7 +11,9 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
+import warnings
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, NoReturn
 
@@ -27,7 +29,8 @@ class _Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line on stderr and exit code 2."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"armlab: error: {message}\n")
+        _write_error(message)
+        raise SystemExit(2)
 
 
 def parse_floats(text: str, name: str) -> list[float]:
@@ -75,60 +78,144 @@ def _cmd_list(args: argparse.Namespace) -> int:
     return 0
 
 
-def _cmd_show(args: argparse.Namespace) -> int:
-    arm = load_arm(args.arm)
-    info = {
+def _limit_text(value: float | None, unit: str) -> str:
+    return "unknown" if value is None else f"{value:.6g} {unit}"
+
+
+def arm_info(arm: Arm) -> dict[str, Any]:
+    """What ``armlab show`` prints: joints with every limit, links with mass data, DH table, gravity (SI)."""
+    dh = arm.dh
+    return {
         "name": arm.name,
         "paper": arm.paper,
-        "joints": arm.joints(),
+        "dof": arm.n,
+        "joints": [dict(joint, effort=lim.effort, velocity=lim.velocity)
+                   for joint, lim in zip(arm.joints(), arm.limits, strict=True)],
+        "units": {"revolute": {"position": "rad", "velocity": "rad/s", "effort": "N·m"},
+                  "prismatic": {"position": "m", "velocity": "m/s", "effort": "N"}, "mass": "kg", "com": "m",
+                  "inertia": "kg·m² about the centre of mass, in the link frame"},
+        "has_dynamics": arm.has_dynamics,
+        "links": arm.links(),
+        "dh": None if dh is None else {
+            "convention": dh.convention,
+            "rows": [{"type": r.kind, "a": r.a, "alpha": r.alpha, "d": r.d, "theta": r.theta} for r in dh.rows]},
+        "gravity": list(arm.gravity),
         "parameters": dict(arm.parameters),
-        "urdf": str(arm.urdf_path),
+        "urdf": None if arm.urdf_file is None else str(arm.urdf_file),
         "tool_frame": arm.tool_name,
     }
+
+
+def _cmd_show(args: argparse.Namespace) -> int:
+    arm = load_arm(args.arm)
+    info = arm_info(arm)
     if args.json:
         print(json.dumps(info, indent=2))
         return 0
     print(f"{arm.name}: {arm.paper}")
-    print(f"URDF: {info['urdf']}   tool frame: {arm.tool_name}")
-    print("joints:")
+    print(f"URDF: {info['urdf'] or 'generated in memory'}   tool frame: {arm.tool_name}   "
+          f"gravity: ({', '.join(f'{g:g}' for g in arm.gravity)}) m/s²")
+    print("joints:             position limits             velocity limit   effort limit")
     for joint in info["joints"]:
-        unit = "rad" if joint["type"] == "revolute" else "m"
-        limits = "unlimited" if joint["lower"] is None else f"[{joint['lower']:.6g}, {joint['upper']:.6g}] {unit}"
-        print(f"  {joint['name']:8s} {joint['type']:9s} {limits}")
-    print("parameters:")
-    for key, value in arm.parameters.items():
-        note = arm.notes.get(key, "")
-        print(f"  {key:12s} {value:<12.6g} {note}")
+        units = info["units"][joint["type"]]
+        limits = ("unlimited" if joint["lower"] is None
+                  else f"[{joint['lower']:.6g}, {joint['upper']:.6g}] {units['position']}")
+        velocity = _limit_text(joint["velocity"], units["velocity"])
+        print(f"  {joint['name']:8s} {joint['type']:9s} {limits:27s} {velocity:16s} "
+              f"{_limit_text(joint['effort'], units['effort'])}")
+    if info["dh"] is not None:
+        print(f"DH table ({info['dh']['convention']}; a, d in m, alpha, theta in rad):")
+        print("  joint type        a      alpha          d      theta")
+        for i, row in enumerate(info["dh"]["rows"], start=1):
+            values = " ".join(f"{row[key]:+10.6g}" for key in ("a", "alpha", "d", "theta"))
+            print(f"  {i:5d} {row['type']:4s} {values}")
+    if not arm.has_dynamics:
+        print("links: no mass data (a kinematic arm): torques and simulations need masses")
+    else:
+        print("links: mass [kg], centre of mass [m] and inertia diagonal [kg·m²], in link frame {i} (origin on "
+              "joint i's axis)")
+        for link in info["links"]:
+            com = ", ".join(f"{c:+.4g}" for c in np.where(np.abs(link["com"]) < 1e-12, 0.0, link["com"]))
+            inertia = ", ".join(f"{v:.4g}" for v in np.diag(link["inertia"]))
+            print(f"  {link['name']:10s} {link['mass']:10.6g}  com ({com})  I ({inertia})")
+    if arm.parameters and info["dh"] is None:
+        print("parameters:")
+        for key, value in arm.parameters.items():
+            note = arm.notes.get(key, "")
+            print(f"  {key:12s} {value:<12.6g} {note}")
     return 0
+
+
+#: Smallest singular value of the tool Jacobian (m or rad per unit joint motion) below which ``fk`` flags a singularity.
+SINGULAR_SIGMA = 1e-6
+
+
+def _rates(arm: Arm, text: str | None, deg: bool, name: str) -> np.ndarray:
+    """Joint rates from ``"v1,v2,…"`` (zeros when not given): count checked, deg/s converted if ``deg``."""
+    if text is None:
+        return np.zeros(arm.n)
+    values = np.array(parse_floats(text, name))
+    if values.size != arm.n:
+        raise ValueError(f"{name}: {arm.name} has {arm.n} joints, got {values.size} values ({text})")
+    return np.where(arm.revolute, np.radians(values), values) if deg else values
 
 
 def _cmd_fk(args: argparse.Namespace) -> int:
     arm = load_arm(args.arm)
     q = joint_values(arm, args.q, args.deg)
+    qd = _rates(arm, args.qd, args.deg, "--qd")
+    qdd = _rates(arm, args.qdd, args.deg, "--qdd")
     fk = arm.forward(q)
+    axes = "all" if arm.n >= 6 else "trans"
+    sigma = float(arm.sigma_min(q, axes))
     result: dict[str, Any] = {
         "arm": arm.name,
         "q": q.tolist(),
         "tool": {"position": fk.tool[:3, 3].tolist(), "rotation": fk.tool[:3, :3].tolist()},
         "points": {name: p.tolist() for name, p in fk.points.items()},
+        "jacobian_rows": axes,
+        "manipulability": float(arm.manipulability(q, axes)),
+        "sigma_min": sigma,
+        "singular": sigma < SINGULAR_SIGMA,
     }
+    if args.qd is not None or args.qdd is not None:
+        twist, accel = arm.tool_motion(q, qd, qdd)
+        result["tool"].update({"velocity": twist[:3].tolist(), "angular_velocity": twist[3:].tolist(),
+                               "acceleration": accel[:3].tolist(), "angular_acceleration": accel[3:].tolist()})
     if args.json:
         print(json.dumps(result, indent=2))
         return 0
-    print(f"{arm.name}  q = {_fmt(q)}  (SI)")
-    print(f"tool {arm.tool_name}: position [m] {_fmt(result['tool']['position'])}")
-    for row in result["tool"]["rotation"]:
+    if args.deg:
+        print(f"{arm.name}  q = {_fmt(np.where(arm.revolute, np.degrees(q), q))}  (deg for revolute joints, m)")
+    else:
+        print(f"{arm.name}  q = {_fmt(q)}  (rad, m)")
+    tool = result["tool"]
+    print(f"tool {arm.tool_name}: position [m] {_fmt(tool['position'])}")
+    for row in tool["rotation"]:
         print(f"     rotation      {_fmt(row)}")
+    if "velocity" in tool:
+        print(f"     velocity [m/s]           {_fmt(tool['velocity'])}")
+        print(f"     angular velocity [rad/s] {_fmt(tool['angular_velocity'])}")
+        print(f"     acceleration [m/s²]      {_fmt(tool['acceleration'])}")
+        print(f"     angular accel. [rad/s²]  {_fmt(tool['angular_acceleration'])}")
     for name, p in result["points"].items():
         print(f"  {name:5s} {_fmt(p)}")
+    rows = "[v; ω]" if axes == "all" else "v"
+    flag = f"  SINGULAR (σ_min < {SINGULAR_SIGMA:g})" if result["singular"] else ""
+    print(f"Jacobian rows {rows}: manipulability {result['manipulability']:.6g}, σ_min {sigma:.6g}{flag}")
     return 0
 
 
 def _cmd_ik(args: argparse.Namespace) -> int:
-    from armlab.kinematics.ik import solve
+    from armlab.kinematics.ik import solve, target_pose
 
     arm = load_arm(args.arm)
     target = np.array(parse_floats(args.target, "--target"))
+    if args.rpy is not None:
+        rpy = parse_floats(args.rpy, "--rpy")
+        if len(rpy) != 3:
+            raise ValueError(f"--rpy {args.rpy}: give 3 angles roll,pitch,yaw (R = Rz(yaw)·Ry(pitch)·Rx(roll))")
+        target = target_pose(arm, target, np.radians(rpy) if args.deg else rpy)
     pitch = None
     if args.pitch is not None:
         values = parse_floats(args.pitch, "--pitch")
@@ -173,16 +260,26 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("fk", help="forward kinematics: tool pose and named points")
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
     p.add_argument("--q", required=True, help="joint values v1,v2,… (rad and m; see --deg)")
+    p.add_argument("--qd", help="joint rates v1,v2,… (rad/s and m/s; deg/s with --deg): print the tool's twist")
+    p.add_argument("--qdd", help="joint accelerations (rad/s² and m/s²; deg/s² with --deg): the tool's acceleration")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_fk)
 
-    p = sub.add_parser("ik", help="inverse kinematics: joint values reaching a target")
+    from armlab.kinematics.ik import SEEDS
+
+    p = sub.add_parser("ik", help="inverse kinematics: joint values reaching a target position or pose")
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
-    p.add_argument("--target", required=True, help="x,y,z in metres (rr: x,y)")
-    p.add_argument("--pitch", help="tool pitch θ2+θ3+θ4 (arm4r only; default 0: the tool x axis horizontal)")
+    p.add_argument("--target", required=True, help="tool position x,y,z in metres (rr: x,y)")
+    p.add_argument("--rpy", help="tool orientation roll,pitch,yaw (rad; see --deg), R = Rz(yaw)·Ry(pitch)·Rx(roll) "
+                   "as in URDF: makes the target a full pose")
+    p.add_argument("--pitch", help="tool pitch θ2+θ3+θ4 (arm4r only, with a position target; default 0: the tool "
+                   "x axis horizontal)")
     p.add_argument("--near", help="current joints v1,v2,…: nearest solution first")
-    p.add_argument("--all", action="store_true", help="every solution within the joint limits")
+    p.add_argument("--all", action="store_true",
+                   help="every solution within the joint limits: rr, arm4r, r2t: every branch of the closed form; "
+                   f"other arms: every distinct solution found from {SEEDS} starts of the numerical solver "
+                   "(a target with fewer constraints than joints has infinitely many: these are samples)")
     p.add_argument("--deg", action="store_true", help="angles in degrees")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_ik)
@@ -195,7 +292,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-_VALUE_OPTIONS = ("--q", "--target", "--near", "--from", "--to", "--pitch", "--gravity")
+_VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--target", "--rpy", "--near", "--from", "--to", "--pitch", "--gravity")
 
 
 def _join_negative_values(argv: Sequence[str]) -> list[str]:
@@ -210,21 +307,79 @@ def _join_negative_values(argv: Sequence[str]) -> list[str]:
     return out
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Run the CLI; returns the exit code."""
+def _silence(stream: Any) -> None:
+    """Point a stream that can no longer be written (a full disk, a closed pipe) at /dev/null, so that the
+    interpreter's last flush of what it still holds succeeds (a failing one would change the exit code)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, stream.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # no file descriptor (a captured stream): nothing is left to flush
+        pass
+
+
+def _write_error(message: str) -> None:
+    """``armlab: error: MESSAGE`` as one line on stderr (line breaks in MESSAGE become spaces); dropped if stderr
+    cannot be written (the exit code still says 2)."""
+    try:
+        sys.stderr.write(f"armlab: error: {' '.join(message.splitlines())}\n")
+        sys.stderr.flush()
+    except OSError:
+        _silence(sys.stderr)
+
+
+def _message(error: Exception) -> str:
+    """The error's text; for an operating-system error its reason and file, without the errno."""
+    if isinstance(error, OSError) and error.strerror:
+        return f"{error.filename}: {error.strerror}" if error.filename else error.strerror
+    return str(error)
+
+
+def _run(argv: list[str]) -> int:
     parser = build_parser()
-    argv = sys.argv[1:] if argv is None else list(argv)
     if not argv:  # no command: the usage and the list of commands, exit code 2 (as for any usage error)
         parser.print_help()
         return 2
     args = parser.parse_args(_join_negative_values(argv))
-    try:
-        return int(args.func(args) or 0)
-    except (ValueError, OSError) as error:
-        print(f"armlab: error: {error}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        return 130
+    return int(args.func(args) or 0)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI; returns the exit code.
+
+    0: done; 2: bad input, told in one line ``armlab: error: …`` on stderr; 130 / 143: stopped by SIGINT /
+    SIGTERM, every temporary removed (:func:`armlab.files.stop_on_signals`); 141: the reader of the output
+    went away (``armlab … | head``), quietly. Warnings (numpy's overflow …) are shown after a command that
+    succeeded and dropped after an error, whose line stays the only one on stderr.
+    """
+    from armlab.files import stop_on_signals
+
+    with stop_on_signals() as signals, warnings.catch_warnings(record=True) as caught:
+        try:
+            try:
+                code = _run(sys.argv[1:] if argv is None else list(argv))
+            except SystemExit as stop:  # argparse: --help, --version, a usage error
+                code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 2)
+            sys.stdout.flush()  # a full disk or a closed pipe shows here, not at the interpreter's exit
+        except BrokenPipeError:
+            _silence(sys.stdout)
+            return 141
+        except (ValueError, OSError) as error:
+            caught.clear()
+            if not signals.received:
+                _write_error(_message(error))
+            code = 2
+        except KeyboardInterrupt:
+            code = 130
+        except Exception:
+            if not signals.received:
+                raise
+            code = 130  # what the stop signal became on its way (e.g. an ImportError when it hit an import)
+    if signals.received:
+        return 128 + signals.received
+    for warning in caught:
+        warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
+    return code
 
 
 if __name__ == "__main__":

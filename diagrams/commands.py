@@ -2,7 +2,8 @@
 
 ``armlab simulate ARM --out DIR`` runs the arm's paper motion (:func:`armlab.diagrams.motions.paper_motion`)
 or the motion the options give, through the Drake diagram of :mod:`armlab.diagrams.build`, and writes
-``log.csv``, ``summary.json``, ``diagram.svg`` (and ``.dot``), the plots and ``replay.html`` (the run as
+``log.csv``, ``summary.json``, ``diagram.svg`` (the Fig. 6 view, :func:`~armlab.diagrams.graphviz.fig6_dot`),
+``diagram_full.svg`` (Drake's whole graph, also as ``diagram.dot``), the plots and ``replay.html`` (the run as
 a 3-D animation, :mod:`armlab.diagrams.replay`) into DIR, all or nothing.
 ``armlab diagram ARM --out FILE.{dot,svg,png,pdf}`` writes the diagram alone.
 
@@ -16,6 +17,8 @@ import textwrap
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from armlab.diagrams.drives import DIVERGENCE_TOLERANCE
 
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
@@ -77,13 +80,17 @@ def _hold_motion(arm: Arm) -> Motion:
 
 
 def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
-    """The diagram options shared by both commands, checked (ValueError) before anything runs."""
+    """The diagram options shared by both commands (and simulate's ``--accuracy``), checked before anything
+    runs: ``ValueError`` naming a value outside its range (:data:`armlab.limits.LIMITS`)."""
     from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
     from armlab.diagrams.plant import check_payload, resolve_gravity
+    from armlab.limits import check_range
 
+    if getattr(args, "accuracy", None) is not None:
+        check_range(args.accuracy, "--accuracy")
     setup = {
         "gravity": resolve_gravity(arm, args.gravity),
-        "payload": check_payload(args.payload),
+        "payload": check_payload(args.payload, "--payload"),
         "mode": args.mode,
         "kp": gain_vector(_gains(args.kp, DEFAULT_KP, "--kp"), arm.n, "--kp"),
         "kd": gain_vector(_gains(args.kd, DEFAULT_KD, "--kd"), arm.n, "--kd"),
@@ -93,41 +100,50 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
-    """``armlab simulate``: see the module docstring."""
+    """``armlab simulate``: see the module docstring. Exit 3 when the run diverged, or passed a limit with
+    ``--strict-limits``."""
+    import sys
+
+    from armlab.api import simulate
     from armlab.cli import load_arm
     from armlab.diagrams.build import check_log_period
-    from armlab.diagrams.graphviz import render, require_dot
-    from armlab.diagrams.output import run_folder, write_log_csv, write_summary
-    from armlab.diagrams.plots import write_plots
-    from armlab.diagrams.replay import write_replay
-    from armlab.diagrams.simulate import DEFAULT_ACCURACY, simulate, summarize
+    from armlab.diagrams.drives import check_tolerance, format_violation
+    from armlab.diagrams.graphviz import require_dot
+    from armlab.diagrams.output import run_folder
 
     arm = load_arm(args.arm)
+    arm.require_dynamics("armlab simulate")
     motion = motion_from_args(arm, args)
     setup = _setup(arm, args)
     log_period = check_log_period(args.dt, min(m.duration for _, m in motion.runs()))
-    accuracy = DEFAULT_ACCURACY if args.accuracy is None else float(args.accuracy)
-    if not np.isfinite(accuracy) or accuracy <= 0:
-        raise ValueError(f"--accuracy {args.accuracy}: give a positive finite target accuracy")
+    tolerance = check_tolerance(args.divergence_tolerance)
     require_dot()
-    with run_folder(args.out) as folder:
+    with run_folder(args.out) as folder:  # made first: an unwritable or occupied --out is an error before the run
         print(f"{arm.name}: {motion.description}", flush=True)
-        log = simulate(arm, motion, log_period=log_period, accuracy=accuracy, **setup)
-        summary = summarize(log)
-        units = summary["torque_units"]
-        print(f"simulated {motion.duration:g} s in {log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× real "
-              f"time), mode {log.mode}, {summary['runs']['count']} run(s)", flush=True)
-        write_log_csv(log, folder / "log.csv")
-        write_summary(summary, folder / "summary.json")
-        (folder / "diagram.dot").write_text(log.diagram_dot)
-        (folder / "diagram.svg").write_bytes(render(log.diagram_dot, "svg"))
-        plots = write_plots(log, folder)
-        write_replay(arm, log.t, log.q, folder / "replay.html", tool_path=log.tool[:, :3])
-        written = ["log.csv", "summary.json", "diagram.svg", "diagram.dot", *(p.name for p in plots), "replay.html"]
+        run = simulate(arm, motion, log_period=log_period, accuracy=args.accuracy, divergence_tolerance=tolerance,
+                       **setup)
+        summary = run.summary
+        print(f"simulated {motion.duration:g} s in {run.log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× "
+              f"real time), mode {run.log.mode}, {summary['runs']['count']} run(s)", flush=True)
+        written = run.write(folder)
     print("max |τ|: " + ", ".join(f"τ{i + 1} = {v:.4f} {u}" for i, (v, u) in enumerate(zip(
-        summary["max_abs_torque"], units, strict=True))) + f"; peak power {summary['peak_power']:.4g} W; "
-          f"max tracking error {max(summary['max_tracking_error']):.3g}")
+        summary["max_abs_torque"], summary["torque_units"], strict=True)))
+          + f"; peak power {summary['peak_power']:.4g} W; max tracking error "
+          + ", ".join(f"{v:.3g} {u}" for v, u in zip(summary["max_tracking_error"], summary["joint_units"],
+                                                      strict=True)))
     print(f"wrote {args.out}: {' '.join(written)}")
+    for violation in run.violations:
+        print(f"armlab: warning: {arm.name} {format_violation(violation)}", file=sys.stderr)
+    if run.diverged:
+        d = summary["divergence"]
+        print(f"armlab: error: the run diverged: {d['joint']} left the reference at t = {d['time']:.4g} s "
+              f"(tolerance {d['tolerance']:g} {d['unit']}; its largest tracking error {d['max_error']:.3g} {d['unit']}); "
+              f"{'raise --kp/--kd' if run.log.mode == 'controller' else 'open-loop inverse dynamics does not '
+                 'correct errors: use --mode controller'}", file=sys.stderr)
+        return 3
+    if run.violations and args.strict_limits:
+        print(f"armlab: error: {len(run.violations)} limit violation(s) (--strict-limits)", file=sys.stderr)
+        return 3
     return 0
 
 
@@ -152,30 +168,35 @@ def cmd_diagram(args: argparse.Namespace) -> int:
 
 
 def _diagram_options(p: argparse.ArgumentParser) -> None:
+    from armlab.limits import allowed
+
     p.add_argument("--mode", choices=("controller", "inverse_dynamics"), default="controller",
                    help="controller: computed torque with PD feedback (default); inverse_dynamics: torques from the "
                         "reference alone, open loop (SimMechanics' inverse-dynamics mode of paper 000 Fig. 6)")
     p.add_argument("--gravity", default="default",
                    help="default (the arm's: rr -y, others -z), off, +x/-x/+y/-y/+z/-z (9.81 m/s²), or gx,gy,gz in "
-                        "m/s²")
+                        f"m/s², {allowed('gravity')}")
     p.add_argument("--payload", type=float, default=0.0, metavar="KG",
-                   help="point mass at the tool point, kg (default 0; r2t's nominal payload is 20 kg)")
-    p.add_argument("--kp", help="position gain(s), 1/s²: one value or one per joint (default 100)")
-    p.add_argument("--kd", help="velocity gain(s), 1/s: one value or one per joint (default 20)")
-    p.add_argument("--ki", help="integral gain(s), 1/s³: one value or one per joint (default 0)")
+                   help=f"point mass at the tool point, kg (default 0; r2t's nominal payload is 20 kg; "
+                        f"{allowed('payload')})")
+    p.add_argument("--kp", help=f"position gain(s), 1/s²: one value or one per joint (default 100; {allowed('kp')})")
+    p.add_argument("--kd", help=f"velocity gain(s), 1/s: one value or one per joint (default 20; {allowed('kd')})")
+    p.add_argument("--ki", help=f"integral gain(s), 1/s³: one value or one per joint (default 0; {allowed('ki')})")
 
 
 def register(subparsers: Any) -> None:
     """Add the ``simulate`` and ``diagram`` subcommands to the CLI's subparsers."""
     from armlab.diagrams.motions import SEGMENTS_FILE_HELP
+    from armlab.limits import allowed
 
     p = subparsers.add_parser(
         "simulate",
         help="simulate a motion through paper 000's Fig. 6 diagram; write log, summary, plots, diagram",
         description=textwrap.fill(
             "Simulate ARM through paper 000's Fig. 6 as a Drake diagram (trajectory source → inverse dynamics "
-            "controller → MultibodyPlant, with loggers) and write DIR/log.csv, summary.json, diagram.svg, "
-            "diagram.dot, joints.png, torques.png, tool_path.png, tool_motion.png and replay.html (the run as a 3-D "
+            "controller → MultibodyPlant, with loggers) and write DIR/log.csv, summary.json, diagram.svg "
+            "(Fig. 6 view), diagram_full.svg (Drake's whole graph), diagram.dot, joints.png, torques.png, "
+            "tool_path.png, tool_motion.png and replay.html (the run as a 3-D "
             "animation that plays in any browser, no server or network needed).", 100)
         + "\n\n" + textwrap.fill(_MOTION_HELP, 100),
         epilog=SEGMENTS_FILE_HELP,
@@ -190,7 +211,14 @@ def register(subparsers: Any) -> None:
     p.add_argument("--path", choices=("abcd",), help="rr: paper 000's A-B-C-D-A path (Figs. 8-10)")
     p.add_argument("--segments", metavar="FILE", help="a JSON file of segments (see below)")
     p.add_argument("--dt", type=float, default=1e-3, metavar="S", help="log period, s (default 0.001)")
-    p.add_argument("--accuracy", type=float, help="integrator target accuracy (default 1e-6, Runge-Kutta 5)")
+    p.add_argument("--accuracy", type=float,
+                   help=f"integrator target accuracy (default 1e-6, Runge-Kutta 5; {allowed('accuracy')})")
+    p.add_argument("--strict-limits", action="store_true",
+                   help="exit with status 3 when the run passes a position, velocity or effort limit (always a "
+                        "warning on stderr and an entry in summary.json's limit_violations)")
+    p.add_argument("--divergence-tolerance", type=float, default=DIVERGENCE_TOLERANCE, metavar="E",
+                   help=f"tracking error (rad or m) past which the run has diverged: exit status 3 "
+                        f"(default {DIVERGENCE_TOLERANCE:g})")
     _diagram_options(p)
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (written completely or not at all)")
     p.set_defaults(func=cmd_simulate)

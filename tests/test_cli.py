@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -31,13 +32,27 @@ def test_show_json(name):
     out = armlab("show", name, "--json")
     assert out.returncode == 0, out.stderr
     info = json.loads(out.stdout)
-    assert set(info) == {"name", "paper", "joints", "parameters", "urdf", "tool_frame"}
+    assert set(info) == {"name", "paper", "dof", "joints", "units", "has_dynamics", "links", "dh", "gravity",
+                         "parameters", "urdf", "tool_frame"}
     arm = get_arm(name)
-    assert info["name"] == name and info["tool_frame"] == arm.tool_name
+    assert info["name"] == name and info["tool_frame"] == arm.tool_name and info["dof"] == arm.n
     assert [j["name"] for j in info["joints"]] == arm.joint_names
-    assert all(set(j) == {"name", "type", "lower", "upper"} for j in info["joints"])
+    assert all(set(j) == {"name", "type", "lower", "upper", "effort", "velocity"} for j in info["joints"])
+    assert [(j["effort"], j["velocity"]) for j in info["joints"]] == [(lim.effort, lim.velocity) for lim in arm.limits]
+    assert info["has_dynamics"] and [link["mass"] for link in info["links"]] == [b.mass for b in arm.bodies]
+    assert info["gravity"] == list(arm.gravity) and info["dh"] is None
     assert info["parameters"] == dict(arm.parameters)
     assert info["urdf"].endswith(f"{name}.urdf")
+
+
+def test_show_prints_a_dh_tables_rows_masses_and_limits_with_units():
+    out = armlab("show", str(Path(__file__).resolve().parents[1] / "scripts" / "examples" / "arm3r.csv"))
+    assert out.returncode == 0, out.stderr
+    text = out.stdout
+    assert "DH table (standard; a, d in m, alpha, theta in rad):" in text
+    assert "+1.5708" in text  # alpha1 = 90° given in degrees (# units: deg), shown in rad
+    assert "150 rad/s" not in text and "2.61799 rad/s" in text and "60 N·m" in text
+    assert "link1" in text and "com (+0, +0, +0.2)" in text  # DH frame 1's (0, -0.2, 0) in link frame {1}
 
 
 @pytest.mark.parametrize("name", ARM_NAMES)

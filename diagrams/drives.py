@@ -1,0 +1,204 @@
+"""What a run asks of the arm's drives: limits checked, divergence found, drives sized.
+
+* :func:`limit_violations` — every joint's position, velocity and effort limit checked along
+  the run, for the reference and the simulated values: one entry per (joint, quantity, source)
+  whose peak passes its limit, with the first time it does.
+* :func:`divergence` — the first time the tracking error |q − q_d| passes a threshold (an
+  open-loop run, or gains too low, leaving the reference), or ``None``.
+* :func:`drive_table` and :func:`write_drives` — per joint peak |τ|, RMS τ, peak |q̇| and peak
+  mechanical power |τ q̇|, against the effort and velocity limits: ``drives.csv`` and
+  ``drives.png`` (each joint's torque–speed operating points inside its limit box, the picture an
+  engineer takes to a motor catalogue).
+
+Limits come from the arm (:class:`~armlab.models.urdf.JointLimits`); a limit the arm's file does
+not give (``None``) is not checked.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armlab.files import write_file
+
+if TYPE_CHECKING:
+    from armlab.diagrams.simulate import SimulationLog
+
+__all__ = [
+    "DIVERGENCE_TOLERANCE",
+    "check_tolerance",
+    "divergence",
+    "drive_table",
+    "format_violation",
+    "limit_violations",
+    "write_drives",
+]
+
+#: Tracking error (rad for revolute joints, m for prismatic ones) past which a run has left its
+#: reference: far above what the computed-torque loop leaves (≤ 1e-6 at the default accuracy).
+DIVERGENCE_TOLERANCE = 1e-2
+
+#: Slack (relative to the limit) under which a value on its limit counts as within it.
+_SLACK = 1e-9
+
+
+def _units(log: SimulationLog) -> dict[str, list[str]]:
+    revolute = log.arm.revolute
+    return {
+        "position": ["rad" if r else "m" for r in revolute],
+        "velocity": ["rad/s" if r else "m/s" for r in revolute],
+        "effort": ["N·m" if r else "N" for r in revolute],
+    }
+
+
+def _first_exceeding(t: NDArray, values: NDArray, lower: float, upper: float) -> tuple[float, float, float] | None:
+    """(peak value past the limit, the limit it passes, first time) for samples outside [lower, upper]."""
+    above = values > upper + _SLACK * max(1.0, abs(upper))
+    below = values < lower - _SLACK * max(1.0, abs(lower))
+    if not (above.any() or below.any()):
+        return None
+    first = float(t[np.argmax(above | below)])
+    over_upper = float(values.max() - upper) if above.any() else -np.inf
+    under_lower = float(lower - values.min()) if below.any() else -np.inf
+    if over_upper >= under_lower:
+        return float(values.max()), upper, first
+    return float(values.min()), lower, first
+
+
+def limit_violations(log: SimulationLog) -> list[dict[str, Any]]:
+    """Every passed limit: ``[{"joint", "quantity", "source", "peak", "limit", "unit", "first_time"}]``.
+
+    ``quantity`` is ``"position"`` (against [lower, upper]), ``"velocity"`` (|q̇| against the velocity
+    limit) or ``"effort"`` (|τ| against the effort limit); ``source`` is ``"reference"`` (the motion
+    asked for it) or ``"simulated"`` (the arm did it). ``peak`` is the signed extreme value, ``limit``
+    the bound it passes, ``first_time`` the first sample time (s) outside. Empty when none.
+    """
+    units = _units(log)
+    out = []
+    for i, (name, lim) in enumerate(zip(log.arm.joint_names, log.arm.limits, strict=True)):
+        checks: list[tuple[str, str, NDArray, float | None, float | None]] = []
+        if lim.lower is not None:
+            checks += [("position", "reference", log.q_ref[:, i], lim.lower, lim.upper),
+                       ("position", "simulated", log.q[:, i], lim.lower, lim.upper)]
+        if lim.velocity is not None:
+            checks += [("velocity", "reference", log.qd_ref[:, i], -lim.velocity, lim.velocity),
+                       ("velocity", "simulated", log.qd[:, i], -lim.velocity, lim.velocity)]
+        if lim.effort is not None:
+            checks.append(("effort", "simulated", log.tau[:, i], -lim.effort, lim.effort))
+        for quantity, source, values, lower, upper in checks:
+            found = _first_exceeding(log.t, values, lower, upper)
+            if found is not None:
+                peak, limit, first = found
+                out.append({"joint": name, "quantity": quantity, "source": source, "peak": peak, "limit": limit,
+                            "unit": units[quantity][i], "first_time": first})
+    return out
+
+
+def format_violation(v: dict[str, Any]) -> str:
+    """One line for a violation: joint, quantity, peak, limit, first time, each with its unit."""
+    return (f"{v['joint']}: {v['source']} {v['quantity']} reaches {v['peak']:.6g} {v['unit']}, past its limit "
+            f"{v['limit']:.6g} {v['unit']}, first at t = {v['first_time']:.4g} s")
+
+
+def check_tolerance(tolerance: float) -> float:
+    """The divergence tolerance (rad or m) as a float; ``ValueError`` unless positive and finite."""
+    try:
+        value = float(tolerance)
+    except (TypeError, ValueError):
+        value = float("nan")
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"divergence tolerance = {tolerance} is not allowed: give a positive finite tracking error "
+                         "(rad or m)")
+    return value
+
+
+def divergence(log: SimulationLog, tolerance: float = DIVERGENCE_TOLERANCE) -> dict[str, Any] | None:
+    """Where the run first left its reference: ``{"joint", "time", "max_error", "tolerance", "unit"}``, or None.
+
+    ``time`` is the first sample time (s) at which a joint's tracking error |q − q_d| exceeds
+    ``tolerance`` (rad or m), ``joint`` the joint whose error is largest then; ``max_error`` the
+    largest tracking error of the run on that joint.
+    """
+    tolerance = check_tolerance(tolerance)
+    error = np.abs(log.q - log.q_ref)
+    error = np.where(np.isfinite(error), error, np.inf)  # a NaN state has left the reference too
+    outside = error > tolerance
+    if not outside.any():
+        return None
+    first = int(np.argmax(outside.any(axis=1)))
+    joint = int(np.argmax(error[first]))
+    return {"joint": log.arm.joint_names[joint], "time": float(log.t[first]),
+            "max_error": float(error[:, joint].max()), "tolerance": tolerance,
+            "unit": _units(log)["position"][joint]}
+
+
+def drive_table(log: SimulationLog) -> list[dict[str, Any]]:
+    """Per joint: peak |τ|, RMS τ, peak |q̇|, peak |τ q̇| (W) and the effort and velocity limits (None: unknown)."""
+    units = _units(log)
+    power = np.abs(log.tau * log.qd)
+    return [{
+        "joint": name,
+        "peak_torque": float(np.max(np.abs(log.tau[:, i]))),
+        "rms_torque": float(np.sqrt(np.mean(log.tau[:, i] ** 2))),
+        "torque_unit": units["effort"][i],
+        "peak_speed": float(np.max(np.abs(log.qd[:, i]))),
+        "speed_unit": units["velocity"][i],
+        "peak_power": float(np.max(power[:, i])),
+        "effort_limit": lim.effort,
+        "velocity_limit": lim.velocity,
+    } for i, (name, lim) in enumerate(zip(log.arm.joint_names, log.arm.limits, strict=True))]
+
+
+def _csv_text(rows: list[dict[str, Any]]) -> str:
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(rows[0]), lineterminator="\n")
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: "" if v is None else (f"{v:.9g}" if isinstance(v, float) else v) for k, v in row.items()})
+    return buffer.getvalue()
+
+
+def write_drives(log: SimulationLog, folder: str | Path) -> list[Path]:
+    """``drives.csv`` (:func:`drive_table`, empty cells for unknown limits) and ``drives.png`` in ``folder``."""
+    from armlab.scripts.figures import DPI, new_figure
+
+    folder = Path(folder)
+    rows = drive_table(log)
+    paths = [write_file(folder / "drives.csv", _csv_text(rows))]
+    n = log.arm.n
+    cols = min(n, 3)
+    fig, axes = new_figure(f"{log.arm.name}: drive operating points (torque against speed) and limits",
+                           (n + cols - 1) // cols, cols, size=(3.3 * cols, 3.0 * ((n + cols - 1) // cols) + 0.6))
+    axes = np.atleast_1d(axes).ravel()
+    for i, (row, ax) in enumerate(zip(rows, axes, strict=False)):
+        for k in range(len(log.run_starts)):
+            rows_k = log.run == k
+            ax.plot(log.qd[rows_k, i], log.tau[rows_k, i], color="#1f5fa8", lw=1.2)
+        ax.plot(log.qd[[0, -1], i], log.tau[[0, -1], i], "o", color="#1f5fa8", ms=3)
+        w, e = row["velocity_limit"], row["effort_limit"]
+        if w is not None and e is not None:
+            ax.plot([-w, w, w, -w, -w], [-e, -e, e, e, -e], color="#c0392b", lw=1.2)
+        elif w is not None:
+            ax.axvline(-w, color="#c0392b", lw=1.2)
+            ax.axvline(w, color="#c0392b", lw=1.2)
+        elif e is not None:
+            ax.axhline(-e, color="#c0392b", lw=1.2)
+            ax.axhline(e, color="#c0392b", lw=1.2)
+        peak = max(row["peak_torque"], 1e-12)
+        ax.set_title(f"{row['joint']}: peak |τ| {peak:.4g} {row['torque_unit']}, peak |q̇| "
+                     f"{row['peak_speed']:.3g} {row['speed_unit']}", fontsize=8)
+        ax.set_xlabel(f"q̇{i + 1} [{row['speed_unit']}]")
+        ax.set_ylabel(f"τ{i + 1} [{row['torque_unit']}]")
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    path = folder / "drives.png"
+    fig.savefig(path, dpi=DPI)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return [*paths, path]

@@ -1,0 +1,153 @@
+"""A simulation run as the Python API and ``armlab simulate`` hand it over: arrays, summary, checks, files.
+
+:class:`Run` wraps the :class:`~armlab.diagrams.simulate.SimulationLog` of one simulation with what
+a user asks of it next: the summary (``summary.json``), the limit violations and whether the run
+diverged (:mod:`armlab.diagrams.drives`), the drive-sizing table, and :meth:`Run.save` writing
+every output into a folder completely or not at all.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, divergence, drive_table, limit_violations
+
+if TYPE_CHECKING:
+    from armlab.diagrams.simulate import SimulationLog
+
+__all__ = ["Run"]
+
+
+@dataclass
+class Run:
+    """One simulated motion. Arrays are one row per log sample: ``t`` ``(m,)``, joints ``(m, n)`` (SI units).
+
+    ``summary`` is ``summary.json``: the run's maxima (torques N·m or N, tracking errors rad or m, power W),
+    per segment, the setup, and ``limit_violations`` (a list, empty when none), ``diverged`` and
+    ``divergence`` (where the tracking error first passed ``divergence_tolerance``).
+    """
+
+    log: SimulationLog
+    divergence_tolerance: float = DIVERGENCE_TOLERANCE
+    summary: dict[str, Any] = field(init=False)
+
+    def __post_init__(self) -> None:
+        from armlab.diagrams.simulate import summarize
+
+        summary = summarize(self.log)
+        summary["tracking_error_units"] = summary["joint_units"]
+        summary["limit_violations"] = limit_violations(self.log)
+        left = divergence(self.log, self.divergence_tolerance)
+        summary["diverged"] = left is not None
+        summary["divergence"] = left
+        summary["drives"] = drive_table(self.log)
+        self.summary = summary
+
+    # ------------------------------------------------------------------ the arrays
+    @property
+    def t(self) -> NDArray[np.float64]:
+        """Sample times, s ``(m,)``; a join between runs appears twice."""
+        return self.log.t
+
+    @property
+    def q(self) -> NDArray[np.float64]:
+        """Simulated joint positions ``(m, n)``, rad or m."""
+        return self.log.q
+
+    @property
+    def qd(self) -> NDArray[np.float64]:
+        """Simulated joint velocities ``(m, n)``, rad/s or m/s."""
+        return self.log.qd
+
+    @property
+    def tau(self) -> NDArray[np.float64]:
+        """Joint torques (forces) the controller applied ``(m, n)``, N·m or N."""
+        return self.log.tau
+
+    @property
+    def q_ref(self) -> NDArray[np.float64]:
+        """Reference joint positions ``(m, n)``."""
+        return self.log.q_ref
+
+    @property
+    def qd_ref(self) -> NDArray[np.float64]:
+        """Reference joint velocities ``(m, n)``."""
+        return self.log.qd_ref
+
+    @property
+    def qdd_ref(self) -> NDArray[np.float64]:
+        """Reference joint accelerations ``(m, n)``, rad/s² or m/s²."""
+        return self.log.qdd_ref
+
+    @property
+    def tool(self) -> NDArray[np.float64]:
+        """The tool point ``(m, 9)``: x y z (m), vx vy vz (m/s), ax ay az (m/s²) in the world frame."""
+        return self.log.tool
+
+    # ------------------------------------------------------------------ the checks
+    @property
+    def violations(self) -> list[dict[str, Any]]:
+        """The limits the run passed (see :func:`~armlab.diagrams.drives.limit_violations`)."""
+        return self.summary["limit_violations"]
+
+    @property
+    def diverged(self) -> bool:
+        """True if the tracking error passed :attr:`divergence_tolerance` (the run left its reference)."""
+        return self.summary["diverged"]
+
+    @property
+    def drives(self) -> list[dict[str, Any]]:
+        """Per joint peak |τ|, RMS τ, peak |q̇|, peak power and the effort/velocity limits."""
+        return self.summary["drives"]
+
+    # ------------------------------------------------------------------ the files
+    def plot(self, folder: str | Path) -> list[Path]:
+        """Write the run's plots into ``folder`` (joints, torques, tool path and motion, drives); their paths."""
+        from armlab.diagrams.drives import write_drives
+        from armlab.diagrams.plots import write_plots
+
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        return [*write_plots(self.log, folder), *write_drives(self.log, folder)[1:]]
+
+    def save(self, out: str | Path) -> list[str]:
+        """Write every output of the run (:meth:`write`) into folder ``out``, completely or not at all.
+
+        ``out`` may be new, empty or an earlier run (which is replaced); ``ValueError`` otherwise.
+        Returns the names written.
+        """
+        from armlab.diagrams.output import run_folder
+
+        with run_folder(out) as folder:
+            return self.write(folder)
+
+    def write(self, folder: str | Path) -> list[str]:
+        """Write every output of the run into the existing ``folder``; the names written.
+
+        ``log.csv``, ``summary.json``, ``drives.csv``, ``diagram.svg`` (the Fig. 6 view), ``diagram_full.svg``
+        and ``diagram.dot`` (Drake's whole graph; graphviz's ``dot`` is needed), the plots, ``drives.png`` and
+        ``replay.html`` (the run as a 3-D animation).
+        """
+        from armlab.diagrams.drives import write_drives
+        from armlab.diagrams.graphviz import fig6_dot, render, require_dot
+        from armlab.diagrams.output import write_log_csv, write_summary
+        from armlab.diagrams.plots import write_plots
+        from armlab.diagrams.replay import write_replay
+
+        require_dot()
+        log, folder = self.log, Path(folder)
+        write_log_csv(log, folder / "log.csv")
+        write_summary(self.summary, folder / "summary.json")
+        (folder / "diagram.dot").write_text(log.diagram_dot)
+        (folder / "diagram.svg").write_bytes(render(fig6_dot(log.diagram_dot), "svg"))
+        (folder / "diagram_full.svg").write_bytes(render(log.diagram_dot, "svg"))
+        plots = write_plots(log, folder)
+        drives = write_drives(log, folder)
+        write_replay(log.arm, log.t, log.q, folder / "replay.html", tool_path=log.tool[:, :3])
+        return ["log.csv", "summary.json", "diagram.svg", "diagram_full.svg", "diagram.dot", *(p.name for p in plots),
+                *(p.name for p in drives), "replay.html"]

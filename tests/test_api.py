@@ -1,0 +1,193 @@
+"""The Python API (``import armlab``): each function against Drake's own queries, shapes, errors, and runs."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from conftest import arm_and_plant, random_q
+
+import armlab
+from armlab.cli import main
+
+TWO_LINK_URDF = """<?xml version="1.0"?>
+<robot name="two_link">
+  <link name="base"/>
+  <link name="upper"><inertial><origin xyz="0.25 0 0"/><mass value="3"/>
+    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.0625" iyz="0" izz="0.0625"/></inertial></link>
+  <link name="fore"><inertial><origin xyz="0.2 0 0"/><mass value="2"/>
+    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.027" iyz="0" izz="0.027"/></inertial></link>
+  <link name="tool"/>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="50" velocity="3"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="50" velocity="3"/></joint>
+  <joint name="tool_weld" type="fixed"><parent link="fore"/><child link="tool"/><origin xyz="0.4 0 0"/></joint>
+</robot>
+"""
+
+
+def test_load_names_files_and_errors(tmp_path):
+    assert armlab.load("urm6").n == 6
+    assert armlab.load("urm6", theta3=0.5).parameters["theta3"] == 0.5
+    path = tmp_path / "two_link.urdf"
+    path.write_text(TWO_LINK_URDF)
+    assert armlab.load(path).joint_names == ["shoulder", "elbow"]
+    with pytest.raises(ValueError, match="unknown arm 'nope'"):
+        armlab.load("nope")
+
+
+def test_fk_single_and_batch_equal_drake(arm_name, rng):
+    arm, plant, context = arm_and_plant(arm_name)
+    q = random_q(arm, rng, 20)
+    T = arm.fk(q)
+    assert T.shape == (20, 4, 4)
+    np.testing.assert_array_equal(arm.fk(q[3]), T[3])
+    tool = plant.GetFrameByName(arm.tool_name)
+    for k in range(0, 20, 5):
+        plant.SetPositions(context, q[k])
+        X = plant.CalcRelativeTransform(context, plant.world_frame(), tool).GetAsMatrix4()
+        np.testing.assert_allclose(T[k], X, atol=1e-9)
+
+
+def test_jacobian_and_tool_motion_equal_drake(arm_name, rng):
+    from pydrake.multibody.tree import JacobianWrtVariable
+
+    arm, plant, context = arm_and_plant(arm_name)
+    q, qd, qdd = random_q(arm, rng, 8), rng.normal(size=(8, arm.n)), rng.normal(size=(8, arm.n))
+    J = arm.jacobian(q)
+    twist, accel = arm.tool_motion(q, qd, qdd)
+    assert J.shape == (8, 6, arm.n) and twist.shape == accel.shape == (8, 6)
+    tool, world = plant.GetFrameByName(arm.tool_name), plant.world_frame()
+    for k in range(8):
+        plant.SetPositions(context, q[k])
+        plant.SetVelocities(context, qd[k])
+        Jw = plant.CalcJacobianSpatialVelocity(context, JacobianWrtVariable.kV, tool, np.zeros(3), world, world)
+        np.testing.assert_allclose(J[k], np.vstack([Jw[3:], Jw[:3]]), atol=1e-9)
+        np.testing.assert_allclose(twist[k], J[k] @ qd[k], atol=1e-9)
+        bias = plant.CalcBiasSpatialAcceleration(context, JacobianWrtVariable.kV, tool, np.zeros(3), world, world)
+        classical = Jw @ qdd[k] + bias.get_coeffs()  # [ω̇; a] of the tool point, Drake's order
+        np.testing.assert_allclose(accel[k], np.concatenate([classical[3:], classical[:3]]), atol=1e-9)
+
+
+def test_inverse_dynamics_equals_drake_with_gravity_and_payload(arm_name, rng):
+    from pydrake.multibody.tree import MultibodyForces
+
+    from armlab.diagrams.plant import make_plant
+
+    arm = armlab.load(arm_name)
+    q, qd, qdd = random_q(arm, rng, 6), rng.normal(size=(6, arm.n)), rng.normal(size=(6, arm.n))
+    tau = arm.inverse_dynamics(q, qd, qdd, payload=1.5)
+    assert tau.shape == (6, arm.n)
+    np.testing.assert_allclose(arm.inverse_dynamics(q[0], qd[0], qdd[0], payload=1.5), tau[0], rtol=1e-12)
+    plant = make_plant(arm, np.asarray(arm.gravity), 1.5)
+    context = plant.CreateDefaultContext()
+    forces = MultibodyForces(plant)
+    for k in range(6):
+        plant.SetPositions(context, q[k])
+        plant.SetVelocities(context, qd[k])
+        plant.CalcForceElementsContribution(context, forces)
+        expected = plant.CalcInverseDynamics(context, qdd[k], forces)
+        np.testing.assert_allclose(tau[k], expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
+
+
+def test_manipulability_of_the_rr_arm_is_l1_l2_sin_theta2():
+    arm = armlab.load("rr")
+    theta2 = np.linspace(-3, 3, 13)
+    q = np.column_stack([np.full_like(theta2, 0.3), theta2])
+    L1, L2 = arm.parameters["L1"], arm.parameters["L2"]
+    np.testing.assert_allclose(arm.manipulability(q), L1 * L2 * np.abs(np.sin(theta2)), atol=1e-12)
+    assert arm.sigma_min([0.3, 0.0]) < 1e-12 < arm.sigma_min([0.3, 0.5])
+
+
+def test_api_errors_name_the_bad_value():
+    arm = armlab.load("urm6")
+    with pytest.raises(ValueError, match=r"expected 6 joint values"):
+        arm.fk([0, 0, 0])
+    with pytest.raises(ValueError, match=r"not a finite number"):
+        arm.jacobian([0, 0, np.nan, 0, 0, 0])
+    with pytest.raises(ValueError, match=r"qd has shape"):
+        arm.inverse_dynamics(np.zeros(6), np.zeros(5), np.zeros(6))
+    with pytest.raises(ValueError, match="joint2 = 4 rad is outside its limits"):
+        armlab.load("rr").fk([0, 4])
+    with pytest.raises(ValueError, match=r"tf = -1 s is not allowed"):
+        armlab.quintic(arm, np.zeros(6), np.ones(6), -1)
+    with pytest.raises(ValueError, match=r"waypoints have shape"):
+        armlab.through(arm, np.zeros(6), 1.0)
+
+
+def test_motions_through_waypoints_and_constant_rate():
+    arm = armlab.load("rr")
+    motion = armlab.through(arm, [[0, 0.5], [1, 1], [0.5, 0.2]], [1.0, 2.0])
+    assert motion.duration == 3.0 and motion.joins() == [True]
+    q, qd, _ = motion.evaluate([0.0, 1.0, 3.0])
+    np.testing.assert_allclose(q, [[0, 0.5], [1, 1], [0.5, 0.2]], atol=1e-12)
+    np.testing.assert_allclose(qd, 0, atol=1e-12)
+    rate = armlab.constant_rate(armlab.load("rrrr"), np.zeros(4), [1, 0.1, 0.1, 0.1], 2.0)
+    np.testing.assert_allclose(rate.evaluate([2.0])[0], [[2, 0.2, 0.2, 0.2]])
+
+
+def test_simulate_returns_a_run_whose_torques_are_the_inverse_dynamics(tmp_path):
+    arm = armlab.load("rr")
+    run = armlab.simulate(arm, armlab.quintic(arm, [0.0, 0.5], [1.0, 1.0], 1.0), payload=0.5)
+    assert run.t.shape[0] == run.q.shape[0] == run.tau.shape[0] == 1001
+    expected = arm.inverse_dynamics(run.q_ref, run.qd_ref, run.qdd_ref, payload=0.5)
+    np.testing.assert_allclose(run.tau, expected, rtol=1e-6, atol=1e-9)
+    assert not run.diverged and run.violations == []
+    assert [d["joint"] for d in run.drives] == ["joint1", "joint2"]
+    assert run.drives[0]["peak_torque"] == pytest.approx(np.abs(run.tau[:, 0]).max())
+    written = run.save(tmp_path / "run")
+    assert {"log.csv", "summary.json", "drives.csv", "drives.png", "replay.html"} <= set(written)
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert summary["limit_violations"] == [] and summary["diverged"] is False
+
+
+def test_kinematic_arm_refuses_torques(tmp_path):
+    path = tmp_path / "kin.csv"
+    path.write_text("type,a,alpha,d,theta,lower,upper\nR,0.5,0,0,0,-3,3\nR,0.4,0,0,0,-3,3\n")
+    arm = armlab.load(path)
+    assert not arm.has_dynamics
+    np.testing.assert_allclose(arm.fk([0, 0])[:3, 3], [0.9, 0, 0], atol=1e-12)
+    with pytest.raises(ValueError, match="kinematic arm"):
+        arm.inverse_dynamics([0, 0], [0, 0], [0, 0])
+    with pytest.raises(ValueError, match="kinematic arm"):
+        armlab.simulate(arm, armlab.quintic(arm, [0, 0], [1, 1], 1.0))
+
+
+def test_limit_violations_warn_and_strict_limits_exit_3(tmp_path, capsys):
+    """A two-link URDF with a 10 kg payload in 0.3 s needs far more than its 50 N·m and 3 rad/s."""
+    path = tmp_path / "two_link.urdf"
+    path.write_text(TWO_LINK_URDF)
+    argv = ["simulate", str(path), "--from", "0,0", "--to", "1.5,-1", "--tf", "0.3", "--payload", "10"]
+    assert main([*argv, "--out", str(tmp_path / "a")]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert any(line.startswith("armlab: warning: two_link shoulder: simulated effort reaches") for line in err)
+    assert any("velocity reaches" in line and "past its limit 3 rad/s" in line for line in err)
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    effort = [v for v in summary["limit_violations"] if v["joint"] == "shoulder" and v["quantity"] == "effort"]
+    assert len(effort) == 1 and abs(effort[0]["peak"]) > 50 and abs(effort[0]["limit"]) == 50
+    assert 0 < effort[0]["first_time"] < 0.3
+    assert main([*argv, "--strict-limits", "--out", str(tmp_path / "b")]) == 3
+    assert "limit violation(s) (--strict-limits)" in capsys.readouterr().err
+
+
+def test_open_loop_run_that_leaves_the_reference_is_diverged(tmp_path, capsys):
+    """rrrr's 15 s constant-rate run in open-loop inverse dynamics drifts away (tracking error of radians)."""
+    code = main(["simulate", "rrrr", "--mode", "inverse_dynamics", "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 3
+    assert err[-1].startswith("armlab: error: the run diverged: ") and "left the reference at t = " in err[-1]
+    summary = json.loads((tmp_path / "r" / "summary.json").read_text())
+    assert summary["diverged"] is True and summary["divergence"]["max_error"] > 1
+    assert 0 < summary["divergence"]["time"] < 15
+
+
+def test_fk_prints_twist_manipulability_and_flags_singular(capsys):
+    assert main(["fk", "rr", "--q", "0,0", "--qd", "1,0", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["singular"] is True and out["manipulability"] == pytest.approx(0, abs=1e-12)
+    np.testing.assert_allclose(out["tool"]["velocity"], [0, 0.7, 0], atol=1e-12)
+    assert main(["fk", "rr", "--q", "30,60", "--deg"]) == 0
+    text = capsys.readouterr().out
+    assert "q = +30.000000  +60.000000  (deg" in text and "SINGULAR" not in text
