@@ -16,13 +16,14 @@ from which armlab writes the URDF of a user's DH arm.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.basic_movements import T_Z1, T_Z3, T_Z4, T_Z6
-from armlab.kinematics.batch import as_batch, chain_frames
+from armlab.kinematics.batch import ZStep, as_batch, chain_frames
 from armlab.kinematics.locating import JointRow, LocatingTable
 
 __all__ = ["DHRow", "DHTable"]
@@ -65,20 +66,27 @@ class DHTable:
         """Number of joints."""
         return len(self.rows)
 
-    def _link(self, q: NDArray, i: int) -> NDArray[np.float64]:
-        """T_{i−1,i} of row ``i`` at the joint values ``q``, shape ``(..., 4, 4)``."""
-        row = self.rows[i]
-        qi = q[..., i]
-        theta = row.theta + (qi if row.kind == "R" else 0.0)
-        d = row.d + (qi if row.kind == "T" else 0.0)
+    def _constant(self, row: DHRow) -> NDArray[np.float64]:
+        """The part of a row that does not move: the row's transform at q_i = 0."""
         if self.convention == "standard":
-            return T_Z3(d) @ T_Z6(theta) @ T_Z1(row.a) @ T_Z4(row.alpha)  # 000 eq. (9)
-        return T_Z4(row.alpha) @ T_Z1(row.a) @ T_Z6(theta) @ T_Z3(d)  # 001 eq. (1)
+            return T_Z3(row.d) @ T_Z6(row.theta) @ T_Z1(row.a) @ T_Z4(row.alpha)  # 000 eq. (9)
+        return T_Z4(row.alpha) @ T_Z1(row.a) @ T_Z6(row.theta) @ T_Z3(row.d)  # 001 eq. (1)
+
+    @cached_property
+    def steps(self) -> tuple[ZStep, ...]:
+        """Each row as (constant) · J_z(q_i) · (constant).
+
+        The joint's motion R_z(q_i) (revolute) or T_z(q_i) (prismatic) commutes with T_Z3(d_i) and
+        T_Z6(θ_i), so it moves to the front of a standard row, T_{i−1,i} = J_z(q_i)·T_{i−1,i}(0), and to
+        the back of a modified row, T_{i−1,i} = T_{i−1,i}(0)·J_z(q_i).
+        """
+        if self.convention == "standard":
+            return tuple(ZStep(None, row.kind == "R", self._constant(row)) for row in self.rows)
+        return tuple(ZStep(self._constant(row), row.kind == "R") for row in self.rows)
 
     def frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{0,i} for i = 0 … n (base first), shape ``(..., n+1, 4, 4)``."""
-        q = as_batch(q, self.n)
-        return chain_frames([self._link(q, i) for i in range(self.n)], q.shape[:-1])
+        return chain_frames(as_batch(q, self.n), self.steps)
 
     def end_pose(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{0,n}, shape ``(..., 4, 4)``."""
@@ -92,19 +100,10 @@ class DHTable:
         T_{i,i−1}; the tool row is the last remainder, making the tool frame DH frame n.
         """
         z = (0.0, 0.0, 1.0)
-        constants: list[NDArray] = []  # the part of row i applied before joint i moves
-        remainders: list[NDArray] = []  # the part of row i applied after joint i moves
-        for row in self.rows:
-            if self.convention == "standard":
-                constants.append(np.eye(4))
-                remainders.append(T_Z3(row.d) @ T_Z6(row.theta) @ T_Z1(row.a) @ T_Z4(row.alpha))
-            else:
-                constants.append(T_Z4(row.alpha) @ T_Z1(row.a) @ T_Z6(row.theta) @ T_Z3(row.d))
-                remainders.append(np.eye(4))
         rows = []
-        carried = np.eye(4)
-        for i, row in enumerate(self.rows):
-            T = carried @ constants[i]
+        carried = np.eye(4)  # the remainder of the previous row, applied after its joint moved
+        for i, (row, step) in enumerate(zip(self.rows, self.steps, strict=True)):
+            T = carried if step.pre is None else carried @ step.pre
             rows.append(JointRow(f"joint{i + 1}", row.kind, tuple(T[:3, 3]), z, tuple(map(tuple, T[:3, :3]))))
-            carried = remainders[i]
+            carried = np.eye(4) if step.post is None else step.post
         return LocatingTable(tuple(rows), tool=carried)

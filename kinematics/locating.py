@@ -28,12 +28,13 @@ The orientation angles of eq. (10)/(22) are α_x, β_y, γ_z with
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.kinematics.batch import as_batch, chain_frames
+from armlab.kinematics.batch import ZStep, as_batch, chain_frames
 
 __all__ = ["JointRow", "LocatingTable", "homogeneous", "orientation_angles", "rotation_about"]
 
@@ -122,14 +123,28 @@ class LocatingTable:
         """Number of joints."""
         return len(self.rows)
 
-    def _link(self, q: NDArray, i: int) -> NDArray[np.float64]:
-        """T_{i−1,i}(q_i) = T_{i,i−1}·T_Δ(k_i; q_i), eqs. (3)–(4), shape ``(..., 4, 4)``."""
-        row, qi = self.rows[i], q[..., i]
-        k = np.asarray(row.k)
-        T_delta = homogeneous(rotation_about(k, qi * row.delta), (1.0 - row.delta) * qi[..., None] * k)  # eq. (3)
-        return row.T_fixed @ T_delta  # eq. (4)
+    @cached_property
+    def steps(self) -> tuple[ZStep, ...]:
+        """Each row as ``T_{i,i−1} · T_Δ(k_i; q_i) = (T_{i,i−1}·A_i) · J_z(q_i) · A_iᵀ`` (eqs. 3–4).
+
+        ``A_i`` is a constant rotation taking z onto k_i (the identity when k_i = z), so the joint's
+        motion T_Δ(k_i; q_i) = A_i·J_z(q_i)·A_iᵀ is a turn about (Δ_i = 1) or a slide along (Δ_i = 0) z.
+        """
+        z = np.array([0.0, 0.0, 1.0])
+        steps = []
+        for row in self.rows:
+            k = np.asarray(row.k, dtype=float)
+            if np.array_equal(k, z):
+                A = None
+            else:  # the rotation about z × k by the angle between z and k (about x for k = −z)
+                axis = np.cross(z, k)
+                norm = np.linalg.norm(axis)
+                A = homogeneous(rotation_about(axis / norm if norm > 0 else (1.0, 0.0, 0.0),
+                                               np.arctan2(norm, k[2])), np.zeros(3))
+            pre = row.T_fixed if A is None else row.T_fixed @ A
+            steps.append(ZStep(pre, row.kind == "R", None if A is None else A.T.copy()))
+        return tuple(steps)
 
     def frames(self, q: ArrayLike) -> NDArray[np.float64]:
         """T_{i,0} for i = 0 … n+1 (eqs. 8–9): base, every link, tool; shape ``(..., n+2, 4, 4)``."""
-        q = as_batch(q, self.n)
-        return chain_frames([self._link(q, i) for i in range(self.n)] + [self.tool], q.shape[:-1])
+        return chain_frames(as_batch(q, self.n), self.steps, self.tool)

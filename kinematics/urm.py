@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.basic_movements import T_Z5, T_Z6
-from armlab.kinematics.batch import as_batch
+from armlab.kinematics.batch import as_batch, times_constant, turn_z
 
 __all__ = ["position_vectors", "position_vectors_homogeneous", "rotation_form"]
 
@@ -37,16 +37,27 @@ def _angles(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> tuple[NDArray, ND
 
 
 def rotation_form(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Eqs. (1)–(7): the points p1 … p7, shape ``(..., 7, 3)``, and module 7's rotation, ``(..., 3, 3)``."""
+    """Eqs. (1)–(7): the points p1 … p7, shape ``(..., 7, 3)``, and module 7's rotation, ``(..., 3, 3)``.
+
+    Each segment r_k lies along its module's z axis, so R·r_k is |r_k| times R's third column; the
+    bend R_y(θ_k) is one product by a constant for the whole batch (when θ is not itself a batch) and
+    the joint's turn R_z(φ_k) mixes R's first two columns in place.
+    """
     phi7, theta, r = _angles(phi, theta, r)
-    R = T_Z6(phi7[..., 0])[..., :3, :3]  # R_z1(φ1), eq. (1)
-    p = R @ np.array([0.0, 0.0, r[0]])  # eq. (3)
-    points = [p]
-    for k in range(1, 7):  # eqs. (4)–(7)
-        R = R @ T_Z5(theta[..., k - 1])[..., :3, :3] @ T_Z6(phi7[..., k])[..., :3, :3]
-        p = p + R @ np.array([0.0, 0.0, r[k]])
-        points.append(p)
-    return np.stack(points, axis=-2), R
+    c, s = np.cos(phi7), np.sin(phi7)
+    R = np.zeros(phi7.shape[:-1] + (3, 3))  # R_z1(φ1), eq. (1)
+    R[..., 0, 0] = R[..., 1, 1] = c[..., 0]
+    R[..., 1, 0] = s[..., 0]
+    R[..., 0, 1] = -s[..., 0]
+    R[..., 2, 2] = 1.0
+    points = np.empty(phi7.shape[:-1] + (7, 3))
+    points[..., 0, :] = r[..., 0, None] * R[..., :, 2]  # eq. (3)
+    for k in range(1, 7):  # eqs. (4)–(7): R ← R·R_yk(θk)·R_zk(φk), p_k = p_{k−1} + R·r_k
+        bend = T_Z5(theta[..., k - 1])[..., :3, :3]
+        R = times_constant(R, bend) if bend.ndim == 2 else R @ bend
+        turn_z(R, c[..., k], s[..., k])
+        points[..., k, :] = points[..., k - 1, :] + r[..., k, None] * R[..., :, 2]
+    return points, R
 
 
 def position_vectors(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:

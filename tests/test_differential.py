@@ -1,0 +1,216 @@
+"""Differential kinematics (armlab.kinematics.differential) against Drake, finite differences,
+paper 003's iterative algorithm and the RR arm's closed form."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+from conftest import ARM_NAMES, arm_and_plant, random_q
+
+from armlab.kinematics.differential import jacobian, manipulability, sigma_min, tool_motion
+from armlab.kinematics.iterative import iterative_kinematics
+from armlab.models import get_arm
+
+SAMPLES = 200
+
+#: A user DH table: standard convention, a prismatic joint, twists and offsets.
+DH_TABLE = """# convention: {convention}
+type,a,alpha,d,theta,lower,upper
+R,0.05,1.5707963267948966,0.3,0,-3,3
+R,0.4,0,0.02,0.3,-3,3
+T,0,-0.7,0.1,0,0,0.5
+R,0.1,-1.5707963267948966,0,0.2,-2,2
+R,0,1.2,0.15,0,-3,3
+"""
+
+#: A user URDF: joint axes along x, y, −z and oblique, a prismatic joint on an oblique axis,
+#: fixed joints between the moving ones and a fixed tool link two welds past the last joint.
+USER_URDF = """<?xml version="1.0"?>
+<robot name="oblique">
+  <link name="base"/>
+  <link name="l1"><inertial><mass value="2.0"/><origin xyz="0.01 0.02 0.1" rpy="0.1 0 0"/>
+    <inertia ixx="0.02" ixy="0.001" ixz="0" iyy="0.03" iyz="0.002" izz="0.025"/></inertial></link>
+  <link name="l1b"><inertial><mass value="0.5"/><origin xyz="0.05 0 0"/>
+    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.002"/></inertial></link>
+  <link name="l2"><inertial><mass value="1.5"/><origin xyz="0.2 0 0.01"/>
+    <inertia ixx="0.005" ixy="0" ixz="0.0005" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <link name="l3"><inertial><mass value="1.0"/><origin xyz="0 0.05 0.1" rpy="0 0.3 0.2"/>
+    <inertia ixx="0.004" ixy="0" ixz="0" iyy="0.003" iyz="0" izz="0.002"/></inertial></link>
+  <link name="l4"><inertial><mass value="0.7"/><origin xyz="0.03 0 0.05"/>
+    <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.001"/></inertial></link>
+  <link name="flange"><inertial><mass value="0.3"/><origin xyz="0 0 0.02"/>
+    <inertia ixx="0.0005" ixy="0" ixz="0" iyy="0.0005" iyz="0" izz="0.0003"/></inertial></link>
+  <link name="tool"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.2" rpy="0 0 0.3"/><axis xyz="0 0 -1"/>
+    <limit lower="-3" upper="3" effort="50" velocity="3"/></joint>
+  <joint name="weld1" type="fixed"><parent link="l1"/><child link="l1b"/><origin xyz="0 0 0.3" rpy="0.2 0 0"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1b"/><child link="l2"/>
+    <origin xyz="0.05 0 0.05" rpy="0 0.4 0"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="50" velocity="3"/></joint>
+  <joint name="j3" type="prismatic"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0.4 0 0" rpy="0.1 0.2 0.3"/><axis xyz="0.6 0 0.8"/>
+    <limit lower="0" upper="0.3" effort="200" velocity="1"/></joint>
+  <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/>
+    <origin xyz="0 0.1 0.2"/><axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="20" velocity="3"/></joint>
+  <joint name="weld2" type="fixed"><parent link="l4"/><child link="flange"/>
+    <origin xyz="0 0 0.1" rpy="0 0.5 0"/></joint>
+  <joint name="weld3" type="fixed"><parent link="flange"/><child link="tool"/>
+    <origin xyz="0.02 0 0.05" rpy="0.3 0 0"/></joint>
+</robot>
+"""
+
+
+@functools.cache
+def _user_arm(kind: str, folder: str):
+    """(arm, plant, context) of a user DH arm (standard or modified) or the user URDF, written to ``folder``."""
+    from pathlib import Path
+
+    if kind == "urdf":
+        path = Path(folder) / "oblique.urdf"
+        path.write_text(USER_URDF)
+    else:
+        path = Path(folder) / f"dh_{kind}.csv"
+        path.write_text(DH_TABLE.format(convention=kind))
+    arm = get_arm(str(path))
+    plant = arm.make_plant()
+    return arm, plant, plant.CreateDefaultContext()
+
+
+@pytest.fixture(params=ARM_NAMES + ["dh standard", "dh modified", "user urdf"])
+def any_arm(request, tmp_path_factory):
+    """(arm, plant, context) for each paper arm, two user DH arms and a user URDF arm."""
+    if request.param in ARM_NAMES:
+        return arm_and_plant(request.param)
+    kind = request.param.split()[-1]
+    return _user_arm(kind, str(tmp_path_factory.getbasetemp()))
+
+
+def _drake_jacobian(arm, plant, ctx, q):
+    """Drake's CalcJacobianSpatialVelocity (w.r.t. v, tool origin, world) with rows [v; ω]."""
+    from pydrake.multibody.tree import JacobianWrtVariable
+
+    tool, world = plant.GetFrameByName(arm.tool_name), plant.world_frame()
+    out = []
+    for qk in q:
+        plant.SetPositions(ctx, qk)
+        J = plant.CalcJacobianSpatialVelocity(ctx, JacobianWrtVariable.kV, tool, np.zeros(3), world, world)
+        out.append(np.vstack([J[3:], J[:3]]))
+    return np.array(out)
+
+
+def _drake_motion(arm, plant, ctx, q, qd, qdd):
+    """Drake's spatial velocity and acceleration of the tool frame in the world, as [v; ω], [a; ω̇]."""
+    tool = plant.GetFrameByName(arm.tool_name)
+    assert np.allclose(tool.GetFixedPoseInBodyFrame().GetAsMatrix4(), np.eye(4))  # the tool is a body's origin
+    twists, accels = [], []
+    for qk, qdk, qddk in zip(q, qd, qdd, strict=True):
+        plant.SetPositionsAndVelocities(ctx, np.concatenate([qk, qdk]))
+        V = tool.CalcSpatialVelocityInWorld(ctx)
+        A = plant.CalcSpatialAccelerationsFromVdot(ctx, qddk)[tool.body().index()]
+        twists.append(np.concatenate([V.translational(), V.rotational()]))
+        accels.append(np.concatenate([A.translational(), A.rotational()]))
+    return np.array(twists), np.array(accels)
+
+
+def test_jacobian_matches_drake(any_arm, rng):
+    arm, plant, ctx = any_arm
+    q = random_q(arm, rng, SAMPLES)
+    J = jacobian(arm, q)
+    assert J.shape == (SAMPLES, 6, arm.n)
+    np.testing.assert_allclose(J, _drake_jacobian(arm, plant, ctx, q), rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(jacobian(arm, q[0]), J[0])  # one configuration → (6, n)
+
+
+def test_jacobian_matches_finite_differences_of_forward(any_arm, rng):
+    arm, _, _ = any_arm
+    q = random_q(arm, rng, 50)
+    J = jacobian(arm, q)
+    h = 1e-6
+    for i in range(arm.n):
+        step = np.zeros(arm.n)
+        step[i] = h
+        T_plus, T_minus = arm.forward(q + step).tool, arm.forward(q - step).tool
+        v = (T_plus[:, :3, 3] - T_minus[:, :3, 3]) / (2 * h)
+        dR = (T_plus[:, :3, :3] - T_minus[:, :3, :3]) / (2 * h)
+        W = dR @ np.swapaxes(arm.forward(q).tool[:, :3, :3], -1, -2)  # Ṙ Rᵀ = [ω]×
+        w = np.stack([W[:, 2, 1], W[:, 0, 2], W[:, 1, 0]], axis=-1)
+        np.testing.assert_allclose(J[:, :3, i], v, rtol=0, atol=1e-8)
+        np.testing.assert_allclose(J[:, 3:, i], w, rtol=0, atol=1e-8)
+
+
+def test_tool_motion_matches_drake(any_arm, rng):
+    arm, plant, ctx = any_arm
+    q = random_q(arm, rng, SAMPLES)
+    qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape) * 3
+    twist, accel = tool_motion(arm, q, qd, qdd)
+    drake_twist, drake_accel = _drake_motion(arm, plant, ctx, q, qd, qdd)
+    np.testing.assert_allclose(twist, drake_twist, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(accel, drake_accel, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(twist, np.einsum("kij,kj->ki", jacobian(arm, q), qd), rtol=0, atol=1e-12)
+    one = tool_motion(arm, q[0], qd[0], qdd[0])
+    np.testing.assert_allclose(one[1], accel[0], rtol=0, atol=1e-15)
+
+
+def test_tool_acceleration_is_the_derivative_of_the_twist(any_arm, rng):
+    """a = d/dt of the twist along q(t) = q + t q̇ + t²/2 q̈ (central differences in t)."""
+    arm, _, _ = any_arm
+    q = random_q(arm, rng, 50)
+    qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape)
+    h = 1e-5
+    ahead = tool_motion(arm, q + h * qd + h**2 / 2 * qdd, qd + h * qdd, qdd)[0]
+    behind = tool_motion(arm, q - h * qd + h**2 / 2 * qdd, qd - h * qdd, qdd)[0]
+    np.testing.assert_allclose(tool_motion(arm, q, qd, qdd)[1], (ahead - behind) / (2 * h), rtol=0, atol=1e-7)
+
+
+def test_tool_motion_matches_paper_003_iterative_algorithm(rng):
+    arm, _, _ = arm_and_plant("r2t")
+    q = random_q(arm, rng, SAMPLES)
+    qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape)
+    twist, accel = tool_motion(arm, q, qd, qdd)
+    motion = iterative_kinematics(arm.table, q, qd, qdd)  # eqs. (24)–(33)
+    np.testing.assert_allclose(twist, motion.Xd, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(accel, motion.Xdd, rtol=0, atol=1e-12)
+
+
+def test_rr_manipulability_is_l1_l2_sin_theta2(rng):
+    arm, _, _ = arm_and_plant("rr")
+    q = random_q(arm, rng, SAMPLES)
+    J = jacobian(arm, q)
+    expected = np.abs(arm.parameters["L1"] * arm.parameters["L2"] * np.sin(q[:, 1]))
+    np.testing.assert_allclose(manipulability(J), expected, rtol=0, atol=1e-12)  # n = 2 < 6: "trans"
+    np.testing.assert_allclose(manipulability(J, "trans"), expected, rtol=0, atol=1e-12)
+    # the two singular values of the planar Jacobian: product |L1 L2 sin θ2|, and σ_min is the smaller
+    sigma = sigma_min(J)
+    assert np.all(sigma >= 0) and np.all(sigma**2 <= expected + 1e-12)
+    stretched = jacobian(arm, [0.7, 0.0])
+    assert manipulability(stretched) == pytest.approx(0.0, abs=1e-15)
+    assert sigma_min(stretched) == pytest.approx(0.0, abs=1e-15)
+
+
+def test_manipulability_is_yoshikawas_determinant(any_arm, rng):
+    arm, _, _ = any_arm
+    J = jacobian(arm, random_q(arm, rng, 50))
+    for axes, rows in (("all", slice(0, 6)), ("trans", slice(0, 3)), ("rot", slice(3, 6))):
+        Js = J[:, rows, :]
+        gram = Js @ np.swapaxes(Js, -1, -2) if Js.shape[-2] <= arm.n else np.swapaxes(Js, -1, -2) @ Js
+        # squared: √det of a (structurally) singular Gram matrix would only measure its round-off
+        np.testing.assert_allclose(manipulability(J, axes) ** 2, np.linalg.det(gram), rtol=1e-9, atol=1e-12)
+        eigen = np.linalg.eigvalsh(gram)[:, 0]  # the smallest eigenvalue of the Gram matrix = σ_min²
+        np.testing.assert_allclose(sigma_min(J, axes) ** 2, np.clip(eigen, 0, None), rtol=1e-7, atol=1e-12)
+    default = "all" if arm.n >= 6 else "trans"
+    np.testing.assert_array_equal(manipulability(J), manipulability(J, default))
+
+
+def test_bad_input_is_a_value_error():
+    arm, _, _ = arm_and_plant("rr")
+    with pytest.raises(ValueError, match="expected 2 joint values"):
+        jacobian(arm, [0.1, 0.2, 0.3])
+    with pytest.raises(ValueError, match="not a finite number"):
+        tool_motion(arm, [0.1, np.nan], [0, 0], [0, 0])
+    with pytest.raises(ValueError, match="axes = 'xyz' is not allowed"):
+        manipulability(jacobian(arm, [0.1, 0.2]), "xyz")
+    with pytest.raises(ValueError, match=r"expected a Jacobian of shape \(6, n\)"):
+        sigma_min(np.zeros((3, 2)))
