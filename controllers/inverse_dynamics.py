@@ -8,7 +8,8 @@
   (Drake's ``InverseDynamics`` in ``kInverseDynamics`` mode fed the reference state).
 
 * :func:`joint_torques` — the same τ along a sampled trajectory, without a diagram (e.g. to size the
-  drives for a path given point by point).
+  drives for a path given point by point): the batch recursive Newton–Euler of
+  :func:`armlab.kinematics.rnea.inverse_dynamics`.
 
 The controllers use ``model``, a separate finalized copy of the plant (same URDF, gravity and payload) as
 the controller's model of the arm, and drive the simulated ``plant``'s actuation input.
@@ -107,27 +108,12 @@ def joint_torques(
     arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
     payload: float = 0.0,
 ) -> NDArray[np.float64]:
-    """τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) at each sample (arrays ``(N, n)``), by Drake's ``CalcInverseDynamics``.
+    """τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) at each sample (arrays ``(N, n)``, or one state ``(n,)``), N·m or N.
 
-    ``gravity`` and ``payload`` as in :func:`armlab.diagrams.plant.make_plant` (default: the arm's gravity, no
-    payload); gravity enters as the plant's force elements.
+    The batch recursive Newton–Euler (:func:`armlab.kinematics.rnea.inverse_dynamics`, equal to Drake's
+    ``CalcInverseDynamics`` with gravity as the plant's force elements); ``gravity`` and ``payload`` as in
+    :func:`armlab.diagrams.plant.make_plant` (default: the arm's gravity, no payload).
     """
-    from pydrake.multibody.tree import MultibodyForces
+    from armlab.kinematics.rnea import inverse_dynamics
 
-    from armlab.diagrams.plant import make_plant, resolve_gravity
-    from armlab.kinematics.batch import as_batch
-
-    q, qd, qdd = np.broadcast_arrays(*(np.atleast_2d(as_batch(a, arm.n, name)) for a, name in
-                                       ((q, "q"), (qd, "qd"), (qdd, "qdd"))))
-    if q.ndim != 2:
-        raise ValueError(f"q, qd, qdd have shape {q.shape}; expected samples of shape (N, {arm.n})")
-    plant = make_plant(arm, resolve_gravity(arm, gravity), payload)
-    context = plant.CreateDefaultContext()
-    forces = MultibodyForces(plant)
-    tau = np.empty_like(qdd)
-    for k in range(qdd.shape[0]):
-        plant.SetPositions(context, q[k])
-        plant.SetVelocities(context, qd[k])
-        plant.CalcForceElementsContribution(context, forces)
-        tau[k] = plant.CalcInverseDynamics(context, qdd[k], forces)
-    return tau
+    return inverse_dynamics(arm, q, qd, qdd, gravity, payload)
