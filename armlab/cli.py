@@ -12,6 +12,7 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 import warnings
 from collections.abc import Sequence
@@ -295,13 +296,20 @@ def build_parser() -> argparse.ArgumentParser:
 _VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--target", "--rpy", "--near", "--from", "--to", "--pitch", "--gravity")
 
 
+#: An item that starts like a negative number: ``-1e-6``, ``-.5,2``, ``-inf`` (argparse knows only ``-1``, ``-0.5``).
+_NEGATIVE = re.compile(r"-(\.?\d|inf|nan)", re.IGNORECASE)
+
+
 def _join_negative_values(argv: Sequence[str]) -> list[str]:
-    """``--q -1,2`` → ``--q=-1,2``, ``--gravity -y`` → ``--gravity=-y``: argparse takes a value starting with
-    "-" for an option. A value option takes the next item as its value unless that is a long option."""
+    """``--q -1,2`` → ``--q=-1,2``, ``--gravity -y`` → ``--gravity=-y``, ``--accuracy -1e-6`` → ``--accuracy=-1e-6``:
+    argparse takes a value starting with "-" for an option. A value option takes the next item as its value
+    unless that is a long option; any long option takes a next item that starts like a negative number."""
     out: list[str] = []
     for item in argv:
-        if out and out[-1] in _VALUE_OPTIONS and item[:1] == "-" and item[:2] != "--":
-            out[-1] = f"{out[-1]}={item}"
+        previous = out[-1] if out else ""
+        takes = previous in _VALUE_OPTIONS or (previous[:2] == "--" and "=" not in previous and _NEGATIVE.match(item))
+        if takes and item[:1] == "-" and item[:2] != "--":
+            out[-1] = f"{previous}={item}"
         else:
             out.append(item)
     return out

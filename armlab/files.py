@@ -6,7 +6,12 @@
   temporary folder beside the requested one, made before any work starts (so an unwritable
   place is an error up front), and renames it onto the requested folder only when everything
   is written. An existing folder is replaced only if it is empty or an earlier output of the
-  same kind; anything else is left alone (an error).
+  same kind; anything else is left alone (an error), and so are the working directory, a
+  folder holding it, a file system's root and a mount point (they cannot be renamed).
+* :func:`stop_on_signals` turns SIGINT and SIGTERM into :class:`Interrupted` (a
+  ``KeyboardInterrupt``) so that every ``with`` block unwinds and removes its temporaries; a
+  signal arriving while a temporary is being renamed into place or removed waits until that is
+  done.
 
 Both give their files and folders the ordinary permissions of the user's umask (the
 ``tempfile`` functions they use make private ones).
@@ -16,12 +21,87 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import tempfile
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
-from types import TracebackType
+from types import FrameType, TracebackType
 
-__all__ = ["OutputFolder", "write_file"]
+__all__ = ["Interrupted", "OutputFolder", "SignalState", "stop_on_signals", "write_file"]
+
+#: The signals that stop a command (Ctrl-C, and ``kill``'s default).
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+class Interrupted(KeyboardInterrupt):
+    """SIGINT or SIGTERM arrived (inside :func:`stop_on_signals`); ``signum`` says which."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(f"stopped by {signal.Signals(signum).name}")
+        self.signum = signum
+
+
+class SignalState:
+    """What :func:`stop_on_signals` saw: ``received`` is the last stop signal's number (0: none)."""
+
+    def __init__(self) -> None:
+        self.received = 0
+        self.held = 0  # > 0 while a temporary is renamed into place or removed
+        self.pending = 0  # a signal that arrived meanwhile
+
+
+_STATE = SignalState()
+
+
+def _on_signal(signum: int, frame: FrameType | None) -> None:
+    _STATE.received = signum
+    if _STATE.held:
+        _STATE.pending = signum
+        return
+    raise Interrupted(signum)
+
+
+@contextmanager
+def stop_on_signals() -> Iterator[SignalState]:
+    """``with stop_on_signals() as state:`` SIGINT and SIGTERM raise :class:`Interrupted` in the main thread.
+
+    Yields the :class:`SignalState` (``state.received``: the signal, for the exit code 128 + signal).
+    The previous handlers are restored on leaving. Outside the main thread (where Python cannot set
+    handlers) it changes nothing.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield SignalState()
+        return
+    _STATE.received = _STATE.pending = 0
+    previous = {signum: signal.signal(signum, _on_signal) for signum in STOP_SIGNALS}
+    try:
+        yield _STATE
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """A stop signal arriving inside waits (raised on leaving): temporaries are renamed or removed whole."""
+    _STATE.held += 1
+    try:
+        yield
+    finally:
+        _STATE.held -= 1
+        if not _STATE.held and _STATE.pending:
+            signum, _STATE.pending = _STATE.pending, 0
+            raise Interrupted(signum)
+
+
+def _remove(path: Path) -> None:
+    """Remove a temporary file or folder, whatever state it is in."""
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        path.unlink(missing_ok=True)
 
 
 def _umask() -> int:
@@ -45,8 +125,25 @@ def write_file(path: str | Path, data: bytes | str) -> Path:
             os.fchmod(handle.fileno(), 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        with _signals_held():
+            _remove(Path(tmp))
         raise
+    return path
+
+
+def _check_replaceable(out: str | Path) -> Path:
+    """``out`` as a Path if armlab may rename a folder onto it; ``ValueError`` for the working directory (``.``,
+    ``''``), a folder holding it, a file system's root (``/``) or a mount point."""
+    path = Path(out)
+    where = path.resolve()
+    cwd = Path.cwd().resolve()
+    if where == cwd or where in cwd.parents:
+        what = "the working directory" if where == cwd else f"a folder holding the working directory {cwd}"
+        raise ValueError(f"--out {str(out)!r} is {what}, which cannot be replaced: give a new or empty folder "
+                         "inside it, e.g. --out run")
+    if where.parent == where or os.path.ismount(where):
+        raise ValueError(f"--out {str(out)!r} is the root of a file system, which cannot be replaced: give a folder "
+                         "inside it")
     return path
 
 
@@ -61,39 +158,52 @@ class OutputFolder:
     """
 
     def __init__(self, out: str | Path, is_previous: Callable[[Path], bool], kind: str) -> None:
-        self.out = Path(out)
+        self.out = _check_replaceable(out)
         if self.out.exists():
             if not self.out.is_dir():
                 raise ValueError(f"--out {self.out}: exists and is not a folder")
             if any(self.out.iterdir()) and not is_previous(self.out):
                 raise ValueError(f"--out {self.out}: exists and is not {kind}; give a new or empty folder")
         parent = self.out.absolute().parent
-        try:
-            parent.mkdir(parents=True, exist_ok=True)
-            self.tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.out.name}.", suffix=".tmp"))
-            self.tmp.chmod(0o777 & ~_umask())
-        except OSError as error:
-            raise ValueError(f"--out {self.out}: cannot write in {parent}: {error.strerror or error}") from None
+        with _signals_held():
+            try:
+                parent.mkdir(parents=True, exist_ok=True)
+                self.tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.out.name}.", suffix=".tmp"))
+            except OSError as error:
+                raise ValueError(f"--out {self.out}: cannot write in {parent}: {error.strerror or error}") from None
+            try:
+                self.tmp.chmod(0o777 & ~_umask())
+            except BaseException:
+                _remove(self.tmp)
+                raise
 
     def __enter__(self) -> Path:
         return self.tmp
 
     def __exit__(self, kind: type[BaseException] | None, value: BaseException | None,
                  traceback: TracebackType | None) -> None:
-        if kind is not None:
-            shutil.rmtree(self.tmp, ignore_errors=True)
-            return
+        with _signals_held():
+            if kind is not None:
+                _remove(self.tmp)
+                return
+            self._commit()
+
+    def _commit(self) -> None:
+        """Rename the temporary folder onto ``out`` (an existing ``out`` moved aside first, and back on failure)."""
         old = None
-        if self.out.exists():
-            old = Path(tempfile.mkdtemp(dir=self.tmp.parent, prefix=f".{self.out.name}.", suffix=".old"))
-            os.replace(self.out, old / "previous")
         try:
-            os.replace(self.tmp, self.out)
-        except OSError:
-            if old is not None:
-                os.replace(old / "previous", self.out)
-            shutil.rmtree(self.tmp, ignore_errors=True)
-            raise
+            if self.out.exists():
+                old = Path(tempfile.mkdtemp(dir=self.tmp.parent, prefix=f".{self.out.name}.", suffix=".old"))
+                os.replace(self.out, old / "previous")
+            try:
+                os.replace(self.tmp, self.out)
+            except OSError:
+                if old is not None and (old / "previous").exists():
+                    os.replace(old / "previous", self.out)
+                raise
+        except OSError as error:
+            raise ValueError(f"--out {self.out}: cannot put the output in place: {error.strerror or error}") from None
         finally:
+            _remove(self.tmp)
             if old is not None:
-                shutil.rmtree(old, ignore_errors=True)
+                _remove(old)

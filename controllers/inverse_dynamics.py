@@ -45,15 +45,19 @@ DEFAULT_KD = 20.0
 
 
 def gain_vector(gain: float | ArrayLike, n: int, name: str) -> NDArray[np.float64]:
-    """A gain as one finite value ≥ 0 per joint (a scalar is used for every joint)."""
+    """A gain as one value per joint (a scalar is used for every joint), each within its range.
+
+    ``name`` is ``"kp"``, ``"kd"`` or ``"ki"`` (or the option ``"--kp"`` …): the ranges are
+    :data:`armlab.limits.LIMITS`' (``ValueError`` naming the value and the range).
+    """
+    from armlab.limits import check_range
+
     g = np.asarray(gain, dtype=float)
     if g.ndim == 0:
         g = np.full(n, float(g))
     if g.shape != (n,):
         raise ValueError(f"{name} has {g.size} values; give one value or {n} (one per joint)")
-    if not np.all(np.isfinite(g)) or np.any(g < 0):
-        raise ValueError(f"{name} = {g.tolist()} is not allowed: gains must be finite and ≥ 0")
-    return g
+    return check_range(g, name)
 
 
 def add_inverse_dynamics_controller(

@@ -53,19 +53,27 @@ def resolve_gravity(arm: Arm, gravity: str | ArrayLike | None = None) -> NDArray
         except ValueError as error:
             raise ValueError(f"{error}; or one of {', '.join(GRAVITY_NAMES)}") from None
         gravity = values
+    import math
+
+    from armlab.limits import check_range
+
     g = np.asarray(gravity, dtype=float)
     if g.shape != (3,) or not np.all(np.isfinite(g)):
         raise ValueError(f"gravity {np.ravel(g).tolist()} is not allowed: give 3 finite numbers gx,gy,gz (m/s²) "
                          f"or one of {', '.join(GRAVITY_NAMES)}")
-    return g
+    return check_range(g, "gravity", math.hypot(*g))
 
 
-def check_payload(payload: float) -> float:
-    """``payload`` (kg) as a float; ``ValueError`` unless it is a finite mass ≥ 0."""
-    value = float(payload)
-    if not np.isfinite(value) or value < 0:
-        raise ValueError(f"payload = {payload} kg is not allowed: a payload is a finite mass ≥ 0 kg")
-    return value
+def check_payload(payload: float, name: str = "payload") -> float:
+    """``payload`` (kg) as a float; ``ValueError`` (naming it ``name``) unless it is a mass in
+    :data:`armlab.limits.LIMITS`' range."""
+    from armlab.limits import allowed, check_range
+
+    try:
+        value = float(payload)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} {payload!r} is not allowed: a payload is a mass, {allowed('payload')}") from None
+    return float(check_range(value, name))
 
 
 def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyPlant:

@@ -1,0 +1,73 @@
+"""The ranges armlab accepts for its physical quantities, in one table.
+
+A value outside its range is refused before any work, with a one-line ``ValueError`` naming the
+value, the range and the reason (:func:`check_range`): a finite but absurd number (a gain of
+1e308, gravity of 1e308 m/s², a payload of a thousand tonnes) would otherwise overflow, stall
+the integrator or end in a run that leaves its reference. The options' help texts quote the same
+bounds (:func:`allowed`).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["LIMITS", "Limit", "allowed", "check_range"]
+
+
+@dataclass(frozen=True)
+class Limit:
+    """``low ≤ value ≤ high`` in ``unit``; ``why`` says where the bounds come from; ``symbol`` names the value."""
+
+    low: float
+    high: float
+    unit: str
+    why: str
+    symbol: str = ""
+
+
+#: The accepted range of each quantity, by name (an option's name without its dashes).
+LIMITS: dict[str, Limit] = {
+    "kp": Limit(0.0, 1e6, "1/s²", "error dynamics up to 1000 rad/s"),
+    "kd": Limit(0.0, 1e4, "1/s", "error dynamics up to 1000 rad/s"),
+    "ki": Limit(0.0, 1e8, "1/s³", "error dynamics up to 1000 rad/s"),
+    "gravity": Limit(0.0, 100.0, "m/s²", "about 10 g", "|g|"),
+    "payload": Limit(0.0, 1000.0, "kg", "a point mass up to one tonne"),
+    "accuracy": Limit(1e-12, 0.1, "", "the integrator's target accuracy"),
+}
+
+
+def _key(name: str) -> str:
+    return name.lstrip("-")
+
+
+def _num(value: float) -> str:
+    """``1e+06`` → ``1e6``: a number as short text."""
+    return re.sub(r"e([+-])0*(\d)", lambda m: f"e{'-' if m[1] == '-' else ''}{m[2]}", f"{value:.6g}")
+
+
+def allowed(name: str) -> str:
+    """``"0 ≤ kp ≤ 1e6 1/s²"``: the range of quantity ``name`` (``"kp"`` or ``"--kp"``) as text."""
+    limit = LIMITS[_key(name)]
+    unit = f" {limit.unit}" if limit.unit else ""
+    return f"{_num(limit.low)} ≤ {limit.symbol or _key(name)} ≤ {_num(limit.high)}{unit}"
+
+
+def check_range(value: ArrayLike, name: str, size: ArrayLike | None = None) -> NDArray[np.float64]:
+    """``value`` as a float array if each value (or ``size``, e.g. a vector's norm, when given) is finite and in range.
+
+    ``name`` is the quantity's name in :data:`LIMITS`, with or without the option's dashes (the
+    message uses it as given). ``ValueError`` names the first bad value, the range and its reason.
+    """
+    values = np.asarray(value, dtype=float)
+    measured = np.ravel(values if size is None else np.asarray(size, dtype=float))
+    limit = LIMITS[_key(name)]
+    bad = ~(np.isfinite(measured) & (measured >= limit.low) & (measured <= limit.high))
+    if np.any(bad):
+        first = _num(measured[np.argmax(bad)])
+        given = first if size is None else f"{','.join(_num(v) for v in np.ravel(values))} ({limit.symbol} = {first})"
+        raise ValueError(f"{name} {given} is out of range: allowed {allowed(name)} ({limit.why})")
+    return values

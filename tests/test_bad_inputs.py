@@ -1,0 +1,303 @@
+"""Hostile but ordinary input to every command: a result, or one line ``armlab: error: …`` and exit 2.
+
+Cases are rows of tables, one class each (issue 13): CLI numbers, segments files, resource limits.
+Each runs ``armlab.cli.main`` in a private sandbox (:class:`contract.Sandbox`) under a timeout and
+checks the contract of :func:`contract.check` and that nothing but the intended output was left.
+Property-based tests (hypothesis) drive the parsers with generated text: numbers and vectors,
+joint values, segments files and DH tables. Output folders and streams: ``test_outputs.py``;
+signals: ``test_signals.py``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+import numpy as np
+import pytest
+from contract import Sandbox, check
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from armlab.cli import joint_values, parse_floats
+from armlab.diagrams.motions import MAX_JSON_BYTES, read_segments
+from armlab.models import get_arm
+
+pytestmark = pytest.mark.timeout(120)
+
+
+@pytest.fixture
+def box(tmp_path, monkeypatch, capsys) -> Sandbox:
+    return Sandbox(tmp_path, monkeypatch, capsys)
+
+
+# ---- CLI numbers: (argv, exit code, fragment of the error line, or of stdout on success) -------------------------
+SIM = ("simulate", "rr", "--out", "run")
+CLI_NUMBERS = [
+    (("fk", "rr", "--q", "1e309,0"), 2, "--q: '1e309' is not a finite number"),
+    (("fk", "rr", "--q", "-1e309,0"), 2, "'-1e309' is not a finite number"),
+    (("fk", "rr", "--q", "nan,0"), 2, "'nan' is not a finite number"),
+    (("fk", "rr", "--q", "0,-Infinity"), 2, "'-Infinity' is not a finite number"),
+    (("fk", "rr", "--q", ""), 2, "'' is not a number"),
+    (("fk", "rr", "--q", ","), 2, "'' is not a number"),
+    (("fk", "rr", "--q", "1,,2"), 2, "'' is not a number"),
+    (("fk", "rr", "--q", "0x1,0"), 2, "'0x1' is not a number"),
+    (("fk", "rr", "--q", "1e,0"), 2, "'1e' is not a number"),
+    (("fk", "rr", "--q", "1;2"), 2, "'1;2' is not a number"),
+    (("fk", "rr", "--q", "9" * 400 + ",0"), 2, "is not a finite number"),
+    (("fk", "rr", "--q", "1e308,0"), 2, "joint1 = 1e+308 rad is outside its limits"),
+    (("fk", "rr", "--q", "-1e308,0"), 2, "joint1 = -1e+308 rad is outside its limits"),
+    (("fk", "r2t", "--q", "0,1e308,0"), 2, "joint2 = 1e+308 m is outside its limits"),
+    (("fk", "rr", "--q", "0,0,0"), 2, "rr has 2 joints, got 3 values"),
+    (("fk", "rr", "--q", "1e-320,-0"), 0, "tool"),
+    (("ik", "rr", "--target", "1e309,0"), 2, "'1e309' is not a finite number"),
+    (("ik", "urm6", "--target", "1e308,0,0"), 2, "out of range"),
+    (("ik", "rrrr", "--target", "-1e308,0,0"), 2, "out of range"),
+    (("ik", "rr", "--target", "1e-320,0"), 2, "out of reach"),
+    (("ik", "rr", "--target", "0.5,0.2", "--near", "1e308,0"), 2, "joint1 = 1e+308 rad is outside its limits"),
+    ((*SIM, "--kp", "1e308", "--kd", "1e308"), 2, "--kp 1e308 is out of range: allowed 0 ≤ kp ≤ 1e6"),
+    (("simulate", "rr", "--kd", "1e308", "--out", "run"), 2, "--kd 1e308 is out of range: allowed 0 ≤ kd ≤ 10000"),
+    (("simulate", "rr", "--ki", "1e308", "--out", "run"), 2, "--ki 1e308 is out of range: allowed 0 ≤ ki ≤ 1e8"),
+    (("simulate", "rr", "--kp", "100,1e7", "--out", "run"), 2, "--kp 1e7 is out of range"),
+    (("simulate", "rr", "--kp", "-1", "--out", "run"), 2, "--kp -1 is out of range"),
+    ((*SIM, "--kp", "-1e-3"), 2, "--kp -0.001 is out of range"),
+    ((*SIM, "--kd", "-inf"), 2, "--kd: '-inf' is not a finite number"),
+    (("simulate", "rr", "--kp", "nan", "--out", "run"), 2, "--kp: 'nan' is not a finite number"),
+    (("simulate", "rr", "--kp", "1,2,3", "--out", "run"), 2, "--kp has 3 values; give one value or 2"),
+    ((*SIM, "--gravity", "1e308,0,0"), 2, "gravity 1e308,0,0 (|g| = 1e308) is out of range"),
+    (("simulate", "rr", "--gravity", "-60,-60,-60", "--out", "run"), 2, "|g| = 103.923) is out of range"),
+    (("simulate", "rr", "--gravity", "1,2", "--out", "run"), 2, "give 3 finite numbers"),
+    (("simulate", "rr", "--gravity", "up", "--out", "run"), 2, "'up' is not a number"),
+    (("simulate", "rr", "--gravity", "0,0,inf", "--out", "run"), 2, "'inf' is not a finite number"),
+    ((*SIM, "--payload", "1e6"), 2, "--payload 1e6 is out of range: allowed 0 ≤ payload ≤ 1000 kg"),
+    (("simulate", "rr", "--payload", "-1", "--out", "run"), 2, "--payload -1 is out of range"),
+    (("simulate", "rr", "--payload", "nan", "--out", "run"), 2, "--payload nan is out of range"),
+    (("simulate", "rr", "--payload", "1e400", "--out", "run"), 2, "--payload inf is out of range"),
+    (("simulate", "rr", "--payload", "ten", "--out", "run"), 2, "invalid float value: 'ten'"),
+    ((*SIM, "--accuracy", "1e-300"), 2, "--accuracy 1e-300 is out of range: allowed 1e-12 ≤"),
+    (("simulate", "rr", "--accuracy", "0", "--out", "run"), 2, "--accuracy 0 is out of range"),
+    (("simulate", "rr", "--accuracy", "-1e-6", "--out", "run"), 2, "--accuracy -1e-6 is out of range"),
+    (("simulate", "rr", "--accuracy", "nan", "--out", "run"), 2, "--accuracy nan is out of range"),
+    (("simulate", "rr", "--accuracy", "1", "--out", "run"), 2, "--accuracy 1 is out of range"),
+    (("simulate", "rr", "--dt", "nan", "--out", "run"), 2, "log period = nan s is not allowed"),
+    (("simulate", "rr", "--dt", "0", "--out", "run"), 2, "log period = 0.0 s is not allowed"),
+    (("simulate", "rr", "--dt", "1e308", "--out", "run"), 2, "longer than the motion"),
+    (("simulate", "rr", "--tf", "0", "--out", "run"), 2, "a duration must be a positive finite number"),
+    (("simulate", "rr", "--tf", "-inf", "--out", "run"), 2, "'-inf' is not a finite number"),
+    (("simulate", "rr", "--tf", "1,2", "--out", "run"), 2, "--tf 1,2: give one duration"),
+    (("simulate", "rr", "--from", "0,0", "--to", "1e308,0", "--out", "run"), 2, "joint1 = 1e+308 rad is outside"),
+    (("diagram", "rr", "--kp", "1e308", "--out", "d.dot"), 2, "--kp 1e308 is out of range"),
+    (("diagram", "rr", "--payload", "1001", "--out", "d.dot"), 2, "--payload 1001 is out of range"),
+    (("view", "rr", "--duration", "nan"), 2, "--duration: nan is not a positive number"),
+    (("view", "rr", "--duration", "-1"), 2, "--duration: -1.0 is not a positive number"),
+    (("view", "rr", "--port", "99999"), 2, "--port: 99999 is not allowed"),
+    (("view", "rr", "--port", "1e3"), 2, "invalid int value: '1e3'"),
+    (("view", "rr", "--q", "1e308,0"), 2, "joint1 = 1e+308 rad is outside its limits"),
+]
+#: Values at the ends of the allowed ranges: a result.
+CLI_NUMBERS_ACCEPTED = [
+    (("diagram", "rr", "--kp", "1e6", "--kd", "1e4", "--ki", "1e8", "--gravity", "0,0,-100", "--payload", "1000",
+      "--out", "d.dot"), 0, "wrote d.dot"),
+    (("diagram", "rr", "--kp", "0", "--kd", "0", "--gravity", "off", "--payload", "0", "--out", "d.dot"), 0, "wrote"),
+]
+
+
+@pytest.mark.parametrize(("argv", "code", "fragment"), CLI_NUMBERS + CLI_NUMBERS_ACCEPTED,
+                         ids=lambda v: " ".join(v)[:60] if isinstance(v, tuple) else None)
+def test_cli_numbers(box, argv, code, fragment):
+    check(box.main(*argv), code, fragment)
+    assert box.debris("d.dot") == []
+
+
+def test_option_help_states_the_ranges(box):
+    out = box.main("simulate", "--help")
+    text = " ".join(out.out.split())
+    for fragment in ("0 ≤ kp ≤ 1e6 1/s²", "0 ≤ kd ≤ 10000 1/s", "0 ≤ ki ≤ 1e8 1/s³", "0 ≤ |g| ≤ 100 m/s²",
+                     "0 ≤ payload ≤ 1000 kg", "1e-12 ≤ accuracy ≤ 0.1"):
+        assert fragment in text
+
+
+# ---- segments files: (file content, exit code, fragment) -- run as `armlab simulate rr --segments seg.json` ------
+def _seg(**spec) -> str:
+    return json.dumps({"segments": [{"tf": 0.2, "from": [0, 0], "to": [0.1, 0.1], **spec}]})
+
+
+SEGMENT_FILES = [
+    ("", 2, "not valid JSON"),
+    ("{", 2, "not valid JSON"),
+    ("[" * 10_000 + "]" * 10_000, 2, "not valid JSON: nested too deeply"),
+    ('{"segments": ' * 10_000 + "[]" + "}" * 10_000, 2, "nested too deeply"),
+    ('{"segments": [{"tf": 1, "from": ' + "[" * 5000 + "]" * 5000 + "}]}", 2, "nested too deeply"),
+    (b"\xff\xfe{}", 2, "it is not UTF-8 text"),
+    ("[]", 2, 'expected an object with a non-empty list "segments"'),
+    ('{"segments": []}', 2, 'non-empty list "segments"'),
+    ('{"segments": {}}', 2, 'non-empty list "segments"'),
+    ('{"segments": [1]}', 2, "segment 1: expected an object"),
+    (json.dumps({"deg": "yes", "segments": [{"tf": 1}]}), 2, '"deg" = "yes" must be true or false'),
+    (_seg(tf="2"), 2, 'tf = "2" must be a finite number'),
+    (_seg(tf=True), 2, "tf = true must be a finite number"),
+    (_seg(tf=None), 2, "tf = null must be a finite number"),
+    (_seg(tf=[2]), 2, "tf = [2] must be a finite number"),
+    (_seg(tf=0), 2, "a duration must be a positive finite number"),
+    (_seg(tf=-1), 2, "a duration must be a positive finite number"),
+    (_seg().replace("0.2", "NaN"), 2, "tf = NaN must be a finite number"),
+    (_seg().replace("0.2", "1e999"), 2, "tf = Infinity must be a finite number"),
+    (_seg().replace("0.2", "1" + "0" * 5000), 2, "tf = Infinity must be a finite number"),
+    (json.dumps({"segments": [{"from": [0, 0], "to": [0.1, 0.1]}]}), 2, 'needs "tf"'),
+    (_seg(speed=1), 2, "unknown key(s) speed"),
+    (_seg(**{"from": [0, 0, 0]}), 2, "from has 3 values; rr has 2 joints"),
+    (_seg(**{"from": ["a", 0]}), 2, "must be a list of numbers"),
+    (_seg(**{"from": [True, 0]}), 2, "must be a list of numbers"),
+    (_seg(**{"from": []}), 2, "must be a list of numbers"),
+    (_seg().replace("[0, 0]", "[1e999, 0]"), 2, "has a value that is not a finite number"),
+    (_seg().replace("[0, 0]", "[1" + "0" * 400 + ", 0]"), 2, "has a value that is not a finite number"),
+    (_seg(**{"from": [10, 0]}), 2, "outside its limits"),
+    (_seg(from_point=[0.4, 0.3]), 2, "give 'from' or 'from_point', not both"),
+    (_seg(rate=[1, 1]), 2, 'give exactly one of "to", "to_point" or "rate"'),
+    (json.dumps({"segments": [{"tf": 1, "to": [0.1, 0.1]}]}), 2, 'the first segment needs "from" or "from_point"'),
+    (json.dumps({"segments": [{"tf": 1, "from": [0, 0], "to_point": [0.4, 0.3], "to_branch": 2}]}), 2,
+     "to_branch = 2 is not allowed"),
+    (json.dumps({"segments": [{"tf": 1, "from": [0, 0], "to_point": [0.4, 0.3], "to_branch": True}]}), 2,
+     "to_branch = true is not allowed"),
+    (json.dumps({"segments": [{"tf": 1, "from": [0, 0], "to_point": [5, 5]}]}), 2, "to_point"),
+    (json.dumps({"segments": [{"tf": 1, "from": [0, 0], "to_point": [0.4, 0.3], "to_pitch": "x"}]}), 2,
+     'to_pitch = "x" must be a finite number'),
+    (_seg(label=["a"] * 3), 0, "segments from seg.json"),
+]
+
+
+@pytest.mark.parametrize(("content", "code", "fragment"), SEGMENT_FILES, ids=lambda v: repr(v)[:40])
+def test_segments_files(box, content, code, fragment):
+    box.write("seg.json", content)
+    check(box.main("simulate", "rr", "--segments", "seg.json", "--dt", "0.01", "--out", "run"), code, fragment)
+    assert box.debris(*(["run"] if code == 0 else [])) == []
+
+
+# ---- resource limits: files that are too big, endless, or not files; (make the path, exit code, fragment) ---------
+def _fifo(box: Sandbox) -> str:
+    os.mkfifo(box.cwd / "fifo")
+    box._before |= {box.cwd / "fifo"}
+    return "fifo"
+
+
+def _huge(box: Sandbox) -> str:
+    box.write("huge.json", '{"segments": [' + " " * MAX_JSON_BYTES + "]}")
+    return "huge.json"
+
+
+def _folder(box: Sandbox) -> str:
+    (box.cwd / "folder").mkdir()
+    box._before |= {box.cwd / "folder"}
+    return "folder"
+
+
+RESOURCE_LIMITS = [
+    (lambda box: "/dev/zero", 2, "/dev/zero: not a regular file"),
+    (lambda box: "/dev/stdin", 2, "not a regular file"),
+    (_fifo, 2, "fifo: not a regular file"),
+    (_folder, 2, "folder: not a regular file"),
+    (_huge, 2, "larger than 10 MB"),
+    (lambda box: "missing.json", 2, "missing.json: cannot read it: No such file or directory"),
+]
+
+
+@pytest.mark.parametrize(("make", "code", "fragment"), RESOURCE_LIMITS, ids=lambda v: getattr(v, "__name__", None))
+@pytest.mark.timeout(30)
+def test_resource_limits(box, make, code, fragment):
+    check(box.main("simulate", "rr", "--segments", make(box), "--out", "run"), code, fragment)
+    assert box.debris() == []
+
+
+# ---- property-based: the parsers give a result or a one-line ValueError ----------------------------------------
+def _one_line_error(error: ValueError, *fragments: str) -> None:
+    text = str(error)
+    assert text and "\n" not in text, text
+    for fragment in fragments:
+        assert fragment in text
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(alphabet=st.sampled_from("0123456789.,-+eEinfatxINF _\u0661 "), max_size=40))
+def test_parse_floats_property(text):
+    try:
+        values = parse_floats(text, "--v")
+    except ValueError as error:
+        _one_line_error(error, "--v")
+        return
+    assert len(values) == text.count(",") + 1
+    assert all(isinstance(v, float) and math.isfinite(v) for v in values)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=1, max_size=8))
+def test_parse_floats_round_trips_every_float(values):
+    text = ",".join(repr(v) for v in values)
+    if all(math.isfinite(v) for v in values):
+        assert parse_floats(text, "--v") == values
+    else:
+        with pytest.raises(ValueError, match="is not a finite number"):
+            parse_floats(text, "--v")
+
+
+ARMS = {name: get_arm(name) for name in ("rr", "r2t", "urm6")}
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.sampled_from(sorted(ARMS)), st.lists(st.floats(width=64), min_size=1, max_size=7), st.booleans())
+def test_joint_values_property(name, values, deg):
+    arm = ARMS[name]
+    try:
+        q = joint_values(arm, ",".join(repr(v) for v in values), deg)
+    except ValueError as error:
+        _one_line_error(error)
+        return
+    lo, hi = arm.limit_arrays(unlimited=np.inf)
+    assert q.shape == (arm.n,) and np.all(np.isfinite(q)) and np.all((lo - 1e-12 <= q) & (q <= hi + 1e-12))
+
+
+_json = st.recursive(
+    st.none() | st.booleans() | st.floats(allow_nan=False) | st.integers() | st.text(max_size=5),
+    lambda children: st.lists(children, max_size=4) | st.dictionaries(st.text(max_size=5), children, max_size=4),
+    max_leaves=12,
+)
+_value = st.one_of(_json, st.lists(st.floats(-3, 3), min_size=1, max_size=3))
+_segment = st.fixed_dictionaries({}, optional={
+    key: _value for key in ("tf", "from", "to", "rate", "from_point", "to_point", "to_branch", "label", "x")
+})
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.one_of(_json, st.fixed_dictionaries({"segments": st.lists(_segment, max_size=3)},
+                                              optional={"deg": _json})))
+def test_read_segments_property(tmp_path, data):
+    path = tmp_path / "seg.json"
+    path.write_text(json.dumps(data))
+    try:
+        motion = read_segments(ARMS["rr"], path)
+    except ValueError as error:
+        _one_line_error(error, "--segments")
+        return
+    assert motion.duration > 0 and np.all(np.isfinite([s.q_end for s in motion.segments]))
+
+
+_cell = st.one_of(st.sampled_from(["", "R", "T", "r", "0", "0.5", "-1", "90", "1e308", "nan", "inf", "x", '"', "1,2"]),
+                  st.floats().map(repr))
+_dh_lines = st.lists(st.lists(_cell, min_size=0, max_size=8).map(",".join), max_size=6)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.sampled_from(["type,a,alpha,d,theta,lower,upper", "type,a,alpha,d,theta,lower,upper,mass",
+                        "a,b", "", "# units: deg\ntype,a,alpha,d,theta,lower,upper"]), _dh_lines)
+def test_read_dh_csv_property(tmp_path, header, lines):
+    """The models helper's DH reader: a table or a one-line ValueError naming the file."""
+    from armlab.models.custom import read_dh_csv
+
+    path = tmp_path / "arm.csv"
+    path.write_text("\n".join([header, *lines]) + "\n")
+    try:
+        table, limits, _ = read_dh_csv(path)
+    except ValueError as error:
+        _one_line_error(error, str(path))
+        return
+    assert len(table.rows) == len(limits) > 0
