@@ -239,6 +239,7 @@ def _cmd_ik(args: argparse.Namespace) -> int:
 def build_parser() -> argparse.ArgumentParser:
     """The ``armlab`` argument parser with every subcommand."""
     from armlab import __version__
+    from armlab.analysis import commands as analysis_commands
     from armlab.diagrams import commands, draw, view
     from armlab.scripts import reproduce
 
@@ -289,6 +290,7 @@ def build_parser() -> argparse.ArgumentParser:
     view.register(sub)
     draw.register(sub)
     reproduce.register(sub)
+    analysis_commands.register(sub)
 
     return parser
 

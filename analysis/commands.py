@@ -1,0 +1,162 @@
+"""``armlab workspace`` and ``armlab sweep``: the command-line side of :mod:`armlab.analysis`.
+
+``armlab workspace ARM [--samples N] [--resolution H] [--seed S] [--out DIR] [--json]`` measures an
+arm's workspace (:func:`armlab.analysis.workspace.workspace`) and writes, into DIR, all or nothing:
+``workspace.json``, ``slices.png``, ``convergence.png``, ``singular.png`` and ``workspace.html`` (a 3-D
+point cloud that opens in any browser). ``armlab sweep STUDY.json --out DIR`` runs a design study
+(:mod:`armlab.analysis.sweep`). Dask, Drake and matplotlib are imported only when a command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import textwrap
+from pathlib import Path
+from typing import Any
+
+__all__ = ["WORKSPACE_FILES", "cmd_workspace", "register", "workspace_folder"]
+
+#: What ``armlab workspace --out DIR`` writes (a folder holding only these may be replaced).
+WORKSPACE_FILES = ("workspace.json", "slices.png", "convergence.png", "singular.png", "workspace.html")
+
+
+def workspace_folder(out: str | Path) -> Any:
+    """The output folder of ``armlab workspace`` (:class:`~armlab.files.OutputFolder`)."""
+    from armlab.files import OutputFolder
+
+    def is_previous(folder: Path) -> bool:
+        names = {p.name for p in folder.iterdir()}
+        return "workspace.json" in names and names <= set(WORKSPACE_FILES)
+
+    return OutputFolder(Path(out).expanduser(), is_previous, "an armlab workspace folder (workspace.json and its "
+                                                            "pictures only)")
+
+
+def _format(summary: dict[str, Any]) -> list[str]:
+    s = summary
+    lines = [f"{s['arm']}: workspace {s['measure']} {s['volume']:.6g} {s['volume_unit']} ({s['samples']} samples; "
+             f"occupied voxels of {s['resolution']:.4g} m: {s['volume_voxels']:.6g}, extrapolated to h → 0 from h "
+             "and 2h)",
+             f"reach {s['reach']:.6g} m; bounding box x {s['bbox']['min'][0]:+.4f} … {s['bbox']['max'][0]:+.4f}, "
+             f"y {s['bbox']['min'][1]:+.4f} … {s['bbox']['max'][1]:+.4f}, "
+             f"z {s['bbox']['min'][2]:+.4f} … {s['bbox']['max'][2]:+.4f} m"]
+    c = s["convergence"]
+    lines.append(f"{s['measure']} vs samples: " + "  ".join(f"{int(n)}: {v:.5g}" for n, v in zip(
+        c["samples"], c["volume_vs_samples"], strict=True)))
+    lines.append(f"occupied voxels' {s['measure']} vs voxel edge h: " + "  ".join(f"{h:.4g} m: {v:.5g}" for h, v in zip(
+        c["resolution"], c["volume_vs_resolution"], strict=True)))
+    if "manipulability" in s:
+        m, g = s["manipulability"], s["sigma_min"]
+        lines.append(f"manipulability ({s['singular']['rows']} rows of J, {m['configurations']} configurations): "
+                     f"min {m['min']:.3g}, median {m['median']:.3g}, max {m['max']:.3g}; σ_min min {g['min']:.3g}, "
+                     f"median {g['median']:.3g}")
+        sing = s["singular"]
+        if "loci" in sing:
+            loci = sing["loci"]
+            if loci["values"]:
+                import numpy as np
+
+                shown = np.degrees(loci["values"]) if loci["unit"] == "rad" else np.array(loci["values"])
+                unit = "deg" if loci["unit"] == "rad" else "m"
+                values = ", ".join(f"{v:g}" for v in np.round(shown, 9) + 0.0)
+                anywhere = ", whatever the other joints" if loci["independent_of_other_joints"] else ""
+                lines.append(f"singular where {loci['joint']} = {values} {unit}{anywhere}")
+            else:
+                lines.append(f"no singular configuration within the limits (σ_min ≥ {g['min']:.3g})")
+        else:
+            lines.append(f"σ_min depends on {', '.join(sing['depends_on']) or 'no joint'}; "
+                         f"{len(sing.get('configurations', []))} singular configurations found and listed "
+                         f"(σ_min < {sing['tolerance']:g})")
+    return lines
+
+
+def cmd_workspace(args: argparse.Namespace) -> int:
+    """``armlab workspace``: see the module docstring."""
+    from armlab.analysis.workspace import workspace
+    from armlab.cli import load_arm
+
+    arm = load_arm(args.arm)
+    folder = workspace_folder(args.out) if args.out else None
+    ws = workspace(arm, args.samples, args.resolution, args.seed)
+    summary = ws.summary()
+    if folder is not None:
+        from armlab.analysis.cloud import write_point_cloud
+        from armlab.analysis.plots import workspace_figures
+
+        with folder as tmp:
+            (tmp / "workspace.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n")
+            written = ["workspace.json", *workspace_figures(ws, tmp)]
+            write_point_cloud(arm, ws, tmp / "workspace.html")
+            written.append("workspace.html")
+    if args.json:
+        print(json.dumps(summary, indent=2, ensure_ascii=False))
+    else:
+        print("\n".join(_format(summary)))
+        if folder is not None:
+            print(f"wrote {args.out}: {' '.join(written)}")
+    return 0
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not value.is_integer() or value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number ≥ 1")
+    return int(value)
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``workspace`` and ``sweep`` subcommands to the CLI's subparsers."""
+    from armlab.analysis.sweep import EXIT_FAILED, cmd_sweep
+    from armlab.analysis.workspace import DEFAULT_SAMPLES, SAMPLES_PER_CELL
+
+    p = subparsers.add_parser(
+        "workspace", help="an arm's workspace: volume, reach, manipulability, singular configurations",
+        description=textwrap.fill(
+            "Sample ARM's joint space (within the limits; a revolute joint without limits over a full turn), "
+            "and report the workspace volume (area for a planar arm) from the voxels the tool point occupies, with "
+            "its convergence in the samples N and the voxel edge h, the reach, the bounding box, the manipulability "
+            "(Yoshikawa's and σ_min of the Jacobian) and the singular configurations. With --out, write "
+            "workspace.json, slices.png, convergence.png, singular.png and workspace.html (a 3-D point cloud).", 100),
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
+    p.add_argument("--samples", type=_positive_int, default=DEFAULT_SAMPLES, metavar="N",
+                   help=f"joint-space samples (default {DEFAULT_SAMPLES:.0e}; at least 1000)")
+    p.add_argument("--resolution", type=float, metavar="H",
+                   help=f"voxel edge in metres (default: about {SAMPLES_PER_CELL} samples per cell of the reach's "
+                        "ball)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random samples (default 0)")
+    p.add_argument("--out", metavar="DIR", help="output folder (written completely or not at all)")
+    p.add_argument("--json", action="store_true", help="print the summary (workspace.json) as JSON")
+    p.set_defaults(func=cmd_workspace)
+
+    p = subparsers.add_parser(
+        "sweep", help="a design study: candidates evaluated on a Dask cluster into results.csv and plots",
+        description="Evaluate every candidate of the study in STUDY.json on a Dask cluster (a local one by default) "
+                    "and write DIR/results.csv (one row per candidate), study.json and the plots. A rerun into the "
+                    "same DIR computes only the candidates not yet in results.csv.",
+        epilog=textwrap.dedent(f"""\
+            study file (JSON):
+              {{"arm": "urm6",
+               "vary": {{"theta3": {{"from": 0, "to": 90, "steps": 7, "unit": "deg"}},
+                        "theta5": {{"values": [30, 60, 90], "unit": "deg"}}}},
+               "evaluate": ["workspace_volume", "reach", "min_manipulability"],
+               "samples": 200000}}
+            vary: the arm's parameters (armlab show ARM), payload (kg) and tf (s); evaluate: workspace_volume,
+            reach, min_manipulability, mean_manipulability, peak_torque, rms_torque, peak_power. Optional:
+            samples, resolution (m), seed, payload, tf, simulate (true: paper 000's Fig. 6 simulation; false:
+            batch inverse dynamics along the motion every 1 ms), segments (a motion file instead of the paper
+            motion).
+
+            exit status: 0 every candidate computed; 2 bad study or options (nothing computed);
+            {EXIT_FAILED} + k when k candidates failed (k at most 100); each failure is reported on stderr."""),
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("study", metavar="STUDY.json", help="the study file")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder (a rerun resumes it)")
+    p.add_argument("--workers", type=_positive_int, metavar="N",
+                   help="local worker processes (default: one per core)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler to run on")
+    p.set_defaults(func=cmd_sweep)

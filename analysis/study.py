@@ -1,0 +1,378 @@
+"""Design studies: the study file, its candidates, and what one candidate evaluates to.
+
+A study is a JSON object::
+
+    {"arm": "urm6",
+     "vary": {"theta3": {"from": 0, "to": 90, "steps": 7, "unit": "deg"},
+              "theta5": {"values": [30, 60, 90], "unit": "deg"}},
+     "evaluate": ["workspace_volume", "reach", "min_manipulability"],
+     "samples": 200000}
+
+``arm``: a paper arm (``armlab list``) or a ``.urdf``/DH ``.csv`` file (relative to the study file).
+``vary``: parameters of the arm's ``Parameters`` (``armlab show ARM``), ``payload`` (kg, a point mass
+at the tool) and ``tf`` (the motion's duration, s), each ``{"from", "to", "steps"}`` (evenly spaced,
+both ends included) or ``{"values": [...]}``, with an optional ``unit`` (:data:`UNITS`; default SI).
+Every combination is a candidate. ``evaluate``: objectives from :data:`OBJECTIVES`. Optional:
+``samples`` (workspace samples, default 200000), ``resolution`` (voxel edge, m; default: the one
+:func:`~armlab.analysis.workspace.default_resolution` gives the unmodified arm, the same for every
+candidate so their volumes compare), ``seed`` (0), ``payload`` (kg) and ``tf`` (s) when not varied,
+``simulate`` (false: torques by batch inverse dynamics along the motion sampled every 1 ms; true: by
+paper 000's Fig. 6 simulation), ``segments`` (a segments file, as ``armlab simulate --segments``,
+instead of the arm's paper motion).
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from armlab.kinematics.quintic import Motion
+    from armlab.models.arm import Arm
+
+__all__ = ["DYNAMICS", "OBJECTIVES", "UNITS", "WORKSPACE", "Study", "Variable", "evaluate", "load_study",
+           "parse_study"]
+
+#: Objectives computed from the workspace (:func:`armlab.analysis.workspace.workspace`), with units.
+WORKSPACE = {"workspace_volume": "m^dim", "reach": "m", "min_manipulability": "", "mean_manipulability": ""}
+#: Objectives computed from the joint torques along the motion; the first two per joint.
+DYNAMICS = {"peak_torque": "N·m or N", "rms_torque": "N·m or N", "peak_power": "W"}
+OBJECTIVES = {**WORKSPACE, **DYNAMICS}
+#: Units a varied value may be given in, and their factor to SI.
+UNITS = {"deg": np.pi / 180, "rad": 1.0, "m": 1.0, "cm": 1e-2, "mm": 1e-3, "kg": 1.0, "g": 1e-3, "s": 1.0,
+         "ms": 1e-3}
+#: Units allowed for the study's own variables.
+_OWN_UNITS = {"payload": ("kg", "g"), "tf": ("s", "ms")}
+_KEYS = ("arm", "vary", "evaluate", "samples", "resolution", "seed", "payload", "tf", "simulate", "segments")
+#: Period of the motion's samples for the batch inverse dynamics (s).
+TORQUE_PERIOD = 1e-3
+
+
+@dataclass(frozen=True)
+class Variable:
+    """A varied parameter: its values as the study gives them (``unit``) and in SI."""
+
+    name: str
+    unit: str
+    values: tuple[float, ...]
+
+    @property
+    def si(self) -> tuple[float, ...]:
+        """The values in SI units (rad, m, kg, s)."""
+        factor = UNITS.get(self.unit, 1.0)
+        return tuple(v * factor for v in self.values)
+
+    @property
+    def column(self) -> str:
+        """Its column in ``results.csv`` (the study's unit)."""
+        return self.name
+
+
+@dataclass(frozen=True)
+class Study:
+    """A checked study (see the module docstring). ``arm`` is a paper arm's name or a file's absolute path."""
+
+    arm: str
+    vary: tuple[Variable, ...]
+    evaluate: tuple[str, ...]
+    samples: int
+    resolution: float | None
+    seed: int
+    payload: float
+    tf: float | None
+    simulate: bool
+    segments: str | None
+    n: int  # the arm's joint count
+    dim: int  # dimension of its workspace (2: planar)
+
+    @property
+    def candidates(self) -> list[tuple[float, ...]]:
+        """Every combination of the varied values (study units), the first variable slowest."""
+        return list(itertools.product(*(v.values for v in self.vary)))
+
+    @property
+    def objective_columns(self) -> list[str]:
+        """Objective columns of ``results.csv``: per-joint ones as ``peak_torque_1`` … ``peak_torque_n``."""
+        cols = []
+        for name in self.evaluate:
+            cols += [f"{name}_{i}" for i in range(1, self.n + 1)] if name in ("peak_torque", "rms_torque") else [name]
+        return cols
+
+    @property
+    def columns(self) -> list[str]:
+        """The header of ``results.csv``."""
+        return ["candidate", *(v.column for v in self.vary), *self.objective_columns, "wall_time_s", "worker"]
+
+    def units(self) -> dict[str, str]:
+        """Unit of every column."""
+        units = {v.column: v.unit for v in self.vary}
+        volume = {1: "m", 2: "m²", 3: "m³"}[self.dim]
+        for col in self.objective_columns:
+            base = next(name for name in OBJECTIVES if col == name or col.startswith(name + "_"))
+            units[col] = volume if base == "workspace_volume" else OBJECTIVES[base]
+        return units | {"wall_time_s": "s"}
+
+    def settings(self, values: tuple[float, ...]) -> tuple[dict[str, float], float, float | None]:
+        """Arm parameter overrides, payload and tf (SI) of the candidate ``values`` (study units)."""
+        overrides: dict[str, float] = {}
+        payload, tf = self.payload, self.tf
+        for var, value in zip(self.vary, values, strict=True):
+            si = value * UNITS.get(var.unit, 1.0)
+            if var.name == "payload":
+                payload = si
+            elif var.name == "tf":
+                tf = si
+            else:
+                overrides[var.name] = si
+        return overrides, payload, tf
+
+    def to_json(self) -> dict[str, Any]:
+        """The study as run: every setting explicit."""
+        return {
+            "arm": self.arm,
+            "vary": {v.name: {"values": list(v.values), "unit": v.unit} for v in self.vary},
+            "evaluate": list(self.evaluate),
+            "samples": self.samples,
+            "resolution": self.resolution,
+            "seed": self.seed,
+            "payload": self.payload,
+            "tf": self.tf,
+            "simulate": self.simulate,
+            "segments": self.segments,
+        }
+
+
+# --------------------------------------------------------------------------------------------- parsing
+def load_study(path: str | Path) -> Study:
+    """Read and check a study file (:func:`parse_study`); ``ValueError`` with one line naming the problem."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as error:
+        raise ValueError(f"{path}: cannot read it: {error.strerror or error}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: cannot read it: it is not UTF-8 text") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise ValueError(f"{path}: not valid JSON: {error}") from None
+    try:
+        return parse_study(data, path.parent)
+    except ValueError as error:
+        raise ValueError(f"{path}: {error}") from None
+
+
+def _number(raw: Any, name: str) -> float:
+    if isinstance(raw, bool) or not isinstance(raw, (int, float)) or not np.isfinite(raw):
+        raise ValueError(f"{name} = {json.dumps(raw)} must be a finite number")
+    return float(raw)
+
+
+def _variable(name: str, spec: Any, known: list[str]) -> Variable:
+    if name not in known:
+        raise ValueError(f"vary: unknown parameter {name!r}; allowed: {', '.join(known)}")
+    if not isinstance(spec, dict):
+        raise ValueError(f"vary.{name} = {json.dumps(spec)} must be an object {{\"from\", \"to\", \"steps\"}} or "
+                         "{\"values\"}")
+    unit = spec.get("unit", "")
+    allowed_units = _OWN_UNITS.get(name, tuple(UNITS))
+    if unit and unit not in allowed_units:
+        raise ValueError(f"vary.{name}: unit {json.dumps(unit)} is not allowed; allowed: {', '.join(allowed_units)}")
+    extra = set(spec) - {"from", "to", "steps", "values", "unit"}
+    if extra:
+        raise ValueError(f"vary.{name}: unknown key {sorted(extra)[0]!r}; allowed: from, to, steps, values, unit")
+    if "values" in spec:
+        if {"from", "to", "steps"} & set(spec):
+            raise ValueError(f"vary.{name}: give \"values\" or \"from\"/\"to\"/\"steps\", not both")
+        raw = spec["values"]
+        if not isinstance(raw, list) or not raw:
+            raise ValueError(f"vary.{name}.values = {json.dumps(raw)}: the range is empty; give a non-empty list")
+        values = [_number(v, f"vary.{name}.values[{i}]") for i, v in enumerate(raw)]
+        if len(set(values)) != len(values):
+            raise ValueError(f"vary.{name}.values = {json.dumps(raw)} repeats a value")
+    else:
+        missing = [k for k in ("from", "to", "steps") if k not in spec]
+        if missing:
+            raise ValueError(f"vary.{name}: missing {', '.join(repr(k) for k in missing)} (or give \"values\")")
+        lo, hi = _number(spec["from"], f"vary.{name}.from"), _number(spec["to"], f"vary.{name}.to")
+        steps = spec["steps"]
+        if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+            raise ValueError(f"vary.{name}.steps = {json.dumps(steps)}: the range is empty; give a whole number ≥ 1")
+        if steps == 1 and lo != hi:
+            raise ValueError(f"vary.{name}: steps = 1 from {lo:g} to {hi:g}; give steps ≥ 2 or from = to")
+        values = np.linspace(lo, hi, steps).tolist()
+    return Variable(name, unit, tuple(values))
+
+
+def parse_study(data: Any, base: Path = Path()) -> Study:
+    """Check a study (the decoded JSON) before any work; ``ValueError`` with one line naming the problem.
+
+    Every candidate's arm (and, for torque objectives, its motion) is built here, so a value the arm
+    does not allow is found before anything runs. ``base``: the folder file names are relative to.
+    """
+    from dataclasses import fields
+
+    from armlab.analysis.workspace import (
+        DEFAULT_SAMPLES,
+        default_resolution,
+        sample_joints,
+        tool_positions,
+        workspace_plane,
+    )
+    from armlab.models import ARMS, get_arm
+
+    if not isinstance(data, dict):
+        raise ValueError("a study must be a JSON object with \"arm\", \"vary\" and \"evaluate\"")
+    extra = [k for k in data if k not in _KEYS]
+    if extra:
+        raise ValueError(f"unknown key {extra[0]!r}; allowed: {', '.join(_KEYS)}")
+    for key in ("arm", "vary", "evaluate"):
+        if key not in data:
+            raise ValueError(f"missing {key!r}")
+    name = data["arm"]
+    if not isinstance(name, str):
+        raise ValueError(f"arm = {json.dumps(name)} must be a name or a file")
+    if name not in ARMS:
+        if Path(name).suffix.lower() not in (".urdf", ".csv"):
+            raise ValueError(f"unknown arm {name!r}; allowed: {', '.join(ARMS)}, or a .urdf or DH .csv file")
+        name = str((base / name).resolve())
+    nominal = get_arm(name)
+    known = [f.name for f in fields(ARMS[name].Parameters)] if name in ARMS else []
+    known += ["payload", "tf"]
+    if not isinstance(data["vary"], dict) or not data["vary"]:
+        raise ValueError("vary must be a non-empty object {parameter: range}")
+    vary = tuple(_variable(k, v, known) for k, v in data["vary"].items())
+    evaluate = data["evaluate"]
+    if not isinstance(evaluate, list) or not evaluate or not all(isinstance(e, str) for e in evaluate):
+        raise ValueError(f"evaluate = {json.dumps(evaluate)} must be a non-empty list of objectives")
+    for objective in evaluate:
+        if objective not in OBJECTIVES:
+            raise ValueError(f"evaluate: unknown objective {objective!r}; allowed: {', '.join(OBJECTIVES)}")
+    if len(set(evaluate)) != len(evaluate):
+        raise ValueError(f"evaluate = {json.dumps(evaluate)} repeats an objective")
+    dynamics = any(e in DYNAMICS for e in evaluate)
+    if dynamics:
+        nominal.require_dynamics("torque objectives")
+    for var in vary:
+        if var.name in ("payload", "tf") and not dynamics:
+            raise ValueError(f"vary.{var.name} changes only the torque objectives ({', '.join(DYNAMICS)}); "
+                             "evaluate one of them")
+    samples = data.get("samples", DEFAULT_SAMPLES // 5)
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1000:
+        raise ValueError(f"samples = {json.dumps(samples)} must be a whole number ≥ 1000")
+    seed = data.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"seed = {json.dumps(seed)} must be a whole number ≥ 0")
+    payload = _number(data.get("payload", 0.0), "payload")
+    tf = None if data.get("tf") is None else _number(data["tf"], "tf")
+    simulate = data.get("simulate", False)
+    if not isinstance(simulate, bool):
+        raise ValueError(f"simulate = {json.dumps(simulate)} must be true or false")
+    segments = data.get("segments")
+    if segments is not None:
+        if not isinstance(segments, str):
+            raise ValueError(f"segments = {json.dumps(segments)} must be a file name")
+        if tf is not None or any(v.name == "tf" for v in vary):
+            raise ValueError("segments gives the motion's times: do not give or vary tf with it")
+        segments = str((base / segments).resolve())
+    q = sample_joints(nominal, 4096, 0)
+    dim = workspace_plane(tool_positions(nominal, q))[1].shape[0]
+    resolution = data.get("resolution")
+    if resolution is not None:
+        resolution = _number(resolution, "resolution")
+        if resolution <= 0:
+            raise ValueError(f"resolution = {resolution:g} m must be positive")
+    elif any(e in WORKSPACE for e in evaluate):
+        resolution = default_resolution(nominal, samples, dim)
+    study = Study(name, vary, tuple(evaluate), samples, resolution, seed, payload, tf, simulate, segments,
+                  nominal.n, dim)
+    for values in study.candidates:
+        try:
+            build(study, values)
+        except ValueError as error:
+            shown = ", ".join(f"{v.name} = {x:g} {v.unit}".rstrip() for v, x in zip(vary, values, strict=True))
+            raise ValueError(f"candidate {shown}: {error}") from None
+    return study
+
+
+# ------------------------------------------------------------------------------------------ evaluation
+def build(study: Study, values: tuple[float, ...]) -> tuple[Arm, Motion | None, float]:
+    """The candidate's arm, its motion (``None`` without torque objectives) and payload; ``ValueError`` if bad."""
+    from armlab.diagrams.motions import paper_motion, read_segments
+    from armlab.diagrams.plant import check_payload
+    from armlab.models import get_arm
+
+    overrides, payload, tf = study.settings(values)
+    arm = get_arm(study.arm, **overrides)
+    if not any(e in DYNAMICS for e in study.evaluate):
+        return arm, None, payload
+    payload = check_payload(payload)
+    motion = read_segments(arm, study.segments) if study.segments else paper_motion(arm, tf=tf)
+    return arm, motion, payload
+
+
+def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
+    """The objectives of one candidate (``values`` in the study's units), by column of ``results.csv``."""
+    from armlab.analysis.workspace import workspace
+
+    arm, motion, payload = build(study, values)
+    out: dict[str, float] = {}
+    if any(e in WORKSPACE for e in study.evaluate):
+        manipulability = any(e.endswith("manipulability") for e in study.evaluate)
+        w = workspace(arm, study.samples, study.resolution, study.seed, jacobians=manipulability)
+        found = {"workspace_volume": w.volume, "reach": w.reach}
+        if manipulability:
+            found |= {"min_manipulability": float(w.manipulability.min()),
+                      "mean_manipulability": float(w.manipulability.mean())}
+        out |= {e: found[e] for e in study.evaluate if e in WORKSPACE}
+    if motion is not None:
+        tau, qd = _torques(study, arm, motion, payload)
+        found = {"peak_torque": np.max(np.abs(tau), axis=0), "rms_torque": np.sqrt(np.mean(tau**2, axis=0)),
+                 "peak_power": float(np.max(np.abs(np.sum(tau * qd, axis=1))))}
+        for e in study.evaluate:
+            if e in ("peak_torque", "rms_torque"):
+                out |= {f"{e}_{i + 1}": float(v) for i, v in enumerate(found[e])}
+            elif e == "peak_power":
+                out[e] = found[e]
+    return out
+
+
+def _torques(study: Study, arm: Arm, motion: Motion, payload: float) -> tuple[np.ndarray, np.ndarray]:
+    """Joint torques and rates along ``motion``: Fig. 6's simulation, or batch inverse dynamics every 1 ms."""
+    if study.simulate:
+        from armlab.diagrams.simulate import simulate
+
+        log = simulate(arm, motion, payload=payload)
+        return log.tau, log.qd
+    from armlab.kinematics.rnea import inverse_dynamics
+
+    t = np.linspace(0.0, motion.duration, round(motion.duration / TORQUE_PERIOD) + 1)
+    q, qd, qdd = motion.evaluate(t)
+    return inverse_dynamics(arm, q, qd, qdd, payload=payload), qd
+
+
+def timed_evaluate(study: Study, values: tuple[float, ...]) -> dict[str, Any]:
+    """:func:`evaluate` on a Dask worker: ``{"objectives", "wall_time_s", "worker"}``, or ``{"error", …}``
+    when the candidate raises (its message, one line), so that the other candidates go on."""
+    import os
+    import socket
+
+    try:
+        from distributed import get_worker
+
+        worker = get_worker().address
+    except (ImportError, ValueError):
+        worker = f"{socket.gethostname()}:{os.getpid()}"
+    began = time.perf_counter()
+    try:
+        objectives = evaluate(study, values)
+    except Exception as error:  # reported with the candidate's parameters; the sweep goes on
+        message = str(error).strip().splitlines()[0] if str(error).strip() else ""
+        return {"error": f"{type(error).__name__}: {message}", "worker": worker}
+    return {"objectives": objectives, "wall_time_s": time.perf_counter() - began, "worker": worker}

@@ -1,0 +1,272 @@
+"""``armlab sweep``: a design study's candidates evaluated on a Dask cluster, resumably.
+
+:func:`run_sweep` checks the study (:func:`armlab.analysis.study.load_study`) and the output folder
+before any work, then submits every candidate not yet in ``DIR/results.csv`` to a Dask cluster — by
+default a ``LocalCluster`` of worker processes (one thread each, on 127.0.0.1, no dashboard) started
+and closed here; with ``scheduler="tcp://HOST:PORT"`` an existing cluster (``dask scheduler`` /
+``dask worker``). Results are appended to ``results.csv`` as they arrive, one whole line per write,
+flushed and fsynced, so an interrupted sweep loses nothing already written and never leaves half a
+row; a rerun into the same folder computes only the missing candidates. A candidate that raises is
+reported with its parameters and the error and the others go on; a worker that dies has its tasks
+rerun by Dask. At the end ``study.json`` (the study as run, the software versions, every run's
+counts) and the plots (:mod:`armlab.analysis.plots`) are (re)written.
+
+Exit status of ``armlab sweep``: 0 when every candidate is in ``results.csv``; 2 for a bad study or
+option (nothing computed); :data:`EXIT_FAILED` + k when k candidates failed (capped at k = 100).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import os
+import sys
+import time
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from armlab.files import write_file
+
+if TYPE_CHECKING:
+    from armlab.analysis.study import Study
+
+__all__ = ["EXIT_FAILED", "RESULTS", "STUDY", "SweepResult", "read_results", "run_sweep"]
+
+RESULTS = "results.csv"
+STUDY = "study.json"
+#: ``armlab sweep`` exits with EXIT_FAILED + (number of failed candidates, at most 100).
+EXIT_FAILED = 10
+
+
+@dataclass
+class SweepResult:
+    """What one :func:`run_sweep` did: candidates in the study, already done before, computed, failed."""
+
+    out: Path
+    total: int
+    done_before: int
+    computed: int
+    failed: list[dict[str, Any]] = field(default_factory=list)
+    wall_time: float = 0.0
+    plots: list[str] = field(default_factory=list)
+
+
+def versions() -> dict[str, str]:
+    """Versions of the software a sweep ran on."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"python": sys.version.split()[0]}
+    for name in ("armlab", "drake", "numpy", "dask", "distributed"):
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            out[name] = "not installed"
+    return out
+
+
+# ------------------------------------------------------------------------------------ results.csv
+def _line(values: list[Any]) -> str:
+    buffer = io.StringIO()
+    csv.writer(buffer, lineterminator="\n").writerow([repr(v) if isinstance(v, float) else v for v in values])
+    return buffer.getvalue()
+
+
+def read_results(path: Path, columns: list[str]) -> dict[int, list[str]]:
+    """The rows of ``results.csv`` by candidate index. A last line without its newline (a write cut
+    short) is removed from the file. ``ValueError`` if the header is not ``columns`` (another study)."""
+    with open(path, "rb") as handle:
+        data = handle.read()
+    if data and not data.endswith(b"\n"):
+        cut = data.rfind(b"\n") + 1
+        with open(path, "r+b") as handle:
+            handle.truncate(cut)
+            os.fsync(handle.fileno())
+        data = data[:cut]
+    rows = list(csv.reader(io.StringIO(data.decode())))
+    if not rows or rows[0] != columns:
+        raise ValueError(f"{path}: its columns are not this study's ({', '.join(columns)}); give another --out")
+    out = {}
+    for row in rows[1:]:
+        if len(row) != len(columns) or not row[0].isdigit():
+            raise ValueError(f"{path}: a row is not one of this study's: {','.join(row)[:80]}")
+        out[int(row[0])] = row
+    return out
+
+
+class _Appender:
+    """``results.csv`` opened for appending: each row one ``write`` of a whole line, flushed and fsynced."""
+
+    def __init__(self, path: Path) -> None:
+        self.fd = os.open(path, os.O_WRONLY | os.O_APPEND)
+
+    def append(self, values: list[Any]) -> None:
+        data = _line(values).encode()
+        if os.write(self.fd, data) != len(data):
+            raise OSError(f"short write to {RESULTS}")
+        os.fsync(self.fd)
+
+    def close(self) -> None:
+        os.close(self.fd)
+
+
+def _prepare(out: Path, study: Study, study_json: dict[str, Any]) -> dict[int, list[str]]:
+    """Check ``out`` (new, empty, or this study's earlier sweep) and return the rows already done."""
+    results, record = out / RESULTS, out / STUDY
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--out {out}: exists and is not a folder")
+    if out.is_dir() and any(out.iterdir()):
+        if not (results.is_file() and record.is_file()):
+            raise ValueError(f"--out {out}: exists and is not an armlab sweep folder (no {RESULTS} and {STUDY}); "
+                             "give a new or empty folder")
+        try:
+            earlier = json.loads(record.read_text())["study"]
+        except (OSError, ValueError, KeyError, TypeError):
+            raise ValueError(f"--out {out}: its {STUDY} cannot be read; give a new or empty folder") from None
+        if earlier != study_json:
+            raise ValueError(f"--out {out}: holds a different study; give another --out (or the same study file)")
+        return read_results(results, study.columns)
+    write_file(results, _line(study.columns))
+    return {}
+
+
+def _record(out: Path, study: Study, study_json: dict[str, Any], run: dict[str, Any]) -> None:
+    """(Re)write ``study.json``: the study as run, units, versions, and every run so far."""
+    path = out / STUDY
+    runs = []
+    if path.is_file():
+        try:
+            runs = json.loads(path.read_text()).get("runs", [])
+        except (OSError, ValueError):
+            runs = []
+    record = {"study": study_json, "candidates": len(study.candidates), "columns": study.columns,
+              "units": study.units(), "versions": versions(), "runs": [*runs, run] if run else runs}
+    write_file(path, json.dumps(record, indent=2, ensure_ascii=False) + "\n")
+
+
+# ---------------------------------------------------------------------------------------- the engine
+def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
+    """A Dask client of the cluster at ``scheduler``, or of a new ``LocalCluster`` (returned to close)."""
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        try:
+            return Client(scheduler, timeout="10s"), None
+        except (OSError, TimeoutError) as error:
+            raise ValueError(f"--scheduler {scheduler}: cannot connect: {error}") from None
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                           host="127.0.0.1", silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def default_workers() -> int:
+    """Local workers by default: one per core this process may use."""
+    return len(os.sched_getaffinity(0))
+
+
+def run_sweep(
+    study_file: str | Path,
+    out: str | Path,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool | None = None,
+    report: Any = None,
+) -> SweepResult:
+    """Evaluate the study in ``study_file`` into ``out`` (see the module docstring).
+
+    ``workers``: local worker processes (default :func:`default_workers`; not with ``scheduler``);
+    ``progress``: a progress bar on stderr (default: when stderr is a terminal); ``report(line)``
+    receives the one-line report of each failed candidate (default: stderr).
+    """
+    from armlab.analysis.plots import write_plots
+    from armlab.analysis.study import load_study
+
+    began = time.perf_counter()
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"--workers {workers}: give a whole number ≥ 1")
+    if workers is not None and scheduler is not None:
+        raise ValueError("--workers sets the local cluster's size: do not combine it with --scheduler")
+    if scheduler is not None and not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
+        raise ValueError(f"--scheduler {scheduler}: give the scheduler's address, e.g. tcp://127.0.0.1:8786")
+    study = load_study(study_file)
+    out = Path(out)
+    study_json = study.to_json()
+    done = _prepare(out, study, study_json)
+    candidates = study.candidates
+    for index, row in done.items():
+        if index >= len(candidates) or [float(x) for x in row[1:1 + len(study.vary)]] != list(candidates[index]):
+            raise ValueError(f"--out {out}: {RESULTS} row {index} is not this study's candidate {index}")
+    todo = [i for i in range(len(candidates)) if i not in done]
+    result = SweepResult(out, len(candidates), len(done), 0)
+    report = report or (lambda line: print(line, file=sys.stderr, flush=True))
+    run: dict[str, Any] = {}
+    if todo:
+        run = _compute(study, candidates, todo, out, workers, scheduler, progress, report, result)
+    result.wall_time = time.perf_counter() - began
+    run = run | {"wall_time_s": result.wall_time}
+    _record(out, study, study_json, run)
+    rows = read_results(out / RESULTS, study.columns)
+    result.plots = write_plots(study, rows, out)
+    return result
+
+
+def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int], out: Path, workers: int | None,
+             scheduler: str | None, progress: bool | None, report: Any, result: SweepResult) -> dict[str, Any]:
+    """Submit ``todo`` to the cluster and append each result as it arrives; the run's record."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    from armlab.analysis.study import timed_evaluate
+
+    started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    client, cluster = _client(workers or (None if scheduler else default_workers()), scheduler)
+    appender = _Appender(out / RESULTS)
+    bar = tqdm(total=len(todo), unit="candidate", file=sys.stderr,
+               disable=not (sys.stderr.isatty() if progress is None else progress), dynamic_ncols=True)
+    try:
+        n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
+        remote = client.scatter(study, broadcast=True)
+        token = uuid.uuid4().hex[:8]  # a sweep's own keys: another sweep's results are never reused
+        futures = {client.submit(timed_evaluate, remote, candidates[i], pure=False, key=f"candidate-{i}-{token}"): i
+                   for i in todo}
+        for future in as_completed(futures):
+            index = futures[future]
+            try:
+                answer = future.result()
+            except Exception as error:  # e.g. KilledWorker: the task killed every worker it ran on
+                answer = {"error": f"{type(error).__name__}: {error}", "worker": ""}
+            values = candidates[index]
+            if "error" in answer:
+                shown = ", ".join(f"{v.name} = {x:g}{' ' + v.unit if v.unit else ''}"
+                                  for v, x in zip(study.vary, values, strict=True))
+                line = f"candidate {index} ({shown}) failed on {answer['worker'] or 'a worker'}: {answer['error']}"
+                (bar.write if not bar.disable else report)(line)
+                result.failed.append({"candidate": index, "parameters": list(values), "error": answer["error"]})
+            else:
+                objectives = answer["objectives"]
+                appender.append([index, *values, *(objectives[c] for c in study.objective_columns),
+                                 answer["wall_time_s"], answer["worker"]])
+                result.computed += 1
+            bar.update(1)
+    finally:
+        bar.close()
+        appender.close()
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return {"started": started, "scheduler": scheduler or f"LocalCluster ({n_workers} workers)",
+            "workers": n_workers, "computed": result.computed, "failed": result.failed}
+
+
+# ------------------------------------------------------------------------------------------------ CLI
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """``armlab sweep``: see the module docstring."""
+    result = run_sweep(args.study, args.out, args.workers, args.scheduler)
+    print(f"{args.out}: {result.total} candidates: {result.done_before} done before, {result.computed} computed, "
+          f"{len(result.failed)} failed ({result.wall_time:.1f} s); wrote {RESULTS} {STUDY} {' '.join(result.plots)}")
+    return EXIT_FAILED + min(len(result.failed), 100) if result.failed else 0

@@ -1,0 +1,327 @@
+"""The workspace of a serial arm: volume (area of a planar arm), reach, bounding box, manipulability.
+
+The joint space is sampled uniformly within the joint limits (a revolute joint without limits over one
+full turn, −π … π), the tool point is computed for every sample in chunks (:func:`tool_positions`), and
+the workspace **volume** is the number of voxels of edge ``h`` the tool points occupy, times h³ (h² and
+an area for a planar arm, whose tool points are found to lie in one plane; h and a length for a line).
+
+A voxel estimate has two errors: too few samples leave cells inside the workspace empty (the estimate
+grows with N), and a cell that the boundary cuts counts whole (the estimate shrinks with h, to first
+order in h). The reported volume is therefore the Richardson extrapolation to h → 0 from the counts at
+h and 2h, V = 2·V(h) − V(2h), which removes the error of first order in h once the cells are filled;
+the default resolution keeps about :data:`SAMPLES_PER_CELL` samples per cell of the reach's ball (disc
+in the plane) so that they are. :func:`workspace` records V at N/64 … N samples and V(h) at h … 8h, so
+the convergence is seen.
+
+Manipulability (Yoshikawa's w = √det(J Jᵀ) and the smallest singular value σ_min) and the singular
+configurations are those of the arm's task Jacobian (:func:`task_jacobian`), on a subsample.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
+
+__all__ = [
+    "DEFAULT_SAMPLES",
+    "SAMPLES_PER_CELL",
+    "Workspace",
+    "default_resolution",
+    "joint_box",
+    "reach_bound",
+    "sample_joints",
+    "tool_positions",
+    "workspace",
+    "workspace_plane",
+]
+
+#: Joint-space samples of ``armlab workspace`` unless ``--samples`` says otherwise.
+DEFAULT_SAMPLES = 1_000_000
+#: Samples per cell of the reach's ball that the default resolution aims for.
+SAMPLES_PER_CELL = 40
+#: Configurations per batch of forward kinematics (bounds the memory of a workspace run).
+CHUNK = 1 << 16
+#: Most cells of an occupancy grid (one byte each).
+MAX_CELLS = 200_000_000
+#: Points kept for the plots and the 3-D point cloud, and configurations whose Jacobian is evaluated.
+KEPT = 40_000
+#: The resolutions of the convergence study, in multiples of h, and the sample fractions, 2^-k.
+RESOLUTION_FACTORS = (1, 2, 4, 8)
+SAMPLE_HALVINGS = 6
+
+
+def joint_box(arm: Arm) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The sampled joint ranges (rad or m): the limits, a revolute joint without limits over −π … π.
+
+    ``ValueError`` for a prismatic joint without limits (its stroke would be unbounded).
+    """
+    lower, upper = arm.limit_arrays()
+    for i, (name, revolute) in enumerate(zip(arm.joint_names, arm.revolute, strict=True)):
+        if np.isinf(lower[i]) or np.isinf(upper[i]):
+            if not revolute:
+                raise ValueError(f"{arm.name}: prismatic joint {name} has no limits; its workspace is unbounded")
+            lower[i], upper[i] = -np.pi, np.pi
+    return lower, upper
+
+
+def sample_joints(arm: Arm, samples: int, rng: np.random.Generator | int | None = 0) -> NDArray[np.float64]:
+    """``samples`` configurations drawn uniformly from :func:`joint_box`, shape ``(samples, n)``."""
+    lower, upper = joint_box(arm)
+    rng = np.random.default_rng(rng)
+    return lower + (upper - lower) * rng.random((int(samples), arm.n))
+
+
+def tool_positions(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
+    """The tool point of every configuration of the batch ``q`` (..., n), shape ``(..., 3)``, in metres.
+
+    Paper 003's locating matrices (eqs. 3–4, 8–9) applied to one point, from the tool to the base:
+    p ← T_{i−1,i}(q_i)·p for i = n … 1 starting at the tool row's origin, with R(k; q) p by Rodrigues'
+    formula p cos q + (k × p) sin q + k (k·p)(1 − cos q). A matrix-vector product per joint instead of
+    the 4 × 4 chain of :meth:`Arm.forward`, whose tool positions it equals (``tests/test_workspace.py``).
+    """
+    from armlab.kinematics.batch import as_batch
+
+    q = as_batch(q, arm.n)
+    shape = q.shape[:-1]
+    q = q.reshape(-1, arm.n)
+    p = np.repeat(np.asarray(arm.table.tool, dtype=float)[:3, 3:4], q.shape[0], axis=1)  # (3, N)
+    for i in range(arm.n - 1, -1, -1):
+        row, qi = arm.table.rows[i], q[:, i]
+        k = np.asarray(row.k, dtype=float)
+        if row.kind == "R":
+            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+            c, s = np.cos(qi), np.sin(qi)
+            p = c * p + s * (K @ p) + (1.0 - c) * (np.outer(k, k) @ p)
+        else:
+            p = p + k[:, None] * qi
+        p = np.asarray(row.R, dtype=float) @ p + np.asarray(row.P, dtype=float)[:, None]
+    return p.T.reshape(shape + (3,))
+
+
+def reach_bound(arm: Arm) -> float:
+    """An upper bound of the tool point's distance from the base (m): the sum of every link's offset,
+    the tool's, and each prismatic joint's largest stroke."""
+    lower, upper = joint_box(arm)
+    offsets = sum(float(np.linalg.norm(row.P)) for row in arm.table.rows)
+    strokes = sum(max(abs(lo), abs(hi)) for lo, hi, r in zip(lower, upper, arm.revolute, strict=True) if not r)
+    return offsets + float(np.linalg.norm(np.asarray(arm.table.tool)[:3, 3])) + strokes
+
+
+def workspace_plane(points: ArrayLike, tol: float = 1e-9) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The affine subspace the points ``(M, 3)`` span: (origin (3,), orthonormal basis (d, 3)), d = 1, 2 or 3.
+
+    A direction counts when the points spread along it by more than ``tol`` times their largest spread.
+    A subspace whose normal is a coordinate axis keeps the other coordinate axes as its basis (rr: x, y).
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    origin = pts.mean(axis=0)
+    _, s, vt = np.linalg.svd(pts - origin, full_matrices=False)
+    d = int(np.sum(s > tol * max(s[0], 1e-300)))
+    if d == 0:
+        raise ValueError("the tool point does not move: the workspace is a single point")
+    basis = vt[:d]
+    axes = np.flatnonzero(np.abs(basis).max(axis=0) > tol)
+    if len(axes) == d:  # the subspace is spanned by coordinate axes: use them
+        basis = np.eye(3)[axes]
+        origin = np.where(np.isin(np.arange(3), axes), 0.0, origin)
+    return origin, basis
+
+
+def default_resolution(arm: Arm, samples: int, dim: int = 3) -> float:
+    """Voxel edge h (m) giving about :data:`SAMPLES_PER_CELL` samples per cell of the reach's ball (disc)."""
+    radius = reach_bound(arm)
+    ball = {1: 2 * radius, 2: math.pi * radius**2, 3: 4 / 3 * math.pi * radius**3}[dim]
+    return (SAMPLES_PER_CELL * ball / samples) ** (1.0 / dim)
+
+
+@dataclass
+class Workspace:
+    """What :func:`workspace` found. Lengths in m, volume in m^dim (``volume_unit``): ``volume`` extrapolated
+    to h → 0, ``volume_voxels`` the occupied cells' at ``resolution``.
+
+    ``points``: up to :data:`KEPT` tool points (M, 3) of the configurations ``q`` (M, n), with their
+    ``manipulability`` and ``sigma_min`` (M,) where computed. ``convergence`` holds the estimates at
+    fewer samples and coarser resolutions.
+    """
+
+    arm: str
+    samples: int
+    dim: int
+    origin: NDArray[np.float64]
+    basis: NDArray[np.float64]
+    resolution: float
+    volume: float
+    volume_voxels: float
+    reach: float
+    bbox: NDArray[np.float64]  # (2, 3): min and max of x, y, z
+    convergence: dict[str, list[float]]
+    q: NDArray[np.float64]
+    points: NDArray[np.float64]
+    seed: int
+    wall_time: float
+    manipulability: NDArray[np.float64] | None = None
+    sigma_min: NDArray[np.float64] | None = None
+    singular: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def volume_unit(self) -> str:
+        """m, m² or m³."""
+        return {1: "m", 2: "m²", 3: "m³"}[self.dim]
+
+    @property
+    def measure(self) -> str:
+        """"length", "area" or "volume"."""
+        return {1: "length", 2: "area", 3: "volume"}[self.dim]
+
+    def summary(self) -> dict[str, Any]:
+        """The numbers of ``workspace.json``."""
+        out: dict[str, Any] = {
+            "arm": self.arm,
+            "samples": self.samples,
+            "seed": self.seed,
+            "measure": self.measure,
+            "volume": self.volume,
+            "volume_unit": self.volume_unit,
+            "volume_voxels": self.volume_voxels,
+            "resolution": self.resolution,
+            "reach": self.reach,
+            "bbox": {"min": self.bbox[0].tolist(), "max": self.bbox[1].tolist()},
+            "plane": {"origin": self.origin.tolist(), "basis": self.basis.tolist()},
+            "convergence": self.convergence,
+            "wall_time_s": self.wall_time,
+        }
+        if self.manipulability is not None and self.sigma_min is not None:
+            out["manipulability"] = _stats(self.manipulability) | {"configurations": int(self.manipulability.size)}
+            out["sigma_min"] = _stats(self.sigma_min)
+        if self.singular:  # keys starting with "_" hold what the plots need
+            out["singular"] = {k: v for k, v in self.singular.items() if not k.startswith("_")}
+        return out
+
+
+def _stats(values: NDArray[np.float64]) -> dict[str, float]:
+    return {"min": float(values.min()), "median": float(np.median(values)), "mean": float(values.mean()),
+            "max": float(values.max())}
+
+
+class _Occupancy:
+    """Boolean grids of cells of edge h·f (f in :data:`RESOLUTION_FACTORS`) over the cube ±bound."""
+
+    def __init__(self, h: float, bound: float, dim: int) -> None:
+        self.h, self.bound, self.dim = h, bound, dim
+        self.cells = math.ceil(2 * bound / h) + 1
+        if self.cells**dim > MAX_CELLS:
+            raise ValueError(f"resolution {h:g} m is too fine for a reach of {bound:g} m: {self.cells}^{dim} cells "
+                             f"exceed {MAX_CELLS:.0e}; give a coarser --resolution")
+        self.grids = [np.zeros((-(-self.cells // f)) ** dim, dtype=bool) for f in RESOLUTION_FACTORS]
+
+    def add(self, coords: NDArray[np.float64]) -> None:
+        index = np.floor((coords + self.bound) / self.h).astype(np.int64)
+        for f, grid in zip(RESOLUTION_FACTORS, self.grids, strict=True):
+            n = -(-self.cells // f)
+            cell = index // f
+            flat = cell[:, 0]
+            for j in range(1, self.dim):
+                flat = flat * n + cell[:, j]
+            grid[flat] = True
+
+    @staticmethod
+    def extrapolated(measures: list[float]) -> float:
+        """Richardson's 2·V(h) − V(2h): the voxel estimate extrapolated to h → 0."""
+        return 2 * measures[0] - measures[1]
+
+    def measures(self) -> list[float]:
+        """The occupied measure at every resolution, finest first."""
+        return [float(np.count_nonzero(g)) * (self.h * f) ** self.dim for f, g in zip(RESOLUTION_FACTORS, self.grids,
+                                                                                      strict=True)]
+
+
+def workspace(
+    arm: Arm,
+    samples: int = DEFAULT_SAMPLES,
+    resolution: float | None = None,
+    seed: int = 0,
+    jacobians: bool = True,
+) -> Workspace:
+    """Sample ``arm``'s joint space and measure its workspace (see the module docstring).
+
+    ``samples``: configurations (≥ 1000); ``resolution``: voxel edge h in m (default
+    :func:`default_resolution`); ``seed``: the random generator's seed (the same seed, the same
+    samples); ``jacobians``: also evaluate manipulability and singular configurations on a subsample.
+    """
+    import time
+
+    began = time.perf_counter()
+    samples = _check_samples(samples)
+    rng = np.random.default_rng(seed)
+    first = sample_joints(arm, min(samples, CHUNK), rng)
+    first_points = tool_positions(arm, first)
+    origin, basis = workspace_plane(first_points)
+    dim = basis.shape[0]
+    h = default_resolution(arm, samples, dim) if resolution is None else _check_resolution(resolution)
+    bound = reach_bound(arm) + float(np.linalg.norm(origin))
+    grid = _Occupancy(h, bound, dim)
+    checkpoints = sorted({samples >> k for k in range(SAMPLE_HALVINGS + 1) if samples >> k >= 1})
+    counts: list[float] = []
+    kept_q: list[NDArray] = []
+    kept_points: list[NDArray] = []
+    reach, lo, hi = 0.0, np.full(3, np.inf), np.full(3, -np.inf)
+    done = 0
+    pending = [(first, first_points)]
+    while done < samples:
+        if not pending:
+            q = sample_joints(arm, min(CHUNK, samples - done), rng)
+            pending.append((q, tool_positions(arm, q)))
+        q, points = pending.pop()
+        take = next(c for c in checkpoints if c > done) - done  # stop at each checkpoint to record it
+        if len(q) > take:
+            pending.append((q[take:], points[take:]))
+            q, points = q[:take], points[:take]
+        grid.add((points - origin) @ basis.T)
+        reach = max(reach, float(np.sqrt(np.max(np.einsum("ij,ij->i", points, points)))))
+        lo, hi = np.minimum(lo, points.min(axis=0)), np.maximum(hi, points.max(axis=0))
+        done += len(points)
+        if done in checkpoints:
+            counts.append(grid.extrapolated(grid.measures()))
+        kept = sum(len(k) for k in kept_q)
+        if kept < KEPT:
+            kept_q.append(q[: KEPT - kept])
+            kept_points.append(points[: KEPT - kept])
+    measures = grid.measures()
+    result = Workspace(
+        arm=arm.name, samples=samples, dim=dim, origin=origin, basis=basis, resolution=h,
+        volume=grid.extrapolated(measures), volume_voxels=measures[0],
+        reach=reach, bbox=np.stack([lo, hi]),
+        convergence={"samples": [float(c) for c in checkpoints], "volume_vs_samples": counts,
+                     "resolution": [h * f for f in RESOLUTION_FACTORS], "volume_vs_resolution": measures},
+        q=np.concatenate(kept_q), points=np.concatenate(kept_points), seed=seed, wall_time=0.0,
+    )
+    if jacobians:
+        from armlab.analysis.singular import add_manipulability
+
+        add_manipulability(arm, result)
+    result.wall_time = time.perf_counter() - began
+    return result
+
+
+def _check_samples(samples: Any) -> int:
+    number = isinstance(samples, (int, np.integer, float)) and not isinstance(samples, bool)
+    if not number or not float(samples).is_integer() or samples < 1000:
+        raise ValueError(f"samples = {samples!r} is not allowed: give a whole number ≥ 1000")
+    return int(samples)
+
+
+def _check_resolution(h: Any) -> float:
+    try:
+        value = float(h)
+    except (TypeError, ValueError):
+        value = float("nan")
+    if not math.isfinite(value) or value <= 0:
+        raise ValueError(f"resolution = {h!r} m is not allowed: give a positive voxel edge in metres")
+    return value

@@ -1,0 +1,169 @@
+"""Workspaces: tool positions, areas against closed forms and integration, convergence, singular loci, CLI."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from armlab.analysis.singular import SINGULAR_TOL, task_sigma
+from armlab.analysis.workspace import joint_box, sample_joints, tool_positions, workspace, workspace_plane
+from armlab.models import ARMS, get_arm
+
+ARMLAB = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "armlab")
+RR_AREA = np.pi * (0.7**2 - 0.1**2)  # annulus L1 ± L2 of paper 000's RR arm
+
+
+@pytest.mark.parametrize("name", list(ARMS))
+def test_tool_positions_equal_forward_kinematics(name: str) -> None:
+    arm = get_arm(name)
+    q = sample_joints(arm, 2000, 3)
+    np.testing.assert_allclose(tool_positions(arm, q), arm.forward(q).tool[:, :3, 3], rtol=0, atol=1e-12)
+    assert tool_positions(arm, q[0]).shape == (3,)
+
+
+def test_unlimited_revolute_joints_cover_a_full_turn() -> None:
+    lower, upper = joint_box(get_arm("urm6"))
+    np.testing.assert_array_equal(lower, -np.pi)
+    np.testing.assert_array_equal(upper, np.pi)
+    lower, upper = joint_box(get_arm("rr"))  # limits ±3π/2 (models/rr.py)
+    np.testing.assert_allclose(upper, 1.5 * np.pi)
+
+
+def test_rr_area_is_the_annulus() -> None:
+    ws = workspace(get_arm("rr"), 2_000_000, jacobians=False)
+    assert ws.dim == 2 and ws.volume_unit == "m²"
+    np.testing.assert_array_equal(ws.basis, np.eye(3)[:2])  # the plane z = 0, spanned by x and y
+    assert abs(ws.volume - RR_AREA) < 0.01 * RR_AREA
+    assert abs(ws.reach - 0.7) < 1e-6
+    np.testing.assert_allclose(ws.bbox, [[-0.7, -0.7, 0.0], [0.7, 0.7, 0.0]], atol=1e-4)
+
+
+def limited_2r_area(L1: float, L2: float) -> float:
+    """Area reached by a 2R arm with θ1, θ2 ∈ [−π/2, π/2], by integration over the radius.
+
+    At radius r the elbow angle is ±θ2(r) (law of cosines; |θ2| ≤ π/2 means r ≥ √(L1² + L2²)); the
+    polar angle is θ1 ± β with β = atan2(L2 sin θ2, L1 + L2 cos θ2), so the reached arc is the union of
+    two arcs of length π offset by 2β: π + 2β (2β < π here). Area = ∫ r (π + 2β(r)) dr.
+    """
+    r = np.linspace(np.hypot(L1, L2), L1 + L2, 200_001)
+    theta2 = np.arccos(np.clip((r**2 - L1**2 - L2**2) / (2 * L1 * L2), -1, 1))
+    beta = np.arctan2(L2 * np.sin(theta2), L1 + L2 * np.cos(theta2))
+    return float(np.trapezoid(r * (np.pi + 2 * beta), r))
+
+
+def test_limited_2r_area_against_integration() -> None:
+    arm = get_arm("rr", theta_max=np.pi / 2)
+    ws = workspace(arm, 2_000_000, jacobians=False)
+    expected = limited_2r_area(0.4, 0.3)
+    assert abs(ws.volume - expected) < 0.01 * expected, (ws.volume, expected)
+    assert ws.volume < 0.6 * RR_AREA  # the limits matter
+
+
+def test_volume_converges_as_samples_grow() -> None:
+    ws = workspace(get_arm("rr"), 2_000_000, jacobians=False)
+    n, v = np.array(ws.convergence["samples"]), np.array(ws.convergence["volume_vs_samples"])
+    assert n[-1] == 2_000_000 and np.all(np.diff(n) > 0) and v[-1] == ws.volume
+    errors = np.abs(v - RR_AREA) / RR_AREA
+    assert np.all(np.diff(errors) < 0)  # every doubling of the samples comes closer
+    assert errors[-1] < 0.002 and errors[0] > 0.5
+    h, vh = np.array(ws.convergence["resolution"]), np.array(ws.convergence["volume_vs_resolution"])
+    assert h[0] == ws.resolution and vh[0] == ws.volume_voxels and ws.volume == 2 * vh[0] - vh[1]
+    assert np.all(np.diff(vh) > 0)  # coarser cells overcount the boundary
+    assert abs(vh[0] - RR_AREA) > 5 * abs(ws.volume - RR_AREA)  # the extrapolation removes most of it
+
+
+def test_same_seed_same_volume_and_seed_matters() -> None:
+    arm = get_arm("urm6")
+    a, b = workspace(arm, 50_000, jacobians=False), workspace(arm, 50_000, jacobians=False)
+    c = workspace(arm, 50_000, seed=1, jacobians=False)
+    assert a.volume == b.volume and a.volume != c.volume
+
+
+def test_rr_singular_loci_are_det_j_zero() -> None:
+    arm = get_arm("rr")
+    ws = workspace(arm, 100_000)
+    loci = ws.singular["loci"]
+    assert ws.singular["depends_on"] == ["joint2"] and loci["independent_of_other_joints"]
+    # det J = L1 L2 sin θ2 (paper 000 eqs. 1-2 differentiated) vanishes at θ2 = kπ within ±3π/2
+    np.testing.assert_allclose(loci["values"], [-np.pi, 0.0, np.pi], atol=1e-9)
+    q = sample_joints(arm, 1000, 7)
+    w, s = task_sigma(arm, q)
+    np.testing.assert_allclose(w, 0.4 * 0.3 * np.abs(np.sin(q[:, 1])), atol=1e-12)  # Yoshikawa = |det J|
+    assert np.all(s <= w / s + 1e-12)
+
+
+def test_limited_2r_singular_only_stretched() -> None:
+    ws = workspace(get_arm("rr", theta_max=np.pi / 2), 50_000)
+    np.testing.assert_allclose(ws.singular["loci"]["values"], [0.0], atol=1e-9)
+
+
+def test_listed_singular_configurations_are_singular() -> None:
+    arm = get_arm("urm6")
+    ws = workspace(arm, 100_000)
+    found = ws.singular["configurations"]
+    assert found and ws.singular["rows"].startswith("all")
+    q = np.array([f["q"] for f in found])
+    assert np.all(task_sigma(arm, q)[1] < SINGULAR_TOL)
+    assert np.median(ws.sigma_min) > 1e3 * SINGULAR_TOL  # a typical configuration is not singular
+
+
+def test_r2t_has_no_singularity_within_its_limits() -> None:
+    ws = workspace(get_arm("r2t"), 50_000)
+    assert ws.singular["loci"]["values"] == []
+    assert ws.sigma_min.min() > 0.1
+
+
+def test_workspace_plane_of_a_tilted_plane() -> None:
+    rng = np.random.default_rng(0)
+    u, v = np.array([1.0, 1.0, 0.0]) / np.sqrt(2), np.array([0.0, 0.0, 1.0])
+    pts = np.array([0.1, 0.2, 0.3]) + rng.random((500, 1)) * u + rng.random((500, 1)) * v
+    origin, basis = workspace_plane(pts)
+    assert basis.shape == (2, 3)
+    np.testing.assert_allclose((origin - pts[0]) @ np.cross(u, v), 0, atol=1e-12)  # the origin is in the plane
+    np.testing.assert_allclose(np.abs(basis @ np.cross(u, v)), 0, atol=1e-12)
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"samples": 10}, "whole number ≥ 1000"),
+    ({"samples": 1500.5}, "whole number ≥ 1000"),
+    ({"resolution": -1.0}, "positive voxel edge"),
+    ({"resolution": 1e-6}, "too fine"),
+])
+def test_bad_arguments_are_one_line_errors(kwargs: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        workspace(get_arm("urm6"), **({"samples": 5000} | kwargs), jacobians=False)
+
+
+def test_cli_writes_every_file_and_prints_json(tmp_path: Path) -> None:
+    out = tmp_path / "ws"
+    run = subprocess.run([ARMLAB, "workspace", "rr", "--samples", "200000", "--out", str(out), "--json"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    summary = json.loads(run.stdout)
+    assert {"arm", "samples", "volume", "volume_unit", "reach", "bbox", "resolution"} <= set(summary)
+    assert summary["arm"] == "rr" and summary["volume_unit"] == "m²" and summary["samples"] == 200000
+    assert json.loads((out / "workspace.json").read_text()) == summary
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        ["workspace.json", "slices.png", "convergence.png", "singular.png", "workspace.html"])
+    html = (out / "workspace.html").read_text()
+    assert "<script" in html and 'src="http' not in html  # self-contained
+    again = subprocess.run([ARMLAB, "workspace", "rr", "--samples", "100000", "--out", str(out)],
+                           capture_output=True, text=True, timeout=300)
+    assert again.returncode == 0 and "singular where joint2 = -180, 0, 180 deg" in again.stdout
+
+
+def test_cli_bad_input(tmp_path: Path) -> None:
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "notes.txt").write_text("mine")
+    for args, message in ((["rr", "--samples", "5"], "whole number ≥ 1000"),
+                          (["rr", "--resolution", "0"], "positive voxel edge"),
+                          (["nope"], "unknown arm"),
+                          (["rr", "--out", str(tmp_path / "other")], "is not an armlab workspace folder")):
+        run = subprocess.run([ARMLAB, "workspace", *args], capture_output=True, text=True, timeout=120)
+        assert run.returncode == 2, (args, run.stderr)
+        assert run.stderr.startswith("armlab: error:") and message in run.stderr and "Traceback" not in run.stderr
+    assert (tmp_path / "other" / "notes.txt").read_text() == "mine"
