@@ -26,6 +26,7 @@ from armlab.files import write_file
 if TYPE_CHECKING:
     from pydrake.geometry import Meshcat
 
+    from armlab.diagrams.simulate import SimulationLog
     from armlab.models.arm import Arm
 
 __all__ = [
@@ -48,9 +49,19 @@ MAX_FRAMES = 1800
 CAMERA_FOV_DEG = 75.0
 #: Width / height the camera framing assumes (a landscape browser window is at least this wide).
 CAMERA_ASPECT = 1.25
+#: Meshcat path of the arm's scene (Drake's visualizer draws under ``/drake/visualizer``); turned so
+#: that gravity points down (:func:`display_rotation`).
+SCENE = "/drake"
 #: Path of the tool-path line in the Meshcat scene tree.
-TOOL_PATH = "/tool_path"
+TOOL_PATH = f"{SCENE}/tool_path"
+#: Path of the payload sphere and of the floor grid.
+PAYLOAD = f"{SCENE}/payload"
+FLOOR = "/floor"
+#: Playback seconds the replay holds at a join of two runs (a branch switch), before the next run.
+JOIN_PAUSE = 1.5
 _PATH_RGBA = (0.0, 0.5, 0.1, 1.0)
+#: Colour of a body whose URDF gives it no material (Drake's default, light grey, vanishes on white).
+DEFAULT_RGBA = (0.85, 0.45, 0.12, 1.0)
 
 
 @dataclass
@@ -114,7 +125,8 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
     arm.add_to_plant(plant)
     plant.Finalize()
     visualizer = MeshcatVisualizer.AddToBuilder(
-        builder, scene_graph, meshcat, MeshcatVisualizerParams(publish_period=publish_period)
+        builder, scene_graph, meshcat,
+        MeshcatVisualizerParams(publish_period=publish_period, default_color=_rgba(DEFAULT_RGBA)),
     )
     if extra is not None:
         extra(builder, plant)
@@ -123,15 +135,67 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
     return Scene(diagram, plant, visualizer, diagram.CreateDefaultContext(), index)
 
 
-def style_scene(meshcat: Meshcat) -> None:
-    """A plain white background and no floor grid or world axes, so the arm stands out.
+def display_rotation(arm: Arm) -> NDArray[np.float64]:
+    """The rotation R (3×3) under which the arm is shown: R·ĝ = −z, so gravity points down the screen.
 
-    (Meshcat's gradient background is hidden rather than recoloured: seen from steeply above,
-    its texture leaves a wedge of a different colour at the window's edge.)
+    Meshcat's camera keeps its up vector along the root's +z; the arm's scene (``/drake``) is turned
+    by R. For rr (gravity −y) that is Rx(90°): its plane becomes the vertical x-z plane.
     """
+    g = np.asarray(arm.gravity, dtype=float)
+    if not np.any(g):
+        return np.eye(3)
+    g = g / np.linalg.norm(g)
+    down = np.array([0.0, 0.0, -1.0])
+    axis = np.cross(g, down)
+    s, c = np.linalg.norm(axis), float(g @ down)
+    if s < 1e-12:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])  # already down, or up: a half turn about x
+    k = axis / s
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + s * K + (1 - c) * K @ K  # Rodrigues
+
+
+def style_scene(meshcat: Meshcat, arm: Arm, points: ArrayLike) -> NDArray[np.float64]:
+    """A plain white background, the arm turned so that gravity points down (:func:`display_rotation`),
+    a floor grid under ``points`` (M, 3) (what the arm occupies, world frame) and the world axes.
+
+    Meshcat's own grid and axes are hidden (they would be in the turned frame's place, 10 m wide);
+    the floor drawn instead is perpendicular to gravity, just below the lowest point, with 0.1 m or
+    1 m squares. The world axes are red, green, blue cylinders (x, y, z) at the world origin.
+    (Meshcat's gradient background is hidden rather than recoloured: seen from steeply above, its
+    texture leaves a wedge of a different colour at the window's edge.) Returns the rotation.
+    """
+    from pydrake.geometry import Cylinder
+    from pydrake.math import RigidTransform, RotationMatrix
+
     meshcat.SetProperty("/Background", "visible", False)
     meshcat.SetProperty("/Grid", "visible", False)
     meshcat.SetProperty("/Axes", "visible", False)
+    R = display_rotation(arm)
+    meshcat.SetTransform(SCENE, RigidTransform(RotationMatrix(R), np.zeros(3)))
+    shown = np.asarray(points, dtype=float).reshape(-1, 3) @ R.T
+    lo, hi = shown.min(axis=0), shown.max(axis=0)
+    size = max(float(np.ptp(shown[:, :2], axis=0).max()), float(np.ptp(shown[:, 2])), 0.1)
+    step = 0.1 if size < 3 else 1.0
+    half = np.ceil(0.75 * size / step) * step
+    centre = np.round((lo + hi)[:2] / 2 / step) * step
+    ticks = np.arange(-half, half + step / 2, step)
+    z = min(lo[2], 0.0) - 1e-3
+    x, y = centre
+    starts = [(x + v, y - half, z) for v in ticks] + [(x - half, y + v, z) for v in ticks]
+    ends = [(x + v, y + half, z) for v in ticks] + [(x + half, y + v, z) for v in ticks]
+    # The grid lives in the root (display) frame: it is the floor whatever way the arm is turned.
+    meshcat.SetLineSegments(FLOOR, np.array(starts).T.copy(), np.array(ends).T.copy(), 1.0,
+                            _rgba((0.72, 0.74, 0.78, 1.0)))
+    length, radius = 0.15 * size, 0.006 * size
+    for j, (axis, color) in enumerate(zip("xyz", ((0.85, 0.1, 0.1, 1.0), (0.1, 0.65, 0.1, 1.0),
+                                                   (0.1, 0.3, 0.9, 1.0)), strict=True)):
+        direction = np.eye(3)[j]
+        # Meshcat's cylinder runs along its z: turn z onto the axis, centre it half-way along.
+        turn = RotationMatrix.MakeFromOneVector(direction, 2)
+        meshcat.SetObject(f"{SCENE}/world_axes/{axis}", Cylinder(radius, length), _rgba(color))
+        meshcat.SetTransform(f"{SCENE}/world_axes/{axis}", RigidTransform(turn, direction * length / 2))
+    return R
 
 
 def reach_points(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
@@ -149,10 +213,11 @@ def reach_points(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
 def _view_directions() -> NDArray[np.float64]:
     """Candidate directions from the target to the camera, most customary first.
 
-    Azimuths every 30° and elevations 20° … 70°, ordered by how far they are from the usual
-    front-right three-quarter view (azimuth −60°, elevation 30°).
+    Azimuths every 30° and elevations 15° … 45° (gravity, −z on the display, points down the
+    screen), ordered by how far they are from the usual front-right three-quarter view
+    (azimuth −60°, elevation 30°).
     """
-    az, el = np.meshgrid(np.arange(-180.0, 180.0, 30.0), np.array([20.0, 30.0, 45.0, 60.0, 70.0]), indexing="ij")
+    az, el = np.meshgrid(np.arange(-180.0, 180.0, 30.0), np.array([15.0, 20.0, 30.0, 45.0]), indexing="ij")
     az, el = az.ravel(), el.ravel()
     order = np.argsort(np.abs((az + 60.0 + 180.0) % 360.0 - 180.0) / 30.0 + np.abs(el - 30.0) / 15.0, kind="stable")
     az, el = np.radians(az[order]), np.radians(el[order])
@@ -179,12 +244,30 @@ def _fit(rel: NDArray, d: NDArray, margin: float) -> tuple[NDArray, NDArray, NDA
     return distance, fill, shift
 
 
+def _face_on(points: NDArray) -> NDArray | None:
+    """The view direction (1, 3) that sees planar ``points`` face-on, if their plane is vertical.
+
+    Of the plane's two normals, the one that puts the display's x axis to the right (or y, when
+    the plane is x = const). ``None`` if the points are not in one vertical plane.
+    """
+    centred = points - points.mean(axis=0)
+    _, sv, vt = np.linalg.svd(centred, full_matrices=False)
+    normal = vt[-1]
+    if sv[0] == 0 or sv[-1] > 1e-6 * sv[0] or abs(normal[2]) > 1e-6:
+        return None
+    right = np.cross(np.array([0.0, 0.0, 1.0]), normal)
+    if right[0] < -1e-9 or (abs(right[0]) <= 1e-9 and right[1] < 0):
+        normal = -normal
+    return normal[None, :]
+
+
 def frame_camera(meshcat: Meshcat, points: ArrayLike, margin: float = 0.0) -> tuple[NDArray, NDArray]:
     """Place Meshcat's camera so that ``points`` (M, 3) — the arm's reach — fill the view.
 
-    Of a set of oblique view directions, the most customary one (front-right three-quarter view
-    first) whose view of the points fills at least 80 % as much of a :data:`CAMERA_ASPECT` window
-    as the best one is chosen — so a planar arm is seen from above its plane, not edge-on — and the
+    ``points`` are in the display frame (gravity −z). Points in one vertical plane (a planar arm
+    turned so that gravity is down) are seen face-on. Otherwise, of a set of oblique view directions,
+    the most customary one (front-right three-quarter view first) whose view of the points fills at
+    least 80 % as much of a :data:`CAMERA_ASPECT` window as the best one is chosen, and the
     camera is moved as close as the perspective view allows with every point, grown by ``margin``
     metres, inside. Returns (camera, target) in Drake's world frame.
     """
@@ -192,9 +275,11 @@ def frame_camera(meshcat: Meshcat, points: ArrayLike, margin: float = 0.0) -> tu
     if pts.size == 0 or not np.all(np.isfinite(pts)):
         raise ValueError("frame_camera: points must be a non-empty array of finite (x, y, z)")
     target = (pts.min(axis=0) + pts.max(axis=0)) / 2
-    d = _view_directions()
-    _, fill, _ = _fit(pts - target, d, margin)
-    d = d[int(np.argmax(fill >= 0.8 * fill.max()))][None, :]
+    d = _face_on(pts)
+    if d is None:
+        d = _view_directions()
+        _, fill, _ = _fit(pts - target, d, margin)
+        d = d[int(np.argmax(fill >= 0.8 * fill.max()))][None, :]
     for _ in range(2):  # centre the picture: aim at the middle of the points' screen bounding box
         distance, _, shift = _fit(pts - target, d, margin)
         target = target + shift[0]
@@ -204,21 +289,40 @@ def frame_camera(meshcat: Meshcat, points: ArrayLike, margin: float = 0.0) -> tu
     return camera, target
 
 
-def _frames(times: NDArray[np.float64]) -> tuple[float, NDArray[np.int64], NDArray[np.float64]]:
-    """Frame rate, frame numbers k and sample times (k / fps clipped to the run) of a replay.
+def _frames(times: NDArray[np.float64], run: NDArray[np.intp]) -> tuple[float, NDArray[np.int64], NDArray, NDArray]:
+    """Frame rate, frame numbers, run times and runs of a replay's frames.
 
     The rate is :data:`MAX_FPS`, lowered so that a long run has at most :data:`MAX_FRAMES` frames.
-    Frame k plays at time k / fps, so playback time is the run's time.
+    Frame k plays at k / fps. Within a run the frames sample the run's time uniformly (the first
+    run starts at frame floor(t0 · fps), so a one-run replay plays in the run's time); after each
+    run but the last the replay holds the run's end for :data:`JOIN_PAUSE` s, then the next run
+    starts: playback time = run time + the pauses before it.
     """
-    duration = times[-1] - times[0]
-    fps = MAX_FPS if duration * MAX_FPS <= MAX_FRAMES - 2 else (MAX_FRAMES - 2) / duration
-    k = np.arange(np.floor(times[0] * fps), np.ceil(times[-1] * fps) + 1).astype(np.int64)
-    return fps, k, np.clip(k / fps, times[0], times[-1])
+    runs = np.unique(run)
+    duration = times[-1] - times[0] + JOIN_PAUSE * (len(runs) - 1)
+    budget = MAX_FRAMES - 2 - 2 * len(runs)  # each run may round up by a frame
+    fps = MAX_FPS if duration * MAX_FPS <= budget else budget / duration
+    t_parts, run_parts = [], []
+    for k in runs:
+        t0, t1 = times[run == k][[0, -1]]
+        local = np.clip(t0 + np.arange(int(np.ceil((t1 - t0) * fps - 1e-9)) + 1) / fps, t0, t1)
+        if k != runs[-1]:
+            local = np.concatenate([local, np.full(round(JOIN_PAUSE * fps), t1)])
+        t_parts.append(local)
+        run_parts.append(np.full(local.size, k))
+    t, frame_run = np.concatenate(t_parts), np.concatenate(run_parts)
+    first = int(np.floor(times[0] * fps + 1e-9))
+    return fps, first + np.arange(t.size, dtype=np.int64), t, frame_run
 
 
-def _interpolate(t: NDArray, times: NDArray, values: NDArray) -> NDArray:
-    """Column-wise linear interpolation of ``values`` (N, k) sampled at ``times`` onto ``t``."""
-    return np.stack([np.interp(t, times, column) for column in values.T], axis=-1)
+def _interpolate(t: NDArray, frame_run: NDArray, times: NDArray, run: NDArray, values: NDArray) -> NDArray:
+    """``values`` (N, k) sampled at ``times`` in runs ``run``, linearly interpolated onto ``t`` within each run
+    (never across a join of two runs)."""
+    out = np.empty((t.size, values.shape[1]))
+    for k in np.unique(frame_run):
+        rows, frames = run == k, frame_run == k
+        out[frames] = np.stack([np.interp(t[frames], times[rows], column) for column in values[rows].T], axis=-1)
+    return out
 
 
 def _check_run(arm: Arm, times: ArrayLike, q: ArrayLike, tool_path: ArrayLike | None) -> tuple[NDArray, ...]:
@@ -240,40 +344,195 @@ def _check_run(arm: Arm, times: ArrayLike, q: ArrayLike, tool_path: ArrayLike | 
 
 
 def write_replay(
-    arm: Arm, times: NDArray, q: NDArray, path: Path, tool_path: NDArray | None = None
+    arm: Arm, times: NDArray, q: NDArray, path: Path, tool_path: NDArray | None = None, tau: NDArray | None = None,
+    run: NDArray | None = None, payload: float = 0.0, deg: bool = False,
 ) -> Path:
     """Record the run ``q(times)`` (N, n) of ``arm`` and save it as one self-contained HTML file at ``path``.
 
     The motion is resampled to uniform frames (≤ :data:`MAX_FPS` fps), posed in a Drake plant and
-    recorded by ``MeshcatVisualizer`` into a Meshcat animation that plays on opening (playback time
-    = the run's time). ``tool_path`` (N, 3), the tool point's positions, is drawn as a line; by
-    default it is the arm's forward kinematics of ``q``. The camera frames everything the arm
-    occupies during the run. The file is written atomically (:func:`~armlab.files.write_file`).
+    recorded by ``MeshcatVisualizer`` into a Meshcat animation that plays and loops on opening
+    (playback time = the run's time). The page has a control bar (play/pause, loop, a time slider)
+    and a readout of t, q (degrees for revolute joints if ``deg``, else rad; m) and τ (N·m, N;
+    ``tau`` (N, n) if given). ``tool_path`` (N, 3), the tool point's positions, is drawn as a line;
+    by default it is the arm's forward kinematics of ``q``. ``payload`` > 0 kg is drawn as a sphere
+    at the tool point. ``run`` (N,) numbers the continuous runs of a motion made of several (e.g.
+    a branch switch): the replay never interpolates across a join — it holds the end of one run
+    for :data:`JOIN_PAUSE` s under a banner saying what happens, and the arm is hidden for the one
+    frame in which it changes pose. The arm is turned so that gravity points down the screen, on a
+    floor grid, with the world axes; the camera frames everything the arm occupies during the run.
+    The file is written atomically (:func:`~armlab.files.write_file`).
     """
     times, q, tool_path = _check_run(arm, times, q, tool_path)
+    tau = None if tau is None else np.asarray(tau, dtype=float)
+    if tau is not None and (tau.shape != q.shape or not np.all(np.isfinite(tau))):
+        raise ValueError(f"replay: tau must be finite with shape {q.shape}, got {tau.shape}")
+    run = np.zeros(times.size, dtype=np.intp) if run is None else np.asarray(run)
+    if run.shape != times.shape or np.any(np.diff(run) < 0):
+        raise ValueError(f"replay: run must be non-decreasing run numbers of shape {times.shape}")
+    if not (np.isfinite(payload) and payload >= 0):
+        raise ValueError(f"replay: payload = {payload} kg must be a finite mass ≥ 0")
     if tool_path is None:
         tool_path = arm.forward(q).tool[:, :3, 3]
     path = Path(path)
-    fps, k, t = _frames(times)
-    frames_q = _interpolate(t, times, q)
+    fps, k, t, frame_run = _frames(times, run)
+    frames_q = _interpolate(t, frame_run, times, run, q)
+    frames_tau = None if tau is None else _interpolate(t, frame_run, times, run, tau)
 
     meshcat = start_meshcat()
     scene = build_scene(arm, meshcat, publish_period=1 / fps)
-    style_scene(meshcat)
+    reach = np.concatenate([reach_points(arm, frames_q), tool_path])
+    R = style_scene(meshcat, arm, reach)
     radius = max(body.radius for body in arm.bodies)
-    frame_camera(meshcat, np.concatenate([reach_points(arm, frames_q), tool_path]), margin=2.5 * radius)
-    meshcat.SetLine(TOOL_PATH, tool_path.T.copy(), line_width=3.0, rgba=_rgba(_PATH_RGBA))
+    frame_camera(meshcat, reach @ R.T, margin=2.5 * radius)
+    for k_run in np.unique(run):  # one line per run: no segment joins two runs
+        rows = run == k_run
+        meshcat.SetLine(f"{TOOL_PATH}/{k_run}", tool_path[rows].T.copy(), line_width=3.0, rgba=_rgba(_PATH_RGBA))
+    tool = arm.forward(frames_q).tool
+    if payload > 0:
+        from pydrake.geometry import Sphere
+
+        meshcat.SetObject(PAYLOAD, Sphere(1.3 * radius), _rgba((0.25, 0.25, 0.3, 1.0)))
     scene.visualizer.StartRecording(set_transforms_while_recording=False)
     # The recording files a publish at time τ under frame floor(τ · fps); publishing half a frame
     # late keeps rounding from putting two samples in one frame.
     for frame, q_frame in zip(k, frames_q, strict=True):
         scene.show(q_frame, (frame + 0.5) / fps)
     scene.visualizer.StopRecording()
+    recording = scene.visualizer.get_mutable_recording()
+    recording.set_repetitions(2**31 - 1)  # loops; the page's "loop" box turns it off
+    # Hidden while the pose jumps at a join (no broken arm); a visibility track holds its first value
+    # before its first key, so the first frame says "visible".
+    recording.SetProperty(int(k[0]), "/drake/visualizer", "visible", True)
+    for j in np.nonzero(np.diff(frame_run))[0]:
+        recording.SetProperty(int(k[j]), "/drake/visualizer", "visible", False)
+        recording.SetProperty(int(k[j + 1]), "/drake/visualizer", "visible", True)
+    if payload > 0:
+        from pydrake.math import RigidTransform
+
+        for frame, T in zip(k, tool, strict=True):
+            recording.SetTransform(int(frame), PAYLOAD, RigidTransform(T[:3, 3]))
+        meshcat.SetTransform(PAYLOAD, RigidTransform(tool[0, :3, 3]))
     scene.show(frames_q[0], float(t[0]))  # the static scene (before playback) shows the first pose
     scene.visualizer.PublishRecording()
     html = meshcat.StaticHtml()
-    write_file(path, html)
+    data = _page_data(arm, fps, k, t, frame_run, frames_q, frames_tau, deg)
+    end = html.rfind("</body>")
+    write_file(path, html[:end] + _controls(data) + html[end:])
     return path
+
+
+def replay_log(log: SimulationLog, path: Path, deg: bool = False) -> Path:
+    """:func:`write_replay` of a simulation: its q, τ, tool path, runs and payload."""
+    return write_replay(log.arm, log.t, log.q, path, tool_path=log.tool[:, :3], tau=log.tau, run=log.run,
+                        payload=log.payload, deg=deg)
+
+
+def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray, q: NDArray,
+               tau: NDArray | None, deg: bool) -> dict[str, Any]:
+    """What the page's readout shows, per frame (JSON-ready)."""
+    shown = np.where(arm.revolute, np.degrees(q), q) if deg else q
+    joins = []
+    for j in np.nonzero(np.diff(frame_run))[0]:
+        held = np.nonzero((frame_run == frame_run[j]) & (t == t[j]))[0]
+        joins.append({"from": float(k[held[0]] / fps), "to": float(k[j + 1] / fps), "t": float(t[j]),
+                      "text": f"t = {t[j]:.4g} s: run {int(frame_run[j]) + 1} ends, run {int(frame_run[j + 1]) + 1} "
+                              "starts in another pose (e.g. another IK branch). The arm is not simulated between "
+                              "the two poses: the replay jumps."})
+    return {
+        "fps": fps, "first": int(k[0]), "t": np.round(t, 6).tolist(),
+        "q": np.round(shown, 6).tolist(), "tau": None if tau is None else np.round(tau, 6).tolist(),
+        "q_units": ["°" if (r and deg) else ("rad" if r else "m") for r in arm.revolute],
+        "tau_units": ["N·m" if r else "N" for r in arm.revolute], "joins": joins,
+    }
+
+
+def _controls(data: dict[str, Any]) -> str:
+    """The page's control bar, readout and join banner (HTML, CSS and a script driving ``viewer.animator``)."""
+    import json
+
+    sizes = _CONTROLS.replace("BAR_PX", str(BAR_HEIGHT)).replace("BANNER_PX", str(BAR_HEIGHT + 12))
+    return sizes.replace("/*DATA*/null", json.dumps(data, ensure_ascii=False))
+
+
+#: Height (px) of the control bar below the 3-D view of the replay page.
+BAR_HEIGHT = 86
+_CONTROLS = """
+<style>
+html,body{margin:0;overflow:hidden}
+#meshcat-pane{height:calc(100vh - BAR_PXpx) !important}
+#armlab-bar{position:relative;height:BAR_PXpx;box-sizing:border-box;padding:8px 14px;
+  background:#f4f5f7;border-top:1px solid #b8bcc4;font:15px/1.4 Helvetica,Arial,sans-serif;color:#1d2733;z-index:20}
+#armlab-row{display:flex;gap:14px;align-items:center}
+#armlab-play{font-size:16px;min-width:96px;padding:3px 8px;cursor:pointer}
+#armlab-track{flex:1;position:relative}
+#armlab-slider{width:100%;height:22px;cursor:pointer;margin:0}
+#armlab-time{font-family:monospace;min-width:150px;text-align:right}
+#armlab-readout{font-family:monospace;font-size:14px;white-space:nowrap;overflow:hidden;margin-top:6px}
+#armlab-banner{position:fixed;left:50%;bottom:BANNER_PXpx;transform:translateX(-50%);max-width:70%;display:none;
+  background:#b03a2e;color:#fff;padding:9px 16px;border-radius:6px;font:15px/1.4 Helvetica,Arial,sans-serif;z-index:20}
+</style>
+<div id="armlab-banner"></div>
+<div id="armlab-bar"><div id="armlab-row">
+  <button id="armlab-play" title="play / pause (space)">&#9208; Pause</button>
+  <label><input type="checkbox" id="armlab-loop" checked> loop</label>
+  <div id="armlab-track"><input type="range" id="armlab-slider" min="0" max="1" step="0.001" value="0"
+    title="playback time"></div>
+  <span id="armlab-time"></span></div>
+  <div id="armlab-readout"></div></div>
+<script>
+(function () {
+  const D = /*DATA*/null;
+  const $ = (id) => document.getElementById(id);
+  const play = $("armlab-play"), loop = $("armlab-loop"), slider = $("armlab-slider");
+  function now(a) { return a.actions.reduce((m, x) => Math.max(m, x.time), 0); }
+  function frame(time) { return Math.max(0, Math.min(D.t.length - 1, Math.round(time * D.fps) - D.first)); }
+  function fmt(v) { return (v >= 0 ? "+" : "") + v.toFixed(3); }
+  function show(time) {
+    const i = frame(time);
+    $("armlab-time").textContent = "t = " + D.t[i].toFixed(3) + " s";
+    let text = "q = (" + D.q[i].map((v, j) => fmt(v) + " " + D.q_units[j]).join(", ") + ")";
+    if (D.tau) text += "    \u03c4 = (" + D.tau[i].map((v, j) => fmt(v) + " " + D.tau_units[j]).join(", ") + ")";
+    $("armlab-readout").textContent = text;
+    const join = D.joins.find((j) => time >= j.from - 1e-9 && time < j.to);
+    $("armlab-banner").style.display = join ? "block" : "none";
+    if (join) $("armlab-banner").textContent = "Branch switch \u2014 " + join.text;
+  }
+  function start(a) {
+    slider.max = a.duration;
+    const repeat = () => a.actions.forEach((x) => { x.repetitions = loop.checked ? Infinity : 1; });
+    loop.onchange = repeat;
+    repeat();
+    play.onclick = () => {
+      if (a.playing) { a.pause(); return; }
+      if (now(a) >= a.duration - 1e-6 || a.actions.every((x) => !x.enabled || x.paused)) a.reset();
+      a.actions.forEach((x) => { x.paused = false; x.enabled = true; });
+      a.play();
+    };
+    document.addEventListener("keydown", (e) => { if (e.code === "Space") { e.preventDefault(); play.onclick(); } });
+    slider.oninput = () => { a.pause(); a.seek(+slider.value); show(+slider.value); };
+    for (const j of D.joins) {  // the joins marked on the slider
+      const mark = document.createElement("div");
+      mark.title = "branch switch at t = " + j.t + " s";
+      mark.style.cssText = "position:absolute;top:-4px;width:4px;height:30px;pointer-events:none;" +
+        "background:#b03a2e;left:" + (100 * j.from / a.duration).toFixed(2) + "%";
+      $("armlab-track").appendChild(mark);
+    }
+    (function tick() {
+      const time = now(a);
+      if (document.activeElement !== slider) slider.value = time;
+      play.innerHTML = a.playing ? "&#9208; Pause" : "&#9654; Play";
+      show(time);
+      requestAnimationFrame(tick);
+    })();
+  }
+  (function wait() {
+    const a = window.viewer && viewer.animator;
+    if (!a || a.actions.length === 0) { setTimeout(wait, 20); return; }
+    start(a);
+  })();
+})();
+</script>
+"""
 
 
 def _rgba(values: tuple[float, float, float, float]) -> Any:

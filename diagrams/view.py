@@ -87,9 +87,10 @@ class Viewer:
         self._sliders_context = self.sliders.GetMyContextFromRoot(self.scene.context)
         plant = self.scene.plant
         self._tool = plant.GetFrameByName(arm.tool_name)
-        style_scene(self.meshcat)
+        reach = reach_points(arm, self._reach_samples())
+        R = style_scene(self.meshcat, arm, reach)
         radius = max(body.radius for body in arm.bodies)
-        frame_camera(self.meshcat, reach_points(arm, self._reach_samples()), margin=2.5 * radius)
+        frame_camera(self.meshcat, reach @ R.T, margin=2.5 * radius)
         self.meshcat.AddButton(_STOP, "Escape")
         self._q0 = np.asarray(q0, dtype=float)
         self._reading: NDArray[np.float64] | None = None  # the sliders' values at the last step

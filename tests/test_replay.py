@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import io
+import json
 import re
 import shutil
 import socket
@@ -25,7 +26,7 @@ import pytest
 from conftest import ARM_NAMES
 from matplotlib.image import imread
 
-from armlab.diagrams.replay import MAX_FPS, MAX_FRAMES, write_replay
+from armlab.diagrams.replay import BAR_HEIGHT, JOIN_PAUSE, MAX_FPS, MAX_FRAMES, display_rotation, write_replay
 from armlab.diagrams.view import Viewer, open_meshcat, register, run_view
 from armlab.models import get_arm
 
@@ -70,8 +71,9 @@ def screenshots(html: Path, times: tuple[float, ...], tmp: Path) -> list[Path]:
 
 
 def image(png: Path) -> np.ndarray:
-    """RGB in 0 … 1 below Meshcat's "Open Controls" bar (the top 24 rows are cropped)."""
-    return imread(png)[24:, :, :3]
+    """RGB in 0 … 1 of the 3-D view: below Meshcat's "Open Controls" bar (the top 24 rows are cropped) and
+    above the replay's control bar (its :data:`BAR_HEIGHT` rows, whose readout changes with time)."""
+    return imread(png)[24:-BAR_HEIGHT, :, :3]
 
 
 def solid(mask: np.ndarray) -> np.ndarray:
@@ -280,3 +282,39 @@ def test_view_subcommand_rejects_an_unknown_arm_and_bad_q():
     args = parse_view("rr", "--duration", "-1")
     with pytest.raises(ValueError, match="--duration"):
         args.func(args)
+
+
+# ------------------------------------------------------------------ controls, joins, gravity
+def test_replay_has_visible_controls_and_a_readout_in_the_users_units(tmp_path):
+    arm = get_arm("rr")
+    t = np.linspace(0.0, 2.0, 41)
+    q = sweep(arm, t)
+    path = write_replay(arm, t, q, tmp_path / "r.html", tau=np.ones_like(q), deg=True)
+    html = path.read_text()
+    for element in ('id="armlab-play"', 'id="armlab-loop" checked', 'id="armlab-slider"', 'id="armlab-readout"'):
+        assert element in html
+    data = json.loads(re.search(r"const D = (\{.*?\});\n", html).group(1))
+    np.testing.assert_allclose(np.radians(data["q"][0]), q[0], atol=1e-6)  # degrees, first frame = start
+    assert data["q_units"] == ["°", "°"] and data["tau_units"] == ["N·m", "N·m"] and data["joins"] == []
+
+
+def test_a_branch_switch_pauses_with_a_banner_and_never_interpolates(tmp_path):
+    arm = get_arm("rr")
+    times = np.array([0.0, 1.0, 1.0, 2.0])
+    q = np.array([[0.0, 0.5], [0.3, 0.5], [1.2, -0.5], [1.5, -0.5]])
+    path = write_replay(arm, times, q, tmp_path / "j.html", run=np.array([0, 0, 1, 1]))
+    data = json.loads(re.search(r"const D = (\{.*?\});\n", path.read_text()).group(1))
+    (join,) = data["joins"]
+    assert join["t"] == 1.0 and join["to"] - join["from"] >= JOIN_PAUSE - 0.05
+    frames = np.array(data["q"])
+    # Every frame is a pose of one run or the other, never a blend of the two across the join.
+    assert np.all((np.abs(frames[:, 1] - 0.5) < 1e-9) | (np.abs(frames[:, 1] + 0.5) < 1e-9))
+    paused, after = screenshots(path, ((join["from"] + join["to"]) / 2, join["to"] + 0.2), tmp_path)
+    assert_shows_arm_moving(paused, after)
+
+
+def test_the_view_is_turned_so_gravity_points_down():
+    for name in ARM_NAMES:
+        arm = get_arm(name)
+        g = np.asarray(arm.gravity) / np.linalg.norm(arm.gravity)
+        np.testing.assert_allclose(display_rotation(arm) @ g, [0.0, 0.0, -1.0], atol=1e-12)
