@@ -529,7 +529,8 @@ def _inside(path: Path, folders: Sequence[Path], what: str) -> Path:
     """``path`` with symlinks and ``..`` resolved, if it lies inside one of ``folders``; else an error."""
     real = path.resolve()
     if not any(real.is_relative_to(folder) for folder in folders):
-        raise ValueError(f"{what}: {path} lies outside the URDF's folder and its ROS package "
+        shown = str(real) if path.is_symlink() or ".." in path.parts else str(path)
+        raise ValueError(f"{what}: {shown} lies outside the URDF's folder and its ROS package "
                          f"({', '.join(map(str, folders))}): armlab reads no files from elsewhere")
     return real
 

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import arm_and_plant
 
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models import get_arm
 from armlab.models.custom import from_dh, from_urdf
+from armlab.models.urdf import JointLimits
 
 PUMA_LIKE = """# convention: standard
 type,a,alpha,d,theta,lower,upper
@@ -216,3 +218,312 @@ def test_dh_rows_validate():
     arm = from_dh(DHTable((DHRow(1.0, 0, 0, 0),)), [])  # limits count mismatch is caught by the URDF builder
     with pytest.raises(ValueError, match="need 1 bodies and 1 joint limits"):
         arm.urdf()
+
+
+# --------------------------------------------------------------------------- dynamics from a DH table
+def _dh(convention: str, a: float, alpha: float, d: float, theta: float) -> np.ndarray:
+    """One DH transform, written out: standard Rz(θ)·Tz(d)·Tx(a)·Rx(α); modified (Craig 3.6) Rx(α)·Tx(a)·Rz(θ)·Tz(d)."""
+    ca, sa, ct, st = np.cos(alpha), np.sin(alpha), np.cos(theta), np.sin(theta)
+    if convention == "standard":
+        return np.array([[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st], [0, sa, ca, d],
+                         [0, 0, 0, 1]])
+    return np.array([[ct, -st, 0, a], [st * ca, ct * ca, -sa, -sa * d], [st * sa, ct * sa, ca, ca * d], [0, 0, 0, 1]])
+
+
+def _rnea_in_dh_frames(rows, convention, links, q, qd, qdd, gravity):
+    """Joint torques by recursive Newton–Euler written directly in the DH frames (world-frame vectors).
+
+    ``rows``: (kind, a, alpha, d, theta) in radians; ``links``: (m, r, I) with the centre of mass r and the
+    inertia I about it in DH frame i (RTB's convention). Joint i turns or slides along z of DH frame i−1
+    (standard) or i (modified); link i is fixed to DH frame i. Base acceleration −g carries gravity.
+    """
+    T = [np.eye(4)]
+    for (kind, a, alpha, d, theta), qi in zip(rows, q, strict=True):
+        T.append(T[-1] @ _dh(convention, a, alpha, d + (qi if kind == "T" else 0), theta + (qi if kind == "R" else 0)))
+    w, wd, ref, a_ref = np.zeros(3), np.zeros(3), np.zeros(3), -np.asarray(gravity, dtype=float)
+    data = []
+    for i, ((kind, *_), (m, r, inertia)) in enumerate(zip(rows, links, strict=True)):
+        joint = T[i] if convention == "standard" else T[i + 1]
+        z, p = joint[:3, 2], joint[:3, 3]
+        a_p = a_ref + np.cross(wd, p - ref) + np.cross(w, np.cross(w, p - ref))
+        if kind == "R":
+            wd = wd + z * qdd[i] + np.cross(w, z * qd[i])
+            w = w + z * qd[i]
+            a_ref = a_p
+        else:
+            a_ref = a_p + z * qdd[i] + 2 * np.cross(w, z * qd[i])
+        ref = p
+        R = T[i + 1][:3, :3]
+        c, Iw = T[i + 1][:3, 3] + R @ r, R @ inertia @ R.T
+        a_c = a_ref + np.cross(wd, c - ref) + np.cross(w, np.cross(w, c - ref))
+        data.append((kind, z, ref, c, m * a_c, Iw @ wd + np.cross(w, Iw @ w)))
+    tau, f, moment, next_ref = np.zeros(len(rows)), np.zeros(3), np.zeros(3), np.zeros(3)
+    for i in reversed(range(len(rows))):
+        kind, z, ref, c, F, N = data[i]
+        moment = N + np.cross(c - ref, F) + moment + np.cross(next_ref - ref, f)  # about the joint point
+        f, next_ref = F + f, ref
+        tau[i] = z @ (moment if kind == "R" else f)
+    return tau
+
+
+def _random_links(rng, n):
+    """Physical mass properties: masses, centres of mass and rotated principal inertias (triangle inequality)."""
+    out = []
+    for _ in range(n):
+        moments = rng.uniform(0.01, 0.1, 3)
+        moments[2] = rng.uniform(abs(moments[0] - moments[1]), moments[0] + moments[1])
+        Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        out.append((rng.uniform(0.5, 3.0), rng.uniform(-0.2, 0.2, 3), Q @ np.diag(moments) @ Q.T))
+    return out
+
+
+def _table_with_masses(convention, rows, links, deg=False):
+    """A DH .csv with the optional columns, in a shuffled order, ``# units: deg`` if ``deg``."""
+    head = ["# units: deg"] if deg else []
+    head += [f"# convention: {convention}",
+             "type,a,alpha,d,theta,lower,upper,Izz,cz,mass,Ixx,cx,Iyy,cy,Ixy,Iyz,Ixz,effort"]
+    for (kind, a, alpha, d, theta), (m, r, inertia) in zip(rows, links, strict=True):
+        ang = np.degrees if deg else (lambda x: x)
+        lo, hi = ((-170.0, 170.0) if deg else (-3.0, 3.0)) if kind == "R" else (0.0, 0.5)
+        values = [kind, a, ang(alpha), d, ang(theta), lo, hi, inertia[2, 2], r[2], m, inertia[0, 0], r[0],
+                  inertia[1, 1], r[1], inertia[0, 1], inertia[1, 2], inertia[0, 2], 40]
+        head.append(",".join(v if isinstance(v, str) else repr(float(v)) for v in values))
+    return "\n".join(head) + "\n"
+
+
+@pytest.mark.parametrize(("convention", "deg"), [("standard", False), ("modified", True)])
+def test_dh_masses_give_drakes_inverse_dynamics(tmp_path, convention, deg):
+    """The plant built from a DH table with masses (moved from the DH frames into the URDF's link frames)
+    has the inverse dynamics of a Newton–Euler recursion written in the DH frames themselves."""
+    from pydrake.multibody.tree import MultibodyForces
+
+    rng = np.random.default_rng(11 if deg else 10)
+    rows = [("R", 0.1, np.pi / 2, 0.35, 0.3), ("R", 0.45, 0.2, 0.05, -0.4), ("T", 0.05, -np.pi / 2, 0.1, 0.6),
+            ("R", 0.0, np.pi / 3, 0.2, 0.0), ("R", 0.12, -0.7, 0.0, 1.1)]
+    links = _random_links(rng, len(rows))
+    path = tmp_path / "massive.csv"
+    path.write_text(_table_with_masses(convention, rows, links, deg))
+    arm = get_arm(str(path))
+    assert arm.has_dynamics and arm.table.n == 5 and all(lim.effort == 40 for lim in arm.limits)
+    plant = arm.make_plant()
+    ctx = plant.CreateDefaultContext()
+    index = [plant.GetJointByName(name).position_start() for name in arm.joint_names]
+    assert index == list(range(arm.n))
+    for _ in range(25):
+        q = rng.uniform([-3, -3, 0, -3, -3], [3, 3, 0.5, 3, 3])
+        qd, qdd = rng.normal(size=5) * 2, rng.normal(size=5) * 5
+        plant.SetPositions(ctx, q)
+        plant.SetVelocities(ctx, qd)
+        forces = MultibodyForces(plant)
+        plant.CalcForceElementsContribution(ctx, forces)  # gravity
+        tau_drake = plant.CalcInverseDynamics(ctx, qdd, forces)
+        tau = _rnea_in_dh_frames(rows, convention, links, q, qd, qdd, arm.gravity)
+        np.testing.assert_allclose(tau_drake, tau, rtol=0, atol=1e-9 * np.abs(tau).max())
+    masses, _, _ = arm.mass_properties()
+    np.testing.assert_allclose(masses, [m for m, _, _ in links], rtol=1e-15)
+    assert [link["mass"] for link in arm.links()] == pytest.approx(masses.tolist())
+
+
+def test_dh_table_without_masses_is_kinematic(tmp_path, capsys):
+    """No mass column: no invented masses; kinematics still work (Drake needs no inertia for them)."""
+    path = tmp_path / "bare.csv"
+    path.write_text(PUMA_LIKE)
+    arm = get_arm(str(path))
+    assert not arm.has_dynamics and "<inertial>" not in arm.urdf()
+    assert all(link["mass"] is None and link["com"] is None for link in arm.links())
+    assert all(lim.effort is None and lim.velocity is None for lim in arm.limits)
+    with pytest.raises(ValueError, match="kinematic arm"):
+        arm.mass_properties()
+    q = np.random.default_rng(7).uniform([-3, -6, 0, -2], [3, 6, 0.5, 2], size=(20, 4))
+    np.testing.assert_allclose(arm.forward(q).tool, _drake_tool(arm, q), atol=1e-9)
+    for argv in (["simulate", str(path), "--out", str(tmp_path / "run")],):
+        assert armlab_cli(*argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "kinematic arm" in err[0] and "mass" in err[0], err
+    assert not (tmp_path / "run").exists()
+    assert armlab_cli("fk", str(path), "--q", "0.1,0.2,0.3,0.4") == 0
+    assert armlab_cli("show", str(path)) == 0
+
+
+def test_dh_degrees_and_radians_tables_are_the_same_arm(tmp_path):
+    rad = tmp_path / "rad.csv"
+    deg = tmp_path / "deg.csv"
+    rad.write_text("type,a,alpha,d,theta,lower,upper,velocity,effort\nR,0.3,1.5707963267948966,0.2,0.5,-2,2,3,50\n"
+                   "T,0,0,0.1,0,0,0.4,0.5,\n")
+    deg.write_text(f"# units: deg\n# convention: standard\ntype,a,alpha,d,theta,lower,upper,velocity,effort\n"
+                   f"R,0.3,90,0.2,{np.degrees(0.5)},{np.degrees(-2)},{np.degrees(2)},{np.degrees(3)},50\n"
+                   "T,0,0,0.1,0,0,0.4,0.5,\n")
+    a, b = get_arm(str(rad)), get_arm(str(deg))
+    q = np.random.default_rng(8).uniform([-2, 0], [2, 0.4], (30, 2))
+    np.testing.assert_allclose(a.forward(q).tool, b.forward(q).tool, atol=1e-14)
+    for x, y in zip(a.limits, b.limits, strict=True):
+        assert (x.lower, x.upper, x.effort) == pytest.approx((y.lower, y.upper, y.effort))
+        assert x.velocity == pytest.approx(y.velocity)
+    assert a.limits[1] == b.limits[1] == JointLimits(0.0, 0.4, None, 0.5)  # prismatic: m and m/s, not degrees
+
+
+def test_urdf_mass_properties_and_limits_are_the_files(tmp_path):
+    """Links welded by fixed joints are one body (as in Drake); the inertial's rpy is applied; limits are read."""
+    from pydrake.multibody.tree import BodyIndex
+
+    text = two_link_urdf().replace(
+        '<link name="hand"/>',
+        '<link name="hand"><inertial><origin xyz="0.02 0.01 0" rpy="0.3 -0.2 0.5"/><mass value="0.25"/>'
+        '<inertia ixx="2e-4" ixy="1e-5" ixz="0" iyy="3e-4" iyz="-2e-5" izz="4e-4"/></inertial></link>'
+    ).replace('effort="10" velocity="5"/></joint>\n  <joint name="elbow"',
+              'effort="10"/></joint>\n  <joint name="elbow"')
+    path = tmp_path / "two.urdf"
+    path.write_text(text)
+    arm = get_arm(str(path))
+    assert arm.has_dynamics and arm.link_names == ("upper", "fore")
+    assert arm.limits[0] == JointLimits(-3.0, 3.0, 10.0, None) and arm.limits[1] == JointLimits(-3.0, 3.0, 10.0, 5.0)
+    plant = arm.make_plant()
+    ctx = plant.CreateDefaultContext()
+    plant.SetPositions(ctx, [0.4, -1.1])
+    masses, coms, inertias = arm.mass_properties()
+    groups = [["upper"], ["fore", "hand"]]
+    for i, names in enumerate(groups):
+        frame = plant.GetFrameByName(names[0])
+        M = plant.CalcSpatialInertia(ctx, frame, [BodyIndex(int(plant.GetBodyByName(b).index())) for b in names])
+        assert M.get_mass() == pytest.approx(masses[i], rel=1e-14)
+        np.testing.assert_allclose(M.get_com(), coms[i], atol=1e-14)
+        c = coms[i]
+        about_origin = inertias[i] + masses[i] * (c @ c * np.eye(3) - np.outer(c, c))
+        np.testing.assert_allclose(M.CalcRotationalInertia().CopyToFullMatrix3(), about_origin, atol=1e-15)
+
+
+def test_paper_arms_mass_properties_are_the_plants(arm_name):
+    from pydrake.multibody.tree import BodyIndex
+
+    arm, plant, ctx = arm_and_plant(arm_name)
+    masses, coms, inertias = arm.mass_properties()
+    for i in range(arm.n):
+        body = plant.GetBodyByName(f"link{i + 1}")
+        M = plant.CalcSpatialInertia(ctx, body.body_frame(), [BodyIndex(int(body.index()))])
+        assert M.get_mass() == pytest.approx(masses[i], rel=1e-14)
+        np.testing.assert_allclose(M.get_com(), coms[i], atol=1e-15)
+        c = coms[i]
+        about_origin = inertias[i] + masses[i] * (c @ c * np.eye(3) - np.outer(c, c))
+        np.testing.assert_allclose(M.CalcRotationalInertia().CopyToFullMatrix3(), about_origin, atol=1e-14)
+    assert arm.has_dynamics and all(lim.effort and lim.velocity for lim in arm.limits)
+
+
+def test_a_urdf_without_mass_is_kinematic(tmp_path):
+    path = tmp_path / "light.urdf"
+    text = two_link_urdf(mass2=0)
+    path.write_text(text[:text.index('  <link name="upper">')] + '  <link name="upper"/>'
+                    + text[text.index('  <link name="fore">'):])
+    arm = get_arm(str(path))
+    assert not arm.has_dynamics and arm.links()[0]["mass"] is None
+    with pytest.raises(ValueError, match="two is a kinematic arm"):
+        arm.require_dynamics("simulate")
+
+
+def test_link_name_with_a_quote_loads(tmp_path):
+    path = tmp_path / "quote.urdf"
+    path.write_text(two_link_urdf().replace('"fore"', "\"fo're\""))
+    arm = get_arm(str(path))
+    assert arm.link_names == ("upper", "fo're") and arm.links()[1]["mass"] == 0.5
+
+
+_H = "type,a,alpha,d,theta,lower,upper"
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (f"{_H},weight\nR,0,0,0,0,,,1\n", "unknown column.s. weight; allowed after"),
+        (f"{_H},cx\nR,0,0,0,0,,,0.1\n", r"column\(s\) cx need the mass column"),
+        (f"{_H},mass,Mass\nR,0,0,0,0,,,1,1\n", "mass appear more than once"),
+        (f"{_H},mass\nR,0,0,0,0,,,\n", "row 1: mass is empty"),
+        (f"{_H},mass,Ixx\nR,0,0,0,0,,,1,-0.1\n", "row 1: Ixx = -0.1 kg·m² is negative"),
+        (f"{_H},mass,Ixx,Iyy,Izz\nR,0,0,0,0,,,1,0.1,0.1,0.5\n", "row 1: the inertia is not physical.*triangle"),
+        (f"{_H},mass,Ixx\nR,0,0,0,0,,,0,0.1\n", "mass 0 kg with a nonzero inertia"),
+        (f"{_H},effort\nR,0,0,0,0,,,-5\n", "row 1: effort = -5 is not allowed"),
+        (f"{_H}\nR,0.4,90,0,0,,\n", r"alpha = 90 is beyond ±2π rad.*'# units: deg'"),
+        (f"{_H}\nR,0.4,0,0,0,-180,180\n", r"lower = -180 is beyond ±2π rad.*'# units: deg'"),
+        (f"{_H}\nR,0.4,0,0,400,,\n", "theta = 400 is beyond"),
+        (f"# unit: degrees\n{_H}\nR,0,0,0,0,,\n", "write it once as '# units: rad' or '# units: deg'"),
+        (f"# units: deg\n# units: deg\n{_H}\nR,0,0,0,0,,\n", "write it once"),
+        (f"# convention: weird\n{_H}\nR,0,0,0,0,,\n", "'# convention: standard' or '# convention: modified'"),
+        (f"{_H}\n" + "R,0.1,0,0,0,,\n" * 65, "more than 64 rows: armlab takes arms of at most 64 joints"),
+        (f"{_H},mass\nR,0,0,0,0,,,inf\n", "mass = 'inf' is not a finite number"),
+        ("", "header '' must start with type,a,alpha"),
+    ],
+)
+def test_more_malformed_dh_tables(tmp_path, text, message):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=message):
+        get_arm(str(path))
+
+
+def test_dh_table_comments_and_a_byte_order_mark(tmp_path):
+    path = tmp_path / "ok.csv"
+    path.write_text(f"\ufeff# my PUMA, from the catalogue\n# units: deg\n# convention: modified\n{_H}\nR,0,90,0,0,,\n")
+    arm = get_arm(str(path))
+    assert arm.dh.convention == "modified" and arm.dh.rows[0].alpha == pytest.approx(np.pi / 2)
+    assert get_arm(str(path)).n == 1
+
+
+def _urdf(joints: str, links: str = "a b", extra: str = "") -> str:
+    return ('<robot name="r">' + "".join(f'<link name="{name}"/>' for name in links.split()) + joints + extra
+            + "</robot>")
+
+
+def _joint(name: str, parent: str, child: str, kind: str = "continuous", inner: str = "") -> str:
+    return f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>{inner}</joint>'
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (_urdf(_joint("j", "a", "b") + _joint("k", "b", "c", "fixed") + _joint("l", "c", "b", "fixed"), "a b c"),
+         "link 'b' is the child of joints 'j' and 'l'"),
+        (_urdf(_joint("j", "a", "b") + _joint("k", "b", "a")), "the joints form a cycle: every link has a parent"),
+        (_urdf(_joint("j", "a", "b") + _joint("k", "c", "c", "fixed"), "a b c"),
+         "cycle through link.s. 'c', not connected to the root link 'a'"),
+        (_urdf(_joint("j", "a", "b") + _joint("k", "b", "c", inner='<mimic joint="j"/>'), "a b c"),
+         "joint 'k' mimics joint 'j': mimic joints are not supported"),
+        (_urdf(_joint("j", "a", "b", "floating")), "joint 'j' has type 'floating'; allowed: revolute"),
+        (_urdf(_joint("j", "a", "b", "planar")), "joint 'j' has type 'planar'"),
+        (_urdf(_joint("j", "a", "b", "revolute", '<limit lower="1" upper="-1"/>')),
+         "joint 'j' has lower = 1 above upper = -1: the limits are reversed"),
+        (_urdf(_joint("j", "a", "b", "revolute", '<limit lower="-1" upper="1" effort="-3"/>')),
+         "joint 'j' effort = -3 is not allowed"),
+        (_urdf(_joint("j", "a", "b"), "a").replace('<link name="a"/>', '<link name="a"/><link name="b"><inertial>'
+                                                    '<mass value="1"/><inertia ixx="-1" iyy="1" izz="1"/>'
+                                                    '</inertial></link>'),
+         "link 'b': Ixx = -1 kg·m² is negative"),
+        (_urdf(_joint("j", "a", "b"), "a").replace('<link name="a"/>', '<link name="a"/><link name="b"><inertial>'
+                                                      '<mass value="1"/><inertia ixx="1" iyy="1" izz="3"/>'
+                                                      '</inertial></link>'),
+         "link 'b': the inertia is not physical.*triangle inequality"),
+        ('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;">]>'
+         + _urdf(_joint("j", "a", "b")), "document-type or entity definitions"),
+        (_urdf(_joint("j", "a", "b", inner='<origin xyz="nan 0 0"/>')), "not a finite number"),
+        (_urdf(_joint("j", "a", "b"), extra='<link name="d"><visual><geometry><box size="1 inf 1"/></geometry>'
+                                             '</visual></link>' + _joint("k", "b", "d", "fixed")),
+         "<box size='1 inf 1'> has a value that is not a finite number"),
+        (_urdf(_joint("j", "a", "b") + _joint("j", "b", "c"), "a b c"), "two <joint> elements are named 'j'"),
+        (_urdf(_joint("j", "a", "b"), "a b b"), "two <link> elements are named 'b'"),
+        (_urdf("".join(_joint(f"j{i}", f"l{i}", f"l{i + 1}") for i in range(70)), " ".join(f"l{i}" for i in range(71))),
+         "70 movable joints: armlab takes arms of at most 64 joints"),
+    ],
+)
+def test_more_malformed_urdfs(tmp_path, text, message):
+    path = tmp_path / "bad.urdf"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=message):
+        get_arm(str(path))
+
+
+def test_a_long_fixed_chain_needs_no_recursion(tmp_path):
+    """10,000 fixed joints after the last joint (the tool at their end) load without a RecursionError."""
+    names = " ".join(["a", "b"] + [f"f{i}" for i in range(10_000)])
+    fixed = "".join(_joint(f"w{i}", "b" if i == 0 else f"f{i - 1}", f"f{i}", "fixed", '<origin xyz="0.001 0 0"/>')
+                    for i in range(10_000))
+    path = tmp_path / "long.urdf"
+    path.write_text(_urdf(_joint("j", "a", "b") + fixed, names))
+    arm = get_arm(str(path))
+    np.testing.assert_allclose(arm.forward([0.0]).tool[:3, 3], [10.0, 0, 0], atol=1e-9)
