@@ -49,6 +49,20 @@ def _segment_lines(ax: Axes, log: SimulationLog) -> None:
         ax.axvline(t, color="0.7", lw=0.8, ls=":")
 
 
+def _limit_lines(ax: Axes, log: SimulationLog, kind: str, colors: list[str]) -> None:
+    """Dashed lines at each joint's limits from ``arm.limits`` (``kind``: position, velocity or effort); an
+    unknown limit (None) is not drawn."""
+    for i, limits in enumerate(log.arm.limits):
+        if kind == "position":
+            values = () if limits.lower is None else (limits.lower, limits.upper)
+        else:
+            bound = getattr(limits, kind)
+            values = () if bound is None else (-bound, bound)
+        for k, v in enumerate(values):
+            ax.axhline(v, color=colors[i % len(colors)], lw=0.9, ls="-.", alpha=0.7,
+                       label=f"q{i + 1} {kind} limit" if k == 0 else None)
+
+
 def _joint_unit(log: SimulationLog, i: int, order: int) -> str:
     base = "rad" if log.arm.revolute[i] else "m"
     return base + ("", "/s", "/s²")[order]
@@ -74,8 +88,11 @@ def _joints(log: SimulationLog, path: Path) -> None:
             else:
                 _by_run(ax, log, log.t, reference[order][:, i], color=color, lw=1.6, label=label)
         _segment_lines(ax, log)
+        if order < 2:
+            _limit_lines(ax, log, ("position", "velocity")[order], colors)
         units = sorted({_joint_unit(log, i, order) for i in range(n)})
-        ax.set_ylabel(f"joint {names[order]} [{' | '.join(units)}]")
+        which = " (reference)" if simulated[order] is None else ""
+        ax.set_ylabel(f"joint {names[order]}{which} [{' | '.join(units)}]")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8, ncol=min(n + 1, 4), loc="best")
     axes[0].set_title(_title(log, "joint angles, velocities, accelerations", "joints"))
@@ -89,10 +106,12 @@ def _torques(log: SimulationLog, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for i in range(log.arm.n):
         unit = "N·m" if log.arm.revolute[i] else "N"
-        _by_run(ax, log, log.t, log.tau[:, i], lw=1.6, label=f"τ{i + 1} [{unit}]")
+        _by_run(ax, log, log.t, log.tau[:, i], lw=1.6, label=f"τ{i + 1} [{unit}]", color=colors[i % len(colors)])
     _segment_lines(ax, log)
+    _limit_lines(ax, log, "effort", colors)
     units = sorted({"N·m" if r else "N" for r in log.arm.revolute})
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(f"joint torque / force [{' | '.join(units)}]")
@@ -113,8 +132,8 @@ def _tool_path(log: SimulationLog, path: Path) -> None:
     if planar:
         ax = fig.add_subplot(1, 2, 1)
         _by_run(ax, log, p[:, 0], p[:, 1], lw=1.6, label="tool point")
-        ax.plot(p[0, 0], p[0, 1], "go", label="start")
-        ax.plot(p[-1, 0], p[-1, 1], "rs", label="end")
+        ax.plot(p[0, 0], p[0, 1], "go", ms=9, label="start")  # under the end marker: both seen on a closed path
+        ax.plot(p[-1, 0], p[-1, 1], "rs", ms=5, label="end")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
         ax.set_aspect("equal", adjustable="datalim")
@@ -124,11 +143,14 @@ def _tool_path(log: SimulationLog, path: Path) -> None:
         for k in range(len(log.run_starts)):
             rows = log.run == k
             ax.plot(p[rows, 0], p[rows, 1], p[rows, 2], lw=1.2, label="tool point" if k == 0 else None)
-        ax.plot([p[0, 0]], [p[0, 1]], [p[0, 2]], "go", label="start")
-        ax.plot([p[-1, 0]], [p[-1, 1]], [p[-1, 2]], "rs", label="end")
+        ax.plot([p[0, 0]], [p[0, 1]], [p[0, 2]], "go", ms=9, label="start")
+        ax.plot([p[-1, 0]], [p[-1, 1]], [p[-1, 2]], "rs", ms=5, label="end")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
         ax.set_zlabel("z [m]")
+        from armlab.scripts.figures import set_equal_3d
+
+        set_equal_3d(ax, p)
     ax.legend(fontsize=8)
     ax.set_title(_title(log, f"path of tool point {log.arm.tool_name}", "path"))
     ax2 = fig.add_subplot(1, 2, 2)
