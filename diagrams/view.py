@@ -57,23 +57,28 @@ def open_meshcat(port: int | None = None, tries: int = PORT_TRIES, out: TextIO =
 
 
 class Viewer:
-    """The arm's plant in Meshcat, posed by a ``JointSliders`` slider per joint.
+    """The arm's plant in Meshcat, posed by a slider per joint.
 
-    :meth:`step` reads the sliders and, when they moved, poses the arm, extends the tool's trail
-    and updates the tool position on the page.
+    In radians (and metres) the sliders are Drake's ``JointSliders``, named after the joints; with
+    ``deg=True`` a revolute joint's slider reads degrees (``"joint1 [deg]"``, step 0.1°) and a
+    prismatic joint's metres (``"joint2 [m]"``). :meth:`step` reads the sliders and, when they moved,
+    poses the arm, extends the tool's trail and updates the tool position on the page.
     """
 
     def __init__(self, arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None = None,
-                 out: TextIO = sys.stdout) -> None:
+                 out: TextIO = sys.stdout, deg: bool = False) -> None:
         from pydrake.multibody.meshcat import JointSliders
 
         self.arm = arm
+        self.deg = deg
         q0 = np.clip(np.zeros(arm.n), *self.arm.limit_arrays(_UNLIMITED)) if q0 is None else arm.check_q(q0, "--q")
         self.meshcat = open_meshcat(port, out=out)
         lower, upper = self.arm.limit_arrays(_UNLIMITED)
         holder: dict[str, Any] = {}
 
         def add_sliders(builder: Any, plant: Any) -> None:
+            if deg:
+                return
             index = [plant.GetJointByName(name).position_start() for name in arm.joint_names]
             order = np.argsort(index)  # plant position order → arm joint order
             holder["sliders"] = builder.AddSystem(JointSliders(
@@ -83,8 +88,13 @@ class Viewer:
             ))
 
         self.scene = build_scene(arm, self.meshcat, extra=add_sliders)
-        self.sliders = holder["sliders"]
-        self._sliders_context = self.sliders.GetMyContextFromRoot(self.scene.context)
+        self.sliders = holder.get("sliders")
+        self._sliders_context = None if deg else self.sliders.GetMyContextFromRoot(self.scene.context)
+        if deg:
+            scale = np.where(arm.revolute, 180 / np.pi, 1.0)
+            for name, r, lo, hi, value in zip(self.slider_names, arm.revolute, np.minimum(lower, q0) * scale,
+                                              np.maximum(upper, q0) * scale, q0 * scale, strict=True):
+                self.meshcat.AddSlider(name, float(lo), float(hi), 0.1 if r else 1e-4, float(value))
         plant = self.scene.plant
         self._tool = plant.GetFrameByName(arm.tool_name)
         reach = reach_points(arm, self._reach_samples())
@@ -97,6 +107,21 @@ class Viewer:
         self.q: NDArray[np.float64] | None = None  # the pose shown
         self.trail: list[NDArray[np.float64]] = []
         self._label = ""
+
+    @property
+    def slider_names(self) -> list[str]:
+        """The sliders' names on the page, in joint order."""
+        if not self.deg:
+            return list(self.arm.joint_names)
+        return [f"{name} [{'deg' if r else 'm'}]" for name, r in zip(self.arm.joint_names, self.arm.revolute,
+                                                                      strict=True)]
+
+    def _read_sliders(self) -> NDArray[np.float64]:
+        """The sliders' values as joint values q (rad, m), in joint order."""
+        if not self.deg:
+            return np.asarray(self.sliders.get_output_port().Eval(self._sliders_context))[self.scene.position_index]
+        values = np.array([self.meshcat.GetSliderValue(name) for name in self.slider_names])
+        return np.where(self.arm.revolute, np.radians(values), values)
 
     @property
     def url(self) -> str:
@@ -123,7 +148,7 @@ class Viewer:
 
         Returns True when the pose changed.
         """
-        reading = np.asarray(self.sliders.get_output_port().Eval(self._sliders_context))[self.scene.position_index]
+        reading = self._read_sliders()
         if self._reading is not None and np.array_equal(reading, self._reading):
             return False
         # The sliders round to their step; the first pose is the initial q exactly.
@@ -147,7 +172,7 @@ class Viewer:
         self.meshcat.DeleteAddedControls()
 
 
-def run_view(arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None = None,
+def run_view(arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None = None, deg: bool = False,
              duration: float | None = None, out: TextIO = sys.stdout, poll: float = 0.05) -> int:
     """Serve the arm with joint sliders until Ctrl-C, the page's stop button, or ``duration`` seconds.
 
@@ -155,8 +180,9 @@ def run_view(arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None =
     """
     if duration is not None and not (np.isfinite(duration) and duration > 0):
         raise ValueError(f"--duration: {duration} is not a positive number of seconds")
-    viewer = Viewer(arm, q0, port, out=out)
-    unit = ["rad" if r else "m" for r in arm.revolute]
+    viewer = Viewer(arm, q0, port, out=out, deg=deg)
+    unit = [("deg" if deg else "rad") if r else "m" for r in arm.revolute]
+    scale = np.where(arm.revolute & deg, 180 / np.pi, 1.0)
     print(f"armlab view {arm.name}: open {viewer.url} in a browser (Ctrl-C or the page's "
           f"'{_STOP}' button to stop)", file=out, flush=True)
     end = None if duration is None else time.monotonic() + duration
@@ -164,7 +190,7 @@ def run_view(arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None =
         while not viewer.stop_requested and (end is None or time.monotonic() < end):
             if viewer.step():
                 p = viewer.tool_position()
-                joints = "  ".join(f"{v:+.4f} {u}" for v, u in zip(viewer.q, unit, strict=True))
+                joints = "  ".join(f"{v:+.4f} {u}" for v, u in zip(viewer.q * scale, unit, strict=True))
                 print(f"q = {joints}   tool {arm.tool_name} = ({p[0]:+.4f}, {p[1]:+.4f}, {p[2]:+.4f}) m",
                       file=out, flush=True)
             time.sleep(poll)
@@ -180,7 +206,7 @@ def _cmd_view(args: argparse.Namespace) -> int:
 
     arm = load_arm(args.arm)
     q0 = joint_values(arm, args.q, args.deg) if args.q is not None else None
-    return run_view(arm, q0, port=args.port, duration=args.duration)
+    return run_view(arm, q0, port=args.port, deg=args.deg, duration=args.duration)
 
 
 def register(subparsers: Any) -> None:
@@ -188,7 +214,8 @@ def register(subparsers: Any) -> None:
     p = subparsers.add_parser("view", help="3-D view of an arm with a slider per joint (Meshcat, in a browser)")
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
     p.add_argument("--q", help="initial joint values v1,v2,… (rad and m; see --deg); default: zeros within limits")
-    p.add_argument("--deg", action="store_true", help="revolute values in degrees")
+    p.add_argument("--deg", action="store_true", help="revolute values in degrees: --q, the sliders and the "
+                                                      "printed joints")
     p.add_argument("--port", type=int, help=f"first port to try (then the next {PORT_TRIES - 1}); default: "
                    "the first free one from 7000")
     p.add_argument("--duration", type=float, help="stop after this many seconds (default: run until Ctrl-C)")

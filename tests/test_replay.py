@@ -318,3 +318,23 @@ def test_the_view_is_turned_so_gravity_points_down():
         arm = get_arm(name)
         g = np.asarray(arm.gravity) / np.linalg.norm(arm.gravity)
         np.testing.assert_allclose(display_rotation(arm) @ g, [0.0, 0.0, -1.0], atol=1e-12)
+
+
+def test_view_deg_shows_degree_sliders_that_move_the_arm():
+    arm = get_arm("r2t")  # revolute and prismatic joints
+    q0 = np.array([0.5, 0.1, 0.2])
+    viewer = Viewer(arm, q0, deg=True)
+    try:
+        assert viewer.slider_names == ["joint1 [deg]", "joint2 [m]", "joint3 [m]"]
+        assert viewer.step() and np.array_equal(viewer.q, q0)
+        assert viewer.meshcat.GetSliderValue("joint1 [deg]") == pytest.approx(np.degrees(0.5), abs=0.05)
+        viewer.meshcat.SetSliderValue("joint1 [deg]", -60.0)
+        viewer.meshcat.SetSliderValue("joint3 [m]", 0.25)
+        assert viewer.step()
+        np.testing.assert_allclose(viewer.q, [np.radians(-60.0), viewer.q[1], 0.25], atol=1e-12)
+        np.testing.assert_allclose(viewer.tool_position(), arm.forward(viewer.q).tool[:3, 3], atol=1e-9)
+    finally:
+        viewer.close()
+    out = io.StringIO()
+    assert run_view(arm, q0, deg=True, duration=0.2, out=out) == 0
+    assert "q = +28.6479 deg  +0.1000 m  +0.2000 m" in out.getvalue()
