@@ -1,0 +1,146 @@
+"""Sweeps on real Dask clusters: a LocalCluster of 2 workers, and a `dask scheduler` with two `dask worker`
+processes started here on 127.0.0.1 — the same results as in-process, even when a worker is killed mid-sweep."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from test_sweep import objectives, rows, write_study
+
+from armlab.analysis.study import evaluate, load_study
+from armlab.analysis.sweep import RESULTS, run_sweep
+
+DASK = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "dask")
+ARMLAB = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "armlab")
+#: rr's workspace against its link lengths: 8 candidates of a fraction of a second each.
+STUDY = {"arm": "rr", "vary": {"L1": {"from": 0.3, "to": 0.45, "steps": 4}, "L2": {"values": [0.2, 0.3]}},
+         "evaluate": ["workspace_volume", "reach", "mean_manipulability"], "samples": 200000}
+COLUMNS = ["workspace_volume", "reach", "mean_manipulability"]
+
+
+class Cluster:
+    """A `dask scheduler` and `dask worker` processes on 127.0.0.1, each in its own process group."""
+
+    def __init__(self, folder: Path) -> None:
+        self.file = folder / "scheduler.json"
+        self.folder = folder
+        self.procs: list[subprocess.Popen] = []
+        self.workers: list[subprocess.Popen] = []
+        self.procs.append(self._start([DASK, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+                                       "--scheduler-file", str(self.file)], "scheduler.log"))
+        deadline = time.monotonic() + 60
+        while not (self.file.exists() and self.file.stat().st_size > 0):
+            assert time.monotonic() < deadline, "the dask scheduler did not start"
+            time.sleep(0.2)
+        self.address = json.loads(self.file.read_text())["address"]
+        assert self.address.startswith("tcp://127.0.0.1:")
+
+    def _start(self, command: list[str], log: str) -> subprocess.Popen:
+        handle = open(self.folder / log, "w")
+        proc = subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT, start_new_session=True,
+                                cwd=self.folder)
+        handle.close()
+        return proc
+
+    def add_worker(self, name: str) -> subprocess.Popen:
+        proc = self._start([DASK, "worker", "--scheduler-file", str(self.file), "--nthreads", "1", "--no-dashboard",
+                            "--host", "127.0.0.1", "--name", name], f"{name}.log")
+        self.procs.append(proc)
+        self.workers.append(proc)
+        return proc
+
+    def wait_for_workers(self, n: int) -> None:
+        from distributed import Client
+
+        with Client(self.address, timeout="30s") as client:
+            client.wait_for_workers(n, timeout=120)
+
+    @staticmethod
+    def kill(proc: subprocess.Popen) -> None:
+        """SIGKILL the process group (a `dask worker` is a nanny and its worker process)."""
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=30)
+
+    def close(self) -> None:
+        for proc in reversed(self.procs):
+            try:
+                self.kill(proc)
+            except ProcessLookupError:
+                pass
+
+
+@pytest.fixture
+def cluster(tmp_path: Path) -> Iterator[Cluster]:
+    folder = tmp_path / "cluster"
+    folder.mkdir()
+    c = Cluster(folder)
+    try:
+        c.add_worker("w1")
+        c.add_worker("w2")
+        c.wait_for_workers(2)
+        yield c
+    finally:
+        c.close()
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory: pytest.TempPathFactory) -> dict[int, list[float]]:
+    """Every candidate evaluated in this process, without Dask."""
+    folder = tmp_path_factory.mktemp("reference")
+    study = load_study(write_study(folder, STUDY))
+    return {i: [evaluate(study, values)[c] for c in COLUMNS] for i, values in enumerate(study.candidates)}
+
+
+def test_local_cluster_of_two_workers(tmp_path: Path, reference: dict[int, list[float]]) -> None:
+    out = tmp_path / "out"
+    run = subprocess.run([ARMLAB, "sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--workers", "2"],
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    assert "8 candidates: 0 done before, 8 computed, 0 failed" in run.stdout
+    assert objectives(out, COLUMNS) == reference
+    workers = {r["worker"] for r in rows(out).values()}
+    assert len(workers) == 2 and all(w.startswith("tcp://127.0.0.1:") for w in workers)
+    record = json.loads((out / "study.json").read_text())
+    assert record["runs"][0]["scheduler"] == "LocalCluster (2 workers)"
+
+
+def test_external_scheduler_gives_the_local_results(tmp_path: Path, cluster: Cluster,
+                                                    reference: dict[int, list[float]]) -> None:
+    out = tmp_path / "out"
+    run = subprocess.run([ARMLAB, "sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--scheduler",
+                          cluster.address], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    assert objectives(out, COLUMNS) == reference
+    assert len({r["worker"] for r in rows(out).values()}) == 2
+    assert json.loads((out / "study.json").read_text())["runs"][0]["scheduler"] == cluster.address
+    assert all(proc.poll() is None for proc in cluster.procs)  # armlab leaves the user's cluster running
+
+
+def test_a_killed_worker_s_tasks_are_rerun(tmp_path: Path, cluster: Cluster,
+                                           reference: dict[int, list[float]]) -> None:
+    out = tmp_path / "out"
+    study = write_study(tmp_path, STUDY)
+    result: dict = {}
+    thread = threading.Thread(target=lambda: result.update(done=run_sweep(study, out, scheduler=cluster.address,
+                                                                          progress=False)))
+    thread.start()
+    deadline = time.monotonic() + 300
+    while not ((out / RESULTS).exists() and (out / RESULTS).read_text().count("\n") >= 3):  # header + 2 rows
+        assert time.monotonic() < deadline and thread.is_alive(), "the sweep made no progress"
+        time.sleep(0.05)
+    cluster.kill(cluster.workers[0])
+    thread.join(timeout=600)
+    assert not thread.is_alive()
+    done = result["done"]
+    assert done.failed == [] and done.computed == 8
+    assert objectives(out, COLUMNS) == reference
+    assert rows(out).keys() == reference.keys()

@@ -1,0 +1,153 @@
+"""Design studies: checked before any work, objectives two ways, resumable results.csv, failures reported."""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from armlab.analysis.study import evaluate, load_study, parse_study
+from armlab.analysis.sweep import EXIT_FAILED, RESULTS, STUDY, run_sweep
+from armlab.analysis.workspace import workspace
+from armlab.models import get_arm
+
+ARMLAB = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "armlab")
+RR_LENGTHS = {"arm": "rr",
+              "vary": {"L2": {"from": 0.2, "to": 0.3, "steps": 2}, "L1": {"values": [30, 40], "unit": "cm"}},
+              "evaluate": ["workspace_volume", "reach"], "samples": 20000}
+
+
+def write_study(folder: Path, study: dict, name: str = "study.json") -> Path:
+    path = folder / name
+    path.write_text(json.dumps(study))
+    return path
+
+
+def rows(folder: Path) -> dict[int, dict[str, str]]:
+    with open(folder / RESULTS, newline="") as handle:
+        return {int(r["candidate"]): r for r in csv.DictReader(handle)}
+
+
+def objectives(folder: Path, columns: list[str]) -> dict[int, list[float]]:
+    return {i: [float(r[c]) for c in columns] for i, r in rows(folder).items()}
+
+
+@pytest.mark.parametrize(("change", "message"), [
+    ({"arm": "nope"}, "unknown arm 'nope'"),
+    ({"vary": {"L9": {"values": [1]}}}, "unknown parameter 'L9'"),
+    ({"vary": {"L1": {"values": []}}}, "the range is empty"),
+    ({"vary": {"L1": {"from": 0.1, "to": 0.2, "steps": 0}}}, "the range is empty"),
+    ({"vary": {"L1": {"from": 0.1, "to": 0.2}}}, "missing 'steps'"),
+    ({"vary": {"L1": {"values": [1], "unit": "furlong"}}}, "unit \"furlong\" is not allowed"),
+    ({"vary": {}}, "vary must be a non-empty object"),
+    ({"evaluate": ["beauty"]}, "unknown objective 'beauty'"),
+    ({"evaluate": []}, "non-empty list"),
+    ({"samples": 10}, "samples = 10"),
+    ({"vary": {"tf": {"values": [1, 2]}}}, "changes only the torque objectives"),
+    ({"colour": "red"}, "unknown key 'colour'"),
+    ({"vary": {"payload": {"values": [-1]}}, "evaluate": ["peak_torque"]}, "payload"),
+    ({"vary": {"tf": {"values": [0]}}, "evaluate": ["peak_torque"]}, "tf = 0"),
+])
+def test_bad_studies_are_one_line_errors(change: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message) as error:
+        parse_study(RR_LENGTHS | change)
+    assert "\n" not in str(error.value)
+
+
+def test_bad_study_from_the_cli_does_no_work(tmp_path: Path) -> None:
+    (tmp_path / "broken.json").write_text("{\"arm\": ")
+    for study, message in ((tmp_path / "broken.json", "not valid JSON"),
+                           (write_study(tmp_path, RR_LENGTHS | {"evaluate": ["x"]}), "unknown objective 'x'"),
+                           (tmp_path / "missing.json", "cannot read it")):
+        run = subprocess.run([ARMLAB, "sweep", str(study), "--out", str(tmp_path / "out")], capture_output=True,
+                             text=True, timeout=120)
+        assert run.returncode == 2 and run.stderr.startswith("armlab: error:") and message in run.stderr
+        assert len(run.stderr.strip().splitlines()) == 1
+        assert not (tmp_path / "out").exists()
+
+
+def test_candidates_and_units() -> None:
+    study = parse_study(RR_LENGTHS)
+    assert study.candidates == [(0.2, 30.0), (0.2, 40.0), (0.3, 30.0), (0.3, 40.0)]
+    assert study.settings((0.3, 40.0)) == ({"L2": 0.3, "L1": 0.4}, 0.0, None)
+    assert study.units()["workspace_volume"] == "m²" and study.columns[0] == "candidate"
+
+
+def test_workspace_objectives_equal_a_direct_workspace() -> None:
+    study = parse_study(RR_LENGTHS)
+    got = evaluate(study, (0.3, 40.0))
+    ws = workspace(get_arm("rr", L1=0.4, L2=0.3), 20000, study.resolution, 0, jacobians=False)
+    assert got == {"workspace_volume": ws.volume, "reach": ws.reach}
+
+
+def test_torques_by_inverse_dynamics_equal_the_simulation() -> None:
+    """Batch inverse dynamics along the motion every 1 ms against paper 000's Fig. 6 simulation."""
+    base = {"arm": "rr", "vary": {"payload": {"values": [1.5]}}, "tf": 1.0,
+            "evaluate": ["peak_torque", "rms_torque", "peak_power"]}
+    by_rnea = evaluate(parse_study(base), (1.5,))
+    by_simulation = evaluate(parse_study(base | {"simulate": True}), (1.5,))
+    assert by_rnea.keys() == by_simulation.keys() == {"peak_torque_1", "peak_torque_2", "rms_torque_1",
+                                                      "rms_torque_2", "peak_power"}
+    for key, value in by_rnea.items():
+        assert abs(value - by_simulation[key]) < 1e-6 * max(1.0, abs(value)), key
+
+
+def test_peak_torque_grows_with_payload_and_shrinks_with_time() -> None:
+    study = parse_study({"arm": "rr", "vary": {"tf": {"values": [1, 2]}, "payload": {"values": [0, 2]}},
+                         "evaluate": ["peak_torque"]})
+    peaks = {values: evaluate(study, values)["peak_torque_1"] for values in study.candidates}
+    assert peaks[(1.0, 2.0)] > peaks[(1.0, 0.0)] and peaks[(1.0, 0.0)] > peaks[(2.0, 0.0)]
+
+
+def test_sweep_resumes_and_never_keeps_half_a_row(tmp_path: Path) -> None:
+    study = write_study(tmp_path, RR_LENGTHS)
+    out = tmp_path / "out"
+    first = run_sweep(study, out, workers=2)
+    assert (first.total, first.done_before, first.computed, first.failed) == (4, 0, 4, [])
+    columns = ["workspace_volume", "reach"]
+    complete = objectives(out, columns)
+    assert sorted(complete) == [0, 1, 2, 3]
+    for i, values in enumerate(load_study(study).candidates):  # each row is its candidate's
+        assert complete[i] == [evaluate(load_study(study), values)[c] for c in columns]
+    assert {"workspace_volume.png", "workspace_volume_map.png", "reach.png", "reach_map.png"} <= {
+        p.name for p in out.iterdir()}
+    record = json.loads((out / STUDY).read_text())
+    assert {"armlab", "drake", "numpy", "dask"} <= set(record["versions"])
+    assert record["study"]["vary"]["L1"] == {"values": [30.0, 40.0], "unit": "cm"}
+
+    lines = (out / RESULTS).read_text().splitlines(keepends=True)
+    (out / RESULTS).write_text("".join(lines[:3]) + lines[3][:17])  # two rows kept, the third cut mid-line
+    again = run_sweep(study, out, workers=1)
+    assert (again.done_before, again.computed) == (2, 2)
+    assert objectives(out, columns) == complete
+    assert (out / RESULTS).read_text().count("\n") == 5 and (out / RESULTS).read_text().endswith("\n")
+    assert run_sweep(study, out, workers=1).computed == 0
+    assert len(json.loads((out / STUDY).read_text())["runs"]) == 3
+
+
+def test_another_study_into_the_same_folder_is_refused(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    run_sweep(write_study(tmp_path, RR_LENGTHS), out, workers=1)
+    other = write_study(tmp_path, RR_LENGTHS | {"samples": 30000}, "other.json")
+    with pytest.raises(ValueError, match="holds a different study"):
+        run_sweep(other, out, workers=1)
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "notes.txt").write_text("keep")
+    with pytest.raises(ValueError, match="not an armlab sweep folder"):
+        run_sweep(other, tmp_path / "mine", workers=1)
+
+
+def test_a_failing_candidate_is_reported_and_the_rest_go_on(tmp_path: Path) -> None:
+    """r1 = 100 m makes the fixed voxel grid too large: that candidate raises on its worker."""
+    study = write_study(tmp_path, {"arm": "urm6", "vary": {"r1": {"values": [0.3, 100.0, 0.4], "unit": "m"}},
+                                   "evaluate": ["workspace_volume"], "samples": 5000, "resolution": 0.05})
+    run = subprocess.run([ARMLAB, "sweep", str(study), "--out", str(tmp_path / "out"), "--workers", "2"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == EXIT_FAILED + 1, run.stderr
+    assert "candidate 1 (r1 = 100 m) failed" in run.stderr and "too fine" in run.stderr
+    assert "Traceback" not in run.stderr
+    assert sorted(rows(tmp_path / "out")) == [0, 2]
+    assert "1 failed" in run.stdout
