@@ -6,14 +6,19 @@ connection (``Diagram.connection_map()``) and no connection is missing.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import html
 import re
 
+import numpy as np
 import pytest
 
 from armlab.diagrams.build import build_diagram
 from armlab.diagrams.graphviz import fig6_dot, parse_drake_dot, render
 from armlab.diagrams.motions import paper_motion
+from armlab.diagrams.plots import PLOTS, figures, limit_values, write_plots
+from armlab.diagrams.simulate import simulate
 from armlab.models import get_arm
 
 
@@ -82,3 +87,69 @@ def test_diagram_command_writes_pdf_and_the_full_graph(tmp_path):
     assert main(["diagram", "rr", "--out", str(tmp_path / "fig6.jpg")]) == 2
     assert not (tmp_path / "fig6.jpg").exists()
 
+
+
+# ---------------------------------------------------------------------------------- simulate's plots
+@functools.cache
+def rr_log():
+    arm = get_arm("rr")
+    return simulate(arm, paper_motion(arm, "abcd"), log_period=0.01)
+
+
+def hlines(ax) -> set[tuple[float, str]]:
+    """The horizontal lines of ``ax``: (y, colour)."""
+    out = set()
+    for line in ax.get_lines():
+        x, y = line.get_xdata(), line.get_ydata()
+        if len(y) == 2 and y[0] == y[1] and list(x) == [0, 1]:  # axhline: axes-fraction x
+            out.add((round(float(y[0]), 9), line.get_color()))
+    return out
+
+
+def test_plots_draw_the_known_limits_in_each_joints_colour():
+    import matplotlib.pyplot as plt
+
+    log = rr_log()
+    figs = figures(log)
+    try:
+        position, velocity, acceleration = figs["joints.png"].axes
+        for ax, kind in ((position, "position"), (velocity, "velocity")):
+            ys = {y for y, _ in hlines(ax)}
+            for low, high in limit_values(log, kind):
+                assert round(low, 9) in ys and round(high, 9) in ys
+        assert hlines(acceleration) == set()
+        assert "reference" in acceleration.get_title(loc="left")
+        assert "simulated" in position.get_title(loc="left")
+        (torques,) = figs["torques.png"].axes
+        efforts = {y for y, _ in hlines(torques)}
+        assert efforts == {round(v, 9) for lim in log.arm.limits for v in (-lim.effort, lim.effort)}
+    finally:
+        for fig in figs.values():
+            plt.close(fig)
+    # An unknown effort limit (None) is not drawn.
+    arm = dataclasses.replace(log.arm, limits=tuple(dataclasses.replace(lim, effort=None) for lim in log.arm.limits))
+    unknown = dataclasses.replace(log, arm=arm)
+    assert limit_values(unknown, "effort") == [None, None]
+    fig = figures(unknown)["torques.png"]
+    assert hlines(fig.axes[0]) == set()
+    plt.close("all")
+
+
+def test_closed_path_shows_start_and_end_and_3d_paths_are_to_scale(tmp_path):
+    import matplotlib.pyplot as plt
+
+    log = rr_log()
+    assert np.allclose(log.tool[0, :3], log.tool[-1, :3], atol=1e-6)  # A → … → A is closed
+    ax = figures(log)["tool_path.png"].axes[0]
+    markers = {line.get_label(): line for line in ax.get_lines()}
+    assert markers["start"].get_markersize() > markers["end"].get_markersize()  # the start ring shows around the end
+    assert markers["end"].get_zorder() > markers["start"].get_zorder()
+    plt.close("all")
+    arm = get_arm("arm4r")
+    log3 = simulate(arm, paper_motion(arm), log_period=0.01)
+    ax3 = next(a for a in figures(log3)["tool_path.png"].axes if a.name == "3d")
+    spans = [np.ptp(lim) for lim in (ax3.get_xlim3d(), ax3.get_ylim3d(), ax3.get_zlim3d())]
+    box = np.asarray(ax3.get_box_aspect())
+    assert np.allclose(spans, spans[0]) and np.allclose(box, box[0])  # equal data spans in an equal-sided box
+    plt.close("all")
+    assert [p.name for p in write_plots(log, tmp_path)] == list(PLOTS)
