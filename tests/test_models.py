@@ -104,3 +104,16 @@ def test_models_readme_lists_every_parameter_and_its_source():
         arm = get_arm(name)
         for key, value in arm.parameters.items():
             assert f"| {key} | {value:.6g} | {arm.notes[key]} |" in readme, (name, key)
+
+
+def test_models_readme_gives_every_drive_limit():
+    """Each paper arm's section says its effort and velocity limits (chosen: the papers give none)."""
+    from armlab.models.arm import MODELS_DIR
+
+    sections = (MODELS_DIR / "README.md").read_text().split("\n## `")[1:]
+    for name in ARMS:
+        (section,) = [s for s in sections if s.startswith(f"{name}`")]
+        (line,) = [s for s in section.splitlines() if s.startswith("Drive limits:")]
+        assert "chosen, not from the paper" in line
+        for lim in get_arm(name).limits:
+            assert f"{lim.effort:g} N" in line and f"{lim.velocity:g} " in line, (name, lim, line)
