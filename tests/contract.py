@@ -74,9 +74,21 @@ class Sandbox:
     def write(self, name: str, content: str | bytes) -> Path:
         """A file ``name`` in the working directory holding ``content``; part of the sandbox, not debris."""
         path = self.cwd / name
+        path.parent.mkdir(parents=True, exist_ok=True)
         path.write_bytes(content if isinstance(content, bytes) else content.encode())
-        self._before |= {path}
+        self.keep()
         return path
+
+    def mkdir(self, name: str) -> Path:
+        """A folder ``name`` in the working directory; part of the sandbox, not debris."""
+        path = self.cwd / name
+        path.mkdir(parents=True)
+        self.keep()
+        return path
+
+    def keep(self) -> None:
+        """Everything now in the sandbox is part of it (made by a test's set-up), not debris."""
+        self._before = self._files()
 
     def main(self, *argv: str) -> Outcome:
         """``armlab ARGV`` in this process."""

@@ -177,7 +177,7 @@ def test_segments_files(box, content, code, fragment):
 # ---- resource limits: files that are too big, endless, or not files; (make the path, exit code, fragment) ---------
 def _fifo(box: Sandbox) -> str:
     os.mkfifo(box.cwd / "fifo")
-    box._before |= {box.cwd / "fifo"}
+    box.keep()
     return "fifo"
 
 
@@ -187,8 +187,7 @@ def _huge(box: Sandbox) -> str:
 
 
 def _folder(box: Sandbox) -> str:
-    (box.cwd / "folder").mkdir()
-    box._before |= {box.cwd / "folder"}
+    box.mkdir("folder")
     return "folder"
 
 
