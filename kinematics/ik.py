@@ -24,7 +24,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
+from armlab.kinematics.locating import homogeneous, orientation_angles
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -36,9 +38,12 @@ __all__ = [
     "fit_limits",
     "numeric_ik",
     "planar_target",
+    "pose",
     "r2t_ik",
+    "rotation_log",
     "rr_ik",
     "solve",
+    "target_pose",
 ]
 
 #: Relative tolerance on lengths when deciding reachability at a workspace boundary (round-off only).
@@ -89,10 +94,14 @@ def rr_ik(target: ArrayLike, L1: float, L2: float, strict: bool = True) -> NDArr
     """Both inverse-kinematics branches of paper 000's planar RR arm (Fig. 2), shape ``(..., 2, 2)``.
 
     Eqs. (1)–(2), x = L1 c1 + L2 c12, y = L1 s1 + L2 s12, squared and added give the law of
-    cosines x² + y² = L1² + L2² + 2 L1 L2 cos θ2, so
+    cosines r² = x² + y² = L1² + L2² + 2 L1 L2 cos θ2. Written with the half angle,
+    tan²(θ2/2) = (1 − cos θ2)/(1 + cos θ2) = ((L1 + L2)² − r²)/(r² − (L1 − L2)²), so
 
-        θ2 = ±arccos((x² + y² − L1² − L2²) / (2 L1 L2)),
+        θ2 = ±2 atan2(√((L1 + L2 − r)(L1 + L2 + r)), √((r − |L1 − L2|)(r + |L1 − L2|))),
         θ1 = atan2(y, x) − atan2(L2 sin θ2, L1 + L2 cos θ2).
+
+    Unlike arccos of the law of cosines (whose slope is infinite at cos θ2 = ±1), this stays
+    accurate on the annulus' rims: at r = L1 + L2 it gives θ2 = 0 exactly, at r = |L1 − L2| ±π.
 
     ``out[..., b, :]`` is branch ``b`` = (θ1, θ2): branch 0 has θ2 ≥ 0, branch 1 has θ2 ≤ 0.
     Paper 000 draws both in Fig. 2 without naming them; with its y axis up (the vertical
@@ -114,8 +123,9 @@ def rr_ik(target: ArrayLike, L1: float, L2: float, strict: bool = True) -> NDArr
     _unreachable(unreachable, p, strict, lambda xy: (
         f"target {_fmt(xy)} is out of reach of the RR arm: |target| = {np.hypot(*xy):.6g} m, "
         f"reachable annulus {inner:.6g} m ≤ |target| ≤ {outer:.6g} m"))
-    c2 = np.clip((x**2 + y**2 - L1**2 - L2**2) / (2 * L1 * L2), -1.0, 1.0)  # law of cosines
-    theta2 = np.stack([np.arccos(c2), -np.arccos(c2)], axis=-1)  # branch 0: θ2 ≥ 0, branch 1: θ2 ≤ 0
+    r = np.clip(distance, inner, outer)  # round-off beyond a rim: onto it
+    half = np.arctan2(np.sqrt((outer - r) * (outer + r)), np.sqrt((r - inner) * (r + inner)))  # θ2/2 ≥ 0
+    theta2 = np.stack([2 * half, -2 * half], axis=-1)  # branch 0: θ2 ≥ 0, branch 1: θ2 ≤ 0
     theta1 = np.arctan2(y, x)[..., None] - np.arctan2(L2 * np.sin(theta2), L1 + L2 * np.cos(theta2))
     out = np.stack([theta1, theta2], axis=-1)
     out[unreachable] = np.nan
@@ -250,94 +260,212 @@ def drake_arm(arm: Arm) -> tuple[Any, Any, NDArray]:
     return _PLANTS[key]
 
 
-def numeric_ik(
-    arm: Arm, position: ArrayLike, q0: ArrayLike | None = None, seeds: int = 12
-) -> NDArray[np.float64]:
-    """Joint values ``(n,)`` putting ``arm``'s tool frame origin at ``position``, by Drake.
+def pose(position: ArrayLike, rpy: ArrayLike) -> NDArray[np.float64]:
+    """The 4×4 pose with origin ``position`` (m, (3,)) and rotation R = Rz(y)·Ry(p)·Rx(r), ``rpy`` = (r, p, y) in rad.
 
-    ``pydrake.multibody.inverse_kinematics.InverseKinematics`` with ``AddPositionConstraint``
-    on the tool frame (bounds ±1e-10 m), the joint limits, and a quadratic cost ‖q − q0‖²
-    (so that a redundant arm moves least from ``q0``), solved by ``pydrake.solvers.Solve``
-    from ``q0`` (default zeros) and then ``seeds − 1`` deterministic random seeds within
-    the limits (unlimited joints: (−π, π]). Each result is polished by Gauss–Newton steps
-    on Drake's translational Jacobian and accepted only if the arm's own forward
-    kinematics (``arm.forward``, independent of Drake) puts the tool within 1e-9 m of
-    the target. If no seed succeeds, the search is repeated without joint limits: a
-    success there raises "reachable only outside the joint limits", else the target is
-    reported unreachable (``ValueError`` naming it in both cases).
+    The URDF convention: roll about x, then pitch about y, then yaw about z, all about the fixed axes.
     """
-    target = _single(position, 3)
-    q0 = np.zeros(arm.n) if q0 is None else _single(q0, arm.n, "q0")
-    lower, upper = arm.limit_arrays()
-    rng = np.random.default_rng(0)
-    box_lo, box_hi = np.where(np.isfinite(lower), lower, -np.pi), np.where(np.isfinite(upper), upper, np.pi)
-    starts = [np.clip(q0, lower, upper)] + [rng.uniform(box_lo, box_hi) for _ in range(seeds - 1)]
-    q, miss = _drake_search(arm, target, q0, starts, with_limits=True)
-    if q is not None:
-        return q
-    if np.all(np.isinf(lower)) and np.all(np.isinf(upper)):
-        raise ValueError(f"target {_fmt(target)} is out of reach of {arm.name}: {_no_solution(seeds, miss)}")
-    q_free, _ = _drake_search(arm, target, q0, starts, with_limits=False)
-    if q_free is None:
-        raise ValueError(f"target {_fmt(target)} is out of reach of {arm.name}: {_no_solution(seeds, miss)}")
-    fitted, violation = fit_limits(arm, q_free[None, :], q0)
-    if violation[0] is not None:
-        raise ValueError(_outside_limits_message(arm, target, violation))
-    return fitted[0]
+    values = np.asarray(rpy, dtype=float)
+    if values.shape != (3,) or not np.all(np.isfinite(values)):
+        raise ValueError(f"rpy {np.ravel(values).tolist()} must be 3 finite angles (roll, pitch, yaw)")
+    r, p, y = values
+    return homogeneous((T_Z6(y) @ T_Z5(p) @ T_Z4(r))[:3, :3], _single(position, 3, "position"))
 
 
-def _no_solution(seeds: int, miss: float) -> str:
-    return f"no solution from {seeds} seeds (closest miss {miss:.3g} m)"
+def rotation_log(R: ArrayLike) -> NDArray[np.float64]:
+    """The rotation vector ω = θ·u (rad) with exp([ω]×) = R, |ω| ≤ π, shape ``(..., 3)`` for ``(..., 3, 3)``.
+
+    With v = vee(R − Rᵀ)/2 = sin θ·u and cos θ = (tr R − 1)/2, θ = atan2(|v|, cos θ). For
+    cos θ ≥ 0, ω = (θ / sin θ)·v; beyond π/2 (where v loses accuracy) u is read from
+    R + Rᵀ = 2 cos θ·I + 2 (1 − cos θ) u uᵀ, its column of largest diagonal, signed like v.
+    Accurate to round-off for every angle, including θ → 0 and θ → π.
+    """
+    R = np.asarray(R, dtype=float)
+    v = 0.5 * np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], -1)
+    s = np.linalg.norm(v, axis=-1)
+    c = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+    theta = np.arctan2(s, c)
+    regular = np.where(s > 0, theta / np.where(s > 0, s, 1.0), 1.0)[..., None] * v  # θ/sin θ → 1 as θ → 0
+    obtuse = np.where(c < 0, c, -1.0)[..., None, None]  # only used where cos θ < 0, so 1 − cos θ ≥ 1
+    M = (R + np.swapaxes(R, -1, -2) - 2.0 * obtuse * np.eye(3)) / (2.0 * (1.0 - obtuse))  # u uᵀ there
+    k = np.argmax(np.diagonal(M, axis1=-2, axis2=-1), axis=-1)
+    column = np.take_along_axis(M, k[..., None, None], axis=-1)[..., 0]
+    u = column / np.sqrt(np.take_along_axis(np.diagonal(M, axis1=-2, axis2=-1), k[..., None], axis=-1))
+    u = np.where((np.sum(u * v, axis=-1) < 0)[..., None], -u, u)
+    return np.where((c < 0)[..., None], theta[..., None] * u, regular)
 
 
-def _drake_search(
-    arm: Arm, target: NDArray, q0: NDArray, starts: list[NDArray], with_limits: bool
-) -> tuple[NDArray | None, float]:
-    """The first start from which Drake's IK plus polishing reaches ``target``; else the closest miss."""
-    from pydrake.multibody.inverse_kinematics import InverseKinematics
-    from pydrake.solvers import Solve
-
-    plant, tool, index = drake_arm(arm)
-    to_plant = np.zeros(plant.num_positions())
-    ik = InverseKinematics(plant, with_joint_limits=with_limits)
-    ik.AddPositionConstraint(tool, np.zeros(3), plant.world_frame(), target - 1e-10, target + 1e-10)
-    prog = ik.prog()
-    plant_q0 = to_plant.copy()
-    plant_q0[index] = q0
-    prog.AddQuadraticErrorCost(np.eye(plant.num_positions()), plant_q0, ik.q())
-    lower, upper = arm.limit_arrays() if with_limits else (np.full(arm.n, -np.inf), np.full(arm.n, np.inf))
-    best = np.inf
-    for start in starts:
-        guess = to_plant.copy()
-        guess[index] = start
-        result = Solve(prog, guess)
-        q = _polish(arm, target, result.GetSolution(ik.q())[index], lower, upper)
-        miss = float(np.linalg.norm(arm.forward(q).tool[:3, 3] - target))  # the paper's FK, not Drake's
-        if miss <= POSITION_TOL:
-            return q, miss
-        best = min(best, miss)
-    return None, best
+#: Starts of the numerical solver, solved as one batch: the first is ``near``, the rest random within limits.
+SEEDS = 256
+#: A returned solution's tool orientation must match a pose target to this angle (rad).
+ORIENTATION_TOL = 1e-9
+#: Numerical solutions closer than this (rad or m, revolute joints modulo 2π) are the same solution.
+DISTINCT_TOL = 1e-6
+#: Coordinates of a target beyond this (m) are refused as out of range (no arm is that large).
+MAX_COORDINATE = 1e6
+#: Levenberg–Marquardt iterations at most, then Newton polishing steps at most.
+LM_ITERATIONS, NEWTON_STEPS = 200, 8
 
 
-def _polish(arm: Arm, target: NDArray, q: NDArray, lower: NDArray, upper: NDArray, steps: int = 8) -> NDArray:
-    """Gauss–Newton steps q ← q + J⁺(target − p(q)) on Drake's tool Jacobian, kept within limits."""
-    from pydrake.multibody.tree import JacobianWrtVariable
+def _pose_error(arm: Arm, position: NDArray, rotation: NDArray | None, q: NDArray) -> NDArray[np.float64]:
+    """Tool pose error ``(..., 3)`` or ``(..., 6)`` by the arm's own FK: [target − p(q); log(R* R(q)ᵀ)], world frame."""
+    T = arm.forward(q).tool
+    error = position - T[..., :3, 3]
+    if rotation is None:
+        return error
+    return np.concatenate([error, rotation_log(rotation @ np.swapaxes(T[..., :3, :3], -1, -2))], axis=-1)
 
-    plant, tool, index = drake_arm(arm)
-    context = plant.CreateDefaultContext()
-    world = plant.world_frame()
-    full = np.zeros(plant.num_positions())
-    for _ in range(steps):
-        full[index] = q
-        plant.SetPositions(context, full)
-        error = target - plant.CalcPointsPositions(context, tool, np.zeros(3), world)[:, 0]
-        if np.linalg.norm(error) < 1e-14:
+
+def _project(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray) -> NDArray[np.float64]:
+    """``q`` moved into the limits: a revolute angle by a 2π shift when one fits, else clipped onto the limit."""
+    base = np.where(np.isfinite(lower), lower, 0.0)
+    shifted = base + np.mod(q - base, 2 * np.pi)  # in [lower, lower + 2π)
+    shift = arm.revolute & ((q < lower) | (q > upper)) & (shifted <= upper)
+    return np.clip(np.where(shift, shifted, q), lower, upper)
+
+
+def _jacobian_rows(arm: Arm, q: NDArray, rows: int) -> NDArray[np.float64]:
+    """The tool Jacobian's first ``rows`` rows (3: linear velocity; 6: [v; ω]), world frame, ``(..., rows, n)``."""
+    from armlab.kinematics.differential import jacobian
+
+    return jacobian(arm, q)[..., :rows, :]
+
+
+def _levenberg_marquardt(
+    arm: Arm, position: NDArray, rotation: NDArray | None, q: NDArray, lower: NDArray, upper: NDArray
+) -> tuple[NDArray, NDArray]:
+    """Damped least squares on the tool pose error, every start ``q`` ``(S, n)`` at once; returns (q, error).
+
+    Each start takes the step (JᵀJ + λI) δ = Jᵀe, projected into the limits (:func:`_project`); a
+    step that lowers |e| is kept and λ divided by 3, else λ is multiplied by 4. A start stops when
+    it reaches the target (|e| < 1e-13), when it is stationary (|Jᵀe| ≤ 1e-9 |J| |e|: a local
+    minimum of |e|, the closest the tool gets from there) or when no step lowers |e| (λ ≥ 1e10).
+    Only the starts still running are computed.
+    """
+    rows = 3 if rotation is None else 6
+    q = q.copy()
+    error = _pose_error(arm, position, rotation, q)
+    cost = np.einsum("...i,...i", error, error)
+    damping = np.full(q.shape[0], 1e-3)
+    running = np.arange(q.shape[0])
+    for _ in range(LM_ITERATIONS):
+        J = _jacobian_rows(arm, q[running], rows)
+        Jt = np.swapaxes(J, -1, -2)
+        gradient = (Jt @ error[running, :, None])[..., 0]
+        stationary = np.linalg.norm(gradient, axis=-1) <= 1e-9 * np.linalg.norm(J, axis=(-2, -1)) * np.sqrt(
+            cost[running])
+        A = Jt @ J + damping[running, None, None] * np.eye(arm.n)
+        trial = _project(arm, q[running] + np.linalg.solve(A, gradient[..., None])[..., 0], lower, upper)
+        trial_error = _pose_error(arm, position, rotation, trial)
+        trial_cost = np.einsum("...i,...i", trial_error, trial_error)
+        better = trial_cost < cost[running]
+        accepted = running[better]
+        q[accepted], error[accepted], cost[accepted] = trial[better], trial_error[better], trial_cost[better]
+        damping[running] = np.clip(np.where(better, damping[running] / 3, damping[running] * 4), 1e-12, 1e10)
+        done = (cost[running] < 1e-26) | stationary | (damping[running] >= 1e10)
+        running = running[~done]
+        if running.size == 0:
             break
-        J = plant.CalcJacobianTranslationalVelocity(
-            context, JacobianWrtVariable.kQDot, tool, np.zeros(3), world, world
-        )[:, index]
-        q = np.clip(q + np.linalg.lstsq(J, error, rcond=1e-10)[0], lower, upper)
-    return q
+    return q, error
+
+
+def _newton(
+    arm: Arm, position: NDArray, rotation: NDArray | None, q: NDArray, lower: NDArray, upper: NDArray
+) -> tuple[NDArray, NDArray]:
+    """Newton steps q ← q + J⁺e (least-norm for a redundant request), kept within limits; returns (q, error)."""
+    rows = 3 if rotation is None else 6
+    error = _pose_error(arm, position, rotation, q)
+    for _ in range(NEWTON_STEPS):
+        if np.abs(error).max(initial=0.0) < 1e-15:
+            break
+        step = np.linalg.pinv(_jacobian_rows(arm, q, rows), rcond=1e-10) @ error[..., None]
+        trial = _project(arm, q + step[..., 0], lower, upper)
+        trial_error = _pose_error(arm, position, rotation, trial)
+        better = np.linalg.norm(trial_error, axis=-1) < np.linalg.norm(error, axis=-1)
+        q, error = np.where(better[:, None], trial, q), np.where(better[:, None], trial_error, error)
+    return q, error
+
+
+def _starts(arm: Arm, q0: NDArray, seeds: int) -> NDArray[np.float64]:
+    """``q0`` and ``seeds − 1`` deterministic random starts within the limits (unlimited joints: (−π, π])."""
+    lower, upper = arm.limit_arrays(unlimited=np.pi)
+    random = np.random.default_rng(0).uniform(lower, upper, size=(seeds - 1, arm.n))
+    return np.vstack([_project(arm, q0, *arm.limit_arrays())[None, :], random])
+
+
+def _search(
+    arm: Arm, position: NDArray, rotation: NDArray | None, starts: NDArray, limited: bool
+) -> tuple[NDArray, NDArray]:
+    """(solutions reaching the target to 1e-9 m and 1e-9 rad, error of every start) from ``starts``."""
+    lower, upper = arm.limit_arrays() if limited else (np.full(arm.n, -np.inf), np.full(arm.n, np.inf))
+    q, error = _levenberg_marquardt(arm, position, rotation, starts, lower, upper)
+    close = np.linalg.norm(error, axis=-1) < 1e-5
+    q, polished = _newton(arm, position, rotation, q[close], lower, upper)
+    error[close] = polished
+    reached = (np.linalg.norm(polished[:, :3], axis=-1) <= POSITION_TOL) & (
+        np.linalg.norm(polished[:, 3:], axis=-1) <= ORIENTATION_TOL)
+    return q[reached], error
+
+
+def numeric_ik(
+    arm: Arm, position: ArrayLike, rotation: ArrayLike | None = None, q0: ArrayLike | None = None,
+    seeds: int = SEEDS,
+) -> NDArray[np.float64]:
+    """Joint values ``(k, n)`` putting ``arm``'s tool at ``position`` (and orientation ``rotation``), any arm.
+
+    A multi-start damped least squares (Levenberg–Marquardt) on the tool pose error
+    [target − p(q); log(R* R(q)ᵀ)] (m, rad; :func:`rotation_log`) with the arm's geometric
+    Jacobian (:func:`armlab.kinematics.differential.jacobian`), from ``q0`` (default zeros)
+    and ``seeds − 1`` deterministic random starts within the joint limits, all solved as one
+    batch and kept within the limits (revolute angles shifted by 2π, else clipped). Each
+    converged start is polished by Newton steps and kept only if the arm's own forward
+    kinematics (``arm.forward``) reaches the target to 1e-9 m and 1e-9 rad. One row per
+    start that succeeded, duplicates included (:func:`solve` removes them): every solution
+    *found* — a redundant request (fewer constraints than joints) has infinitely many.
+
+    ``ValueError`` naming the target if no start succeeds: "reachable only outside the joint
+    limits" if the search without limits succeeds; else the closest distance the tool gets to
+    the position (the minimum of |p(q) − target| over the limits, from the same starts), or,
+    for a pose whose position is reachable, the closest pose found.
+    """
+    position = _single(position, 3)
+    rotation = None if rotation is None else np.asarray(rotation, dtype=float)
+    q0 = np.zeros(arm.n) if q0 is None else _single(q0, arm.n, "q0")
+    if not (isinstance(seeds, int) and seeds >= 1):
+        raise ValueError(f"seeds = {seeds!r} must be a positive whole number")
+    starts = _starts(arm, q0, seeds)
+    found, error = _search(arm, position, rotation, starts, limited=True)
+    if found.shape[0]:
+        return found
+    what = _target_text(position, rotation)
+    lower, upper = arm.limit_arrays()
+    if np.isfinite(lower).any() or np.isfinite(upper).any():
+        free, _ = _search(arm, position, rotation, starts, limited=False)
+        if free.shape[0]:
+            fitted, violations = fit_limits(arm, free, q0)
+            inside = [v is None for v in violations]
+            if any(inside):
+                return fitted[inside]
+            raise ValueError(_outside_limits_message(arm, what, violations))
+    if rotation is not None:
+        _, position_error = _search(arm, position, None, starts, limited=True)
+        if np.linalg.norm(position_error, axis=-1).min() <= POSITION_TOL:
+            best = error[np.argmin(np.linalg.norm(error, axis=-1))]
+            raise ValueError(
+                f"{what} is out of reach of {arm.name}: its position is reachable, but not with this "
+                f"orientation (the closest pose found from {seeds} starts is {np.linalg.norm(best[:3]):.3g} m and "
+                f"{np.linalg.norm(best[3:]):.3g} rad away)")
+        error = position_error
+    closest = float(np.linalg.norm(error[:, :3], axis=-1).min())
+    raise ValueError(f"{what} is out of reach of {arm.name}: the tool gets no closer than {closest:.6g} m to it "
+                     f"(the minimum of |p(q) − target| within the joint limits, from {seeds} starts)")
+
+
+def _target_text(position: NDArray, rotation: NDArray | None) -> str:
+    """``target (x, y, z)``, or for a pose ``target pose (x, y, z) m, rpy (r, p, y) rad``."""
+    if rotation is None:
+        return f"target {_fmt(position)}"
+    return f"target pose {_fmt(position)} m, rpy {_fmt(orientation_angles(rotation))} rad"
 
 
 # --------------------------------------------------------------------------- limits
@@ -378,7 +506,7 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
     return q, first
 
 
-def _outside_limits_message(arm: Arm, target: NDArray, violations: list[tuple | None]) -> str:
+def _outside_limits_message(arm: Arm, target: str, violations: list[tuple | None]) -> str:
     parts = []
     for i, value, lo, hi in (v for v in violations if v is not None):
         if arm.revolute[i]:
@@ -386,7 +514,7 @@ def _outside_limits_message(arm: Arm, target: NDArray, violations: list[tuple | 
                          f"{np.degrees(hi):.6g}°] even after 2π shifts")
         else:
             parts.append(f"{arm.joint_names[i]} = {value:.6g} m outside [{lo:.6g}, {hi:.6g}] m")
-    return (f"target {_fmt(target)} is reachable by {arm.name} only outside its joint limits: "
+    return (f"{target} is reachable by {arm.name} only outside its joint limits: "
             + "; ".join(dict.fromkeys(parts)))
 
 
@@ -404,58 +532,128 @@ def _analytic(arm: Arm) -> bool:
     return arm.paper == ARMS[arm.name].PAPER
 
 
+def _check_pose(T: NDArray) -> tuple[NDArray, NDArray]:
+    """(position, rotation) of a 4×4 pose; ``ValueError`` unless homogeneous with a proper rotation (to 1e-9)."""
+    _single(T.ravel(), 16, "target")
+    R = T[:3, :3]
+    if np.abs(T[3] - [0.0, 0.0, 0.0, 1.0]).max() > 0:
+        raise ValueError(f"target pose's last row {T[3].tolist()} must be [0, 0, 0, 1]")
+    deviation = np.abs(R.T @ R - np.eye(3)).max()
+    if deviation > 1e-9:
+        raise ValueError(f"target pose's rotation {R.tolist()} is not orthonormal (|RᵀR − I| = {deviation:.3g} "
+                         "> 1e-9): give it to full precision")
+    if np.linalg.det(R) < 0:
+        raise ValueError(f"target pose's rotation {R.tolist()} has determinant −1 (a reflection); a rotation has +1")
+    return T[:3, 3], R
+
+
+def _target(arm: Arm, target: ArrayLike) -> tuple[NDArray, NDArray | None]:
+    """(position (3,), rotation (3, 3) or None) of a position or 4×4 pose target, checked."""
+    t = np.asarray(target, dtype=float)
+    position, rotation = _check_pose(t) if t.shape == (4, 4) else (t, None)
+    if arm.name == "rr" and _analytic(arm):
+        position = np.append(planar_target(position), 0.0)
+    elif position.shape != (3,):
+        raise ValueError(f"target {np.ravel(position).tolist()} has {position.size} values; {arm.name} takes "
+                         "3 coordinates (x,y,z in m) or a 4×4 pose")
+    position = _single(position, 3)
+    for axis, value in zip("xyz", position, strict=True):
+        if abs(value) > MAX_COORDINATE:
+            raise ValueError(f"target {axis} = {value:g} m is out of range: coordinates are limited to "
+                             f"±{MAX_COORDINATE:g} m")
+    return position, rotation
+
+
+def target_pose(arm: Arm, position: ArrayLike, rpy: ArrayLike) -> NDArray[np.float64]:
+    """The 4×4 pose target of ``position`` as :func:`solve` takes it for ``arm`` (rr: x,y or x,y,0) and ``rpy``
+    (rad, R = Rz(y)·Ry(p)·Rx(r), :func:`pose`)."""
+    return pose(_target(arm, position)[0], rpy)
+
+
+def _closed_form(arm: Arm, position: NDArray, rotation: NDArray | None, pitch: float | None,
+                 near: NDArray) -> NDArray[np.float64]:
+    """Every branch of the paper arm's closed form reaching ``position`` (and ``rotation``), shape ``(k, n)``.
+
+    The closed forms take a position (arm4r: and the pitch). For a pose, arm4r's θ1 and pitch are read
+    off the rotation R04 = Rz(θ1)·Rx(−90°)·Rz(pitch) (tool z axis (−s1, c1, 0)); the branches are then
+    kept whose tool orientation (by ``arm.forward``) matches the target's to 1e-9 rad.
+    """
+    prm = arm.parameters
+    if arm.name == "rr":
+        candidates = rr_ik(position[:2], prm["L1"], prm["L2"])
+    elif arm.name == "arm4r":
+        theta1_free = float(near[0])
+        if rotation is not None:
+            if pitch is not None:
+                raise ValueError(f"pitch = {pitch} is not allowed with a pose target: the pose sets the tool pitch")
+            theta1_free = float(np.arctan2(-rotation[0, 2], rotation[1, 2]))
+            c1, s1 = np.cos(theta1_free), np.sin(theta1_free)
+            pitch = float(np.arctan2(-rotation[2, 0], c1 * rotation[0, 0] + s1 * rotation[1, 0]))
+        pitch = 0.0 if pitch is None else float(pitch)
+        candidates = arm4r_ik(position, pitch, prm["a2"], prm["a3"], prm["d2"], theta1_free=theta1_free)
+    else:
+        candidates = r2t_ik(position, prm["l1"], prm["l2"], prm["l3"], prm["l4"], prm["l5"])
+    if rotation is None:
+        return candidates
+    miss = np.linalg.norm(_pose_error(arm, position, rotation, candidates)[:, 3:], axis=-1)
+    if not np.any(miss <= ORIENTATION_TOL):
+        raise ValueError(f"{_target_text(position, rotation)} is out of reach of {arm.name}: its position is "
+                         f"reachable, but not with this orientation (the {len(miss)} branches of the closed form "
+                         f"reaching it miss the orientation by {miss.min():.3g} rad at least)")
+    return candidates[miss <= ORIENTATION_TOL]
+
+
+def _distinct(arm: Arm, q: NDArray, tol: float) -> NDArray[np.float64]:
+    """The rows of ``q`` ``(k, n)`` that differ from every earlier row by more than ``tol`` (revolute: modulo 2π)."""
+    keep: list[int] = []
+    for i in range(q.shape[0]):
+        d = q[keep] - q[i]
+        d = np.where(arm.revolute, np.remainder(d + np.pi, 2 * np.pi) - np.pi, d)
+        if not keep or np.abs(d).max(axis=-1).min() > tol:
+            keep.append(i)
+    return q[keep]
+
+
 def solve(
     arm: Arm,
     target: ArrayLike,
     pitch: float | None = None,
     near: ArrayLike | None = None,
     all_solutions: bool = False,
+    seeds: int = SEEDS,
 ) -> list[NDArray[np.float64]]:
     """Joint values reaching ``target`` within ``arm``'s joint limits, nearest to ``near`` first.
 
-    * ``rr``: :func:`rr_ik`; ``target`` is (x, y) or (x, y, 0) — the arm moves in z = 0.
-    * ``arm4r``: :func:`arm4r_ik` with ``pitch`` = θ2 + θ3 + θ4 (rad); **pitch = 0 if not
-      given** (tool x axis horizontal, the "stretched" state of paper 001's simulation).
-    * ``r2t``: :func:`r2t_ik`.
-    * any other arm (urm6, users' arms): :func:`numeric_ik` started from ``near``; it
-      returns one solution (a redundant arm has infinitely many).
+    ``target`` is a tool position (3,) in m (rr: (x, y) or (x, y, 0)) or a full tool pose,
+    a 4×4 homogeneous matrix (its rotation orthonormal with determinant +1, to 1e-9).
 
-    Every solution is fitted into the joint limits by :func:`fit_limits`; those that do
-    not fit are dropped, duplicates removed, and the rest sorted by Euclidean joint
-    distance to ``near`` (default zeros). Returns every solution if ``all_solutions``,
-    else ``[best]``. ``ValueError`` (naming the bad value) for a wrong number of
-    coordinates, NaN/inf, a pitch for an arm other than arm4r, an unreachable target, or
-    a target reachable only outside the joint limits (naming the joint and its limits).
+    * ``rr``: :func:`rr_ik`, 2 branches — the arm moves in z = 0.
+    * ``arm4r``: :func:`arm4r_ik`, 4 branches, with ``pitch`` = θ2 + θ3 + θ4 (rad); **pitch = 0 if
+      not given** (tool x axis horizontal, the "stretched" state of paper 001's simulation).
+    * ``r2t``: :func:`r2t_ik`, 2 branches.
+    * For a pose the paper arms' branches are kept whose orientation matches (:func:`_closed_form`).
+    * any other arm (urm6, rrrr, users' arms): :func:`numeric_ik` from ``near`` and ``seeds − 1``
+      random starts: every distinct solution *found* (a redundant request has infinitely many).
+
+    Every solution is fitted into the joint limits by :func:`fit_limits`; those that do not fit
+    are dropped, duplicates (revolute joints modulo 2π) removed, and the rest sorted by Euclidean
+    joint distance to ``near`` (default zeros). Returns every solution if ``all_solutions``, else
+    ``[best]``. ``ValueError`` (naming the bad value) for a wrong number of coordinates, NaN/inf, a
+    coordinate beyond ±1e6 m, a matrix that is not a pose, a pitch for an arm other than arm4r, an
+    unreachable target (with the closest distance), or a target reachable only outside the joint
+    limits (naming the joint and its limits).
     """
-    name = arm.name
-    if name == "rr" and _analytic(arm):
-        p = planar_target(target)
-    else:
-        p = np.asarray(target, dtype=float)
-        if p.shape != (3,):
-            raise ValueError(f"target {np.ravel(p).tolist()} has {p.size} values; {name} takes 3 coordinates "
-                             "(x,y,z in m)")
-        p = _single(p, 3)
+    position, rotation = _target(arm, target)
     near = np.zeros(arm.n) if near is None else _single(near, arm.n, "near")
-    if pitch is not None and not (name == "arm4r" and _analytic(arm)):
-        raise ValueError(f"pitch = {pitch} applies only to arm4r (its tool pitch θ2+θ3+θ4), not to {name}")
-    prm = arm.parameters
-    if not _analytic(arm):
-        candidates = numeric_ik(arm, p, q0=near)[None, :]
-    elif name == "rr":
-        candidates = rr_ik(p, prm["L1"], prm["L2"])
-    elif name == "arm4r":
-        pitch = 0.0 if pitch is None else float(pitch)
-        candidates = arm4r_ik(p, pitch, prm["a2"], prm["a3"], prm["d2"], theta1_free=float(near[0]))
+    if pitch is not None and not (arm.name == "arm4r" and _analytic(arm)):
+        raise ValueError(f"pitch = {pitch} applies only to arm4r (its tool pitch θ2+θ3+θ4), not to {arm.name}")
+    if _analytic(arm):
+        candidates, tol = _closed_form(arm, position, rotation, pitch, near), SAME_SOLUTION_TOL
     else:
-        candidates = r2t_ik(p, prm["l1"], prm["l2"], prm["l3"], prm["l4"], prm["l5"])
+        candidates, tol = numeric_ik(arm, position, rotation, q0=near, seeds=seeds), DISTINCT_TOL
     fitted, violations = fit_limits(arm, candidates, near)
     kept = fitted[[v is None for v in violations]]
     if kept.shape[0] == 0:
-        raise ValueError(_outside_limits_message(arm, p, violations))
-    unique: list[NDArray] = []
-    for q in kept:
-        if all(np.max(np.abs(q - u)) > SAME_SOLUTION_TOL for u in unique):
-            unique.append(q)
-    unique.sort(key=lambda q: float(np.linalg.norm(q - near)))
+        raise ValueError(_outside_limits_message(arm, _target_text(position, rotation), violations))
+    unique = sorted(_distinct(arm, kept, tol), key=lambda q: float(np.linalg.norm(q - near)))
     return unique if all_solutions else unique[:1]

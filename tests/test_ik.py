@@ -2,13 +2,17 @@
 
 Every solution is put back through the paper's forward kinematics (``arm.forward``) and
 through Drake's ``CalcRelativeTransform`` on the arm's URDF plant; both must return the
-target to 1e-9 m. Paper values: 000 Table 2 and M0 (§2), 001's targets (2, 0, 0) and
-(1, 1, 1.4), and 001's misprinted eq. (19).
+target to 1e-9 m (and a pose's orientation to 1e-9 rad). Paper values: 000 Table 2 and M0
+(§2), 001's targets (2, 0, 0) and (1, 1, 1.4), and 001's misprinted eq. (19). Full poses:
+a PUMA 560-like DH arm (spherical wrist) has all 8 branches found; closest distances of
+unreachable targets against the geometry of a DH arm with a shoulder offset.
 """
 
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -17,7 +21,18 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from armlab.kinematics.dh import DHRow, DHTable
-from armlab.kinematics.ik import arm4r_ik, fit_limits, numeric_ik, r2t_ik, rr_ik, solve
+from armlab.kinematics.ik import (
+    arm4r_ik,
+    fit_limits,
+    numeric_ik,
+    pose,
+    r2t_ik,
+    rotation_log,
+    rr_ik,
+    solve,
+    target_pose,
+)
+from armlab.kinematics.locating import rotation_about
 from armlab.models import get_arm
 from armlab.models.custom import from_dh
 from armlab.models.urdf import JointLimits
@@ -52,23 +67,25 @@ def ik_request(arm, q: np.ndarray) -> tuple[np.ndarray, float | None]:
 
 
 def assert_within_limits(arm, q: np.ndarray) -> None:
-    for i, lim in enumerate(arm.limits):
-        if lim.lower is None:
-            assert -np.pi < q[i] <= np.pi, f"{arm.joint_names[i]} = {q[i]} not wrapped to (−π, π]"
-        else:
-            assert lim.lower <= q[i] <= lim.upper, f"{arm.joint_names[i]} = {q[i]} outside {lim}"
+    """Solutions ``(n,)`` or ``(k, n)`` within the limits; unlimited revolute joints wrapped to (−π, π]."""
+    lower, upper = arm.limit_arrays()
+    wrap = np.isinf(lower) & arm.revolute
+    lower, upper = np.where(wrap, -np.pi, lower), np.where(wrap, np.pi, upper)
+    bad = (q < lower) | (q > upper) | (wrap & (q == -np.pi))
+    assert not bad.any(), f"{arm.name}: {np.asarray(q)[bad.any(axis=-1)] if q.ndim > 1 else q} outside the limits"
 
 
 def assert_reaches(arm, solutions: list[np.ndarray], target: np.ndarray) -> None:
     """Every solution within limits and FK∘IK = target (paper FK and Drake FK)."""
     assert solutions, f"no solution for {target}"
     goal = np.append(target, 0.0) if target.size == 2 else target
-    for q in solutions:
-        assert q.shape == (arm.n,)
-        assert_within_limits(arm, q)
-        miss = np.abs(tool_position(arm, q) - goal).max()
-        assert miss <= TOL, f"{arm.name}: FK(IK({target})) misses by {miss:.3g} m (q = {q})"
-        miss_drake = np.abs(drake_tool_position(arm.name, q) - goal).max()
+    q = np.array(solutions)
+    assert q.shape == (len(solutions), arm.n)
+    assert_within_limits(arm, q)
+    miss = np.abs(tool_position(arm, q) - goal).max(axis=-1)
+    assert miss.max() <= TOL, f"{arm.name}: FK(IK({target})) misses by {miss.max():.3g} m (q = {q[miss.argmax()]})"
+    for s in q:
+        miss_drake = np.abs(drake_tool_position(arm.name, s) - goal).max()
         assert miss_drake <= TOL, f"{arm.name}: Drake FK of IK({target}) misses by {miss_drake:.3g} m"
 
 
@@ -324,7 +341,7 @@ def test_numeric_target_only_outside_limits() -> None:
     inside = tool_position(arm, np.array([0.2, 0.3]))
     (q,) = solve(arm, inside, near=[0.2, 0.3])
     assert np.abs(tool_position(arm, q) - inside).max() <= TOL and 0 <= q[1] <= 0.5
-    np.testing.assert_allclose(numeric_ik(arm, inside, q0=[0.2, 0.3]), q, atol=1e-12)
+    np.testing.assert_allclose(numeric_ik(arm, inside, q0=[0.2, 0.3])[0], q, atol=1e-12)  # row 0: from q0
 
 
 @pytest.mark.parametrize("name", ARM_NAMES)
@@ -355,3 +372,233 @@ def test_other_bad_requests() -> None:
         solve(get_arm("arm4r"), [1.0, 1.0, 1.4], pitch=np.nan)
     with pytest.raises(ValueError, match=r"L2 = -0\.3"):
         rr_ik([0.4, 0.3], 0.4, -0.3)
+
+
+# ------------------------------------------------------------------ workspace boundary (rr)
+def test_rr_exact_on_the_rims() -> None:
+    """The half-angle form gives θ2 = 0 exactly at B = (0.7, 0) (arccos gave ∓6e-7°) and ±π at (0.1, 0)."""
+    np.testing.assert_array_equal(rr_ik([0.7, 0.0], 0.4, 0.3), np.zeros((2, 2)))
+    inner = rr_ik([0.1, 0.0], 0.4, 0.3)
+    np.testing.assert_array_equal(inner[:, 1], [np.pi, -np.pi])
+    assert np.abs(inner[:, 0]).max() < 1e-15
+    arm = get_arm("rr")
+    for target in ([0.7, 0.0], [0.1, 0.0], [0.0, -0.7]):  # singular: the two branches coincide, returned once
+        (q,) = solve(arm, target, all_solutions=True)
+        assert np.abs(tool_position(arm, q)[:2] - target).max() <= TOL
+    result = subprocess.run([sys.executable, "-m", "armlab", "ik", "rr", "--target", "0.7,0", "--all"],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0 and result.stdout.splitlines() == ["q (SI) = +0.000000  +0.000000"], result
+
+
+# ------------------------------------------------------------------ full poses
+def drake_tool_pose(arm, plant, q: np.ndarray) -> np.ndarray:
+    """Drake's FK of the arm's URDF: the tool frame's pose in the world (4×4), by CalcRelativeTransform."""
+    context = plant.CreateDefaultContext()
+    full = np.zeros(plant.num_positions())
+    for i, joint in enumerate(arm.joint_names):
+        full[plant.GetJointByName(joint).position_start()] = q[i]
+    plant.SetPositions(context, full)
+    return plant.CalcRelativeTransform(context, plant.world_frame(), plant.GetFrameByName(arm.tool_name)).GetAsMatrix4()
+
+
+def pose_miss(T: np.ndarray, target: np.ndarray) -> tuple[float, float]:
+    """(position miss in m, orientation miss in rad = the angle of R_targetᵀ R, by arccos of its trace)."""
+    c = (np.trace(target[:3, :3].T @ T[:3, :3]) - 1) / 2
+    s = np.linalg.norm(target[:3, :3].T @ T[:3, :3] - np.eye(3)) / np.sqrt(2)  # = 2 sin(θ/2)·√2/√2
+    return float(np.linalg.norm(T[:3, 3] - target[:3, 3])), float(np.arctan2(s * np.sqrt(1 - s**2 / 4), c))
+
+
+def assert_reaches_pose(arm, plant, solutions: list[np.ndarray], target: np.ndarray) -> None:
+    """Every solution within limits and reaching the pose to 1e-9 m and 1e-9 rad, by the arm's FK and by Drake's."""
+    assert solutions
+    for q in solutions:
+        assert_within_limits(arm, q)
+        for how, T in (("arm.forward", arm.forward(q).tool), ("Drake", drake_tool_pose(arm, plant, q))):
+            miss = pose_miss(T, target)
+            assert miss[0] <= TOL and miss[1] <= TOL, f"{arm.name}: {how} of {q} misses the pose by {miss}"
+
+
+def puma560():
+    """The PUMA 560 of the Robotics Toolbox (standard DH, m, rad), joints unlimited (so all 8 branches count)."""
+    a, d = (0.0, 0.4318, 0.0203, 0.0, 0.0, 0.0), (0.0, 0.0, 0.15005, 0.4318, 0.0, 0.0)
+    alpha = (np.pi / 2, 0.0, -np.pi / 2, np.pi / 2, -np.pi / 2, 0.0)
+    table = DHTable(tuple(DHRow(a[i], alpha[i], d[i], 0.0) for i in range(6)), "standard")
+    return from_dh(table, [JointLimits(None, None, 10.0, 1.0)] * 6, name="puma560")
+
+
+def test_puma560_all_eight_branches(rng: np.random.Generator) -> None:
+    """A 6R arm with a spherical wrist: 4 arm branches (shoulder, elbow) × 2 wrist flips for generic poses.
+
+    The wrist flip is checked independently: (θ4 + π, −θ5, θ6 + π) gives the same wrist rotation.
+    """
+    arm = puma560()
+    plant = arm.make_plant()
+    for q in rng.uniform(-np.pi, np.pi, size=(12, 6)):
+        target = arm.forward(q).tool
+        solutions = solve(arm, target, all_solutions=True)
+        assert len(solutions) == 8, f"{len(solutions)} branches for the pose of {q}"
+        assert_reaches_pose(arm, plant, solutions, target)
+        flipped = q + [0.0, 0.0, 0.0, np.pi, 0.0, np.pi]
+        flipped[4] = -q[4]
+        for expected in (q, flipped):
+            assert any(same_modulo_2pi(arm, s, expected) for s in solutions), f"{expected} not among {solutions}"
+        nearest = solve(arm, target, near=q)[0]
+        assert same_modulo_2pi(arm, nearest, q)
+
+
+def test_puma560_from_a_dh_csv(tmp_path) -> None:
+    """The same arm read from a DH table file (angles in radians), through the CLI with --rpy in degrees."""
+    rows = ["type,a,alpha,d,theta,lower,upper", "R,0,1.5707963267948966,0,0,,", "R,0.4318,0,0,0,,",
+            "R,0.0203,-1.5707963267948966,0.15005,0,,", "R,0,1.5707963267948966,0.4318,0,,",
+            "R,0,-1.5707963267948966,0,0,,", "R,0,0,0,0,,"]
+    path = tmp_path / "puma.csv"
+    path.write_text("\n".join(rows) + "\n")
+    q = np.radians([20.0, -30.0, 40.0, 50.0, -60.0, 70.0])
+    target = puma560().forward(q).tool
+    rpy = np.degrees(rotation_rpy(target[:3, :3]))
+    result = subprocess.run(
+        [sys.executable, "-m", "armlab", "ik", str(path), "--target=" + ",".join(str(float(v)) for v in target[:3, 3]),
+         "--rpy=" + ",".join(str(float(v)) for v in rpy), "--deg", "--all", "--json"],
+        capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    import json
+
+    solutions = np.array(json.loads(result.stdout)["solutions"])
+    assert solutions.shape == (8, 6)
+    assert any(same_modulo_2pi(puma560(), s, q) for s in solutions)
+
+
+def rotation_rpy(R: np.ndarray) -> np.ndarray:
+    """(roll, pitch, yaw) of R = Rz(y)·Ry(p)·Rx(r), by Drake's RollPitchYaw."""
+    from pydrake.math import RollPitchYaw, RotationMatrix
+
+    return RollPitchYaw(RotationMatrix(R)).vector()
+
+
+@pytest.mark.parametrize("name", ARM_NAMES)
+def test_full_pose_of_random_configurations(name: str, rng: np.random.Generator) -> None:
+    """Every paper arm, full-pose targets from FK of random configurations: all solutions reach the pose, and the
+    configuration the pose came from is among them (closed forms + orientation check, or the numerical solver)."""
+    arm, plant, _ = arm_and_plant(name)
+    for q in random_q(arm, rng, 10):
+        target = arm.forward(q).tool
+        solutions = solve(arm, target, all_solutions=True)
+        assert_reaches_pose(arm, plant, solutions, target)
+        assert any(same_modulo_2pi(arm, s, q) for s in solutions), f"{q} not among {solutions}"
+
+
+def test_urm6_full_pose_branches_are_distinct(rng: np.random.Generator) -> None:
+    arm = get_arm("urm6")
+    for q in random_q(arm, rng, 5):
+        target = arm.forward(q).tool
+        solutions = np.array(solve(arm, target, all_solutions=True))
+        d = solutions[:, None, :] - solutions[None, :, :]
+        d = np.abs((d + np.pi) % (2 * np.pi) - np.pi).max(axis=-1)
+        assert np.all(d[~np.eye(len(solutions), dtype=bool)] > 1e-6), "a solution is returned twice"
+        distances = np.linalg.norm(solutions, axis=1)
+        assert np.all(np.diff(distances) >= 0)  # nearest to near = 0 first
+
+
+def test_pose_and_rotation_log_against_drake(rng: np.random.Generator) -> None:
+    """pose(): R = Rz(y)·Ry(p)·Rx(r) as Drake's RollPitchYaw; rotation_log() as Drake's AngleAxis, near 0 and π too."""
+    from pydrake.math import RollPitchYaw, RotationMatrix
+
+    for rpy in rng.uniform(-np.pi, np.pi, size=(20, 3)):
+        np.testing.assert_allclose(pose([0.1, 0.2, 0.3], rpy)[:3, :3],
+                                   RollPitchYaw(rpy).ToRotationMatrix().matrix(), rtol=0, atol=1e-15)
+    for angle in [0.0, 1e-12, 1e-7, 0.3, np.pi / 2, 2.0, 3.0, np.pi - 1e-7, np.pi - 1e-12, np.pi]:
+        k = rng.normal(size=3)
+        k /= np.linalg.norm(k)
+        R = rotation_about(k, angle)
+        omega = rotation_log(R)
+        axis_angle = RotationMatrix(R).ToAngleAxis()
+        expected = axis_angle.angle() * axis_angle.axis()
+        if angle > np.pi - 1e-6:  # ±π·k are the same rotation
+            expected = expected * np.sign(expected @ omega)
+        np.testing.assert_allclose(omega, expected, rtol=0, atol=2e-15 + 1e-8 * (angle > 3.0))
+        np.testing.assert_allclose(rotation_about(omega / max(np.linalg.norm(omega), 1e-300), np.linalg.norm(omega)),
+                                   R, rtol=0, atol=1e-15)
+    batch = rotation_about([0.0, 0.0, 1.0], np.linspace(-3, 3, 7))
+    np.testing.assert_allclose(rotation_log(batch)[:, 2], np.linspace(-3, 3, 7), rtol=0, atol=1e-15)
+
+
+def test_arm4r_pose_sets_the_pitch() -> None:
+    """arm4r's θ1 and pitch come from the pose's rotation R04 = Rz(θ1)·Rx(−90°)·Rz(pitch); a pitch too is refused."""
+    arm, plant, _ = arm_and_plant("arm4r")
+    # Rz(45°)·Ry(0.3)·Rx(−90°) = Rz(45°)·Rx(−90°)·Rz(0.3) (Rx(−90°) takes z to y): θ1 = 45°, pitch 0.3
+    target = target_pose(arm, [1.0, 1.0, 1.4], [-np.pi / 2, 0.3, np.pi / 4])
+    solutions = solve(arm, target, all_solutions=True)
+    assert_reaches_pose(arm, plant, solutions, target)
+    assert len(solutions) == 2  # elbow up and down; the other θ1 root turns the tool z axis around
+    for q in solutions:
+        assert abs(q[0] - np.pi / 4) < 1e-12 and abs(q[1] + q[2] + q[3] - 0.3) < 1e-12
+    with pytest.raises(ValueError, match=r"pitch = 0\.1 is not allowed with a pose target"):
+        solve(arm, target, pitch=0.1)
+    tilted = target_pose(arm, [1.0, 1.0, 1.4], [-np.pi / 2 + 0.2, 0.3, np.pi / 4])  # tool z axis not horizontal
+    with pytest.raises(ValueError, match=r"position is reachable, but not with this orientation"):
+        solve(arm, tilted)
+
+
+@pytest.mark.parametrize(("matrix", "message"), [
+    (np.diag([1.0, 1.0, 1.0 + 1e-6, 1.0]), r"not orthonormal \(\|RᵀR − I\| = 2e-06"),
+    (np.diag([1.0, 1.0, -1.0, 1.0]), r"determinant −1"),
+    (np.vstack([np.eye(4)[:3], [0.0, 0.0, 1.0, 1.0]]), r"last row \[0\.0, 0\.0, 1\.0, 1\.0\]"),
+    (np.where(np.eye(4) == 1, np.nan, 0.0), r"target\[0\] = nan"),
+])
+def test_bad_pose(matrix: np.ndarray, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        solve(get_arm("urm6"), matrix)
+
+
+# ------------------------------------------------------------------ position-only on a user's 3-DOF arm
+def shoulder_arm():
+    """Standard DH: a vertical base joint, the shoulder 0.5 m up, two 0.5 m links: reach = a ball about (0, 0, 0.5)."""
+    table = DHTable((DHRow(0.0, np.pi / 2, 0.5, 0.0), DHRow(0.5, 0.0, 0.0, 0.0), DHRow(0.5, 0.0, 0.0, 0.0)))
+    return from_dh(table, [JointLimits(None, None, 10.0, 1.0)] * 3, name="shoulder3")
+
+
+def test_three_dof_dh_arm_both_elbow_branches(rng: np.random.Generator) -> None:
+    """Four branches: elbow flip (θ2 + θ3, −θ3 for equal links) and reaching over (θ1 + π, π − θ2, −θ3) of each."""
+    arm = shoulder_arm()
+    for q in rng.uniform(-np.pi, np.pi, size=(20, 3)):
+        target = tool_position(arm, q)
+        solutions = solve(arm, target, all_solutions=True)
+        assert len(solutions) == 4
+        for s in solutions:
+            assert np.abs(tool_position(arm, s) - target).max() <= TOL
+        elbow = np.array([q[0], q[1] + q[2], -q[2]])
+        for expected in (q, elbow, [q[0] + np.pi, np.pi - q[1], -q[2]], [elbow[0] + np.pi, np.pi - elbow[1], q[2]]):
+            assert any(same_modulo_2pi(arm, s, np.asarray(expected)) for s in solutions), (expected, solutions)
+
+
+@pytest.mark.parametrize("target", [(2.0, 0.0, 0.0), (0.0, -1.5, 3.0), (0.3, 0.2, 0.5), (1e5, 0.0, 0.0)])
+def test_unreachable_closest_distance(target: tuple) -> None:
+    """The tool reaches the ball of radius a2 + a3 = 1 m about the shoulder s = (0, 0, 0.5) (a2 = a3: no hole), so
+    from outside it gets no closer than |t − s| − 1. The reported distance is the minimum over q (to the 6 printed
+    digits), not the miss of one start (issue 9: such an arm at (2, 0, 0) was reported 2.02 m away)."""
+    arm = shoulder_arm()
+    t = np.array(target)
+    gap = np.linalg.norm(t - [0.0, 0.0, 0.5]) - 1.0
+    if gap <= 0:
+        assert np.abs(tool_position(arm, solve(arm, t)[0]) - t).max() <= TOL
+        return
+    with pytest.raises(ValueError, match=r"out of reach of shoulder3: the tool gets no closer than ([\d.e+]+) m") as e:
+        solve(arm, t)
+    reported = float(re.search(r"no closer than ([\d.e+]+) m", str(e.value)).group(1))
+    assert abs(reported - gap) <= 5e-6 * gap, (reported, gap)
+
+
+@pytest.mark.parametrize(("name", "target", "value"), [("urm6", "1e308,0,0", "x = 1e+308"),
+                                                       ("rrrr", "-1e308,0,0", "x = -1e+308"),
+                                                       ("rr", "0.5,1e300", "y = 1e+300"),
+                                                       ("shoulder", "0,0,1e7", "z = 1e+07")])
+def test_huge_targets_are_a_range_error(name: str, target: str, value: str, tmp_path) -> None:
+    """One line on stderr naming the value, exit 2, no traceback and no RuntimeWarning (warnings are errors here)."""
+    if name == "shoulder":
+        name = str(tmp_path / "shoulder.csv")
+        (tmp_path / "shoulder.csv").write_text("type,a,alpha,d,theta,lower,upper\nR,0,1.5707963267948966,0.5,0,,\n"
+                                               "R,0.5,0,0,0,,\nR,0.5,0,0,0,,\n")
+    result = subprocess.run([sys.executable, "-W", "error", "-m", "armlab", "ik", name, f"--target={target}"],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr == f"armlab: error: target {value} m is out of range: coordinates are limited to ±1e+06 m\n"
