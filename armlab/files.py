@@ -8,6 +8,8 @@
   is written. An existing folder is replaced only if it is empty or an earlier output of the
   same kind; anything else is left alone (an error), and so are the working directory, a
   folder holding it, a file system's root and a mount point (they cannot be renamed).
+* :func:`read_json` reads a user's JSON input (segments, studies) with bounds: a regular file, at
+  most :data:`MAX_JSON_BYTES`, nesting within Python's recursion limit, one-line errors.
 * :func:`stop_on_signals` turns SIGINT and SIGTERM into :class:`Interrupted` (a
   ``KeyboardInterrupt``) so that every ``with`` block unwinds and removes its temporaries; a
   signal arriving while a temporary is being renamed into place or removed waits until that is
@@ -19,17 +21,24 @@ Both give their files and folders the ordinary permissions of the user's umask (
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import signal
+import stat
 import tempfile
 import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from types import FrameType, TracebackType
+from typing import Any
 
-__all__ = ["Interrupted", "OutputFolder", "SignalState", "stop_on_signals", "write_file"]
+__all__ = ["MAX_JSON_BYTES", "Interrupted", "OutputFolder", "SignalState", "read_json", "stop_on_signals",
+           "write_file"]
+
+#: The largest JSON input file read (bytes): far more than any segments or study file needs; a bound on memory.
+MAX_JSON_BYTES = 10_000_000
 
 #: The signals that stop a command (Ctrl-C, and ``kill``'s default).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -102,6 +111,35 @@ def _remove(path: Path) -> None:
         shutil.rmtree(path, ignore_errors=True)
     else:
         path.unlink(missing_ok=True)
+
+
+def _json_int(text: str) -> int | float:
+    """A JSON integer: exact while a float holds it exactly, else a float (huge ones become inf, refused later)."""
+    return int(text) if len(text.lstrip("-")) <= 15 else float(text)
+
+
+def read_json(path: str | Path, what: str) -> Any:
+    """The JSON in a regular file of at most :data:`MAX_JSON_BYTES`; a one-line ``ValueError`` naming ``what``
+    (e.g. ``"--segments"``) and the file for anything else: no file, a device or pipe, too big, not UTF-8, not
+    JSON, nested too deep. Integers too long for a float's precision are read as floats (``1e400`` as inf)."""
+    path = Path(path)
+    try:
+        if not stat.S_ISREG(path.stat().st_mode):
+            raise ValueError(f"{what} {path}: not a regular file")
+        with path.open("rb") as handle:
+            raw = handle.read(MAX_JSON_BYTES + 1)
+    except OSError as error:
+        raise ValueError(f"{what} {path}: cannot read it: {error.strerror or error}") from None
+    if len(raw) > MAX_JSON_BYTES:
+        raise ValueError(f"{what} {path}: larger than {MAX_JSON_BYTES // 1_000_000} MB")
+    try:
+        return json.loads(raw.decode("utf-8"), parse_int=_json_int)
+    except UnicodeDecodeError:
+        raise ValueError(f"{what} {path}: cannot read it: it is not UTF-8 text") from None
+    except RecursionError:
+        raise ValueError(f"{what} {path}: not valid JSON: nested too deeply") from None
+    except ValueError as error:
+        raise ValueError(f"{what} {path}: not valid JSON: {error}") from None
 
 
 def _umask() -> int:

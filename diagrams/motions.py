@@ -23,7 +23,6 @@ Segment files (:func:`read_segments`) are JSON, see :data:`SEGMENTS_FILE_HELP`.
 from __future__ import annotations
 
 import json
-import stat
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -31,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.files import read_json
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, Segment, check_duration
 
 if TYPE_CHECKING:
@@ -55,8 +55,6 @@ ABCD_POINTS: dict[str, tuple[float, float]] = {"A": (0.4, -0.3), "B": (0.7, 0.0)
 ABCD_SEGMENTS: tuple[tuple[str, int | None, str, int], ...] = (
     ("A", 0, "B", 0), ("B", None, "C", 1), ("C", 0, "D", 0), ("D", 1, "A", 1)
 )
-#: The largest segments file read (bytes): far more than any motion needs, a bound on memory and time.
-MAX_JSON_BYTES = 10_000_000
 #: Named multi-segment paths (``--path``), by arm.
 PATHS: dict[str, tuple[str, ...]] = {"rr": ("abcd",)}
 
@@ -238,38 +236,10 @@ def _end(arm: Arm, spec: Mapping[str, Any], which: str, deg: bool, near: NDArray
         raise ValueError(f"{where} {which}_point: {error}") from None
 
 
-def _json_int(text: str) -> int | float:
-    """A JSON integer: exact while a float holds it exactly, else a float (huge ones become inf, refused later)."""
-    return int(text) if len(text.lstrip("-")) <= 15 else float(text)
-
-
-def _read_json(path: Path, what: str) -> Any:
-    """The JSON in a regular file of at most :data:`MAX_JSON_BYTES`; one-line ``ValueError`` (naming ``what``
-    and the file) for anything else: no file, a device or pipe, too big, not UTF-8, not JSON, nested too deep."""
-    try:
-        if not stat.S_ISREG(path.stat().st_mode):
-            raise ValueError(f"{what} {path}: not a regular file")
-        with path.open("rb") as handle:
-            raw = handle.read(MAX_JSON_BYTES + 1)
-    except OSError as error:
-        raise ValueError(f"{what} {path}: cannot read it: {error.strerror or error}") from None
-    if len(raw) > MAX_JSON_BYTES:
-        raise ValueError(f"{what} {path}: larger than {MAX_JSON_BYTES // 1_000_000} MB; split the motion into "
-                         "smaller files")
-    try:
-        return json.loads(raw.decode("utf-8"), parse_int=_json_int)
-    except UnicodeDecodeError:
-        raise ValueError(f"{what} {path}: cannot read it: it is not UTF-8 text") from None
-    except RecursionError:
-        raise ValueError(f"{what} {path}: not valid JSON: nested too deeply") from None
-    except ValueError as error:
-        raise ValueError(f"{what} {path}: not valid JSON: {error}") from None
-
-
 def read_segments(arm: Arm, path: str | Path) -> Motion:
     """The motion in a segments file (JSON, :data:`SEGMENTS_FILE_HELP`), every end checked against the limits."""
     path = Path(path)
-    data = _read_json(path, "--segments")
+    data = read_json(path, "--segments")
     if not isinstance(data, dict) or not isinstance(data.get("segments"), list) or not data["segments"]:
         raise ValueError(f"--segments {path}: expected an object with a non-empty list \"segments\"")
     deg = data.get("deg", False)

@@ -21,7 +21,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from armlab.cli import joint_values, parse_floats
-from armlab.diagrams.motions import MAX_JSON_BYTES, read_segments
+from armlab.diagrams.motions import read_segments
+from armlab.files import MAX_JSON_BYTES
 from armlab.models import get_arm
 
 pytestmark = pytest.mark.timeout(120)
