@@ -7,6 +7,14 @@ joint torques. Here, with Drake's own systems, named so that the graphviz pictur
                                                          │          ↑ state feedback ─────────┘
     loggers: log_reference, log_state, log_torque, log_tool (ToolPoint: p, v, a of the tool point)
 
+How the loggers sample (``sampling``, one of :data:`SAMPLINGS`):
+
+* ``"dense"`` (the default): the loggers publish when the diagram is forced to (once, at the end of the
+  run), so nothing stops the integrator between its own error-controlled steps; the samples every
+  ``log_period`` are made after the run from the integrator's dense output by
+  :func:`armlab.diagrams.simulate.run_simulator`, which checks them against the loggers' end sample.
+* ``"periodic"``: the loggers publish every ``log_period``, so the integrator stops at every sample
+  (the straightforward diagram, 10–30× slower; the reference the tests compare ``"dense"`` with).
 ``mode="controller"`` is the closed loop (computed torque with reference acceleration, PD gains
 kp, kd, optional ki); ``mode="inverse_dynamics"`` is SimMechanics' inverse-dynamics mode: the
 torques computed from the reference alone (no feedback) and applied to the plant open-loop.
@@ -25,6 +33,7 @@ from armlab.controllers.inverse_dynamics import (
     DEFAULT_KP,
     add_inverse_dynamics,
     add_inverse_dynamics_controller,
+    gain_vector,
 )
 from armlab.diagrams.plant import make_plant, resolve_gravity
 from armlab.kinematics.quintic import Motion, to_piecewise_polynomial
@@ -32,15 +41,18 @@ from armlab.kinematics.quintic import Motion, to_piecewise_polynomial
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.framework import Diagram
+    from pydrake.trajectories import PiecewisePolynomial
 
     from armlab.models.arm import Arm
 
-__all__ = ["DEFAULT_LOG_PERIOD", "MODES", "RunDiagram", "build_diagram", "check_log_period"]
+__all__ = ["DEFAULT_LOG_PERIOD", "MODES", "SAMPLINGS", "RunDiagram", "build_diagram", "check_log_period"]
 
 #: Default period (s) of the loggers: 1 ms.
 DEFAULT_LOG_PERIOD = 1e-3
 #: Diagram modes: closed-loop computed torque, or open-loop inverse dynamics (SimMechanics' mode).
 MODES = ("controller", "inverse_dynamics")
+#: How the loggers sample: from the integrator's dense output after the run, or at periodic publish events.
+SAMPLINGS = ("dense", "periodic")
 
 
 def check_log_period(period: float, duration: float | None = None) -> float:
@@ -55,7 +67,11 @@ def check_log_period(period: float, duration: float | None = None) -> float:
 
 @dataclass
 class RunDiagram:
-    """A built diagram and handles to its parts (the loggers by role: reference, state, torque, tool)."""
+    """A built diagram and handles to its parts (the loggers by role: reference, state, torque, tool).
+
+    ``trajectory`` is the TrajectorySource's q_d(t); ``gains`` the controller's (kp, kd, ki) per joint
+    (used in ``"controller"`` mode); ``arm`` the arm the plant is built from.
+    """
 
     diagram: Diagram
     plant: MultibodyPlant
@@ -66,6 +82,10 @@ class RunDiagram:
     payload: float
     mode: str
     log_period: float
+    sampling: str
+    trajectory: PiecewisePolynomial
+    gains: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
+    arm: Arm
 
 
 def build_diagram(
@@ -78,19 +98,23 @@ def build_diagram(
     kp: float | ArrayLike = DEFAULT_KP,
     kd: float | ArrayLike = DEFAULT_KD,
     ki: float | ArrayLike = 0.0,
+    sampling: str = "dense",
 ) -> RunDiagram:
     """Build Fig. 6 for ``arm`` following ``motion`` (one continuous run, see :meth:`Motion.runs`).
 
     ``gravity``: see :func:`~armlab.diagrams.plant.resolve_gravity`; ``payload``: point mass (kg) at
-    the tool; ``log_period``: period (s) of every logger; ``mode``: one of :data:`MODES`.
+    the tool; ``log_period``: period (s) of every logger's samples; ``mode``: one of :data:`MODES`;
+    ``sampling``: one of :data:`SAMPLINGS` (see the module docstring).
     """
-    from pydrake.systems.framework import DiagramBuilder
+    from pydrake.systems.framework import DiagramBuilder, TriggerType
     from pydrake.systems.primitives import Demultiplexer, LogVectorOutput, TrajectorySource
 
     from armlab.diagrams.tool_point import ToolPointKinematics
 
     if mode not in MODES:
         raise ValueError(f"mode {mode!r} is not allowed; allowed: {', '.join(MODES)}")
+    if sampling not in SAMPLINGS:
+        raise ValueError(f"sampling {sampling!r} is not allowed; allowed: {', '.join(SAMPLINGS)}")
     if len(motion.runs()) != 1:
         raise ValueError("build_diagram takes one continuous run; split the motion with Motion.runs()")
     motion.check_limits(arm)
@@ -102,13 +126,13 @@ def build_diagram(
     plant = builder.AddNamedSystem("MultibodyPlant", make_plant(arm, g, payload))
     model = make_plant(arm, g, payload)
 
-    source = builder.AddNamedSystem(
-        "TrajectorySource", TrajectorySource(to_piecewise_polynomial(motion), output_derivative_order=2)
-    )
+    trajectory = to_piecewise_polynomial(motion)
+    source = builder.AddNamedSystem("TrajectorySource", TrajectorySource(trajectory, output_derivative_order=2))
     split = builder.AddNamedSystem("reference_split", Demultiplexer([2 * n, n]))
     builder.Connect(source.get_output_port(), split.get_input_port())
+    gains = (gain_vector(kp, n, "kp"), gain_vector(kd, n, "kd"), gain_vector(ki, n, "ki"))
     if mode == "controller":
-        control = add_inverse_dynamics_controller(builder, plant, model, kp, kd, ki)
+        control = add_inverse_dynamics_controller(builder, plant, model, *gains)
         builder.Connect(split.get_output_port(0), control.get_input_port_desired_state())
         builder.Connect(split.get_output_port(1), control.get_input_port_desired_acceleration())
         torque_port = control.get_output_port_control()
@@ -125,9 +149,13 @@ def build_diagram(
     loggers = {}
     for role, port in (("reference", source.get_output_port()), ("state", plant.get_state_output_port()),
                        ("torque", torque_port), ("tool", tool.get_output_port())):
-        logger = LogVectorOutput(port, builder, log_period)
+        if sampling == "periodic":
+            logger = LogVectorOutput(port, builder, log_period)
+        else:
+            logger = LogVectorOutput(port, builder, {TriggerType.kForced})
         logger.set_name(f"log_{role}")
         loggers[role] = logger
     diagram = builder.Build()
     diagram.set_name(f"{arm.name} Fig. 6 ({mode})")
-    return RunDiagram(diagram, plant, model, loggers, motion, g, float(payload), mode, log_period)
+    return RunDiagram(diagram, plant, model, loggers, motion, g, float(payload), mode, log_period, sampling,
+                      trajectory, gains, arm)

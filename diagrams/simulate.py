@@ -5,6 +5,24 @@
 (rest, or the constant rates), integrates with Drake's error-controlled Runge–Kutta 5 (4) at
 :data:`DEFAULT_ACCURACY`, and gathers the four loggers into one :class:`SimulationLog` on the
 motion's time axis. :func:`summarize` gives the numbers of ``summary.json``.
+
+Where the time goes, and why the samples come from the dense output: loggers that publish every
+1 ms make the integrator stop at every sample (2000 steps of 7 derivative evaluations for a 2 s
+motion instead of the ~200 its error control needs) and evaluate the whole diagram, the Python
+ToolPoint included, at each one: 16–93× the cost of integrating the bare plant. So by default
+(``sampling="dense"``, :mod:`armlab.diagrams.build`) the loggers publish only at the end of a run,
+the integrator takes its own steps and keeps its dense output (the state between steps), and
+:func:`log_samples` makes each sample at t = 0, Δt, 2Δt, …, and the end from the state there, as
+the diagram's systems would: the TrajectorySource's trajectory and its derivatives, the controller's
+law τ = ID(q, q̇, q̈_d + kp (q_d − q) + kd (q̇_d − q̇) + ki ∫(q_d − q)) (or τ = ID(q_d, q̇_d, q̈_d) open
+loop) by the batched recursive Newton–Euler of :mod:`armlab.kinematics.rnea`, and the tool point's
+p, v, a by :mod:`armlab.kinematics.differential`. The loggers' own end sample is checked against the
+last row. ``tests/test_simulate.py`` checks every sample against the periodic loggers (``sampling="periodic"``).
+
+Before it starts, :func:`check_work` refuses a motion that would make more than :data:`MAX_SAMPLES`
+log samples or needs more than :data:`MAX_STEPS` integrator steps; while it runs, a progress bar shows on
+a terminal (stderr), Ctrl-C stops it within one integrator step, and so does a run that takes more steps
+than :data:`MAX_STEPS`.
 """
 
 from __future__ import annotations
@@ -21,14 +39,25 @@ from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, RunDiagram, build_d
 from armlab.kinematics.quintic import Motion
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from pydrake.systems.framework import Context
+
     from armlab.models.arm import Arm
 
 __all__ = [
     "DEFAULT_ACCURACY",
     "DEFAULT_INTEGRATOR",
+    "MAX_SAMPLES",
+    "MAX_STEPS",
     "SimulationLog",
+    "check_work",
+    "log_samples",
+    "max_step",
     "run_simulator",
+    "sample_times",
     "simulate",
+    "state_rows",
     "summarize",
 ]
 
@@ -36,8 +65,18 @@ __all__ = [
 #: 1e-6 rad tracking with the exact model on every paper motion (``tests/test_simulate.py``).
 DEFAULT_INTEGRATOR = "runge_kutta5"
 DEFAULT_ACCURACY = 1e-6
-#: Largest step (s) the integrator may take; the loggers' publish times bound it further.
+#: Largest step (s) the integrator may take in ``"controller"`` mode (its error control asks for no smaller
+#: steps on the paper motions), and open loop (``"inverse_dynamics"``), where no feedback damps the
+#: integration error and the error control, per step, lets it grow to 3e-6 rad in rr's 2 s at 10 ms
+#: (at 2 ms: 1e-9 rad).
 MAX_STEP = 0.01
+OPEN_LOOP_MAX_STEP = 0.002
+#: Most log samples one simulation may make (all its runs): a million rows of ``log.csv`` are 0.5–1 GB.
+MAX_SAMPLES = 1_000_000
+#: Most integrator steps one simulation may take (all its runs): about half a minute to a few minutes.
+MAX_STEPS = 500_000
+#: Largest joint travel (rad or m) assumed per integrator step when estimating the steps a motion needs.
+TRAVEL_PER_STEP = 0.5
 
 
 @dataclass
@@ -77,10 +116,160 @@ class SimulationLog:
         return (self.run == run) & (self.t >= breaks[k] - 1e-12) & (self.t <= breaks[k + 1] + 1e-12)
 
 
-def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY) -> dict[str, NDArray[np.float64]]:
+# ----------------------------------------------------------------------------------------- the work
+def max_step(mode: str) -> float:
+    """The integrator's largest step (s) in ``mode``: :data:`MAX_STEP` or :data:`OPEN_LOOP_MAX_STEP`."""
+    return MAX_STEP if mode == "controller" else OPEN_LOOP_MAX_STEP
+
+
+def _sample_count(duration: float, period: float) -> int:
+    """How many samples :func:`sample_times` gives, without making them (at most one more)."""
+    return int(duration // period) + 2
+
+
+def sample_times(duration: float, period: float) -> NDArray[np.float64]:
+    """The loggers' sample times: k·``period`` for k = 0, 1, … up to ``duration``, and ``duration`` itself.
+
+    Exactly the times periodic publish events happen at in Drake (k·period, offset 0) and the end
+    sample :func:`run_simulator` adds when the period does not divide the duration.
+    """
+    t = np.arange(_sample_count(duration, period)) * period
+    t = t[t <= duration]
+    return t if t[-1] >= duration - 1e-9 * period else np.append(t, duration)
+
+
+def _travel(motion: Motion) -> float:
+    """The largest path length of one joint over ``motion`` (rad or m), from 64 samples per segment."""
+    t = np.linspace(0.0, motion.duration, 64 * len(motion.segments) + 1)
+    return float(np.max(np.sum(np.abs(np.diff(motion.evaluate(t)[0], axis=0)), axis=0)))
+
+
+def check_work(motion: Motion, log_period: float, mode: str = "controller") -> tuple[int, int]:
+    """(log samples, least integrator steps) of simulating ``motion`` in ``mode``; ``ValueError`` past the limits.
+
+    The steps are at least duration / :func:`max_step` and the largest joint travel / :data:`TRAVEL_PER_STEP`
+    per run; more than :data:`MAX_STEPS` of them, or more than :data:`MAX_SAMPLES` samples, could not finish
+    in reasonable time or memory, and is refused with the number and the option to change.
+    """
+    runs = [piece for _, piece in motion.runs()]
+    samples = sum(_sample_count(piece.duration, log_period) - 1 for piece in runs)
+    if samples > MAX_SAMPLES:
+        raise ValueError(f"a {motion.duration:g} s motion logged every {log_period:g} s makes {samples:,} log samples, "
+                         f"more than the {MAX_SAMPLES:,} allowed: give a longer log period (--dt) or a shorter motion")
+    travel = max(_travel(piece) for piece in runs)
+    steps = sum(max(piece.duration / max_step(mode), _travel(piece) / TRAVEL_PER_STEP) for piece in runs)
+    if steps > MAX_STEPS:
+        raise ValueError(f"a {motion.duration:g} s motion with {travel:.3g} rad (or m) of joint travel needs at least "
+                         f"{steps:,.0f} integrator steps (≤ {max_step(mode):g} s and ≤ {TRAVEL_PER_STEP:g} rad each), "
+                         f"more than the {MAX_STEPS:,} allowed: give a shorter motion (--tf) or less joint travel")
+    return samples, int(np.ceil(steps))
+
+
+class _Watch:
+    """The simulator's monitor over all runs: progress on a terminal, Ctrl-C and the step budget checked per step."""
+
+    def __init__(self, name: str, duration: float, accuracy: float) -> None:
+        import sys
+
+        from tqdm import tqdm
+
+        self.duration, self.accuracy, self.steps, self.offset = duration, accuracy, 0, 0.0
+        self.bar = tqdm(total=duration, desc=f"simulating {name}", unit="s", disable=None, delay=0.5, file=sys.stderr,
+                        bar_format="{desc}: {n:.2f}/{total:g} s |{bar}| {elapsed}<{remaining}, {rate_fmt}")
+
+    def __call__(self, context: Context) -> None:
+        self.steps += 1
+        t = self.offset + context.get_time()
+        if self.steps > MAX_STEPS:
+            raise ValueError(f"the integrator took more than {MAX_STEPS:,} steps and reached only t = {t:.4g} s of "
+                             f"{self.duration:g} s: the arm cannot follow this motion at accuracy {self.accuracy:g}; "
+                             "give it more time (--tf) or less joint travel")
+        self.bar.update(t - self.bar.n)
+
+
+# ---------------------------------------------------------------------------------- the samples
+def state_rows(run: RunDiagram, context: Context) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """Rows of the diagram's continuous state holding the plant's [q, v], and the others (the PID's ∫(q_d − q)).
+
+    Found by writing 0, 1, 2, … into the state and reading the plant's part; the state is restored.
+    """
+    x = context.get_continuous_state_vector().CopyToVector()
+    context.SetContinuousState(np.arange(x.size, dtype=float))
+    plant = run.plant.GetPositionsAndVelocities(run.plant.GetMyContextFromRoot(context)).astype(np.intp)
+    context.SetContinuousState(x)
+    return plant, np.setdiff1d(np.arange(x.size), plant)
+
+
+def _forward_dynamics(run: RunDiagram, q: NDArray, v: NDArray, tau: NDArray) -> NDArray[np.float64]:
+    """v̇ = M(q)⁻¹ (τ − C(q, v) v + τ_g(q)) per sample, M column by column from the batched inverse dynamics."""
+    from armlab.kinematics.rnea import inverse_dynamics
+
+    arm, n = run.arm, q.shape[1]
+    bias = inverse_dynamics(arm, q, v, np.zeros(n), run.gravity, run.payload)
+    mass = np.stack([inverse_dynamics(arm, q, np.zeros(n), e, np.zeros(3), run.payload) for e in np.eye(n)], axis=-1)
+    return np.linalg.solve(mass, (tau - bias)[..., None])[..., 0]
+
+
+def log_samples(run: RunDiagram, t: NDArray[np.float64], x: NDArray[np.float64], plant_rows: NDArray[np.intp],
+                other_rows: NDArray[np.intp]) -> dict[str, NDArray[np.float64]]:
+    """What the loggers of ``run`` record at times ``t`` ``(m,)`` with the diagram's continuous state ``x`` ``(m, k)``.
+
+    ``plant_rows``, ``other_rows``: :func:`state_rows`, the rows of ``x`` holding the plant's [q, v] and the
+    PID's ∫(q_d − q) (controller mode). Returns ``{"reference": (m, 3n), "state": (m, 2n), "torque": (m, n),
+    "tool": (m, 9)}``, computed as the diagram's systems compute their outputs (see the module docstring), for all
+    samples at once.
+    """
+    from armlab.kinematics.differential import tool_motion
+    from armlab.kinematics.rnea import inverse_dynamics
+
+    arm, n = run.arm, run.arm.n
+    rate = run.trajectory.MakeDerivative()  # as TrajectorySource differentiates: each from the one before
+    q_d, v_d, a_d = (f.vector_values(t).T for f in (run.trajectory, rate, rate.MakeDerivative()))
+    state = x[:, plant_rows]
+    q, v = state[:, :n], state[:, n:]
+    if run.mode == "controller":
+        kp, kd, ki = run.gains
+        # the controller's model is the plant (same arm, gravity, payload): the plant's v̇ is the commanded one
+        vdot = a_d + kp * (q_d - q) + kd * (v_d - v) + ki * x[:, other_rows]
+        tau = inverse_dynamics(arm, q, v, vdot, run.gravity, run.payload)
+    else:
+        tau = inverse_dynamics(arm, q_d, v_d, a_d, run.gravity, run.payload)
+        vdot = _forward_dynamics(run, q, v, tau)
+    twist, accel = tool_motion(arm, q, v, vdot)
+    tool = np.hstack([arm.forward(q).tool[:, :3, 3], twist[:, :3], accel[:, :3]])
+    return {"reference": np.hstack([q_d, v_d, a_d]), "state": state, "torque": tau, "tool": tool}
+
+
+def _logged(run: RunDiagram, context: Context) -> dict[str, NDArray[np.float64]]:
+    """The loggers' records by role, ``(m, size)`` each, with their common times under ``"t"``."""
+    logs = {role: logger.FindLog(context) for role, logger in run.loggers.items()}
+    times = [log.sample_times() for log in logs.values()]
+    if any(not np.array_equal(times[0], other) for other in times[1:]):
+        raise RuntimeError("the loggers sampled at different times")
+    out = {"t": np.array(times[0])}
+    out.update({role: np.array(log.data()).T for role, log in logs.items()})
+    return out
+
+
+def _check_end(run: RunDiagram, logged: dict[str, NDArray], made: dict[str, NDArray]) -> None:
+    """``RuntimeError`` unless the loggers' end sample (the diagram's own outputs) equals the last sample made."""
+    for role, values in made.items():
+        own, last = logged[role][-1], values[-1]
+        scale = max(1.0, float(np.max(np.abs(values))))
+        if not np.allclose(own, last, rtol=0, atol=1e-9 * scale):
+            raise RuntimeError(f"the {role} samples made from the integrator's dense output differ from the "
+                               f"diagram's own at t = {logged['t'][-1]:g} s: {last.tolist()} vs {own.tolist()}")
+
+
+# ------------------------------------------------------------------------------------------- the runs
+def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY,
+                  monitor: Callable[[Context], None] | None = None) -> dict[str, NDArray[np.float64]]:
     """Simulate one built diagram from its motion's start state to its end; the loggers' data by role.
 
-    The loggers sample every ``log_period`` from t = 0, and at the end time when the period does not divide it.
+    The samples are at :func:`sample_times` (every ``log_period`` from t = 0, and the end); with
+    ``run.sampling == "dense"`` they are made by :func:`log_samples` from the integrator's dense output and
+    checked against the loggers' end sample, with ``"periodic"`` the loggers record them. ``monitor`` is called
+    after every integrator step with the root context (it may raise to stop the run).
 
     Returns ``{"t": (m,), "reference": (m, 3n), "state": (m, 2n), "torque": (m, n), "tool": (m, 9)}``.
     """
@@ -91,22 +280,31 @@ def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY) -> dict[s
     motion = run.motion
     simulator = Simulator(run.diagram)
     context = simulator.get_mutable_context()
+    rows = state_rows(run, context)
     plant_context = run.plant.GetMyMutableContextFromRoot(context)
     first = motion.segments[0]
     run.plant.SetPositions(plant_context, first.q_start)
     run.plant.SetVelocities(plant_context, first.v_start)
-    ResetIntegratorFromFlags(simulator, DEFAULT_INTEGRATOR, MAX_STEP)
-    simulator.get_mutable_integrator().set_target_accuracy(accuracy)
-    simulator.AdvanceTo(motion.duration)
-    logs = {role: logger.FindLog(context) for role, logger in run.loggers.items()}
-    if logs["state"].sample_times()[-1] < motion.duration - 1e-9 * run.log_period:
-        run.diagram.ForcedPublish(context)  # the period does not divide the duration: log the end too
-    times = [log.sample_times() for log in logs.values()]
-    if any(not np.array_equal(times[0], other) for other in times[1:]):
-        raise RuntimeError("the loggers sampled at different times")
-    out = {"t": np.array(times[0])}
-    out.update({role: np.array(log.data()).T for role, log in logs.items()})
-    return out
+    ResetIntegratorFromFlags(simulator, DEFAULT_INTEGRATOR, max_step(run.mode))
+    integrator = simulator.get_mutable_integrator()
+    integrator.set_target_accuracy(accuracy)
+    if monitor is not None:
+        simulator.set_monitor(monitor)
+    simulator.Initialize()
+    dense = run.sampling == "dense"
+    if dense:
+        integrator.StartDenseIntegration()
+    for end in motion.breaks[1:]:  # stop at each join: q̈_d may jump there, and no step should straddle a jump
+        simulator.AdvanceTo(end)
+    if not dense:
+        if run.loggers["state"].FindLog(context).sample_times()[-1] < motion.duration - 1e-9 * run.log_period:
+            run.diagram.ForcedPublish(context)  # the period does not divide the duration: log the end too
+        return _logged(run, context)
+    t = sample_times(motion.duration, run.log_period)
+    made = log_samples(run, t, integrator.StopDenseIntegration().vector_values(t).T, *rows)
+    run.diagram.ForcedPublish(context)  # the loggers' one sample: the diagram's own outputs at the end
+    _check_end(run, _logged(run, context), made)
+    return {"t": t, **made}
 
 
 def simulate(
@@ -120,35 +318,42 @@ def simulate(
     kd: float | ArrayLike = DEFAULT_KD,
     ki: float | ArrayLike = 0.0,
     accuracy: float = DEFAULT_ACCURACY,
+    sampling: str = "dense",
 ) -> SimulationLog:
     """Simulate ``arm`` following ``motion`` through Fig. 6's diagram; see :func:`build_diagram` for the options.
 
     Each run of the motion (consecutive segments that join in q and q̇) is its own simulation
     starting at its reference state; where segments do not join the robot would have to
-    reconfigure between them, which is not simulated.
+    reconfigure between them, which is not simulated. ``ValueError`` before anything runs for work
+    past :func:`check_work`'s limits, and during the run if the integrator needs more than
+    :data:`MAX_STEPS` steps. A progress bar shows on stderr when it is a terminal.
     """
     if mode not in MODES:
         raise ValueError(f"mode {mode!r} is not allowed; allowed: {', '.join(MODES)}")
     motion.check_limits(arm)
     log_period = check_log_period(log_period, min(m.duration for _, m in motion.runs()))
+    check_work(motion, log_period, mode)
     n = arm.n
     parts: list[dict[str, Any]] = []
     dot = ""
     wall = 0.0
     first_segment = 0
-    for k, (start, piece) in enumerate(motion.runs()):
-        run = build_diagram(arm, piece, gravity, payload, log_period, mode, kp, kd, ki)
-        if k == 0:
-            dot = run.diagram.GetGraphvizString(max_depth=1)
-        began = time.perf_counter()
-        data = run_simulator(run, accuracy)
-        wall += time.perf_counter() - began
-        data["run"] = np.full(data["t"].shape, k)
-        data["segment"] = first_segment + piece.segment_index(data["t"])
-        data["t"] = data["t"] + start
-        parts.append(data)
-        first_segment += len(piece.segments)
-        gravity_vector, payload_mass = run.gravity, run.payload
+    watch = _Watch(arm.name, motion.duration, accuracy)
+    with watch.bar:
+        for k, (start, piece) in enumerate(motion.runs()):
+            run = build_diagram(arm, piece, gravity, payload, log_period, mode, kp, kd, ki, sampling)
+            if k == 0:
+                dot = run.diagram.GetGraphvizString(max_depth=1)
+            watch.offset = start
+            began = time.perf_counter()
+            data = run_simulator(run, accuracy, watch)
+            wall += time.perf_counter() - began
+            data["run"] = np.full(data["t"].shape, k)
+            data["segment"] = first_segment + piece.segment_index(data["t"])
+            data["t"] = data["t"] + start
+            parts.append(data)
+            first_segment += len(piece.segments)
+            gravity_vector, payload_mass = run.gravity, run.payload
 
     def cat(key: str) -> NDArray:
         return np.concatenate([p[key] for p in parts])

@@ -22,7 +22,10 @@ from armlab.diagrams.simulate import (
     DEFAULT_INTEGRATOR,
     MAX_STEP,
     SimulationLog,
+    log_samples,
+    sample_times,
     simulate,
+    state_rows,
     summarize,
 )
 from armlab.kinematics.quintic import Motion, QuinticSegment
@@ -265,6 +268,94 @@ def test_tool_point_matches_forward_kinematics_and_finite_differences(name):
         fd = (x[2:] - x[:-2]) / (2 * h)
         d3 = np.max(np.abs(np.diff(log.tool[:, 3 * k + 3: 3 * k + 6], 2, axis=0))) / h**2  # ≈ max |third derivative|
         np.testing.assert_allclose(log.tool[1:-1, 3 * k + 3: 3 * k + 6], fd, rtol=0, atol=h**2 * d3 / 6 * 1.5 + 1e-9)
+
+
+# ------------------------------------------------------------------------- samples from the dense output
+@pytest.mark.parametrize(("name", "mode"), [("rr", "controller"), ("r2t", "controller"), ("urm6", "controller"),
+                                            ("rr", "inverse_dynamics"), ("r2t", "inverse_dynamics")])
+def test_log_samples_equal_the_diagram_evaluated_at_each_state(rng, name, mode):
+    """log_samples (batched, after the run) = what the diagram's loggers record at the same time and state.
+
+    At random times and states off the reference (so the PD and integral terms, gravity and the payload all
+    matter), the diagram is evaluated one sample at a time by a forced publish of its loggers.
+    """
+    arm = get_arm(name)
+    run = build_diagram(arm, paper_motion(arm), payload=2.0, mode=mode, ki=5.0)
+    context = run.diagram.CreateDefaultContext()
+    plant_rows, other_rows = state_rows(run, context)
+    assert len(plant_rows) == 2 * arm.n and len(other_rows) == (arm.n if mode == "controller" else 0)
+    t = np.sort(rng.uniform(0, run.motion.duration, 40))
+    q, v = run.motion.evaluate(t)[:2]
+    x = np.empty((t.size, context.num_continuous_states()))
+    x[:, plant_rows] = np.hstack([q + rng.normal(0, 0.05, q.shape), v + rng.normal(0, 0.2, v.shape)])
+    x[:, other_rows] = rng.normal(0, 0.02, (t.size, other_rows.size))
+    for ti, xi in zip(t, x, strict=True):
+        context.SetTime(ti)
+        context.SetContinuousState(xi)
+        run.diagram.ForcedPublish(context)
+    made = log_samples(run, t, x, plant_rows, other_rows)
+    for role, logger in run.loggers.items():
+        log = logger.FindLog(context)
+        np.testing.assert_array_equal(log.sample_times(), t)
+        own = log.data().T
+        np.testing.assert_allclose(made[role], own, rtol=0, atol=1e-9 * max(1.0, np.max(np.abs(own))), err_msg=role)
+
+
+def test_sample_times_are_the_periodic_publish_times():
+    """k·Δt up to the end, and the end itself when Δt does not divide it (as Drake's periodic events and the end)."""
+    np.testing.assert_array_equal(sample_times(2.0, 1e-3), np.arange(2001) * 1e-3)
+    t = sample_times(1.5, 0.007)
+    assert t.size == 216 and t[-2] == 214 * 0.007 and t[-1] == 1.5
+    np.testing.assert_array_equal(sample_times(0.3, 0.1), [0.0, 0.1, 0.2, 0.3])  # 3·0.1 > 0.3: the end instead
+    arm = get_arm("rr")
+    for tf, dt in ((0.3, 0.1), (0.7, 0.1), (1.5, 0.007)):
+        motion = Motion((QuinticSegment(np.zeros(2), np.ones(2), tf),))
+        np.testing.assert_array_equal(simulate(arm, motion, log_period=dt, sampling="periodic").t, sample_times(tf, dt))
+
+
+#: Dense-output runs against the periodic loggers (the integrator stopping at every sample): (arm, path, Δt, mode).
+PERIODIC = [("rr", None, 1e-3, "controller"), ("rr", "abcd", 3e-3, "controller"), ("rrrr", None, 7e-3, "controller"),
+            ("arm4r", None, 3e-3, "controller"), ("r2t", None, 3e-3, "controller"), ("urm6", None, 3e-3, "controller"),
+            ("rr", None, 3e-3, "inverse_dynamics"), ("r2t", None, 7e-3, "inverse_dynamics")]
+
+
+@pytest.mark.parametrize(("name", "path", "dt", "mode"), PERIODIC,
+                         ids=[f"{a}-{p or ''}-{dt:g}-{m}" for a, p, dt, m in PERIODIC])
+def test_dense_samples_equal_the_periodic_loggers(name, path, dt, mode):
+    """The samples made from the dense output after the run equal what loggers publishing every Δt record.
+
+    Same times exactly, the reference to round-off; the state within 1e-8 (both runs are error-controlled to
+    1e-6 and track to ~1e-9), torques and the tool point within 1e-6 of their size.
+    """
+    arm = get_arm(name)
+    motion = paper_motion(arm, path)
+    dense = simulate(arm, motion, log_period=dt, mode=mode)
+    periodic = simulate(arm, motion, log_period=dt, mode=mode, sampling="periodic")
+    np.testing.assert_array_equal(dense.t, periodic.t)
+    np.testing.assert_array_equal(dense.run, periodic.run)
+    for key, atol in (("q_ref", 1e-12), ("qd_ref", 1e-12), ("qdd_ref", 1e-10), ("q", 1e-8), ("qd", 1e-8),
+                      ("tau", 1e-6), ("tool", 1e-6)):
+        expected = getattr(periodic, key)
+        scale = max(1.0, np.max(np.abs(expected))) if key in ("tau", "tool") else 1.0
+        np.testing.assert_allclose(getattr(dense, key), expected, rtol=0, atol=atol * scale, err_msg=key)
+    assert np.max(np.abs(dense.q - dense.q_ref)) <= 1e-6
+
+
+def test_a_sample_the_loggers_disagree_with_is_an_error(monkeypatch):
+    """run_simulator checks the samples it makes against the loggers' own end sample."""
+    import armlab.diagrams.simulate as simulate_module
+
+    real = simulate_module.log_samples
+
+    def off_by_a_little(*args):
+        made = real(*args)
+        made["torque"] = made["torque"] * (1 + 1e-6)
+        return made
+
+    monkeypatch.setattr(simulate_module, "log_samples", off_by_a_little)
+    arm = get_arm("rr")
+    with pytest.raises(RuntimeError, match="torque samples made from the integrator's dense output differ"):
+        simulate(arm, paper_motion(arm), log_period=0.01)
 
 
 # ---------------------------------------------------------------------------------------------- diagram
