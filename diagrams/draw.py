@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
     from armlab.models.arm import Arm
 
-__all__ = ["FORMATS", "Scheme", "draw_arm", "register", "scheme"]
+__all__ = ["FORMATS", "Scheme", "default_q", "draw_arm", "register", "scheme"]
 
 #: Picture formats by file suffix.
 FORMATS = ("png", "svg", "pdf")
@@ -52,9 +52,10 @@ _LINK = "#4d5656"
 class Scheme:
     """What the scheme shows, in the world frame at one q.
 
-    ``frames``: (label, 4×4 pose) per drawn frame; ``joints``: (origin, unit axis, "R"/"T") per
-    joint; ``chain``: (M, 3) polyline of the links; ``link_labels``: (text, midpoint of the link it
-    names); ``table``: the parameter table's title and rows, as text.
+    ``frames``: (label, 4×4 pose) per drawn frame; ``joints``: (point, unit axis, "R"/"T") per
+    joint — a point on a revolute joint's axis, the moving end of a prismatic joint's slide;
+    ``chain``: (M, 3) polyline of the links; ``link_labels``: (text, midpoint of the link it names);
+    ``table_title``, ``table``: the parameter table's title and rows, as text.
     """
 
     frames: list[tuple[str, NDArray[np.float64]]]
@@ -122,8 +123,9 @@ def scheme(arm: Arm, q: ArrayLike) -> Scheme:
     table = _dh_table(arm)
     if table is not None:
         frames = table.frames(q)  # DH frames {0} … {n}
-        if table.convention == "standard":  # joint i turns about / slides along z_{i−1}
-            joints = [(frames[i, :3, 3], frames[i, :3, 2], row.kind) for i, row in enumerate(table.rows)]
+        if table.convention == "standard":  # joint i turns about / slides along z_{i−1} (a slide ends at d_i + q_i)
+            joints = [(frames[i, :3, 3] + (0.0 if row.kind == "R" else row.d + q[i]) * frames[i, :3, 2],
+                       frames[i, :3, 2], row.kind) for i, row in enumerate(table.rows)]
         else:  # modified: about / along z_i
             joints = [(frames[i + 1, :3, 3], frames[i + 1, :3, 2], row.kind) for i, row in enumerate(table.rows)]
         chain = frames[:, :3, 3]
@@ -235,37 +237,44 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     size = max(float(np.ptp(points, axis=0).max()), 1e-3)
     triad, radius = 0.12 * size, 0.03 * size
 
+    # Drawn in layers (bodies, links, frames, labels) rather than depth-sorted, so that no body hides a label.
+    ax.computed_zorder = False
     ax.plot(*s.chain.T, "-", color=_LINK, lw=4, solid_capstyle="round", label="links", zorder=2)
-    ax.scatter(*s.chain[-1], color=_LINK, marker="D", s=30, depthshade=False)
+    ax.scatter(*s.chain[-1], color=_LINK, marker="D", s=30, depthshade=False, zorder=2)
     _box(ax, s.frames[0][1][:3, 3] - np.array([0, 0, radius]), np.array([0.0, 0.0, 1.0]), 1.6 * radius,
          2 * radius, "#aab7b8")  # the base
-    for origin, axis, kind in s.joints:
+    for (point, axis, kind), value in zip(s.joints, q, strict=True):
         if kind == "R":
-            _cylinder(ax, origin, axis, radius, 2.5 * radius, "#f0b27a")
-            ax.quiver(*origin, *(axis * 1.6 * triad), color="k", lw=1.0, arrow_length_ratio=0.15, alpha=0.6)
-        else:
-            _box(ax, origin, axis, radius, 0.25 * size, "#85c1e9")
+            _cylinder(ax, point, axis, radius, 2.5 * radius, "#f0b27a")
+            ax.quiver(*point, *(axis * 1.6 * triad), color="k", lw=1.0, arrow_length_ratio=0.15, alpha=0.6, zorder=3)
+        else:  # the slide's box spans the stroke travelled, q_i, back from its moving end
+            length = max(abs(value), 0.06 * size)
+            _box(ax, point - axis * value / 2, axis, radius, length, "#85c1e9")
     groups: dict[tuple, list[str]] = {}
     for label, T in s.frames:
         for j in range(3):
-            ax.quiver(*T[:3, 3], *(T[:3, j] * triad), color=_AXIS_COLORS[j], lw=1.6, arrow_length_ratio=0.2)
+            ax.quiver(*T[:3, 3], *(T[:3, j] * triad), color=_AXIS_COLORS[j], lw=1.6, arrow_length_ratio=0.2,
+                      zorder=3)
         groups.setdefault(tuple(np.round(T[:3, 3], 9)), []).append(label)
     for origin, labels in groups.items():
         ax.text(*(np.array(origin) + 0.03 * size), ", ".join(labels), fontsize=9, fontweight="bold", color="k",
-                zorder=10)
+                zorder=5, bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.75})
     for text, where in s.link_labels:
-        ax.text(*where, text, fontsize=8, color="#7b241c", ha="right", va="top", zorder=9)
-    g = np.asarray(arm.gravity, dtype=float)
+        ax.text(*where, text, fontsize=8, color="#7b241c", ha="right", va="top", zorder=4)
     lo, hi = points.min(axis=0), points.max(axis=0)
-    if np.linalg.norm(g) > 0:  # an arrow beside the arm: at its top-left-back corner, above it against gravity
-        g = g / np.linalg.norm(g)
-        start = np.array([lo[0], hi[1], hi[2]]) - g * 0.25 * size
-        ax.quiver(*start, *(g * 0.2 * size), color="#8e44ad", lw=1.6, arrow_length_ratio=0.25)
-        ax.text(*start, "  g", color="#8e44ad", fontsize=10)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
     set_equal_3d(ax, np.vstack([points, lo - 0.05 * size, hi + 0.08 * size]))
+    g = np.asarray(arm.gravity, dtype=float)
+    if np.linalg.norm(g) > 0:  # an arrow in the corner of the (cubic) view box, clear of the arm
+        g = g / np.linalg.norm(g)
+        box = np.array([ax.get_xlim3d(), ax.get_ylim3d(), ax.get_zlim3d()])  # (3, 2): low, high
+        corner = np.array([box[0, 0], box[1, 1], box[2, 1]])
+        centre = box.mean(axis=1)
+        start = corner + 0.15 * (centre - corner) - g * 0.15 * np.ptp(box[0])
+        ax.quiver(*start, *(g * 0.15 * np.ptp(box[0])), color="#8e44ad", lw=1.6, arrow_length_ratio=0.25, zorder=3)
+        ax.text(*(start + g * 0.15 * np.ptp(box[0])), "  g", color="#8e44ad", fontsize=10, zorder=5)  # at the head
     elevation, azimuth = _view(s)
     ax.view_init(elev=elevation, azim=azimuth)
     if abs(abs(elevation) - 90) < 1e-6:  # face-on along z: z is the depth, not an axis one can read
@@ -284,11 +293,22 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     return write_file(path, buffer.getvalue())
 
 
+def default_q(arm: Arm) -> NDArray[np.float64]:
+    """The pose drawn without ``--q``: a paper arm's paper motion start (e.g. rr at (−38°, 98°), paper 000
+    Fig. 3), any other arm's zeros moved into its limits."""
+    from armlab.diagrams.motions import paper_motion
+    from armlab.models import ARMS
+
+    if arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER:
+        return np.asarray(paper_motion(arm).segments[0].q_start, dtype=float)
+    return np.clip(np.zeros(arm.n), *arm.limit_arrays())
+
+
 def _cmd_draw(args: argparse.Namespace) -> int:
     from armlab.cli import joint_values, load_arm
 
     arm = load_arm(args.arm)
-    q = joint_values(arm, args.q, args.deg) if args.q is not None else np.clip(np.zeros(arm.n), *arm.limit_arrays())
+    q = joint_values(arm, args.q, args.deg) if args.q is not None else default_q(arm)
     path = draw_arm(arm, q, args.out)
     print(f"wrote {path}")
     return 0
@@ -302,7 +322,8 @@ def register(subparsers: Any) -> None:
                                           "figures: links, joint axes, frames {0}…{n} and the tool as RGB triads, "
                                           "and the DH (a, α, d, θ) or locating (P_i, k_i) parameters.")
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
-    p.add_argument("--q", help="joint values v1,v2,… (rad and m; see --deg); default: zeros, within the limits")
+    p.add_argument("--q", help="joint values v1,v2,… (rad and m; see --deg); default: a paper arm's paper motion "
+                               "start, other arms' zeros (within the limits)")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees")
     p.add_argument("--out", required=True, metavar="FILE", help="FILE.png, FILE.svg or FILE.pdf")
     p.set_defaults(func=_cmd_draw)

@@ -160,8 +160,8 @@ def style_scene(meshcat: Meshcat, arm: Arm, points: ArrayLike) -> NDArray[np.flo
     a floor grid under ``points`` (M, 3) (what the arm occupies, world frame) and the world axes.
 
     Meshcat's own grid and axes are hidden (they would be in the turned frame's place, 10 m wide);
-    the floor drawn instead is perpendicular to gravity, just below the lowest point, with 0.1 m or
-    1 m squares. The world axes are red, green, blue cylinders (x, y, z) at the world origin.
+    the floor drawn instead is perpendicular to gravity, just below the lowest point, with 0.1 m,
+    0.25 m or 1 m squares. The world axes are red, green, blue cylinders (x, y, z) at the world origin.
     (Meshcat's gradient background is hidden rather than recoloured: seen from steeply above, its
     texture leaves a wedge of a different colour at the window's edge.) Returns the rotation.
     """
@@ -176,7 +176,7 @@ def style_scene(meshcat: Meshcat, arm: Arm, points: ArrayLike) -> NDArray[np.flo
     shown = np.asarray(points, dtype=float).reshape(-1, 3) @ R.T
     lo, hi = shown.min(axis=0), shown.max(axis=0)
     size = max(float(np.ptp(shown[:, :2], axis=0).max()), float(np.ptp(shown[:, 2])), 0.1)
-    step = 0.1 if size < 3 else 1.0
+    step = 0.1 if size < 1.5 else (0.25 if size < 4 else 1.0)
     half = np.ceil(0.75 * size / step) * step
     centre = np.round((lo + hi)[:2] / 2 / step) * step
     ticks = np.arange(-half, half + step / 2, step)

@@ -12,7 +12,7 @@ import pytest
 from conftest import ARM_NAMES, arm_and_plant, random_q
 from matplotlib.image import imread
 
-from armlab.diagrams.draw import _view, draw_arm, scheme
+from armlab.diagrams.draw import _view, default_q, draw_arm, scheme
 from armlab.models import get_arm
 
 
@@ -105,3 +105,8 @@ def test_draw_command_and_its_errors(tmp_path):
     assert main(["draw", "rr", "--out", str(tmp_path / "rr.jpg")]) == 2
     assert main(["draw", "arm4r", "--q", "0,200,0,0", "--deg", "--out", str(tmp_path / "a.png")]) == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rr.pdf"]
+
+
+def test_without_q_a_paper_arm_is_drawn_at_its_paper_motions_start():
+    np.testing.assert_allclose(default_q(get_arm("rr")), np.radians([-38.0, 98.0]), atol=1e-12)
+    np.testing.assert_allclose(get_arm("arm4r").fk(default_q(get_arm("arm4r")))[:3, 3], [2.0, 0.0, 0.0], atol=1e-9)
