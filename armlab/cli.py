@@ -249,7 +249,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"armlab {__version__}",
                         help="print armlab's version and exit")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser, title="commands",
-                                metavar="COMMAND")
+                                metavar="COMMAND", help="what to do (below); 'armlab COMMAND --help' for its options")
 
     p = sub.add_parser("list", help="the arms, one line each")
     p.set_defaults(func=_cmd_list)
