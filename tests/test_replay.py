@@ -338,3 +338,33 @@ def test_view_deg_shows_degree_sliders_that_move_the_arm():
     out = io.StringIO()
     assert run_view(arm, q0, deg=True, duration=0.2, out=out) == 0
     assert "q = +28.6479 deg  +0.1000 m  +0.2000 m" in out.getvalue()
+
+
+BARE_URDF = """<robot name="bare">
+  <link name="base"/>
+  <link name="upper"><visual><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></visual></link>
+  <link name="fore"><visual><origin xyz="0.15 0 0"/><geometry><box size="0.3 0.04 0.04"/></geometry></visual></link>
+  <link name="hand"/>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <joint name="wrist" type="fixed"><parent link="fore"/><child link="hand"/><origin xyz="0.3 0 0"/></joint>
+</robot>
+"""
+
+
+def test_a_urdf_without_materials_is_coloured_and_a_payload_is_drawn(tmp_path):
+    (tmp_path / "bare.urdf").write_text(BARE_URDF)
+    arm = get_arm(str(tmp_path / "bare.urdf"))
+    t = np.linspace(0.0, 1.0, 11)
+    q = np.column_stack([np.linspace(-0.5, -1.0, 11), np.linspace(0.8, 1.2, 11)])
+    bare = write_replay(arm, t, q, tmp_path / "bare.html")
+    loaded = write_replay(arm, t, q, tmp_path / "loaded.html", payload=2.0)
+    (png_bare,) = screenshots(bare, (0.5,), tmp_path)
+    (png_loaded,) = screenshots(loaded, (0.5,), tmp_path)
+    rgb = image(png_bare)
+    orange = (rgb[..., 0] > 0.6) & (rgb[..., 1] > 0.25) & (rgb[..., 1] < 0.65) & (rgb[..., 2] < 0.35)
+    assert solid(orange).mean() > 0.003, f"only {solid(orange).mean():.2%} of the view shows the coloured links"
+    dark = [solid(image(png).max(axis=-1) < 0.3).sum() for png in (png_bare, png_loaded)]
+    assert dark[1] > dark[0] + 200, dark  # the payload: a dark sphere at the tool point
