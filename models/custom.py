@@ -99,7 +99,8 @@ def _header_comments(path: Path, lines: list[str]) -> tuple[dict[str, str], list
         line = lines.pop(0)
         key, colon, value = line.lstrip().lstrip("#").partition(":")
         key, value = key.strip().lower(), value.strip().lower()
-        mentioned = [name for name in _DIRECTIVES if re.search(rf"\b{name.rstrip('s')}s?\b", line.lower())]
+        mentioned = [name for name in _DIRECTIVES  # a line starting "# unit…:" or "# convention… =" is a setting
+                     if re.match(rf"\s*#\s*{name.rstrip('s')}\w*\s*[:=]", line.lower())]
         if colon and key in _DIRECTIVES and value in _DIRECTIVES[key] and key not in settings:
             settings[key] = value
         elif mentioned:  # a misspelt or repeated setting must not be ignored silently
@@ -293,16 +294,21 @@ def _pose(element: ET.Element | None, what: str) -> np.ndarray:
     return homogeneous((T_Z6(rpy[2]) @ T_Z5(rpy[1]) @ T_Z4(rpy[0]))[:3, :3], xyz)
 
 
-def _parse_urdf(path: Path) -> ET.Element:
-    """The URDF's root element; XML entity and document-type definitions (entity expansion) are refused."""
-    text = _read_text(path, "URDF")
+def _xml(path: Path, what: str) -> ET.Element:
+    """The root element of an XML file; entity and document-type definitions (entity expansion) are refused."""
+    text = _read_text(path, what)
     if "<!DOCTYPE" in text or "<!ENTITY" in text:
         raise ValueError(f"{path}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not "
-                         "allowed in a URDF")
+                         f"allowed in a {what}")
     try:
-        root = ET.fromstring(text)
+        return ET.fromstring(text)
     except ET.ParseError as error:
         raise ValueError(f"{path} is not valid XML: {error}") from None
+
+
+def _parse_urdf(path: Path) -> ET.Element:
+    """The URDF's root element (:func:`_xml`), with every number in it finite."""
+    root = _xml(path, "URDF")
     if root.tag != "robot":
         raise ValueError(f"{path}: the root element is <{root.tag}>, a URDF needs <robot>")
     for element in root.iter():  # every number in the file, not only the ones armlab reads itself
@@ -514,13 +520,9 @@ def package_roots(urdf: Path) -> dict[str, Path]:
     for folder in list(Path(urdf).resolve().parents)[:3]:
         package_xml = folder / "package.xml"
         if package_xml.is_file():
-            text = _read_text(package_xml, "package.xml")
-            try:
-                name = (ET.fromstring(text).findtext("name") or "").strip() if "<!" not in text else ""
-            except ET.ParseError:
-                name = ""
+            name = (_xml(package_xml, "package.xml").findtext("name") or "").strip()
             if not name:
-                raise ValueError(f"{package_xml}: a package.xml needs a <name> (and no <!DOCTYPE/<!ENTITY)")
+                raise ValueError(f"{package_xml}: a package.xml needs a <name>")
             out.setdefault(name, package_xml)
     return out
 

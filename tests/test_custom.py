@@ -445,6 +445,8 @@ _H = "type,a,alpha,d,theta,lower,upper"
         (f"{_H}\nR,0.4,0,0,400,,\n", "theta = 400 is beyond"),
         (f"# unit: degrees\n{_H}\nR,0,0,0,0,,\n", "write it once as '# units: rad' or '# units: deg'"),
         (f"# units: deg\n# units: deg\n{_H}\nR,0,0,0,0,,\n", "write it once"),
+        (f"# Units = degrees\n{_H}\nR,0,0,0,0,,\n", "write it once as '# units: rad'"),
+        (f"# conventions: craig\n{_H}\nR,0,0,0,0,,\n", "'# convention: standard' or"),
         (f"# convention: weird\n{_H}\nR,0,0,0,0,,\n", "'# convention: standard' or '# convention: modified'"),
         (f"{_H}\n" + "R,0.1,0,0,0,,\n" * 65, "more than 64 rows: armlab takes arms of at most 64 joints"),
         (f"{_H},mass\nR,0,0,0,0,,,inf\n", "mass = 'inf' is not a finite number"),
@@ -460,7 +462,8 @@ def test_more_malformed_dh_tables(tmp_path, text, message):
 
 def test_dh_table_comments_and_a_byte_order_mark(tmp_path):
     path = tmp_path / "ok.csv"
-    path.write_text(f"\ufeff# my PUMA, from the catalogue\n# units: deg\n# convention: modified\n{_H}\nR,0,90,0,0,,\n")
+    path.write_text(f"\ufeff# my PUMA, from the catalogue (units and convention below)\n# Units: DEG\n"
+                    f"# convention: modified\n{_H}\nR,0,90,0,0,,\n")
     arm = get_arm(str(path))
     assert arm.dh.convention == "modified" and arm.dh.rows[0].alpha == pytest.approx(np.pi / 2)
     assert get_arm(str(path)).n == 1

@@ -239,7 +239,8 @@ def test_a_glb_is_read_for_its_uris(robot):
 def test_a_package_path_cannot_climb_out_of_its_package(tmp_path):
     package = tmp_path / "my_robot"
     (package / "urdf").mkdir(parents=True)
-    (package / "package.xml").write_text("<package><name>my_robot</name></package>")
+    (package / "package.xml").write_text('<?xml version="1.0"?>\n<!-- a ROS package -->\n'
+                                         "<package><name>my_robot</name></package>")
     (tmp_path / "outside.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
     (package / "urdf" / "two.urdf").write_text(two_link_urdf(mesh="package://my_robot/../outside.obj"))
     with pytest.raises(ValueError, match=r"outside\.obj lies outside the URDF's folder and its ROS package"):
