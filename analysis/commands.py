@@ -126,8 +126,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--samples", type=_positive_int, default=DEFAULT_SAMPLES, metavar="N",
                    help=f"joint-space samples (default {DEFAULT_SAMPLES:.0e}; at least 1000)")
     p.add_argument("--resolution", type=float, metavar="H",
-                   help=f"voxel edge in metres (default: about {SAMPLES_PER_CELL} samples per cell of the reach's "
-                        "ball)")
+                   help=f"voxel edge in metres (default: about {SAMPLES_PER_CELL} samples per occupied cell)")
     p.add_argument("--seed", type=int, default=0, help="seed of the random samples (default 0)")
     p.add_argument("--out", metavar="DIR", help="output folder (written completely or not at all)")
     p.add_argument("--json", action="store_true", help="print the summary (workspace.json) as JSON")

@@ -13,9 +13,9 @@ A study is a JSON object::
 at the tool) and ``tf`` (the motion's duration, s), each ``{"from", "to", "steps"}`` (evenly spaced,
 both ends included) or ``{"values": [...]}``, with an optional ``unit`` (:data:`UNITS`; default SI).
 Every combination is a candidate. ``evaluate``: objectives from :data:`OBJECTIVES`. Optional:
-``samples`` (workspace samples, default 200000), ``resolution`` (voxel edge, m; default: the one
-:func:`~armlab.analysis.workspace.default_resolution` gives the unmodified arm, the same for every
-candidate so their volumes compare), ``seed`` (0), ``payload`` (kg) and ``tf`` (s) when not varied,
+``samples`` (workspace samples, default 200000), ``resolution`` (voxel edge, m; default: each
+candidate's own, :func:`~armlab.analysis.workspace.default_resolution`), ``seed`` (0), ``payload``
+(kg) and ``tf`` (s) when not varied,
 ``simulate`` (false: torques by batch inverse dynamics along the motion sampled every 1 ms; true: by
 paper 000's Fig. 6 simulation), ``segments`` (a segments file, as ``armlab simulate --segments``,
 instead of the arm's paper motion).
@@ -220,7 +220,6 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
 
     from armlab.analysis.workspace import (
         DEFAULT_SAMPLES,
-        default_resolution,
         sample_joints,
         tool_positions,
         workspace_plane,
@@ -288,8 +287,6 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
         resolution = _number(resolution, "resolution")
         if resolution <= 0:
             raise ValueError(f"resolution = {resolution:g} m must be positive")
-    elif any(e in WORKSPACE for e in evaluate):
-        resolution = default_resolution(nominal, samples, dim)
     study = Study(name, vary, tuple(evaluate), samples, resolution, seed, payload, tf, simulate, segments,
                   nominal.n, dim)
     for values in study.candidates:

@@ -9,8 +9,8 @@ A voxel estimate has two errors: too few samples leave cells inside the workspac
 grows with N), and a cell that the boundary cuts counts whole (the estimate shrinks with h, to first
 order in h). The reported volume is therefore the Richardson extrapolation to h → 0 from the counts at
 h and 2h, V = 2·V(h) − V(2h), which removes the error of first order in h once the cells are filled;
-the default resolution keeps about :data:`SAMPLES_PER_CELL` samples per cell of the reach's ball (disc
-in the plane) so that they are. :func:`workspace` records V at N/64 … N samples and V(h) at h … 8h, so
+the default resolution keeps about :data:`SAMPLES_PER_CELL` samples per occupied cell (estimated from
+the first batch of samples) so that they are. :func:`workspace` records V at N/64 … N samples and V(h) at h … 8h, so
 the convergence is seen.
 
 Manipulability (Yoshikawa's w = √det(J Jᵀ) and the smallest singular value σ_min) and the singular
@@ -134,11 +134,20 @@ def workspace_plane(points: ArrayLike, tol: float = 1e-9) -> tuple[NDArray[np.fl
     return origin, basis
 
 
-def default_resolution(arm: Arm, samples: int, dim: int = 3) -> float:
-    """Voxel edge h (m) giving about :data:`SAMPLES_PER_CELL` samples per cell of the reach's ball (disc)."""
-    radius = reach_bound(arm)
-    ball = {1: 2 * radius, 2: math.pi * radius**2, 3: 4 / 3 * math.pi * radius**3}[dim]
-    return (SAMPLES_PER_CELL * ball / samples) ** (1.0 / dim)
+def default_resolution(coords: ArrayLike, samples: int, bound: float) -> float:
+    """Voxel edge h (m) for ``samples`` samples: about :data:`SAMPLES_PER_CELL` samples per occupied cell.
+
+    The occupied measure is estimated from a pilot set of points ``coords`` (M, d) (in the workspace's
+    own coordinates, within ±``bound``): the cells of a coarse grid holding about 10 pilot points per
+    cell of the reach's ball (disc) that they occupy.
+    """
+    coords = np.asarray(coords, dtype=float)
+    m, dim = coords.shape
+    ball = {1: 2 * bound, 2: math.pi * bound**2, 3: 4 / 3 * math.pi * bound**3}[dim]
+    pilot = (10 * ball / m) ** (1.0 / dim)
+    index = np.floor((coords + bound) / pilot).astype(np.int64)
+    flat = np.ravel_multi_index(tuple(index.T), (math.ceil(2 * bound / pilot) + 1,) * dim)
+    return (SAMPLES_PER_CELL * np.unique(flat).size * pilot**dim / samples) ** (1.0 / dim)
 
 
 @dataclass
@@ -264,8 +273,9 @@ def workspace(
     first_points = tool_positions(arm, first)
     origin, basis = workspace_plane(first_points)
     dim = basis.shape[0]
-    h = default_resolution(arm, samples, dim) if resolution is None else _check_resolution(resolution)
     bound = reach_bound(arm) + float(np.linalg.norm(origin))
+    h = _check_resolution(resolution) if resolution is not None else \
+        default_resolution((first_points - origin) @ basis.T, samples, bound)
     grid = _Occupancy(h, bound, dim)
     checkpoints = sorted({samples >> k for k in range(SAMPLE_HALVINGS + 1) if samples >> k >= 1})
     counts: list[float] = []

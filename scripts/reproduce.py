@@ -79,6 +79,7 @@ def reproduce(
     new output, their rows read back), so reproducing one paper updates it and the report alone.
     """
     from armlab.diagrams.graphviz import require_dot
+    from armlab.scripts import beyond
     from armlab.scripts.report import load_rows, verdict_counts, write_report
 
     start = time.perf_counter()
@@ -93,6 +94,7 @@ def reproduce(
         for paper in PAPERS:
             if paper in papers:
                 rows += _script(paper).run(tmp / paper, fast=fast, progress=progress)
+                beyond.run(paper, tmp / paper, fast=fast, progress=progress)  # design studies beyond the paper
             elif paper in kept:
                 shutil.copytree(folder.out / paper, tmp / paper)
                 rows += kept[paper]
