@@ -64,57 +64,6 @@ def test_user_urdf_round_trip(tmp_path):
     np.testing.assert_allclose(arm.forward(q).tool, _drake_tool(arm, q), atol=1e-9)
 
 
-@pytest.mark.parametrize(
-    ("text", "message"),
-    [
-        ("type,a,alpha,d,theta,lower,upper\nX,0,0,0,0,,\n", "type 'X' is not allowed"),
-        ("type,a,alpha,d,theta,lower,upper\nR,zero,0,0,0,,\n", "row 1: a = 'zero' is not a number"),
-        ("type,a,alpha,d,theta,lower,upper\nR,nan,0,0,0,,\n", "not a finite number"),
-        ("type,a,alpha,d,theta,lower,upper\nT,0,0,0,0,,\n", "prismatic joint needs lower and upper"),
-        ("type,a,alpha,d,theta,lower,upper\nR,0,0,0,0,2,1\n", "lower = 2.0 must be below upper = 1.0"),
-        ("a,b\n1,2\n", "header"),
-        ("type,a,alpha,d,theta,lower,upper\n", "no rows"),
-        ("# convention: weird\ntype,a,alpha,d,theta,lower,upper\nR,0,0,0,0,,\n", "convention"),
-        ("type,a,alpha,d,theta,lower,upper\nR,0.4,0,0,0,-3,3,9\n", "row 1 has 8 values; expected 7"),
-    ],
-)
-def test_malformed_dh_tables(tmp_path, text, message):
-    path = tmp_path / "bad.csv"
-    path.write_text(text)
-    with pytest.raises(ValueError, match=message):
-        get_arm(str(path))
-
-
-@pytest.mark.parametrize(
-    ("text", "message"),
-    [
-        ("<robot", "not valid XML"),
-        ("<model/>", "needs <robot>"),
-        ('<robot name="r"><link name="a"/></robot>', "no movable joint"),
-        ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="ball"><parent link="a"/>'
-         '<child link="b"/></joint></robot>', "type 'ball'"),
-        ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
-         '<child link="b"/></joint></robot>', "needs <limit"),
-        ('<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
-         '<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>'
-         '<joint name="k" type="continuous"><parent link="a"/><child link="c"/></joint></robot>',
-         "branches into 2 moving chains"),
-        ('<robot name="r"><link name="a"/><joint name="j" type="continuous"><parent link="a"/>'
-         '<child link="zz"/></joint></robot>', "naming links"),
-        ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="continuous"><parent link="a"/>'
-         '<child link="b"/><origin xyz="1 2"/></joint></robot>', "must be three numbers"),
-        ('<robot name="r"><link name="a"/><link name="b"><inertial><mass value="-1"/></inertial></link>'
-         '<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint></robot>',
-         "link 'b' mass = -1 kg is not allowed"),
-    ],
-)
-def test_malformed_urdf(tmp_path, text, message):
-    path = tmp_path / "bad.urdf"
-    path.write_text(text)
-    with pytest.raises(ValueError, match=message):
-        get_arm(str(path))
-
-
 def test_files_that_are_not_text(tmp_path):
     for name in ("bad.csv", "bad.urdf"):
         (tmp_path / name).write_bytes(b"\xff\xfe\x00garbage")
@@ -429,35 +378,37 @@ def test_link_name_with_a_quote_loads(tmp_path):
 _H = "type,a,alpha,d,theta,lower,upper"
 
 
-@pytest.mark.parametrize(
-    ("text", "message"),
-    [
-        (f"{_H},weight\nR,0,0,0,0,,,1\n", "unknown column.s. weight; allowed after"),
-        (f"{_H},cx\nR,0,0,0,0,,,0.1\n", r"column\(s\) cx need the mass column"),
-        (f"{_H},mass,Mass\nR,0,0,0,0,,,1,1\n", "mass appear more than once"),
-        (f"{_H},mass\nR,0,0,0,0,,,\n", "row 1: mass is empty"),
-        (f"{_H},mass,Ixx\nR,0,0,0,0,,,1,-0.1\n", "row 1: Ixx = -0.1 kg·m² is negative"),
-        (f"{_H},mass,Ixx,Iyy,Izz\nR,0,0,0,0,,,1,0.1,0.1,0.5\n", "row 1: the inertia is not physical.*triangle"),
-        (f"{_H},mass,Ixx\nR,0,0,0,0,,,0,0.1\n", "mass 0 kg with a nonzero inertia"),
-        (f"{_H},effort\nR,0,0,0,0,,,-5\n", "row 1: effort = -5 is not allowed"),
-        (f"{_H}\nR,0.4,90,0,0,,\n", r"alpha = 90 is beyond ±2π rad.*'# units: deg'"),
-        (f"{_H}\nR,0.4,0,0,0,-180,180\n", r"lower = -180 is beyond ±2π rad.*'# units: deg'"),
-        (f"{_H}\nR,0.4,0,0,400,,\n", "theta = 400 is beyond"),
-        (f"# unit: degrees\n{_H}\nR,0,0,0,0,,\n", "write it once as '# units: rad' or '# units: deg'"),
-        (f"# units: deg\n# units: deg\n{_H}\nR,0,0,0,0,,\n", "write it once"),
-        (f"# Units = degrees\n{_H}\nR,0,0,0,0,,\n", "write it once as '# units: rad'"),
-        (f"# conventions: craig\n{_H}\nR,0,0,0,0,,\n", "'# convention: standard' or"),
-        (f"# convention: weird\n{_H}\nR,0,0,0,0,,\n", "'# convention: standard' or '# convention: modified'"),
-        (f"{_H}\n" + "R,0.1,0,0,0,,\n" * 65, "more than 64 rows: armlab takes arms of at most 64 joints"),
-        (f"{_H},mass\nR,0,0,0,0,,,inf\n", "mass = 'inf' is not a finite number"),
-        ("", "header '' must start with type,a,alpha"),
-    ],
-)
-def test_more_malformed_dh_tables(tmp_path, text, message):
-    path = tmp_path / "bad.csv"
-    path.write_text(text)
-    with pytest.raises(ValueError, match=message):
-        get_arm(str(path))
+#: Bad DH tables and the error each gives.
+_DH_CASES = [
+    ("type,a,alpha,d,theta,lower,upper\nX,0,0,0,0,,\n", "type 'X' is not allowed"),
+    ("type,a,alpha,d,theta,lower,upper\nR,zero,0,0,0,,\n", "row 1: a = 'zero' is not a number"),
+    ("type,a,alpha,d,theta,lower,upper\nR,nan,0,0,0,,\n", "not a finite number"),
+    ("type,a,alpha,d,theta,lower,upper\nT,0,0,0,0,,\n", "prismatic joint needs lower and upper"),
+    ("type,a,alpha,d,theta,lower,upper\nR,0,0,0,0,2,1\n", "lower = 2.0 must be below upper = 1.0"),
+    ("a,b\n1,2\n", "header"),
+    ("type,a,alpha,d,theta,lower,upper\n", "no rows"),
+    ("# convention: weird\ntype,a,alpha,d,theta,lower,upper\nR,0,0,0,0,,\n", "convention"),
+    ("type,a,alpha,d,theta,lower,upper\nR,0.4,0,0,0,-3,3,9\n", "row 1 has 8 values; expected 7"),
+    (f"{_H},weight\nR,0,0,0,0,,,1\n", "unknown column.s. weight; allowed after"),
+    (f"{_H},cx\nR,0,0,0,0,,,0.1\n", r"column\(s\) cx need the mass column"),
+    (f"{_H},mass,Mass\nR,0,0,0,0,,,1,1\n", "mass appear more than once"),
+    (f"{_H},mass\nR,0,0,0,0,,,\n", "row 1: mass is empty"),
+    (f"{_H},mass,Ixx\nR,0,0,0,0,,,1,-0.1\n", "row 1: Ixx = -0.1 kg·m² is negative"),
+    (f"{_H},mass,Ixx,Iyy,Izz\nR,0,0,0,0,,,1,0.1,0.1,0.5\n", "row 1: the inertia is not physical.*triangle"),
+    (f"{_H},mass,Ixx\nR,0,0,0,0,,,0,0.1\n", "mass 0 kg with a nonzero inertia"),
+    (f"{_H},effort\nR,0,0,0,0,,,-5\n", "row 1: effort = -5 is not allowed"),
+    (f"{_H}\nR,0.4,90,0,0,,\n", r"alpha = 90 is beyond ±2π rad.*'# units: deg'"),
+    (f"{_H}\nR,0.4,0,0,0,-180,180\n", r"lower = -180 is beyond ±2π rad.*'# units: deg'"),
+    (f"{_H}\nR,0.4,0,0,400,,\n", "theta = 400 is beyond"),
+    (f"# unit: degrees\n{_H}\nR,0,0,0,0,,\n", "write it once as '# units: rad' or '# units: deg'"),
+    (f"# units: deg\n# units: deg\n{_H}\nR,0,0,0,0,,\n", "write it once"),
+    (f"# Units = degrees\n{_H}\nR,0,0,0,0,,\n", "write it once as '# units: rad'"),
+    (f"# conventions: craig\n{_H}\nR,0,0,0,0,,\n", "'# convention: standard' or"),
+    (f"# convention: weird\n{_H}\nR,0,0,0,0,,\n", "'# convention: standard' or '# convention: modified'"),
+    (f"{_H}\n" + "R,0.1,0,0,0,,\n" * 65, "more than 64 rows: armlab takes arms of at most 64 joints"),
+    (f"{_H},mass\nR,0,0,0,0,,,inf\n", "mass = 'inf' is not a finite number"),
+    ("", "header '' must start with type,a,alpha"),
+]
 
 
 def test_dh_table_comments_and_a_byte_order_mark(tmp_path):
@@ -478,44 +429,64 @@ def _joint(name: str, parent: str, child: str, kind: str = "continuous", inner: 
     return f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>{inner}</joint>'
 
 
-@pytest.mark.parametrize(
-    ("text", "message"),
-    [
-        (_urdf(_joint("j", "a", "b") + _joint("k", "b", "c", "fixed") + _joint("l", "c", "b", "fixed"), "a b c"),
-         "link 'b' is the child of joints 'j' and 'l'"),
-        (_urdf(_joint("j", "a", "b") + _joint("k", "b", "a")), "the joints form a cycle: every link has a parent"),
-        (_urdf(_joint("j", "a", "b") + _joint("k", "c", "c", "fixed"), "a b c"),
-         "cycle through link.s. 'c', not connected to the root link 'a'"),
-        (_urdf(_joint("j", "a", "b") + _joint("k", "b", "c", inner='<mimic joint="j"/>'), "a b c"),
-         "joint 'k' mimics joint 'j': mimic joints are not supported"),
-        (_urdf(_joint("j", "a", "b", "floating")), "joint 'j' has type 'floating'; allowed: revolute"),
-        (_urdf(_joint("j", "a", "b", "planar")), "joint 'j' has type 'planar'"),
-        (_urdf(_joint("j", "a", "b", "revolute", '<limit lower="1" upper="-1"/>')),
-         "joint 'j' has lower = 1 above upper = -1: the limits are reversed"),
-        (_urdf(_joint("j", "a", "b", "revolute", '<limit lower="-1" upper="1" effort="-3"/>')),
-         "joint 'j' effort = -3 is not allowed"),
-        (_urdf(_joint("j", "a", "b"), "a").replace('<link name="a"/>', '<link name="a"/><link name="b"><inertial>'
-                                                    '<mass value="1"/><inertia ixx="-1" iyy="1" izz="1"/>'
-                                                    '</inertial></link>'),
-         "link 'b': Ixx = -1 kg·m² is negative"),
-        (_urdf(_joint("j", "a", "b"), "a").replace('<link name="a"/>', '<link name="a"/><link name="b"><inertial>'
-                                                      '<mass value="1"/><inertia ixx="1" iyy="1" izz="3"/>'
-                                                      '</inertial></link>'),
-         "link 'b': the inertia is not physical.*triangle inequality"),
-        ('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;">]>'
-         + _urdf(_joint("j", "a", "b")), "document-type or entity definitions"),
-        (_urdf(_joint("j", "a", "b", inner='<origin xyz="nan 0 0"/>')), "not a finite number"),
-        (_urdf(_joint("j", "a", "b"), extra='<link name="d"><visual><geometry><box size="1 inf 1"/></geometry>'
-                                             '</visual></link>' + _joint("k", "b", "d", "fixed")),
-         "<box size='1 inf 1'> has a value that is not a finite number"),
-        (_urdf(_joint("j", "a", "b") + _joint("j", "b", "c"), "a b c"), "two <joint> elements are named 'j'"),
-        (_urdf(_joint("j", "a", "b"), "a b b"), "two <link> elements are named 'b'"),
-        (_urdf("".join(_joint(f"j{i}", f"l{i}", f"l{i + 1}") for i in range(70)), " ".join(f"l{i}" for i in range(71))),
-         "70 movable joints: armlab takes arms of at most 64 joints"),
-    ],
-)
-def test_more_malformed_urdfs(tmp_path, text, message):
-    path = tmp_path / "bad.urdf"
+#: Bad URDFs and the error each gives.
+_URDF_CASES = [
+    ("<robot", "not valid XML"),
+    ("<model/>", "needs <robot>"),
+    ('<robot name="r"><link name="a"/></robot>', "no movable joint"),
+    ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="ball"><parent link="a"/>'
+     '<child link="b"/></joint></robot>', "type 'ball'"),
+    ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
+     '<child link="b"/></joint></robot>', "needs <limit"),
+    ('<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
+     '<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint>'
+     '<joint name="k" type="continuous"><parent link="a"/><child link="c"/></joint></robot>',
+     "branches into 2 moving chains"),
+    ('<robot name="r"><link name="a"/><joint name="j" type="continuous"><parent link="a"/>'
+     '<child link="zz"/></joint></robot>', "naming links"),
+    ('<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="continuous"><parent link="a"/>'
+     '<child link="b"/><origin xyz="1 2"/></joint></robot>', "must be three numbers"),
+    ('<robot name="r"><link name="a"/><link name="b"><inertial><mass value="-1"/></inertial></link>'
+     '<joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint></robot>',
+     "link 'b' mass = -1 kg is not allowed"),
+    (_urdf(_joint("j", "a", "b") + _joint("k", "b", "c", "fixed") + _joint("l", "c", "b", "fixed"), "a b c"),
+     "link 'b' is the child of joints 'j' and 'l'"),
+    (_urdf(_joint("j", "a", "b") + _joint("k", "b", "a")), "the joints form a cycle: every link has a parent"),
+    (_urdf(_joint("j", "a", "b") + _joint("k", "c", "c", "fixed"), "a b c"),
+     "cycle through link.s. 'c', not connected to the root link 'a'"),
+    (_urdf(_joint("j", "a", "b") + _joint("k", "b", "c", inner='<mimic joint="j"/>'), "a b c"),
+     "joint 'k' mimics joint 'j': mimic joints are not supported"),
+    (_urdf(_joint("j", "a", "b", "floating")), "joint 'j' has type 'floating'; allowed: revolute"),
+    (_urdf(_joint("j", "a", "b", "planar")), "joint 'j' has type 'planar'"),
+    (_urdf(_joint("j", "a", "b", "revolute", '<limit lower="1" upper="-1"/>')),
+     "joint 'j' has lower = 1 above upper = -1: the limits are reversed"),
+    (_urdf(_joint("j", "a", "b", "revolute", '<limit lower="-1" upper="1" effort="-3"/>')),
+     "joint 'j' effort = -3 is not allowed"),
+    (_urdf(_joint("j", "a", "b"), "a").replace('<link name="a"/>', '<link name="a"/><link name="b"><inertial>'
+                                                '<mass value="1"/><inertia ixx="-1" iyy="1" izz="1"/>'
+                                                '</inertial></link>'),
+     "link 'b': Ixx = -1 kg·m² is negative"),
+    (_urdf(_joint("j", "a", "b"), "a").replace('<link name="a"/>', '<link name="a"/><link name="b"><inertial>'
+                                                  '<mass value="1"/><inertia ixx="1" iyy="1" izz="3"/>'
+                                                  '</inertial></link>'),
+     "link 'b': the inertia is not physical.*triangle inequality"),
+    ('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;">]>'
+     + _urdf(_joint("j", "a", "b")), "document-type or entity definitions"),
+    (_urdf(_joint("j", "a", "b", inner='<origin xyz="nan 0 0"/>')), "not a finite number"),
+    (_urdf(_joint("j", "a", "b"), extra='<link name="d"><visual><geometry><box size="1 inf 1"/></geometry>'
+                                         '</visual></link>' + _joint("k", "b", "d", "fixed")),
+     "<box size='1 inf 1'> has a value that is not a finite number"),
+    (_urdf(_joint("j", "a", "b") + _joint("j", "b", "c"), "a b c"), "two <joint> elements are named 'j'"),
+    (_urdf(_joint("j", "a", "b"), "a b b"), "two <link> elements are named 'b'"),
+    (_urdf("".join(_joint(f"j{i}", f"l{i}", f"l{i + 1}") for i in range(70)), " ".join(f"l{i}" for i in range(71))),
+     "70 movable joints: armlab takes arms of at most 64 joints"),
+]
+
+
+@pytest.mark.parametrize(("name", "text", "message"), [("bad.csv", *case) for case in _DH_CASES]
+                         + [("bad.urdf", *case) for case in _URDF_CASES])
+def test_malformed_files(tmp_path, name, text, message):
+    path = tmp_path / name
     path.write_text(text)
     with pytest.raises(ValueError, match=message):
         get_arm(str(path))

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_security import private_tmp  # noqa: F401 (the fixture: a private TMPDIR)
 
 from armlab.cli import main
 from armlab.models import get_arm
@@ -185,19 +186,11 @@ def _one_line_or_success(code: int, err: str, argv: list[str]) -> None:
     assert code == 2 and len(lines) == 1 and lines[0].startswith("armlab: error: "), (argv, code, err)
 
 
-@pytest.fixture
-def private_tmp(tmp_path, monkeypatch):
-    folder = tmp_path / "tmp"
-    folder.mkdir()
-    monkeypatch.setattr(tempfile, "tempdir", str(folder))
-    monkeypatch.setenv("TMPDIR", str(folder))
-    return folder
-
-
 @pytest.mark.timeout(60)
+@pytest.mark.usefixtures("private_tmp")
 @pytest.mark.parametrize(("kind", "text"), [(kind, text) for kind, _, text in CASES],
                          ids=[case_id for _, case_id, _ in CASES])
-def test_mutant(tmp_path, private_tmp, capfd, kind, text):
+def test_mutant(tmp_path, capfd, kind, text):
     folder = tmp_path / "arm"
     folder.mkdir()
     path = folder / "mutant.urdf"
@@ -219,7 +212,7 @@ def test_mutant(tmp_path, private_tmp, capfd, kind, text):
             arm.make_plant()
         except ValueError as error:
             assert "\n" not in str(error).strip(), error
-    assert list(private_tmp.iterdir()) == [] and list(folder.iterdir()) == [path]
+    assert list(Path(tempfile.gettempdir()).iterdir()) == [] and list(folder.iterdir()) == [path]
 
 
 SAMPLE = ["cycle", "entities", "huge chain (refused)", "mimic"]
