@@ -312,17 +312,16 @@ def _parse_urdf(path: Path) -> ET.Element:
     if root.tag != "robot":
         raise ValueError(f"{path}: the root element is <{root.tag}>, a URDF needs <robot>")
     for element in root.iter():  # every number in the file, not only the ones armlab reads itself
-        for key, value in element.attrib.items():
-            if key in _TEXT_ATTRIBUTES:
-                continue
+        texts = [(f"{key}={value!r}", value) for key, value in element.attrib.items() if key not in _TEXT_ATTRIBUTES]
+        for where, value in texts + [("text", element.text or "")]:
             for token in value.split():
                 try:
                     number = float(token)
                 except ValueError:
                     continue
                 if not np.isfinite(number):
-                    raise ValueError(f"{path}: <{element.tag} {key}={value!r}> has a value that is not a "
-                                     "finite number")
+                    raise ValueError(f"{path}: <{element.tag}> {where if where != 'text' else repr(value.strip())} "
+                                     "has a value that is not a finite number")
     return root
 
 

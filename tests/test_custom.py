@@ -475,7 +475,10 @@ _URDF_CASES = [
     (_urdf(_joint("j", "a", "b", inner='<origin xyz="nan 0 0"/>')), "not a finite number"),
     (_urdf(_joint("j", "a", "b"), extra='<link name="d"><visual><geometry><box size="1 inf 1"/></geometry>'
                                          '</visual></link>' + _joint("k", "b", "d", "fixed")),
-     "<box size='1 inf 1'> has a value that is not a finite number"),
+     "<box> size='1 inf 1' has a value that is not a finite number"),
+    (_urdf(_joint("j", "a", "b"), extra='<transmission name="t"><joint name="j"/><actuator name="m">'
+                                        '<mechanicalReduction>NaN</mechanicalReduction></actuator></transmission>'),
+     "<mechanicalReduction> 'NaN' has a value that is not a finite number"),
     (_urdf(_joint("j", "a", "b") + _joint("j", "b", "c"), "a b c"), "two <joint> elements are named 'j'"),
     (_urdf(_joint("j", "a", "b"), "a b b"), "two <link> elements are named 'b'"),
     (_urdf("".join(_joint(f"j{i}", f"l{i}", f"l{i + 1}") for i in range(70)), " ".join(f"l{i}" for i in range(71))),
