@@ -1,20 +1,28 @@
 """Shape handling shared by the kinematics modules: one configuration or a batch, and chains of frames.
 
-A batch of frames is an array ``(..., 4, 4)`` (or rotations ``(..., 3, 3)``). The chain of a serial arm is
-computed without any Python loop over samples and without batched 4×4 products: each link costs one
-matrix product by a constant (one BLAS call over the whole batch, :func:`times_constant`) and the joint's
-own motion about or along z, which only mixes two columns (:func:`turn_z`) or shifts one (:func:`slide_z`).
+The batched computations here store a batch *last*: a block of B frames is an array ``(3, 4, B)`` (rows,
+columns of the affine part [R | p], then samples), a block of vectors ``(3, B)``, so every elementwise
+operation runs over long contiguous rows. A long batch is computed a block of :data:`BLOCK` samples at a
+time in working arrays that stay in the processor's cache, and the results are written into arrays whose
+batch axis is last in memory (returned as views with the batch axes first, as everywhere in armlab).
+
+Each link of a chain costs one matrix product by a constant (:func:`times_constant`) and the joint's own
+motion about or along z, which only mixes two columns (:func:`turn_z`) or shifts one (:func:`slide_z`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["ZStep", "as_batch", "chain_frames", "slide_z", "times_constant", "turn_z"]
+__all__ = ["BLOCK", "ZStep", "as_batch", "blocks", "chain_blocks", "chain_frames", "cos_sin", "cross", "slide_z",
+           "times_constant", "turn_z"]
+
+#: Samples per block (see the module docstring).
+BLOCK = 4096
 
 
 def as_batch(q: ArrayLike, n: int, name: str = "q") -> NDArray[np.float64]:
@@ -33,19 +41,37 @@ def as_batch(q: ArrayLike, n: int, name: str = "q") -> NDArray[np.float64]:
     return a
 
 
-def times_constant(A: NDArray[np.float64], C: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``A @ C`` for a batch ``A`` of shape ``(..., r, c)`` and one constant ``C`` ``(c, k)``: one matrix product."""
-    A = np.ascontiguousarray(A)
-    return (A.reshape(-1, A.shape[-1]) @ C).reshape(A.shape[:-1] + (C.shape[-1],))
+def blocks(count: int) -> list[slice]:
+    """Slices of at most :data:`BLOCK` samples covering ``range(count)``."""
+    return [slice(start, min(start + BLOCK, count)) for start in range(0, count, BLOCK)]
+
+
+def cos_sin(angle: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(cos θ, sin θ) from one tangent of the half angle, t = tan(θ/2): cos θ = (1 − t²)/(1 + t²), sin θ = 2t/(1 + t²).
+
+    One transcendental call instead of two (numpy's float64 cos and sin are not vectorised); exact to a few
+    units in the last place, also near θ = ±π where t grows without bound.
+    """
+    t = np.tan(0.5 * angle)
+    t2 = t * t
+    inverse = 1.0 / (1.0 + t2)
+    return (1.0 - t2) * inverse, 2.0 * t * inverse
+
+
+def times_constant(C: NDArray[np.float64], T: NDArray[np.float64], out: NDArray | None = None) -> NDArray[np.float64]:
+    """``T·C`` for a block of frames ``T`` ``(r, c, B)`` and a constant ``C`` ``(c, k)``: ``(r, k, B)``.
+
+    Row by row, (T·C)_r = Cᵀ·T_r: one matrix product per row over the whole block.
+    """
+    return np.matmul(C.T, T, out=out)
 
 
 def turn_z(T: NDArray[np.float64], c: NDArray[np.float64], s: NDArray[np.float64]) -> None:
-    """``T ← T·R_z(θ)`` in place for frames ``(..., 4, 4)`` or rotations ``(..., 3, 3)``; ``c, s = cos θ, sin θ``.
+    """``T ← T·R_z(θ)`` in place for a block ``(3, 3 or 4, B)``; ``c, s = cos θ, sin θ`` of shape ``(B,)``.
 
     Only the first two columns change: ``x' = c x + s y``, ``y' = c y − s x``.
     """
-    x, y = T[..., :3, 0], T[..., :3, 1]
-    c, s = c[..., None], s[..., None]
+    x, y = T[:, 0], T[:, 1]
     new_x = x * c
     new_x += y * s
     y *= c
@@ -55,8 +81,15 @@ def turn_z(T: NDArray[np.float64], c: NDArray[np.float64], s: NDArray[np.float64
 
 
 def slide_z(T: NDArray[np.float64], d: NDArray[np.float64]) -> None:
-    """``T ← T·Trans_z(d)`` in place for frames ``(..., 4, 4)``: the origin moves by ``d`` along the frame's z."""
-    T[..., :3, 3] += d[..., None] * T[..., :3, 2]
+    """``T ← T·Trans_z(d)`` in place for a block ``(3, 4, B)``: the origin moves by ``d`` along the frame's z."""
+    T[:, 3] += d * T[:, 2]
+
+
+def cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """a × b for vectors stored as ``(..., 3, B)`` (components second to last; either may be ``(3, 1)``)."""
+    a0, a1, a2 = a[..., 0, :], a[..., 1, :], a[..., 2, :]
+    b0, b1, b2 = b[..., 0, :], b[..., 1, :], b[..., 2, :]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-2)
 
 
 @dataclass(frozen=True)
@@ -72,31 +105,50 @@ class ZStep:
     post: NDArray[np.float64] | None = None
 
 
+def chain_blocks(
+    q: NDArray[np.float64], steps: Sequence[ZStep], tail: NDArray[np.float64] | None = None
+) -> Iterator[tuple[slice, NDArray[np.float64]]]:
+    """The frames of :func:`chain_frames` a block of samples at a time: ``(block, frames)``.
+
+    ``block`` slices the batch flattened to ``(N, n)``; ``frames`` ``(k, 3, 4, B)`` holds the affine
+    parts [R | p] of the k frames (base first) of those B samples. It is a working array, overwritten
+    by the next block.
+    """
+    flat = q.reshape(-1, q.shape[-1])
+    joints = np.ascontiguousarray(flat.T)  # (n, N): one joint's values contiguous
+    work = np.empty((len(steps) + 1 + (tail is not None), 3, 4, min(flat.shape[0], BLOCK)))
+    work[0] = np.eye(4)[:3, :, None]
+    for block in blocks(flat.shape[0]):
+        frames = work[..., : block.stop - block.start]
+        for i, step in enumerate(steps):
+            T = frames[i + 1]
+            if step.pre is None:
+                T[...] = frames[i]
+            else:
+                times_constant(step.pre, frames[i], out=T)
+            qi = joints[i, block]
+            if step.revolute:
+                turn_z(T, *cos_sin(qi))
+            else:
+                slide_z(T, qi)
+            if step.post is not None:
+                T[...] = times_constant(step.post, T)
+        if tail is not None:
+            times_constant(tail, frames[-2], out=frames[-1])
+        yield block, frames
+
+
 def chain_frames(
     q: NDArray[np.float64], steps: Sequence[ZStep], tail: NDArray[np.float64] | None = None
 ) -> NDArray[np.float64]:
     """T_{0,i} = T_{0,1}·T_{1,2} ⋯ T_{i−1,i} for i = 0 … n (the base first), then ``T_{0,n}·tail`` if given.
 
-    ``q`` has shape ``(..., n)``, one value per step; the result has shape ``(..., n + 1 (+ 1), 4, 4)``.
-    Each frame is computed into its own contiguous block over the whole batch (a product by a constant,
-    the joint's motion in place) and the result is a view with the frame axis third from last.
+    ``q`` has shape ``(..., n)``, one value per step; the result has shape ``(..., n + 1 (+ 1), 4, 4)``
+    (a view of an array stored batch-last).
     """
-    shape = q.shape[:-1]
-    flat = q.reshape(-1, q.shape[-1])
-    out = np.empty((len(steps) + 1 + (tail is not None), flat.shape[0], 4, 4))
-    out[0] = np.eye(4)
-    for i, step in enumerate(steps):
-        T = out[i + 1]
-        if step.pre is None:
-            T[...] = out[i]
-        else:
-            np.matmul(out[i].reshape(-1, 4), step.pre, out=T.reshape(-1, 4))
-        if step.revolute:
-            turn_z(T, np.cos(flat[:, i]), np.sin(flat[:, i]))
-        else:
-            slide_z(T, flat[:, i])
-        if step.post is not None:
-            T[...] = times_constant(T, step.post)
-    if tail is not None:
-        np.matmul(out[-2].reshape(-1, 4), tail, out=out[-1].reshape(-1, 4))
-    return np.moveaxis(out, 0, -3).reshape(shape + out.shape[:1] + (4, 4))
+    k = len(steps) + 1 + (tail is not None)
+    out = np.empty((k, 4, 4, int(np.prod(q.shape[:-1]))))
+    out[:, 3] = np.array([0.0, 0.0, 0.0, 1.0])[:, None]
+    for block, frames in chain_blocks(q, steps, tail):
+        out[:, :3, :, block] = frames
+    return np.moveaxis(out, -1, 0).reshape(q.shape[:-1] + (k, 4, 4))

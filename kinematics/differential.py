@@ -26,12 +26,13 @@ Every function takes one configuration ``(n,)`` or a batch ``(..., n)``.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.kinematics.batch import as_batch
+from armlab.kinematics.batch import as_batch, chain_blocks, cross
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -42,21 +43,20 @@ __all__ = ["AXES", "jacobian", "manipulability", "sigma_min", "tool_motion"]
 AXES = {"all": slice(0, 6), "trans": slice(0, 3), "rot": slice(3, 6)}
 
 
-def _axes_and_origins(arm: Arm, q: NDArray[np.float64]) -> tuple[NDArray, NDArray, NDArray]:
-    """World joint axes z_i ``(..., n, 3)``, frame origins p_i ``(..., n, 3)`` and the tool point ``(..., 3)``."""
-    frames = arm.table.frames(q)
+def _chain(arm: Arm, q: NDArray[np.float64]) -> Iterator[tuple[slice, NDArray, NDArray, NDArray]]:
+    """A block at a time: ``(block, z, p, p_t)``, the world joint axes z_i and frame origins p_i ``(n, 3, B)``
+    and the tool point ``(3, B)`` of the samples ``block`` of ``q`` flattened to ``(N, n)``."""
     n = arm.n
     k = np.array([row.k for row in arm.table.rows])  # k_i in frame {i}
-    z = np.einsum("...ijk,ik->...ij", frames[..., 1:n + 1, :3, :3], k)  # z_i = R_{0,i} k_i
-    return z, frames[..., 1:n + 1, :3, 3], frames[..., n + 1, :3, 3]
+    for block, frames in chain_blocks(q, arm.table.steps, arm.table.tool):
+        R = frames[1:n + 1, :, :3]
+        z = sum(k[:, j, None, None] * R[:, :, j] for j in range(3) if k[:, j].any())  # z_i = R_{0,i} k_i
+        yield block, z, frames[1:n + 1, :, 3], frames[n + 1, :, 3]
 
 
-def _columns(arm: Arm, z: NDArray, p: NDArray, p_tool: NDArray) -> tuple[NDArray, NDArray]:
-    """The Jacobian's columns as rows: J_v ``(..., n, 3)`` and J_ω ``(..., n, 3)``."""
-    revolute = arm.revolute[:, None]
-    J_w = np.where(revolute, z, 0.0)
-    J_v = np.where(revolute, np.cross(z, p_tool[..., None, :] - p), z)
-    return J_v, J_w
+def _columns(revolute: NDArray, z: NDArray, p: NDArray, p_tool: NDArray) -> tuple[NDArray, NDArray]:
+    """The Jacobian's columns J_v, J_ω ``(n, 3, B)``: [z_i × (p_t − p_i); z_i] or [z_i; 0]."""
+    return np.where(revolute, cross(z, p_tool - p), z), np.where(revolute, z, 0.0)
 
 
 def jacobian(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
@@ -67,8 +67,13 @@ def jacobian(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
     origin, world) with its [ω; v] rows swapped.
     """
     q = as_batch(q, arm.n)
-    J_v, J_w = _columns(arm, *_axes_and_origins(arm, q))
-    return np.concatenate([np.swapaxes(J_v, -1, -2), np.swapaxes(J_w, -1, -2)], axis=-2)
+    revolute = arm.revolute[:, None, None]
+    J = np.empty((6, arm.n, int(np.prod(q.shape[:-1]))))  # stored batch-last
+    for block, z, p, p_tool in _chain(arm, q):
+        J_v, J_w = _columns(revolute, z, p, p_tool)
+        J[:3, :, block] = J_v.transpose(1, 0, 2)
+        J[3:, :, block] = J_w.transpose(1, 0, 2)
+    return np.moveaxis(J, -1, 0).reshape(q.shape[:-1] + (6, arm.n))
 
 
 def tool_motion(
@@ -82,21 +87,22 @@ def tool_motion(
     """
     n = arm.n
     q, qd, qdd = np.broadcast_arrays(as_batch(q, n, "q"), as_batch(qd, n, "qd"), as_batch(qdd, n, "qdd"))
-    z, p, p_tool = _axes_and_origins(arm, q)
-    J_v, J_w = _columns(arm, z, p, p_tool)
-    rate = qd[..., None]  # q̇_i per column
-    w = np.cumsum(rate * J_w, axis=-2)  # ω_i
-    prismatic = np.where(arm.revolute[:, None], 0.0, z)
-    v = np.cross(w, p) - np.cumsum(rate * np.cross(J_w, p), axis=-2) + np.cumsum(rate * prismatic, axis=-2)
-    v_tool = np.einsum("...ij,...i->...j", J_v, qd)
-    w_tool = w[..., -1, :]
-    z_dot = np.cross(w, z)  # ż_i = ω_i × z_i
-    J_v_dot = np.where(arm.revolute[:, None],
-                       np.cross(z_dot, p_tool[..., None, :] - p) + np.cross(z, v_tool[..., None, :] - v), z_dot)
-    J_w_dot = np.where(arm.revolute[:, None], z_dot, 0.0)
-    a = np.einsum("...ij,...i->...j", J_v, qdd) + np.einsum("...ij,...i->...j", J_v_dot, qd)
-    w_dot = np.einsum("...ij,...i->...j", J_w, qdd) + np.einsum("...ij,...i->...j", J_w_dot, qd)
-    return np.concatenate([v_tool, w_tool], axis=-1), np.concatenate([a, w_dot], axis=-1)
+    shape = q.shape[:-1]
+    rates, accelerations = (np.ascontiguousarray(a.reshape(-1, n).T)[:, None, :] for a in (qd, qdd))  # (n, 1, N)
+    revolute = arm.revolute[:, None, None]
+    twist, accel = np.empty((6, rates.shape[-1])), np.empty((6, rates.shape[-1]))  # stored batch-last
+    for block, z, p, p_tool in _chain(arm, np.ascontiguousarray(q)):
+        J_v, J_w = _columns(revolute, z, p, p_tool)
+        rate, acc = rates[..., block], accelerations[..., block]
+        w = np.cumsum(rate * J_w, axis=0)  # ω_i
+        v = cross(w, p) - np.cumsum(rate * cross(J_w, p), axis=0) + np.cumsum(rate * (z - J_w), axis=0)
+        z_dot = cross(w, z)  # ż_i = ω_i × z_i
+        twist[:3, block] = v_tool = (rate * J_v).sum(axis=0)
+        twist[3:, block] = w[-1]
+        J_v_dot = np.where(revolute, cross(z_dot, p_tool - p) + cross(z, v_tool - v), z_dot)
+        accel[:3, block] = (acc * J_v + rate * J_v_dot).sum(axis=0)
+        accel[3:, block] = (acc * J_w + rate * np.where(revolute, z_dot, 0.0)).sum(axis=0)
+    return twist.T.reshape(shape + (6,)), accel.T.reshape(shape + (6,))
 
 
 def _singular_values(J: ArrayLike, axes: Literal["all", "trans", "rot"] | None) -> NDArray[np.float64]:

@@ -55,7 +55,8 @@ def homogeneous(R: ArrayLike, p: ArrayLike) -> NDArray[np.float64]:
     R = np.asarray(R, dtype=float)
     p = np.asarray(p, dtype=float)
     shape = np.broadcast_shapes(R.shape[:-2], p.shape[:-1])
-    T = np.zeros(shape + (4, 4))
+    # stored in R's memory order (a batch stored last stays last)
+    T = np.zeros_like(R, shape=shape + (4, 4)) if R.shape[:-2] == shape else np.zeros(shape + (4, 4))
     T[..., :3, :3] = R
     T[..., :3, 3] = p
     T[..., 3, 3] = 1.0

@@ -35,16 +35,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.kinematics.batch import as_batch
+from armlab.kinematics.batch import as_batch, blocks, cos_sin, cross
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = ["LinkInertias", "inverse_dynamics", "link_inertias"]
-
-#: Samples per block: the working vectors of one block stay in the processor's cache.
-BLOCK = 8192
-
 
 @dataclass(frozen=True)
 class LinkInertias:
@@ -94,11 +90,6 @@ def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
     return _INERTIAS[key]
 
 
-def _cross(a: NDArray, b: NDArray) -> NDArray:
-    """a × b for vectors stored as rows ``(3, N)`` (either may be a constant ``(3, 1)``)."""
-    return np.stack([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
-
-
 def _z_cross(x: NDArray, rate: NDArray) -> NDArray:
     """x × (rate ẑ) = rate (x_y, −x_x, 0)."""
     return np.stack([x[1] * rate, -x[0] * rate, np.zeros_like(rate)])
@@ -130,9 +121,9 @@ def _block(
     vd = np.broadcast_to(-g[:, None], (3, N))
     turns, forces, moments = [], [], []
     for i, (R, P, revolute) in enumerate(links):
-        c, s = (np.cos(q[i]), np.sin(q[i])) if revolute else (None, None)
+        c, s = cos_sin(q[i]) if revolute else (None, None)
         P_i = P[:, None] if revolute else P[:, None] + R[:, 2:3] * q[i]  # origin of {i} in {i−1}
-        vd = _into(R, c, s, _cross(wd, P_i) + _cross(w, _cross(w, P_i)) + vd)  # (6.47)
+        vd = _into(R, c, s, cross(wd, P_i) + cross(w, cross(w, P_i)) + vd)  # (6.47)
         if revolute:
             w_in = _into(R, c, s, w)
             wd = _into(R, c, s, wd) + _z_cross(w_in, qd[i])  # (6.46)
@@ -144,12 +135,12 @@ def _block(
             vd = vd + 2 * _z_cross(w, qd[i])  # (6.35)
             vd[2] += qdd[i]
         com = inertias.com[i][:, None]
-        F = inertias.mass[i] * (_cross(wd, com) + _cross(w, _cross(w, com)) + vd)  # (6.48)–(6.49)
+        F = inertias.mass[i] * (cross(wd, com) + cross(w, cross(w, com)) + vd)  # (6.48)–(6.49)
         I = inertias.inertia[i]
-        N_i = I @ wd + _cross(w, I @ w)  # (6.50)
+        N_i = I @ wd + cross(w, I @ w)  # (6.50)
         turns.append((R, c, s, P_i))
         forces.append(F)
-        moments.append(N_i + _cross(com, F))
+        moments.append(N_i + cross(com, F))
     tau = np.empty((n, N))
     f = n_ = None
     for i in range(n - 1, -1, -1):
@@ -158,7 +149,7 @@ def _block(
             R, c, s, P_next = turns[i + 1]
             f_out = _out_of(R, c, s, f)
             f_i = f_i + f_out  # (6.51)
-            n_i = n_i + _out_of(R, c, s, n_) + _cross(P_next, f_out)  # (6.52)
+            n_i = n_i + _out_of(R, c, s, n_) + cross(P_next, f_out)  # (6.52)
         tau[i] = n_i[2] if links[i][2] else f_i[2]  # (6.53)
         f, n_ = f_i, n_i
     return tau
@@ -194,7 +185,6 @@ def inverse_dynamics(
     shape = q.shape[:-1]
     q, qd, qdd = (np.ascontiguousarray(a.reshape(-1, n).T) for a in (q, qd, qdd))
     tau = np.empty_like(q)
-    for start in range(0, q.shape[1], BLOCK):
-        block = slice(start, start + BLOCK)
+    for block in blocks(q.shape[1]):
         tau[:, block] = _block(links, local, g, q[:, block], qd[:, block], qdd[:, block])
     return tau.T.reshape(shape + (n,))

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.basic_movements import T_Z5, T_Z6
-from armlab.kinematics.batch import as_batch, times_constant, turn_z
+from armlab.kinematics.batch import as_batch, blocks, cos_sin, times_constant, turn_z
 
 __all__ = ["position_vectors", "position_vectors_homogeneous", "rotation_form"]
 
@@ -39,25 +39,33 @@ def _angles(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> tuple[NDArray, ND
 def rotation_form(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Eqs. (1)–(7): the points p1 … p7, shape ``(..., 7, 3)``, and module 7's rotation, ``(..., 3, 3)``.
 
-    Each segment r_k lies along its module's z axis, so R·r_k is |r_k| times R's third column; the
-    bend R_y(θ_k) is one product by a constant for the whole batch (when θ is not itself a batch) and
-    the joint's turn R_z(φ_k) mixes R's first two columns in place.
+    ``phi`` ``(..., 6)``; the structure ``theta`` (θ2 … θ7) and ``r`` (|r1| … |r7|) are constants, ``(6,)``
+    and ``(7,)``. Each segment r_k lies along its module's z axis, so R·r_k is |r_k| times R's third
+    column; the bend R_y(θ_k) is a product by a constant and the turn R_z(φ_k) mixes R's first two columns.
     """
     phi7, theta, r = _angles(phi, theta, r)
-    c, s = np.cos(phi7), np.sin(phi7)
-    R = np.zeros(phi7.shape[:-1] + (3, 3))  # R_z1(φ1), eq. (1)
-    R[..., 0, 0] = R[..., 1, 1] = c[..., 0]
-    R[..., 1, 0] = s[..., 0]
-    R[..., 0, 1] = -s[..., 0]
-    R[..., 2, 2] = 1.0
-    points = np.empty(phi7.shape[:-1] + (7, 3))
-    points[..., 0, :] = r[..., 0, None] * R[..., :, 2]  # eq. (3)
-    for k in range(1, 7):  # eqs. (4)–(7): R ← R·R_yk(θk)·R_zk(φk), p_k = p_{k−1} + R·r_k
-        bend = T_Z5(theta[..., k - 1])[..., :3, :3]
-        R = times_constant(R, bend) if bend.ndim == 2 else R @ bend
-        turn_z(R, c[..., k], s[..., k])
-        points[..., k, :] = points[..., k - 1, :] + r[..., k, None] * R[..., :, 2]
-    return points, R
+    if theta.ndim != 1 or r.ndim != 1:
+        raise ValueError(f"theta and r have shapes {theta.shape}, {r.shape}: they are the arm's constants, (6,), (7,)")
+    shape = phi7.shape[:-1]
+    angles = np.ascontiguousarray(phi7[..., :6].reshape(-1, 6).T)  # (6, N): one joint's values contiguous
+    points, R_out = np.empty((7, 3, angles.shape[1])), np.empty((3, 3, angles.shape[1]))  # stored batch-last
+    bends = [T_Z5(angle)[:3, :3] for angle in theta]
+    for block in blocks(angles.shape[1]):
+        c, s = cos_sin(angles[:, block])
+        R = np.zeros((3, 3, c.shape[1]))  # R_z1(φ1), eq. (1)
+        R[0, 0] = R[1, 1] = c[0]
+        R[1, 0] = s[0]
+        R[0, 1] = -s[0]
+        R[2, 2] = 1.0
+        p = points[..., block]
+        p[0] = r[0] * R[:, 2]  # eq. (3)
+        for k in range(1, 7):  # eqs. (4)–(7): R ← R·R_yk(θk)·R_zk(φk), p_k = p_{k−1} + R·r_k
+            R = times_constant(bends[k - 1], R)
+            if k < 6:  # φ7 = 0: module 7 has no joint
+                turn_z(R, c[k], s[k])
+            p[k] = p[k - 1] + r[k] * R[:, 2]
+        R_out[..., block] = R
+    return np.moveaxis(points, -1, 0).reshape(shape + (7, 3)), np.moveaxis(R_out, -1, 0).reshape(shape + (3, 3))
 
 
 def position_vectors(phi: ArrayLike, theta: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:

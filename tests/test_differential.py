@@ -121,7 +121,7 @@ def test_jacobian_matches_drake(any_arm, rng):
     J = jacobian(arm, q)
     assert J.shape == (SAMPLES, 6, arm.n)
     np.testing.assert_allclose(J, _drake_jacobian(arm, plant, ctx, q), rtol=0, atol=1e-9)
-    np.testing.assert_array_equal(jacobian(arm, q[0]), J[0])  # one configuration → (6, n)
+    np.testing.assert_allclose(jacobian(arm, q[0]), J[0], rtol=0, atol=1e-15)  # one configuration → (6, n)
 
 
 def test_jacobian_matches_finite_differences_of_forward(any_arm, rng):
