@@ -83,9 +83,14 @@ def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyP
     (joint1 … jointN), which the URDF guarantees; this is checked so that a trajectory in the
     arm's joint order can be wired to the plant's ports directly. The mass matrix must be positive
     definite (at q = 0), or the simulation could not solve for the accelerations.
+
+    The drives are ideal: Drake would clamp each actuator's input at the URDF's effort limit (for
+    joints with a ``<transmission>`` only); here none is clamped, so a run shows the torque its motion
+    takes, and passing a limit is reported (:func:`armlab.diagrams.drives.limit_violations`), never
+    silently turned into a lagging arm.
     """
     from pydrake.multibody.plant import MultibodyPlant
-    from pydrake.multibody.tree import RotationalInertia, SpatialInertia
+    from pydrake.multibody.tree import JointActuatorIndex, RotationalInertia, SpatialInertia
 
     arm.require_dynamics("simulate")
     payload = check_payload(payload)
@@ -97,6 +102,8 @@ def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyP
         )
         plant.WeldFrames(plant.GetFrameByName(arm.tool_name, instance), body.body_frame())
     plant.mutable_gravity_field().set_gravity_vector(np.asarray(gravity, dtype=float))
+    for index in range(plant.num_actuators()):  # the plant holds the arm alone
+        plant.get_mutable_joint_actuator(JointActuatorIndex(index)).set_effort_limit(np.inf)
     plant.Finalize()
     order = [plant.GetJointByName(name, instance) for name in arm.joint_names]
     if [j.position_start() for j in order] != list(range(arm.n)) or [j.velocity_start() for j in order] != list(

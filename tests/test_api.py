@@ -109,8 +109,8 @@ def test_api_errors_name_the_bad_value():
         arm.jacobian([0, 0, np.nan, 0, 0, 0])
     with pytest.raises(ValueError, match=r"qd has shape"):
         arm.inverse_dynamics(np.zeros(6), np.zeros(5), np.zeros(6))
-    with pytest.raises(ValueError, match="joint2 = 4 rad is outside its limits"):
-        armlab.load("rr").fk([0, 4])
+    with pytest.raises(ValueError, match="joint2 = 5 rad is outside its limits"):
+        armlab.load("rr").fk([0, 5])
     with pytest.raises(ValueError, match=r"tf = -1 s is not allowed"):
         armlab.quintic(arm, np.zeros(6), np.ones(6), -1)
     with pytest.raises(ValueError, match=r"waypoints have shape"):
@@ -133,7 +133,8 @@ def test_simulate_returns_a_run_whose_torques_are_the_inverse_dynamics(tmp_path)
     run = armlab.simulate(arm, armlab.quintic(arm, [0.0, 0.5], [1.0, 1.0], 1.0), payload=0.5)
     assert run.t.shape[0] == run.q.shape[0] == run.tau.shape[0] == 1001
     expected = arm.inverse_dynamics(run.q_ref, run.qd_ref, run.qdd_ref, payload=0.5)
-    np.testing.assert_allclose(run.tau, expected, rtol=1e-6, atol=1e-9)
+    # the controller adds PD terms on tracking errors of ~1e-9 rad: equal to 1e-6 of the largest torque
+    np.testing.assert_allclose(run.tau, expected, rtol=0, atol=1e-6 * np.abs(expected).max())
     assert not run.diverged and run.violations == []
     assert [d["joint"] for d in run.drives] == ["joint1", "joint2"]
     assert run.drives[0]["peak_torque"] == pytest.approx(np.abs(run.tau[:, 0]).max())
@@ -167,7 +168,7 @@ def test_limit_violations_warn_and_strict_limits_exit_3(tmp_path, capsys):
     summary = json.loads((tmp_path / "a" / "summary.json").read_text())
     effort = [v for v in summary["limit_violations"] if v["joint"] == "shoulder" and v["quantity"] == "effort"]
     assert len(effort) == 1 and abs(effort[0]["peak"]) > 50 and abs(effort[0]["limit"]) == 50
-    assert 0 < effort[0]["first_time"] < 0.3
+    assert 0 <= effort[0]["first_time"] < 0.3  # holding the payload level already needs ~109 N·m
     assert main([*argv, "--strict-limits", "--out", str(tmp_path / "b")]) == 3
     assert "limit violation(s) (--strict-limits)" in capsys.readouterr().err
 
@@ -191,3 +192,11 @@ def test_fk_prints_twist_manipulability_and_flags_singular(capsys):
     assert main(["fk", "rr", "--q", "30,60", "--deg"]) == 0
     text = capsys.readouterr().out
     assert "q = +30.000000  +60.000000  (deg" in text and "SINGULAR" not in text
+
+
+def test_drives_are_ideal_a_passed_effort_limit_is_reported_not_clamped():
+    """Drake would clamp arm4r's actuators at the URDF's 200 N·m; the run must show the torque the motion takes."""
+    arm = armlab.load("arm4r")
+    run = armlab.simulate(arm, armlab.quintic(arm, np.zeros(4), [0.5, -0.5, 0.5, 0.3], 0.4), payload=2.0)
+    assert np.abs(run.tau).max() > 250 and np.abs(run.q - run.q_ref).max() < 1e-6 and not run.diverged
+    assert {(v["joint"], v["quantity"]) for v in run.violations} == {("joint1", "effort"), ("joint2", "effort")}
