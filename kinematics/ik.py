@@ -1,19 +1,23 @@
-"""Inverse kinematics: the papers' closed forms, Drake's numeric IK, and one dispatcher.
+"""Inverse kinematics: the papers' closed forms, a multi-start numerical solver, and one dispatcher.
 
 * :func:`rr_ik` — paper 000, the planar two-link arm of Fig. 1/Fig. 2, by the law of
-  cosines applied to eqs. (1)–(2); both elbow branches.
+  cosines applied to eqs. (1)–(2) in its half-angle form; both elbow branches.
 * :func:`arm4r_ik` — paper 001, the analytical ("inverse transform") method, eqs. (9)–(21).
 * :func:`r2t_ik` — paper 003, the tool position p4 of eq. (21) (as corrected in
   :mod:`armlab.models.r2t`) solved for q1, q2, q3.
-* :func:`numeric_ik` — any arm (urm6, users' arms): Drake's ``InverseKinematics`` with a
-  position constraint on the tool frame, several seeds, a Newton polish and a check by
-  the arm's own forward kinematics.
-* :func:`solve` — what ``armlab ik`` calls: picks the method, fits every angle into the
-  joint limits, drops, deduplicates and orders the solutions (nearest to ``near`` first).
+* :func:`numeric_ik` — any arm (urm6, rrrr, users' arms), a position or a full pose: damped
+  least squares (Levenberg–Marquardt) on the tool pose error from many starts at once, each
+  converged start polished by Newton steps and checked by the arm's own forward kinematics.
+* :func:`solve` — what ``armlab ik`` and ``Arm.ik`` call: picks the method, fits every angle
+  into the joint limits, drops, deduplicates (modulo 2π) and orders the solutions (nearest to
+  ``near`` first).
+* :func:`pose`, :func:`target_pose` make a 4×4 pose target from a position and roll, pitch,
+  yaw; :func:`rotation_log` is the orientation error's rotation vector.
 
 Unreachable targets and targets reachable only outside the joint limits raise
 ``ValueError`` naming the target (paper 001: "some of the possible solutions … can not be
-realized because of the structure limitation … the nearest set of solution will be chosen").
+realized because of the structure limitation … the nearest set of solution will be chosen");
+an unreachable position's error gives the closest distance the tool gets to it.
 """
 
 from __future__ import annotations
@@ -242,7 +246,7 @@ def r2t_ik(
     return out
 
 
-# --------------------------------------------------------------------------- numeric (Drake)
+# --------------------------------------------------------------------------- Drake plant
 #: Plants built by :func:`drake_arm`, by URDF file, base, tool and joints.
 _PLANTS: dict[tuple[str, str, str, tuple[str, ...]], tuple[Any, Any, NDArray]] = {}
 
@@ -250,7 +254,7 @@ _PLANTS: dict[tuple[str, str, str, tuple[str, ...]], tuple[Any, Any, NDArray]] =
 def drake_arm(arm: Arm) -> tuple[Any, Any, NDArray]:
     """``(plant, tool_frame, index)`` for ``arm`` (:meth:`Arm.make_plant`): ``q_plant[index] = q_arm``.
 
-    Built once per URDF file and kept: IK and the errata checks query it many times.
+    Built once per URDF file and kept: the errata checks query it many times.
     """
     key = (arm.urdf_key, arm.base_link, arm.tool_name, tuple(arm.joint_names))
     if key not in _PLANTS:
@@ -260,6 +264,7 @@ def drake_arm(arm: Arm) -> tuple[Any, Any, NDArray]:
     return _PLANTS[key]
 
 
+# --------------------------------------------------------------------------- numeric
 def pose(position: ArrayLike, rpy: ArrayLike) -> NDArray[np.float64]:
     """The 4×4 pose with origin ``position`` (m, (3,)) and rotation R = Rz(y)·Ry(p)·Rx(r), ``rpy`` = (r, p, y) in rad.
 
@@ -465,7 +470,7 @@ def _target_text(position: NDArray, rotation: NDArray | None) -> str:
     """``target (x, y, z)``, or for a pose ``target pose (x, y, z) m, rpy (r, p, y) rad``."""
     if rotation is None:
         return f"target {_fmt(position)}"
-    return f"target pose {_fmt(position)} m, rpy {_fmt(orientation_angles(rotation))} rad"
+    return f"target pose {_fmt(position)} m, rpy {_fmt(orientation_angles(rotation) + 0.0)} rad"  # + 0.0: no −0
 
 
 # --------------------------------------------------------------------------- limits
@@ -585,7 +590,8 @@ def _closed_form(arm: Arm, position: NDArray, rotation: NDArray | None, pitch: f
         theta1_free = float(near[0])
         if rotation is not None:
             if pitch is not None:
-                raise ValueError(f"pitch = {pitch} is not allowed with a pose target: the pose sets the tool pitch")
+                raise ValueError(f"a pitch (here {pitch:.6g} rad) is not allowed with a pose target: the pose sets "
+                                 "the tool pitch")
             theta1_free = float(np.arctan2(-rotation[0, 2], rotation[1, 2]))
             c1, s1 = np.cos(theta1_free), np.sin(theta1_free)
             pitch = float(np.arctan2(-rotation[2, 0], c1 * rotation[0, 0] + s1 * rotation[1, 0]))

@@ -532,7 +532,7 @@ def test_arm4r_pose_sets_the_pitch() -> None:
     assert len(solutions) == 2  # elbow up and down; the other θ1 root turns the tool z axis around
     for q in solutions:
         assert abs(q[0] - np.pi / 4) < 1e-12 and abs(q[1] + q[2] + q[3] - 0.3) < 1e-12
-    with pytest.raises(ValueError, match=r"pitch = 0\.1 is not allowed with a pose target"):
+    with pytest.raises(ValueError, match=r"a pitch \(here 0\.1 rad\) is not allowed with a pose target"):
         solve(arm, target, pitch=0.1)
     tilted = target_pose(arm, [1.0, 1.0, 1.4], [-np.pi / 2 + 0.2, 0.3, np.pi / 4])  # tool z axis not horizontal
     with pytest.raises(ValueError, match=r"position is reachable, but not with this orientation"):
@@ -602,3 +602,31 @@ def test_huge_targets_are_a_range_error(name: str, target: str, value: str, tmp_
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 2, result.stderr
     assert result.stderr == f"armlab: error: target {value} m is out of range: coordinates are limited to ±1e+06 m\n"
+
+
+def test_pose_with_an_orientation_the_arm_cannot_take(rng: np.random.Generator) -> None:
+    """rrrr (4 joints) at a reachable position with its orientation tilted by 0.3 rad about the tool x axis: the error
+    says the position is reachable but not the orientation, and how close the closest pose found is."""
+    arm = get_arm("rrrr")
+    q = random_q(arm, rng, 1)[0]
+    target = arm.forward(q).tool @ pose([0.0, 0.0, 0.0], [0.3, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"target pose \(.*\) m, rpy \(.*\) rad is out of reach of rrrr: its position "
+                                         r"is reachable, but not with this orientation \(the closest pose found from "
+                                         r"256 starts is ([\d.e+-]+) m and ([\d.e+-]+) rad away\)") as info:
+        solve(arm, target)
+    metres, radians = map(float, re.findall(r"is ([\d.e+-]+) m and ([\d.e+-]+) rad away", str(info.value))[0])
+    assert 0 <= metres and 0 < radians <= 0.3 + 1e-9  # the pose the target was tilted from is 0.3 rad away
+
+
+def test_rr_pose_target_in_its_plane() -> None:
+    """rr's tool orientation is Rz(θ1 + θ2): a planar pose (yaw only) selects one branch; a roll is out of reach."""
+    arm, plant, _ = arm_and_plant("rr")
+    for q in (np.array([-0.6, 1.7]), np.array([1.2, -0.9])):
+        position = tool_position(arm, q)[:2]
+        target = target_pose(arm, position, [0.0, 0.0, q.sum()])
+        np.testing.assert_array_equal(target[:3, 3], [*position, 0.0])
+        (solution,) = solve(arm, target, all_solutions=True)
+        assert same_modulo_2pi(arm, solution, q)
+        assert_reaches_pose(arm, plant, [solution], target)
+    with pytest.raises(ValueError, match=r"reachable, but not with this orientation"):
+        solve(arm, target_pose(arm, position, [0.1, 0.0, q.sum()]))
