@@ -5,12 +5,14 @@ Joint ``i`` of the URDF is row ``i`` of paper 003's matrix of nominal geometry
 R_i as xyz/rpy) and ``axis`` is k_i, so the URDF's link frames are the table's frames
 {i} and its root link is the paper's base frame — no transform is added in code.
 
-Each moving link is a uniform solid cylinder from its frame's origin to the next
-frame's origin (mass and radius from the arm's parameters); named points and the tool
-are massless links on fixed joints. Visuals only (no mass): a base disc, a column from
-the base to joint 1, a dark drum on each revolute axis, a dark block on each prismatic
-axis and the guide it slides on (over its stroke) on the parent link, a red ball at the
-tool. Every joint is actuated through a ``SimpleTransmission``.
+Each moving link of a paper arm is a uniform solid cylinder from its frame's origin to the
+next frame's origin (mass and radius from the arm's parameters); a user's DH table gives
+each link's mass, centre of mass and inertia instead (:class:`Body` ``com``/``inertia``), and
+a link without mass data gets no ``<inertial>``. Named points and the tool are massless links
+on fixed joints; an unknown effort or velocity limit is left out of ``<limit>``. Visuals only
+(no mass): a base disc, a column from the base to joint 1, a dark drum on each revolute
+axis, a dark block on each prismatic axis and the guide it slides on (over its stroke) on
+the parent link, a red ball at the tool. Every joint is actuated through a ``SimpleTransmission``.
 """
 
 from __future__ import annotations
