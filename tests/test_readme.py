@@ -14,20 +14,24 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "scripts" / "examples"
 
 
-def python_blocks() -> list[str]:
-    """The README's ```python code blocks, in order."""
-    return re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), flags=re.S)
+def python_blocks() -> list[tuple[str, str | None]]:
+    """The README's ```python code blocks in order, each with the ```text block printed right after it (or None)."""
+    pattern = r"```python\n(.*?)```\n(?:```text\n(.*?)```)?"
+    return [(code, out or None) for code, out in re.findall(pattern, (ROOT / "README.md").read_text(), flags=re.S)]
 
 
-def test_readme_python_blocks_run_in_order(tmp_path, monkeypatch, capsys):
+def test_readme_python_blocks_run_and_print_what_the_readme_shows(tmp_path, monkeypatch, capsys):
     blocks = python_blocks()
     assert len(blocks) >= 4, "the README's Python section has its code blocks"
     shutil.copytree(EXAMPLES, tmp_path / "scripts" / "examples")
     monkeypatch.chdir(tmp_path)
     namespace: dict = {"__name__": "readme"}
-    for k, block in enumerate(blocks):
-        exec(compile(block, f"README.md python block {k + 1}", "exec"), namespace)
-    assert "Traceback" not in capsys.readouterr().err
+    for k, (code, shown) in enumerate(blocks, start=1):
+        exec(compile(code, f"README.md python block {k}", "exec"), namespace)
+        printed = capsys.readouterr().out
+        if shown is not None:
+            assert printed.rstrip() == shown.rstrip(), f"README python block {k} prints something else"
+    assert (tmp_path / "runs" / "arm3r" / "drives.csv").is_file()
 
 
 @pytest.mark.parametrize(("script", "args", "expected"), [
