@@ -345,7 +345,7 @@ def _check_run(arm: Arm, times: ArrayLike, q: ArrayLike, tool_path: ArrayLike | 
 
 def write_replay(
     arm: Arm, times: NDArray, q: NDArray, path: Path, tool_path: NDArray | None = None, tau: NDArray | None = None,
-    run: NDArray | None = None, payload: float = 0.0, deg: bool = False,
+    run: NDArray | None = None, payload: float = 0.0, deg: bool = False, title: str | None = None,
 ) -> Path:
     """Record the run ``q(times)`` (N, n) of ``arm`` and save it as one self-contained HTML file at ``path``.
 
@@ -360,6 +360,7 @@ def write_replay(
     for :data:`JOIN_PAUSE` s under a banner saying what happens, and the arm is hidden for the one
     frame in which it changes pose. The arm is turned so that gravity points down the screen, on a
     floor grid, with the world axes; the camera frames everything the arm occupies during the run.
+    ``title`` (default: the arm's name) heads the control bar.
     The file is written atomically (:func:`~armlab.files.write_file`).
     """
     times, q, tool_path = _check_run(arm, times, q, tool_path)
@@ -416,6 +417,7 @@ def write_replay(
     scene.visualizer.PublishRecording()
     html = meshcat.StaticHtml()
     data = _page_data(arm, fps, k, t, frame_run, frames_q, frames_tau, deg)
+    data["title"] = arm.name if title is None else title
     end = html.rfind("</body>")
     write_file(path, html[:end] + _controls(data) + html[end:])
     return path
@@ -423,8 +425,9 @@ def write_replay(
 
 def replay_log(log: SimulationLog, path: Path, deg: bool = False) -> Path:
     """:func:`write_replay` of a simulation: its q, τ, tool path, runs and payload."""
+    payload = f", payload {log.payload:g} kg" if log.payload else ""
     return write_replay(log.arm, log.t, log.q, path, tool_path=log.tool[:, :3], tau=log.tau, run=log.run,
-                        payload=log.payload, deg=deg)
+                        payload=log.payload, deg=deg, title=f"{log.arm.name}: {log.motion.description}{payload}")
 
 
 def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray, q: NDArray,
@@ -455,7 +458,7 @@ def _controls(data: dict[str, Any]) -> str:
 
 
 #: Height (px) of the control bar below the 3-D view of the replay page.
-BAR_HEIGHT = 86
+BAR_HEIGHT = 104
 _CONTROLS = """
 <style>
 html,body{margin:0;overflow:hidden}
@@ -467,7 +470,8 @@ html,body{margin:0;overflow:hidden}
 #armlab-track{flex:1;position:relative}
 #armlab-slider{width:100%;height:22px;cursor:pointer;margin:0}
 #armlab-time{font-family:monospace;min-width:150px;text-align:right}
-#armlab-readout{font-family:monospace;font-size:14px;white-space:nowrap;overflow:hidden;margin-top:6px}
+#armlab-readout{font-family:monospace;font-size:14px;white-space:nowrap;overflow:hidden;margin-top:2px}
+#armlab-title{font-weight:bold;font-size:14px;white-space:nowrap;overflow:hidden;text-overflow:ellipsis;margin-top:4px}
 #armlab-banner{position:fixed;left:50%;bottom:BANNER_PXpx;transform:translateX(-50%);max-width:70%;display:none;
   background:#b03a2e;color:#fff;padding:9px 16px;border-radius:6px;font:15px/1.4 Helvetica,Arial,sans-serif;z-index:20}
 </style>
@@ -478,7 +482,7 @@ html,body{margin:0;overflow:hidden}
   <div id="armlab-track"><input type="range" id="armlab-slider" min="0" max="1" step="0.001" value="0"
     title="playback time"></div>
   <span id="armlab-time"></span></div>
-  <div id="armlab-readout"></div></div>
+  <div id="armlab-title"></div><div id="armlab-readout"></div></div>
 <script>
 (function () {
   const D = /*DATA*/null;
@@ -490,7 +494,8 @@ html,body{margin:0;overflow:hidden}
   function show(time) {
     const i = frame(time);
     $("armlab-time").textContent = "t = " + D.t[i].toFixed(3) + " s";
-    let text = "q = (" + D.q[i].map((v, j) => fmt(v) + " " + D.q_units[j]).join(", ") + ")";
+    const unit = (u) => (u === "°" ? u : " " + u);
+    let text = "q = (" + D.q[i].map((v, j) => fmt(v) + unit(D.q_units[j])).join(", ") + ")";
     if (D.tau) text += "    \u03c4 = (" + D.tau[i].map((v, j) => fmt(v) + " " + D.tau_units[j]).join(", ") + ")";
     $("armlab-readout").textContent = text;
     const join = D.joins.find((j) => time >= j.from - 1e-9 && time < j.to);
@@ -498,6 +503,8 @@ html,body{margin:0;overflow:hidden}
     if (join) $("armlab-banner").textContent = "Branch switch \u2014 " + join.text;
   }
   function start(a) {
+    $("armlab-title").textContent = D.title;
+    $("armlab-title").title = D.title;
     slider.max = a.duration;
     const repeat = () => a.actions.forEach((x) => { x.repetitions = loop.checked ? Infinity : 1; });
     loop.onchange = repeat;
