@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.kinematics.batch import as_batch, blocks, cos_sin, cross
+from armlab.kinematics.batch import as_batch, blocks, cos_sin, cross, turn_z
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -90,68 +90,74 @@ def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
     return _INERTIAS[key]
 
 
-def _z_cross(x: NDArray, rate: NDArray) -> NDArray:
-    """x × (rate ẑ) = rate (x_y, −x_x, 0)."""
-    return np.stack([x[1] * rate, -x[0] * rate, np.zeros_like(rate)])
+def _skew(v: NDArray) -> NDArray:
+    """[v]×, the matrix with [v]× x = v × x."""
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
 
-def _into(R: NDArray, c: NDArray | None, s: NDArray | None, x: NDArray) -> NDArray:
-    """(R·R_z(q))ᵀ x: a vector of frame {i−1} in frame {i} (``c, s`` = cos q, sin q; ``None``: no turn)."""
-    y = R.T @ x
-    if c is None:
-        return y
-    return np.stack([c * y[0] + s * y[1], c * y[1] - s * y[0], y[2]])
+@dataclass(frozen=True)
+class _Link:
+    """The constants of one link in its turned frame {i}' (joint axis z): ``C``, ``P`` the rotation and
+    origin of {i}' in {i−1}' at q_i = 0; ``to_next``: [−[P]×] of the next link (``None`` if it slides, its
+    origin then depends on q); ``K`` = [−[m c]×; I_o] (6×3) with I_o the inertia about the origin, ``mc`` = [m c]×.
+    """
+
+    C: NDArray
+    P: NDArray
+    revolute: bool
+    mass: float
+    K: NDArray
+    mc: NDArray
 
 
-def _out_of(R: NDArray, c: NDArray | None, s: NDArray | None, x: NDArray) -> NDArray:
-    """R·R_z(q) x: a vector of frame {i} in frame {i−1}."""
-    if c is not None:
-        x = np.stack([c * x[0] - s * x[1], s * x[0] + c * x[1], x[2]])
-    return R @ x
+def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray) -> NDArray:
+    """τ ``(n, B)`` for one block of states ``(n, B)`` (the module docstring's equations).
 
-
-def _block(
-    links: list[tuple[NDArray, NDArray, bool]], inertias: LinkInertias, g: NDArray,
-    q: NDArray, qd: NDArray, qdd: NDArray,
-) -> NDArray:
-    """τ ``(n, N)`` for one block of states ``(n, N)`` (the module docstring's equations)."""
-    n, N = q.shape
-    w = np.zeros((3, N))
-    wd = np.zeros((3, N))
-    vd = np.broadcast_to(-g[:, None], (3, N))
-    turns, forces, moments = [], [], []
-    for i, (R, P, revolute) in enumerate(links):
-        c, s = cos_sin(q[i]) if revolute else (None, None)
-        P_i = P[:, None] if revolute else P[:, None] + R[:, 2:3] * q[i]  # origin of {i} in {i−1}
-        vd = _into(R, c, s, cross(wd, P_i) + cross(w, cross(w, P_i)) + vd)  # (6.47)
-        if revolute:
-            w_in = _into(R, c, s, w)
-            wd = _into(R, c, s, wd) + _z_cross(w_in, qd[i])  # (6.46)
+    The three vectors ω, ω̇ and v̇ of a link are one array ``(3, 3, B)`` rotated together; the force and
+    moment ``(2, 3, B)`` likewise. Moments are taken about the link's origin,
+    n_i = I_o ω̇_i + ω_i × I_o ω_i + m c_i × v̇_i (= N_i + c_i × F_i of 6.50–6.52).
+    """
+    n, B = q.shape
+    W = np.zeros((3, 3, B))  # ω, ω̇, v̇ of the base
+    W[2] = -g[:, None]
+    turns, wrenches = [], []
+    for i, link in enumerate(links):
+        w, wd = W[0], W[1]
+        P = link.P[:, None] if link.revolute else link.P[:, None] + link.C[:, 2:3] * q[i]  # origin of {i} in {i−1}
+        A = np.matmul(-_skew(link.P), W[:2]) if link.revolute else cross(W[:2], P)  # ω × P, ω̇ × P
+        W[2] += A[1] + cross(w, A[0])  # v̇ + ω̇ × P + ω × (ω × P), then rotated: (6.47)
+        W = np.matmul(link.C.T, W)  # Cᵀ, then R_z(q)ᵀ: into frame {i}
+        c, s = cos_sin(q[i]) if link.revolute else (None, None)
+        if link.revolute:
+            turn_z(W, c, s)
+            w, wd = W[0], W[1]
+            wd[0] += qd[i] * w[1]  # Rᵀω × q̇ ẑ = q̇ (ω_y, −ω_x, 0): (6.46)
+            wd[1] -= qd[i] * w[0]
             wd[2] += qdd[i]
-            w = w_in
             w[2] += qd[i]  # (6.45)
         else:
-            w, wd = _into(R, None, None, w), _into(R, None, None, wd)
-            vd = vd + 2 * _z_cross(w, qd[i])  # (6.35)
+            w, vd = W[0], W[2]
+            vd[0] += 2 * qd[i] * w[1]  # 2 ω × q̇ ẑ + q̈ ẑ: (6.35)
+            vd[1] -= 2 * qd[i] * w[0]
             vd[2] += qdd[i]
-        com = inertias.com[i][:, None]
-        F = inertias.mass[i] * (cross(wd, com) + cross(w, cross(w, com)) + vd)  # (6.48)–(6.49)
-        I = inertias.inertia[i]
-        N_i = I @ wd + cross(w, I @ w)  # (6.50)
-        turns.append((R, c, s, P_i))
-        forces.append(F)
-        moments.append(N_i + cross(com, F))
-    tau = np.empty((n, N))
-    f = n_ = None
+        X = np.matmul(link.K, W[:2])  # [ω × m c; I_o ω], [ω̇ × m c; I_o ω̇]
+        wrench = X[1].reshape(2, 3, B) + cross(w, X[0].reshape(2, 3, B))
+        wrench[0] += link.mass * W[2]  # F = m (v̇ + ω̇ × c + ω × (ω × c)): (6.48)–(6.49)
+        wrench[1] += link.mc @ W[2]  # n = I_o ω̇ + ω × I_o ω + m c × v̇
+        turns.append((c, s, P))
+        wrenches.append(wrench)
+    tau = np.empty((n, B))
     for i in range(n - 1, -1, -1):
-        f_i, n_i = forces[i], moments[i]
-        if f is not None:  # link i+1's force and moment, in frame {i}
-            R, c, s, P_next = turns[i + 1]
-            f_out = _out_of(R, c, s, f)
-            f_i = f_i + f_out  # (6.51)
-            n_i = n_i + _out_of(R, c, s, n_) + cross(P_next, f_out)  # (6.52)
-        tau[i] = n_i[2] if links[i][2] else f_i[2]  # (6.53)
-        f, n_ = f_i, n_i
+        wrench = wrenches[i]
+        if i < n - 1:  # link i+1's force and moment, R (f, n), in frame {i}: (6.51)–(6.52)
+            c, s, P = turns[i + 1]
+            child = wrenches[i + 1]
+            if c is not None:
+                turn_z(child, c, -s)  # R_z(q)
+            child = np.matmul(links[i + 1].C, child)
+            wrench += child
+            wrench[1] += cross(P, child[0])
+        tau[i] = wrench[1, 2] if links[i].revolute else wrench[0, 2]  # (6.53)
     return tau
 
 
@@ -173,18 +179,19 @@ def inverse_dynamics(
     q, qd, qdd = np.broadcast_arrays(as_batch(q, n, "q"), as_batch(qd, n, "qd"), as_batch(qdd, n, "qdd"))
     g = resolve_gravity(arm, gravity)
     inertias = link_inertias(arm, payload)
-    # link frames turned so each joint axis is z: {i}' = {i}·A_i, inertias re-expressed in them
+    # link frames turned so each joint axis is z: {i}' = {i}·A_i, mass properties re-expressed in them
     turned = [np.eye(4) if step.post is None else step.post for step in arm.table.steps]
     links = []
     for i, step in enumerate(arm.table.steps):
         C = (turned[i - 1] if i else np.eye(4)) @ step.pre  # {i}' (before its joint moves) in {i−1}'
-        links.append((C[:3, :3].copy(), C[:3, 3].copy(), step.revolute))
-    A_T = np.array([T[:3, :3] for T in turned])
-    local = LinkInertias(inertias.mass, np.einsum("ijk,ik->ij", A_T, inertias.com),
-                         A_T @ inertias.inertia @ np.swapaxes(A_T, -1, -2))
+        A_T = turned[i][:3, :3]
+        m, c = inertias.mass[i], A_T @ inertias.com[i]
+        I_o = A_T @ inertias.inertia[i] @ A_T.T + m * (c @ c * np.eye(3) - np.outer(c, c))  # about the origin
+        links.append(_Link(C[:3, :3].copy(), C[:3, 3].copy(), step.revolute, m, np.vstack([-_skew(m * c), I_o]),
+                           _skew(m * c)))
     shape = q.shape[:-1]
     q, qd, qdd = (np.ascontiguousarray(a.reshape(-1, n).T) for a in (q, qd, qdd))
     tau = np.empty_like(q)
     for block in blocks(q.shape[1]):
-        tau[:, block] = _block(links, local, g, q[:, block], qd[:, block], qdd[:, block])
+        tau[:, block] = _block(links, g, q[:, block], qd[:, block], qdd[:, block])
     return tau.T.reshape(shape + (n,))

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.kinematics.basic_movements import rrrr_dh_chain
+from armlab.kinematics.batch import in_blocks
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point
@@ -77,6 +78,6 @@ def build(**overrides: float) -> Arm:
                 Point("O3", 3, (p.L3, 0.0, 0.0)), Point("M", 5, (0.0, 0.0, 0.0))),
         tool_name="M",
         gravity=(0.0, 0.0, -9.81),
-        forward_fn=lambda q: forward(q, p),
+        forward_fn=lambda q: in_blocks(lambda block: forward(block, p), q),  # in cache-sized blocks
         urdf_file=MODELS_DIR / "rrrr.urdf" if not overrides else None,
     )

@@ -214,3 +214,26 @@ def test_bad_input_is_a_value_error():
         manipulability(jacobian(arm, [0.1, 0.2]), "xyz")
     with pytest.raises(ValueError, match=r"expected a Jacobian of shape \(6, n\)"):
         sigma_min(np.zeros((3, 2)))
+
+
+@pytest.mark.parametrize("name", ARM_NAMES)
+def test_batches_longer_than_a_block(name, rng):
+    """Across block boundaries (kinematics.batch.BLOCK) every sample equals its own one-sample evaluation."""
+    from armlab.kinematics.batch import BLOCK
+
+    arm, _, _ = arm_and_plant(name)
+    q = random_q(arm, rng, BLOCK + 7).reshape(1, BLOCK + 7, arm.n)  # a batch of any shape
+    qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape)
+    forward, frames, J = arm.forward(q), arm.table.frames(q), jacobian(arm, q)
+    twist, accel = tool_motion(arm, q, qd, qdd)
+    assert J.shape == (1, BLOCK + 7, 6, arm.n) and frames.shape == (1, BLOCK + 7, arm.n + 2, 4, 4)
+    for k in (0, BLOCK - 1, BLOCK, BLOCK + 6):
+        one = arm.forward(q[0, k])
+        np.testing.assert_allclose(forward.tool[0, k], one.tool, rtol=0, atol=1e-14)
+        for point, value in one.points.items():
+            np.testing.assert_allclose(forward.points[point][0, k], value, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(frames[0, k], arm.table.frames(q[0, k]), rtol=0, atol=1e-14)
+        np.testing.assert_allclose(J[0, k], jacobian(arm, q[0, k]), rtol=0, atol=1e-14)
+        one_twist, one_accel = tool_motion(arm, q[0, k], qd[0, k], qdd[0, k])
+        np.testing.assert_allclose(twist[0, k], one_twist, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(accel[0, k], one_accel, rtol=0, atol=1e-13)

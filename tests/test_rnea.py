@@ -134,3 +134,15 @@ def test_kinematic_arm_and_bad_input_are_value_errors(tmp_path):
         inverse_dynamics(rr, [0, 0], [0, 0], [0, 0], payload=-1.0)
     with pytest.raises(ValueError, match="gravity"):
         inverse_dynamics(rr, [0, 0], [0, 0], [0, 0], gravity="sideways")
+
+
+def test_batches_longer_than_a_block(rng):
+    from armlab.kinematics.batch import BLOCK
+
+    arm, _, _ = arm_and_plant("r2t")
+    q = random_q(arm, rng, BLOCK + 5)
+    qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape)
+    tau = inverse_dynamics(arm, q, qd, qdd, payload=3.0)
+    for k in (0, BLOCK - 1, BLOCK, BLOCK + 4):
+        np.testing.assert_allclose(tau[k], inverse_dynamics(arm, q[k], qd[k], qdd[k], payload=3.0), rtol=1e-13,
+                                   atol=1e-10)
