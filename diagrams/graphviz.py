@@ -193,7 +193,12 @@ def fig6_dot(dot_text: str, title: str | None = None) -> str:
         lines.append(f'{_q(name)} [id={_q("system:" + name)}, label=<<B>{html.escape(name)}</B>{kind}>, '
                      f'fillcolor="{_FILL[column]}"{group}];')
     for column in sorted(columns):
-        lines.append("{rank=same; " + " ".join(_q(n) for n in columns[column]) + "}")
+        members = " ".join(_q(n) for n in columns[column])
+        if column == _COLUMNS["VectorLogSink"]:  # Simulink's scopes: one labelled group
+            lines.append(f'subgraph cluster_scopes {{label="loggers (scopes)"; labeljust=l; fontsize=11; '
+                         f'style="rounded,dashed"; color="#9aa0a6"; rank=same; {members}}}')
+        else:
+            lines.append(f"{{rank=same; {members}}}")
     for c in graph.connections:
         backward = _COLUMNS.get(_short_class(graph.systems[c.target]), 4) <= _COLUMNS.get(
             _short_class(graph.systems[c.source]), 4)
