@@ -375,3 +375,19 @@ def test_a_urdf_without_materials_is_coloured_and_a_payload_is_drawn(tmp_path):
     assert solid(orange).mean() > 0.003, f"only {solid(orange).mean():.2%} of the view shows the coloured links"
     dark = [solid(image(png).max(axis=-1) < 0.3).sum() for png in (png_bare, png_loaded)]
     assert dark[1] > dark[0] + 200, dark  # the payload: a dark sphere at the tool point
+
+
+def test_the_rr_arms_plane_is_seen_face_on_and_a_spatial_arm_from_above_the_horizon():
+    from armlab.diagrams.replay import frame_camera, reach_points, start_meshcat
+
+    meshcat = start_meshcat()
+    rr = get_arm("rr")
+    t = np.linspace(0.0, 2.0, 21)
+    shown = reach_points(rr, sweep(rr, t)) @ display_rotation(rr).T
+    camera, target = frame_camera(meshcat, shown)
+    view = (camera - target) / np.linalg.norm(camera - target)
+    np.testing.assert_allclose(view, [0.0, -1.0, 0.0], atol=1e-9)  # along the joint axes, x to the right
+    urm6 = get_arm("urm6")
+    camera, target = frame_camera(meshcat, reach_points(urm6, sweep(urm6, t)))
+    elevation = np.degrees(np.arcsin((camera - target)[2] / np.linalg.norm(camera - target)))
+    assert 10 < elevation < 50
