@@ -4,9 +4,12 @@ Paper 000 shows its arm moving in the Adams postprocessor (an .avi); armlab reco
 Drake's ``MeshcatVisualizer`` into a Meshcat animation and saves ``Meshcat.StaticHtml()``, which
 inlines the three.js viewer and every frame, so the file needs no server and no network.
 
-The scene is styled so that the arm is what one sees: a plain white background without the floor
-grid, the camera placed to frame the arm's reach (:func:`frame_camera`), and the path of the tool
-point drawn as a line. :mod:`armlab.diagrams.view` (``armlab view``) shares the scene set-up.
+The scene is styled for a classroom projector (:func:`style_scene`): a plain white background, the
+arm turned so that gravity points down the screen, a floor grid and the world axes, the camera
+framing everything the arm occupies (:func:`frame_camera`; a planar arm face-on), and the path of
+the tool point drawn as a line. Below the view, the page has play/pause, loop and a time slider and
+reads out t, q and τ; a motion of several runs (a branch switch) pauses at each join under a banner
+(:func:`write_replay`). :mod:`armlab.diagrams.view` (``armlab view``) shares the scene set-up.
 """
 
 from __future__ import annotations

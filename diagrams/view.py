@@ -1,11 +1,12 @@
 """``armlab view ARM``: the arm in Meshcat with a slider per joint, the tool position shown live.
 
 Paper 001 drives its arm with a slider per joint in a 3-D figure (the Robotics Toolbox "teach");
-here Drake's ``JointSliders`` move the arm's plant in a Meshcat page served on localhost. The
+here Drake's ``JointSliders`` (or, with ``--deg``, degree sliders) move the arm's plant in a Meshcat
+page served on localhost. The
 tool position — Drake's pose of the arm's tool frame — is shown on the page (a line of the
 control panel and the tool point's trail drawn as a line) and printed in the terminal when it
 changes. The scene is set up as in the replay (:mod:`armlab.diagrams.replay`): white background,
-camera framing everything the arm can reach.
+gravity down the screen, floor grid and world axes, the camera framing everything the arm can reach.
 """
 
 from __future__ import annotations
