@@ -133,7 +133,7 @@ def scheme(arm: Arm, q: ArrayLike) -> Scheme:
         sub = (lambda i: i - 1) if table.convention == "modified" else (lambda i: i)
         link_labels = []
         for i, row in enumerate(table.rows, start=1):
-            lengths = [f"{name}{sub(i)} = {_fmt(v)}" for name, v, k in (("d", row.d, i), ("a", row.a, sub(i)))
+            lengths = [f"{name}{k} = {_fmt(v)}" for name, v, k in (("d", row.d, i), ("a", row.a, sub(i)))
                        if v != 0 and k >= 0]
             if lengths:
                 link_labels.append((", ".join(lengths), (chain[i - 1] + chain[i]) / 2))

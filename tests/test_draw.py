@@ -73,6 +73,9 @@ def test_a_users_dh_table_is_drawn_in_its_own_convention(tmp_path, convention):
     assert s.table_title.startswith(convention)
     assert np.allclose(s.chain[-1], arm.fk(np.array([0.4, -0.7, 0.2]))[:3, 3], atol=1e-9)
     assert s.joints[2][2] == "T"
+    expected = {"standard": ["d1 = 0.3, a1 = 0.1", "a2 = 0.5", "d3 = 0.1, a3 = 0.2"],  # row i: d_i, a_i
+                "modified": ["d1 = 0.3, a0 = 0.1", "a1 = 0.5", "d3 = 0.1, a2 = 0.2"]}  # row i: d_i, a_{i-1}
+    assert [text for text, _ in s.link_labels] == expected[convention]
     draw_arm(arm, np.array([0.4, -0.7, 0.2]), tmp_path / "my_arm.svg")
     assert "my_arm" in (tmp_path / "my_arm.svg").read_text()
 
