@@ -152,7 +152,10 @@ def check_work(motion: Motion, log_period: float, mode: str = "controller") -> t
     in reasonable time or memory, and is refused with the number and the option to change.
     """
     runs = [piece for _, piece in motion.runs()]
-    samples = sum(_sample_count(piece.duration, log_period) - 1 for piece in runs)
+    samples = 0
+    for piece in runs:  # as many as sample_times gives, without making them
+        k = np.floor(piece.duration / log_period)
+        samples += int(k) + 1 + int(k * log_period < piece.duration - 1e-9 * log_period)
     if samples > MAX_SAMPLES:
         raise ValueError(f"a {motion.duration:g} s motion logged every {log_period:g} s makes {samples:,} log samples, "
                          f"more than the {MAX_SAMPLES:,} allowed: give a longer log period (--dt) or a shorter motion")
@@ -174,7 +177,7 @@ class _Watch:
         from tqdm import tqdm
 
         self.duration, self.accuracy, self.steps, self.offset = duration, accuracy, 0, 0.0
-        self.bar = tqdm(total=duration, desc=f"simulating {name}", unit="s", disable=None, delay=0.5, file=sys.stderr,
+        self.bar = tqdm(total=duration, desc=f"simulating {name}", unit="s", disable=None, delay=0.2, file=sys.stderr,
                         bar_format="{desc}: {n:.2f}/{total:g} s |{bar}| {elapsed}<{remaining}, {rate_fmt}")
 
     def __call__(self, context: Context) -> None:

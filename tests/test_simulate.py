@@ -6,7 +6,12 @@ import functools
 import json
 import os
 import re
+import signal
 import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -523,3 +528,86 @@ def test_hold_motion_for_the_diagram_of_a_still_arm():
     np.testing.assert_allclose(log.q, 0.0, atol=1e-12)
     # holding still against gravity: τ = gravity torques, the Lagrange equations with q̇ = q̈ = 0
     np.testing.assert_allclose(log.tau, lagrange_rr(arm, log.q, 0 * log.q, 0 * log.q, log.gravity), atol=1e-9)
+
+
+# ------------------------------------------------------------------------------- work limits, progress, Ctrl-C
+@pytest.mark.parametrize(("argv", "message"), [
+    (("rr", "--tf", "1e6"), r"makes 1,000,000,00\d log samples, more than the 1,000,000 allowed: give a longer log "
+                            r"period \(--dt\)"),
+    (("rr", "--dt", "1e-9"), "makes 2,000,000,00\\d log samples"),
+    (("rr", "--tf", "1e4", "--dt", "1"), "needs at least 1,000,000 integrator steps .* more than the 500,000 allowed"),
+    (("urm6", "--from", "0,0,0,0,0,0", "--to", "1e6,0,0,0,0,0"), "1e\\+06 rad \\(or m\\) of joint travel needs at "
+                                                                 "least 2,000,000 integrator steps"),
+    (("rrrr", "--segments", "SEGMENTS"), "makes 10,000,00\\d log samples"),
+])
+def test_work_that_cannot_finish_is_refused_before_it_starts(tmp_path, capsys, argv, message):
+    segments = tmp_path / "huge.json"
+    segments.write_text(json.dumps({"segments": [{"from": [0, 0, 0, 0], "to": [1, 1, 1, 1], "tf": 1e4}]}))
+    argv = tuple(str(segments) if a == "SEGMENTS" else a for a in argv)
+    assert cli("simulate", *argv, "--out", str(tmp_path / "run")) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and err.startswith("armlab: error:"), err
+    assert re.search(message, err), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["huge.json"]
+
+
+def test_a_run_past_the_step_budget_stops_with_a_clear_error(monkeypatch):
+    """The integrator's steps are counted as it goes: past MAX_STEPS the run stops (ValueError), where it is."""
+    import armlab.diagrams.simulate as simulate_module
+
+    arm = get_arm("rr")
+    motion = paper_motion(arm)
+    assert simulate_module.check_work(motion, 1e-3) == (2001, 200)  # within the limits before it starts
+    monkeypatch.setattr(simulate_module, "MAX_STEPS", 500)  # the estimate, 200, passes; at 1e-12 it takes ~1000
+    with pytest.raises(ValueError, match=r"took more than 500 steps and reached only t = [01]\.\d* s of 2 s"):
+        simulate(arm, motion, accuracy=1e-12)
+
+
+def _armlab(*argv: str, **kwargs) -> subprocess.Popen:
+    """``armlab ARGV`` in a new process (the venv's console script)."""
+    return subprocess.Popen([str(Path(sys.executable).with_name("armlab")), *argv], **kwargs)
+
+
+def test_ctrl_c_stops_a_long_simulation_promptly(tmp_path):
+    """SIGINT while the integrator runs: exit 130 within a second or two, no output folder."""
+    out = tmp_path / "run"
+    process = _armlab("simulate", "rr", "--tf", "3000", "--dt", "0.01", "--out", str(out), stdout=subprocess.PIPE,
+                      stderr=subprocess.PIPE, text=True)
+    assert process.stdout.readline().startswith("rr:")  # printed just before the simulation starts
+    time.sleep(1.0)
+    assert process.poll() is None  # 300,000 integrator steps take longer than that
+    process.send_signal(signal.SIGINT)
+    sent = time.monotonic()
+    assert process.wait(timeout=30) == 130
+    assert time.monotonic() - sent < 5.0
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_progress_shows_on_a_terminal_only(tmp_path):
+    """On a terminal, stderr shows the simulated time out of the total and the rate; elsewhere stderr stays quiet."""
+    import fcntl
+    import pty
+    import struct
+    import termios
+
+    argv = ("simulate", "rr", "--tf", "200", "--dt", "0.01")  # 20,000 integrator steps: about a second
+    leader, follower = pty.openpty()
+    fcntl.ioctl(follower, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 120, 0, 0))  # a terminal 120 columns wide
+    process = _armlab(*argv, "--out", str(tmp_path / "tty"), stdout=subprocess.DEVNULL, stderr=follower)
+    os.close(follower)
+    shown = b""
+    while True:
+        try:
+            chunk = os.read(leader, 4096)
+        except OSError:  # the process closed the terminal
+            break
+        if not chunk:
+            break
+        shown += chunk
+    os.close(leader)
+    assert process.wait(timeout=120) == 0
+    text = shown.decode(errors="replace")
+    assert re.search(r"simulating rr: \d+\.\d\d/200 s \|.*\| .*s/s", text), text
+    quiet = subprocess.run([str(Path(sys.executable).with_name("armlab")), "simulate", "rr", "--dt", "0.01", "--out",
+                            str(tmp_path / "pipe")], capture_output=True, text=True, timeout=120)
+    assert quiet.returncode == 0 and quiet.stderr == ""
