@@ -8,8 +8,9 @@
   is written. An existing folder is replaced only if it is empty or an earlier output of the
   same kind; anything else is left alone (an error), and so are the working directory, a
   folder holding it, a file system's root and a mount point (they cannot be renamed).
-* :func:`read_json` reads a user's JSON input (segments, studies) with bounds: a regular file, at
-  most :data:`MAX_JSON_BYTES`, nesting within Python's recursion limit, one-line errors.
+* :func:`read_input` reads a user's input file with bounds: a regular file (a FIFO or a device such as
+  ``/dev/zero`` could block or never end) of at most :data:`MAX_INPUT_BYTES`; :func:`read_json` parses
+  one (segments, studies) with nesting within Python's recursion limit; one-line errors.
 * :func:`stop_on_signals` turns SIGINT and SIGTERM into :class:`Interrupted` (a
   ``KeyboardInterrupt``) so that every ``with`` block unwinds and removes its temporaries; a
   signal arriving while a temporary is being renamed into place or removed waits until that is
@@ -34,11 +35,12 @@ from pathlib import Path
 from types import FrameType, TracebackType
 from typing import Any
 
-__all__ = ["MAX_JSON_BYTES", "Interrupted", "OutputFolder", "SignalState", "read_json", "stop_on_signals",
-           "write_file"]
+__all__ = ["MAX_INPUT_BYTES", "Interrupted", "OutputFolder", "SignalState", "read_input", "read_json",
+           "stop_on_signals", "write_file"]
 
-#: The largest JSON input file read (bytes): far more than any segments or study file needs; a bound on memory.
-MAX_JSON_BYTES = 10_000_000
+#: The largest input file read (bytes): far more than any segments file, study, DH table or URDF needs; a
+#: bound on memory and time.
+MAX_INPUT_BYTES = 10_000_000
 
 #: The signals that stop a command (Ctrl-C, and ``kill``'s default).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -118,20 +120,27 @@ def _json_int(text: str) -> int | float:
     return int(text) if len(text.lstrip("-")) <= 15 else float(text)
 
 
-def read_json(path: str | Path, what: str) -> Any:
-    """The JSON in a regular file of at most :data:`MAX_JSON_BYTES`; a one-line ``ValueError`` naming ``what``
-    (e.g. ``"--segments"``) and the file for anything else: no file, a device or pipe, too big, not UTF-8, not
-    JSON, nested too deep. Integers too long for a float's precision are read as floats (``1e400`` as inf)."""
+def read_input(path: str | Path, where: str, max_bytes: int = MAX_INPUT_BYTES) -> bytes:
+    """The bytes of a user's input file, if it is a regular file (not a device, pipe or folder, which could
+    block or never end) of at most ``max_bytes``; else a one-line ``ValueError`` ``"WHERE: reason"``."""
     path = Path(path)
     try:
         if not stat.S_ISREG(path.stat().st_mode):
-            raise ValueError(f"{what} {path}: not a regular file")
+            raise ValueError(f"{where}: not a regular file")
         with path.open("rb") as handle:
-            raw = handle.read(MAX_JSON_BYTES + 1)
+            raw = handle.read(max_bytes + 1)
     except OSError as error:
-        raise ValueError(f"{what} {path}: cannot read it: {error.strerror or error}") from None
-    if len(raw) > MAX_JSON_BYTES:
-        raise ValueError(f"{what} {path}: larger than {MAX_JSON_BYTES // 1_000_000} MB")
+        raise ValueError(f"{where}: {error.strerror or error}") from None
+    if len(raw) > max_bytes:
+        raise ValueError(f"{where}: larger than {max_bytes / 1e6:g} MB")
+    return raw
+
+
+def read_json(path: str | Path, what: str) -> Any:
+    """The JSON in a user's file (:func:`read_input`); a one-line ``ValueError`` naming ``what`` (e.g.
+    ``"--segments"``) and the file for anything else: no file, a device or pipe, too big, not UTF-8, not
+    JSON, nested too deep. Integers too long for a float's precision are read as floats (``1e400`` as inf)."""
+    raw = read_input(path, f"{what} {path}: cannot read it")
     try:
         return json.loads(raw.decode("utf-8"), parse_int=_json_int)
     except UnicodeDecodeError:

@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 
 from armlab.cli import joint_values, parse_floats
 from armlab.diagrams.motions import read_segments
-from armlab.files import MAX_JSON_BYTES
+from armlab.files import MAX_INPUT_BYTES
 from armlab.models import get_arm
 
 pytestmark = pytest.mark.timeout(120)
@@ -95,6 +95,11 @@ CLI_NUMBERS = [
     (("view", "rr", "--port", "99999"), 2, "--port: 99999 is not allowed"),
     (("view", "rr", "--port", "1e3"), 2, "invalid int value: '1e3'"),
     (("view", "rr", "--q", "1e308,0"), 2, "joint1 = 1e+308 rad is outside its limits"),
+    (("workspace", "rr", "--samples", "nan"), 2, "--samples: 'nan' is not a whole number"),
+    (("workspace", "rr", "--samples", "10"), 2, "samples = 10 is not allowed"),
+    (("workspace", "rr", "--resolution", "0"), 2, "resolution = 0.0 m is not allowed"),
+    (("workspace", "rr", "--resolution", "-inf"), 2, "resolution = -inf m is not allowed"),
+    (("workspace", "rr", "--seed", "1e308"), 2, "--seed: invalid int value: '1e308'"),
 ]
 #: Values at the ends of the allowed ranges: a result.
 CLI_NUMBERS_ACCEPTED = [
@@ -117,6 +122,29 @@ def test_option_help_states_the_ranges(box):
     for fragment in ("0 ≤ kp ≤ 1e6 1/s²", "0 ≤ kd ≤ 10000 1/s", "0 ≤ ki ≤ 1e8 1/s³", "0 ≤ |g| ≤ 100 m/s²",
                      "0 ≤ payload ≤ 1000 kg", "1e-12 ≤ accuracy ≤ 0.1"):
         assert fragment in text
+
+
+# ---- the Python API: the same checks, as ValueError: (keyword arguments of armlab.simulate, message fragment) ------
+API_SIMULATE = [
+    ({"kp": 1e308}, "kp 1e308 is out of range: allowed 0 ≤ kp ≤ 1e6"),
+    ({"kd": [20, -1]}, "kd -1 is out of range"),
+    ({"ki": float("nan")}, "ki nan is out of range"),
+    ({"payload": 1e6}, "payload 1e6 is out of range: allowed 0 ≤ payload ≤ 1000 kg"),
+    ({"payload": "x"}, "payload 'x' is not allowed"),
+    ({"gravity": [1e308, 0, 0]}, "gravity 1e308,0,0 (|g| = 1e308) is out of range"),
+    ({"gravity": [0, 0, float("inf")]}, "give 3 finite numbers"),
+    ({"gravity": "up"}, "'up' is not a number"),
+]
+
+
+@pytest.mark.parametrize(("kwargs", "fragment"), API_SIMULATE, ids=str)
+def test_api_simulate(kwargs, fragment):
+    import armlab
+
+    arm = armlab.load("rr")
+    with pytest.raises(ValueError) as error:
+        armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.2), **kwargs)
+    _one_line_error(error.value, fragment)
 
 
 # ---- segments files: (file content, exit code, fragment) -- run as `armlab simulate rr --segments seg.json` ------
@@ -183,7 +211,7 @@ def _fifo(box: Sandbox) -> str:
 
 
 def _huge(box: Sandbox) -> str:
-    box.write("huge.json", '{"segments": [' + " " * MAX_JSON_BYTES + "]}")
+    box.write("huge.json", '{"segments": [' + " " * MAX_INPUT_BYTES + "]}")
     return "huge.json"
 
 
@@ -193,10 +221,10 @@ def _folder(box: Sandbox) -> str:
 
 
 RESOURCE_LIMITS = [
-    (lambda box: "/dev/zero", 2, "/dev/zero: not a regular file"),
+    (lambda box: "/dev/zero", 2, "/dev/zero: cannot read it: not a regular file"),
     (lambda box: "/dev/stdin", 2, "not a regular file"),
-    (_fifo, 2, "fifo: not a regular file"),
-    (_folder, 2, "folder: not a regular file"),
+    (_fifo, 2, "fifo: cannot read it: not a regular file"),
+    (_folder, 2, "folder: cannot read it: not a regular file"),
     (_huge, 2, "larger than 10 MB"),
     (lambda box: "missing.json", 2, "missing.json: cannot read it: No such file or directory"),
 ]

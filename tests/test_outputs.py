@@ -62,6 +62,9 @@ OUTPUT_FOLDERS = [
     (None, ("reproduce", "--paper", "004", "--fast", "--out", "/"), 2, "holding the working directory", ()),
     (None, ("reproduce", "--paper", "004", "--fast", "--out", "/proc"), 2, "root of a file system", ()),
     (_taken_file, ("reproduce", "--paper", "004", "--fast", "--out", "taken"), 2, "exists and is not a folder", ()),
+    (None, ("workspace", "rr", "--samples", "1000", "--out", "."), 2, "is the working directory", ()),
+    (None, ("workspace", "rr", "--samples", "1000", "--out", "/"), 2, "holding the working directory", ()),
+    (_taken_file, ("workspace", "rr", "--samples", "1000", "--out", "taken"), 2, "exists and is not a folder", ()),
 ]
 
 
