@@ -316,8 +316,13 @@ def test_a_branch_switch_pauses_with_a_banner_and_never_interpolates(tmp_path):
     frames = np.array(data["q"])
     # Every frame is a pose of one run or the other, never a blend of the two across the join.
     assert np.all((np.abs(frames[:, 1] - 0.5) < 1e-9) | (np.abs(frames[:, 1] + 0.5) < 1e-9))
-    paused, after = screenshots(path, ((join["from"] + join["to"]) / 2, join["to"] + 0.2), tmp_path)
+    paused, jump, after = screenshots(path, ((join["from"] + join["to"]) / 2, join["to"] - 0.5 / data["fps"],
+                                             join["to"] + 0.2), tmp_path)
     assert_shows_arm_moving(paused, after)
+    # The arm's joints and base are dark (the banner, the world axes and the floor are not): none is drawn
+    # in the frame where the pose jumps, where three.js would blend the two poses link by link.
+    dark = [solid(image(png).max(axis=-1) < 0.3).mean() for png in (paused, jump)]
+    assert dark[0] > 0.002 and dark[1] < 0.0002, f"dark arm parts: {dark[0]:.2%} paused, {dark[1]:.2%} at the jump"
 
 
 def test_the_view_is_turned_so_gravity_points_down():
