@@ -159,8 +159,10 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
             return Client(scheduler, timeout="10s"), None
         except (OSError, TimeoutError) as error:
             raise ValueError(f"--scheduler {scheduler}: cannot connect: {error}") from None
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                           host="127.0.0.1", silence_logs=logging.ERROR)
+    # No dashboard; the scheduler's own HTTP endpoint (health, metrics) on a free port of 127.0.0.1, not 8787.
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                           dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
+                           silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
 
