@@ -11,7 +11,8 @@
   Figs. 18, 28–29).
 
 Each title names the paper figure it reproduces, where the motion is a paper's. A limit is drawn
-only where the arm knows it (``JointLimits`` fields that are ``None`` are unknown).
+only where the arm knows it (``JointLimits`` fields that are ``None`` are unknown); one far outside
+the motion is written as a note with the share of it the motion uses (:data:`OFF_SCALE`).
 """
 
 from __future__ import annotations
@@ -72,15 +73,41 @@ def limit_values(log: SimulationLog, kind: str) -> list[tuple[float, float] | No
     return out
 
 
-def _limit_lines(ax: Axes, log: SimulationLog, kind: str) -> None:
-    """Each joint's known ``kind`` limits as horizontal lines in its colour, labelled once per joint."""
+#: A limit farther out than this many times the largest value plotted is noted, not drawn (it would
+#: squash the curves into a thin band).
+OFF_SCALE = 3.0
+
+
+def _limit_lines(ax: Axes, log: SimulationLog, kind: str, values: np.ndarray) -> list[str]:
+    """Each joint's known ``kind`` limits as horizontal lines (joints sharing a limit: one grey line),
+    for the curves ``values`` (m, n) in the panel. A limit more than :data:`OFF_SCALE` times the largest
+    |value| is written in a note at the panel's foot instead, with the share of it the motion uses.
+    Returns the notes written.
+    """
     colors = _colors()
-    for i, values in enumerate(limit_values(log, kind)):
-        if values is None:
-            continue
-        for k, v in enumerate(values):
-            ax.axhline(v, color=colors[i % len(colors)], label=f"q{i + 1} {kind} limit" if k == 0 else None,
-                       **_LIMIT_STYLE)
+    groups: dict[tuple[float, float], list[int]] = {}
+    for i, limits in enumerate(limit_values(log, kind)):
+        if limits is not None:
+            groups.setdefault(limits, []).append(i)
+    unit = {"position": "", "velocity": "/s", "effort": ""}[kind]
+    notes = []
+    for (low, high), joints in groups.items():
+        names = ", ".join(f"q{i + 1}" for i in joints)
+        units = sorted({("N·m" if log.arm.revolute[i] else "N") if kind == "effort"
+                        else ("rad" if log.arm.revolute[i] else "m") + unit for i in joints})
+        peak = float(np.max(np.abs(values[:, joints])))
+        if max(abs(low), abs(high)) <= OFF_SCALE * max(peak, float(np.max(np.abs(values))), 1e-12):
+            color = colors[joints[0] % len(colors)] if len(joints) == 1 else "0.35"
+            for k, v in enumerate((low, high)):
+                ax.axhline(v, color=color, label=f"{names} {kind} limit" if k == 0 else None, **_LIMIT_STYLE)
+        else:
+            used = peak / max(abs(low), abs(high))
+            notes.append(f"{names} {kind} limits [{low:.4g}, {high:.4g}] {'|'.join(units)}: off the scale "
+                         f"(the motion uses {used:.0%} of them)")
+    if notes:
+        ax.text(0.01, 0.02, "\n".join(notes), transform=ax.transAxes, fontsize=7, color="0.3", va="bottom",
+                ha="left", zorder=5, bbox={"fc": "white", "ec": "0.8", "alpha": 0.85, "boxstyle": "round,pad=0.2"})
+    return notes
 
 
 def _joint_unit(log: SimulationLog, i: int, order: int) -> str:
@@ -110,7 +137,7 @@ def _joints(log: SimulationLog) -> Any:
                 _by_run(ax, log, log.t, reference[order][:, i], color=color, lw=1.6, label=label)
         _segment_lines(ax, log)
         if order < 2:
-            _limit_lines(ax, log, names[order])
+            _limit_lines(ax, log, names[order], simulated[order])
         units = sorted({_joint_unit(log, i, order) for i in range(n)})
         shown = "simulated (reference dashed)" if simulated[order] is not None else "reference"
         ax.set_ylabel(f"joint {names[order]} [{' | '.join(units)}]")
@@ -129,7 +156,7 @@ def _torques(log: SimulationLog) -> Any:
         unit = "N·m" if log.arm.revolute[i] else "N"
         _by_run(ax, log, log.t, log.tau[:, i], lw=1.6, label=f"τ{i + 1} [{unit}]", color=colors[i % len(colors)])
     _segment_lines(ax, log)
-    _limit_lines(ax, log, "effort")
+    _limit_lines(ax, log, "effort", log.tau)
     units = sorted({"N·m" if r else "N" for r in log.arm.revolute})
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(f"joint torque / force [{' | '.join(units)}]")

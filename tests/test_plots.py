@@ -106,32 +106,57 @@ def hlines(ax) -> set[tuple[float, str]]:
     return out
 
 
-def test_plots_draw_the_known_limits_in_each_joints_colour():
+def shown_limits(ax, log, kind: str, values: np.ndarray) -> list[str]:
+    """How each joint's known ``kind`` limit is shown in ``ax``: "drawn" (lines at both values) or
+    "noted" (the off-scale note names the joint, the limits and the share the motion uses of them)."""
+    ys = {y for y, _ in hlines(ax)}
+    notes = [line for t in ax.texts for line in t.get_text().splitlines()]
+    out = []
+    for i, (low, high) in enumerate(limit_values(log, kind)):
+        drawn = round(low, 9) in ys and round(high, 9) in ys
+        mine = [n for n in notes
+                if f"q{i + 1}" in n.split(f" {kind}")[0].split(", ") and f"[{low:.4g}, {high:.4g}]" in n]
+        assert drawn != bool(mine), (kind, i, drawn, mine)  # shown, and only one way
+        if mine:
+            share = float(re.search(r"uses (\d+)%", mine[0]).group(1)) / 100
+            joints = [int(name[1:]) - 1 for name in mine[0].split(f" {kind}")[0].split(", ")]
+            assert share == pytest.approx(np.abs(values[:, joints]).max() / max(abs(low), abs(high)), abs=0.006)
+        out.append("drawn" if drawn else "noted")
+    return out
+
+
+def test_plots_show_every_known_limit_drawn_or_noted_off_the_scale():
     import matplotlib.pyplot as plt
 
     log = rr_log()
     figs = figures(log)
     try:
         position, velocity, acceleration = figs["joints.png"].axes
-        for ax, kind in ((position, "position"), (velocity, "velocity")):
-            ys = {y for y, _ in hlines(ax)}
-            for low, high in limit_values(log, kind):
-                assert round(low, 9) in ys and round(high, 9) in ys
-        assert hlines(acceleration) == set()
+        # rr: the position limits ±270° are within reach of the motion; ±10 rad/s and ±100 N·m are not.
+        assert shown_limits(position, log, "position", log.q) == ["drawn", "drawn"]
+        assert shown_limits(velocity, log, "velocity", log.qd) == ["noted", "noted"]
+        (torques,) = figs["torques.png"].axes
+        assert shown_limits(torques, log, "effort", log.tau) == ["noted", "noted"]
+        assert hlines(acceleration) == set() and len(acceleration.texts) == 0
         assert "reference" in acceleration.get_title(loc="left")
         assert "simulated" in position.get_title(loc="left")
-        (torques,) = figs["torques.png"].axes
-        efforts = {y for y, _ in hlines(torques)}
-        assert efforts == {round(v, 9) for lim in log.arm.limits for v in (-lim.effort, lim.effort)}
     finally:
         for fig in figs.values():
             plt.close(fig)
-    # An unknown effort limit (None) is not drawn.
+    # Limits within reach are drawn: the same run against an arm with 2 rad/s and 12 N·m drives.
+    arm = dataclasses.replace(log.arm, limits=tuple(dataclasses.replace(lim, velocity=2.0, effort=12.0)
+                                                    for lim in log.arm.limits))
+    tight = dataclasses.replace(log, arm=arm)
+    joints, torques = figures(tight)["joints.png"], figures(tight)["torques.png"]
+    assert shown_limits(joints.axes[1], tight, "velocity", log.qd) == ["drawn", "drawn"]
+    assert shown_limits(torques.axes[0], tight, "effort", log.tau) == ["drawn", "drawn"]
+    plt.close("all")
+    # An unknown effort limit (None) is neither drawn nor noted.
     arm = dataclasses.replace(log.arm, limits=tuple(dataclasses.replace(lim, effort=None) for lim in log.arm.limits))
     unknown = dataclasses.replace(log, arm=arm)
     assert limit_values(unknown, "effort") == [None, None]
-    fig = figures(unknown)["torques.png"]
-    assert hlines(fig.axes[0]) == set()
+    ax = figures(unknown)["torques.png"].axes[0]
+    assert hlines(ax) == set() and len(ax.texts) == 0
     plt.close("all")
 
 
