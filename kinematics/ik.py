@@ -342,10 +342,11 @@ def _levenberg_marquardt(
     """Damped least squares on the tool pose error, every start ``q`` ``(S, n)`` at once; returns (q, error).
 
     Each start takes the step (JᵀJ + λI) δ = Jᵀe, projected into the limits (:func:`_project`); a
-    step that lowers |e| is kept and λ divided by 3, else λ is multiplied by 4. A start stops when
-    it reaches the target (|e| < 1e-13), when it is stationary (|Jᵀe| ≤ 1e-9 |J| |e|: a local
-    minimum of |e|, the closest the tool gets from there) or when no step lowers |e| (λ ≥ 1e10).
-    Only the starts still running are computed.
+    joint at a limit that the step would push beyond it is held (its column of J dropped). A step
+    that lowers |e| is kept and λ divided by 3, else λ is multiplied by 4. A start stops when it
+    reaches the target (|e|² < 1e-26), when it is stationary (|Jᵀe| ≤ 1e-9 |J| |e| over the joints
+    not held: a local minimum of |e| within the limits, the closest the tool gets from there) or
+    when no step lowers |e| (λ ≥ 1e10). Only the starts still running are computed.
     """
     rows = 3 if rotation is None else 6
     q = q.copy()
@@ -357,9 +358,12 @@ def _levenberg_marquardt(
         J = _jacobian_rows(arm, q[running], rows)
         Jt = np.swapaxes(J, -1, -2)
         gradient = (Jt @ error[running, :, None])[..., 0]
-        stationary = np.linalg.norm(gradient, axis=-1) <= 1e-9 * np.linalg.norm(J, axis=(-2, -1)) * np.sqrt(
+        held = ((q[running] <= lower) & (gradient < 0)) | ((q[running] >= upper) & (gradient > 0))  # by a limit
+        gradient = np.where(held, 0.0, gradient)
+        stationary = np.linalg.norm(gradient, axis=-1) <= 1e-6 * np.linalg.norm(J, axis=(-2, -1)) * np.sqrt(
             cost[running])
-        A = Jt @ J + damping[running, None, None] * np.eye(arm.n)
+        J = np.where(held[:, None, :], 0.0, J)  # a joint held by its limit takes no part in the step
+        A = np.swapaxes(J, -1, -2) @ J + damping[running, None, None] * np.eye(arm.n)
         trial = _project(arm, q[running] + np.linalg.solve(A, gradient[..., None])[..., 0], lower, upper)
         trial_error = _pose_error(arm, position, rotation, trial)
         trial_cost = np.einsum("...i,...i", trial_error, trial_error)
@@ -493,7 +497,9 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
         values = q[:, i]
         if lim.lower is None:
             if revolute:
-                q[:, i] = values - two_pi * np.ceil((values - np.pi) / two_pi)  # (−π, π]
+                wrapped = values - two_pi * np.ceil((values - np.pi) / two_pi)  # (−π, π] up to round-off:
+                q[:, i] = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi,
+                                                                               wrapped))  # exactly
             continue
         lo, hi = lim.lower - 1e-12, lim.upper + 1e-12
         if revolute:

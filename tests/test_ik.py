@@ -418,11 +418,19 @@ def assert_reaches_pose(arm, plant, solutions: list[np.ndarray], target: np.ndar
             assert miss[0] <= TOL and miss[1] <= TOL, f"{arm.name}: {how} of {q} misses the pose by {miss}"
 
 
-def puma560():
-    """The PUMA 560 of the Robotics Toolbox (standard DH, m, rad), joints unlimited (so all 8 branches count)."""
+#: The PUMA 560's joint limits in the Robotics Toolbox (±deg).
+PUMA560_LIMITS_DEG = (160.0, 110.0, 135.0, 266.0, 100.0, 266.0)
+
+
+def puma560(limited: bool = False):
+    """The PUMA 560 of the Robotics Toolbox (standard DH, m, rad); joints unlimited (so all 8 branches count)
+    unless ``limited``."""
     a, d = (0.0, 0.4318, 0.0203, 0.0, 0.0, 0.0), (0.0, 0.0, 0.15005, 0.4318, 0.0, 0.0)
     alpha = (np.pi / 2, 0.0, -np.pi / 2, np.pi / 2, -np.pi / 2, 0.0)
     table = DHTable(tuple(DHRow(a[i], alpha[i], d[i], 0.0) for i in range(6)), "standard")
+    if limited:
+        limits = [JointLimits(-np.radians(v), np.radians(v), 10.0, 1.0) for v in PUMA560_LIMITS_DEG]
+        return from_dh(table, limits, name="puma560_limited")
     return from_dh(table, [JointLimits(None, None, 10.0, 1.0)] * 6, name="puma560")
 
 
@@ -444,6 +452,22 @@ def test_puma560_all_eight_branches(rng: np.random.Generator) -> None:
             assert any(same_modulo_2pi(arm, s, expected) for s in solutions), f"{expected} not among {solutions}"
         nearest = solve(arm, target, near=q)[0]
         assert same_modulo_2pi(arm, nearest, q)
+
+
+def test_puma560_within_its_joint_limits(rng: np.random.Generator) -> None:
+    """With the Robotics Toolbox's limits the solver returns exactly those of the 8 branches that fit the limits
+    (by fit_limits, 2π shifts allowed): the search within the limits loses none of them."""
+    free, limited = puma560(), puma560(limited=True)
+    bound = np.radians(PUMA560_LIMITS_DEG)
+    for q in rng.uniform(-bound, bound, size=(5, 6)):
+        target = free.forward(q).tool
+        fitted, violations = fit_limits(limited, np.array(solve(free, target, all_solutions=True)))
+        expected = fitted[[v is None for v in violations]]
+        solutions = solve(limited, target, all_solutions=True)
+        assert len(solutions) == len(expected) >= 1
+        assert all(any(same_modulo_2pi(limited, s, e) for s in solutions) for e in expected)
+        assert_within_limits(limited, np.array(solutions))
+        assert any(same_modulo_2pi(limited, s, q) for s in solutions)
 
 
 def test_puma560_from_a_dh_csv(tmp_path) -> None:
@@ -630,3 +654,14 @@ def test_rr_pose_target_in_its_plane() -> None:
         assert_reaches_pose(arm, plant, [solution], target)
     with pytest.raises(ValueError, match=r"reachable, but not with this orientation"):
         solve(arm, target_pose(arm, position, [0.1, 0.0, q.sum()]))
+
+
+@settings(max_examples=200, deadline=None)
+@given(value=st.floats(-1e3, 1e3) | st.sampled_from([k * np.pi for k in range(-301, 302, 2)])
+       .map(lambda v: float(np.nextafter(v, np.random.default_rng(0).choice([-10.0, 10.0])))))
+def test_property_unlimited_angles_wrapped_into_minus_pi_pi(value: float) -> None:
+    """fit_limits wraps an unlimited revolute angle into (−π, π] exactly (no ulp beyond π), same angle modulo 2π."""
+    arm = get_arm("rrrr")  # joint1 unlimited
+    wrapped = fit_limits(arm, np.array([[value, 0.0, 0.0, 0.0]]))[0][0, 0]
+    assert -np.pi < wrapped <= np.pi, repr(wrapped)
+    assert abs(np.sin(wrapped) - np.sin(value)) < 1e-12 and abs(np.cos(wrapped) - np.cos(value)) < 1e-12
