@@ -16,6 +16,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.kinematics.batch import in_blocks
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point
@@ -72,6 +73,6 @@ def build(**overrides: float) -> Arm:
         points=(Point("O3", 3, (0.0, 0.0, 0.0)), Point("O4", 5, (0.0, 0.0, 0.0))),
         tool_name="O4",
         gravity=(0.0, 0.0, -9.81),
-        forward_fn=lambda q: forward(q, p),
+        forward_fn=lambda q: in_blocks(lambda block: forward(block, p), q),  # in cache-sized blocks
         urdf_file=MODELS_DIR / "arm4r.urdf" if not overrides else None,
     )

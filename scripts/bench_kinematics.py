@@ -12,7 +12,8 @@ For every paper arm, over ``n`` random in-limit states, it times
 
 Pinocchio and Drake one sample at a time from Python, both models built from the arm's own URDF. Before
 timing, all three are checked to give the same numbers (1e-9) on the first samples. Each time is the
-median of ``--repeat`` runs, in µs per sample; "×" columns are Pinocchio's time over armlab's.
+median of ``--repeat`` rounds (the nine measurements of an arm take turns in each round), in µs per sample,
+wall-clock time or (``--clock cpu``) this process's CPU time; "×" columns are Pinocchio's time over armlab's.
 """
 
 from __future__ import annotations
@@ -31,16 +32,20 @@ from armlab.models import ARMS, get_arm
 from armlab.models.arm import Arm
 
 CHECK = 20  # samples compared between armlab, Pinocchio and Drake before timing
+CLOCKS = {"wall": time.perf_counter, "cpu": time.process_time}
 
 
-def _median_us(run: Callable[[], object], count: int, repeat: int) -> float:
-    """Median over ``repeat`` runs of ``run()``'s wall time, in µs per sample of ``count``."""
-    times = []
+def _medians_us(runs: dict[str, tuple[Callable[[], object], int]], repeat: int, clock: Callable[[], float]
+                ) -> dict[str, float]:
+    """Median over ``repeat`` rounds of each run's time, in µs per sample, the runs taking turns in every
+    round (so a busy machine slows all of them alike). ``runs``: name → (function, samples)."""
+    times: dict[str, list[float]] = {name: [] for name in runs}
     for _ in range(repeat):
-        start = time.perf_counter()
-        run()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times)) / count * 1e6
+        for name, (run, count) in runs.items():
+            start = clock()
+            run()
+            times[name].append((clock() - start) / count * 1e6)
+    return {name: float(np.median(values)) for name, values in times.items()}
 
 
 class Pinocchio:
@@ -129,7 +134,8 @@ def _check(name: str, what: str, armlab: np.ndarray, *others: tuple[str, list]) 
                              "compare different things")
 
 
-def bench_arm(name: str, n: int, drake_n: int, repeat: int, rng: np.random.Generator) -> dict[str, float]:
+def bench_arm(name: str, n: int, drake_n: int, repeat: int, rng: np.random.Generator,
+              clock: Callable[[], float]) -> dict[str, float]:
     """µs per sample of FK, Jacobian and inverse dynamics for armlab, Pinocchio and Drake."""
     arm = get_arm(name)
     q = rng.uniform(*arm.limit_arrays(unlimited=np.pi), size=(n, arm.n))
@@ -147,17 +153,17 @@ def bench_arm(name: str, n: int, drake_n: int, repeat: int, rng: np.random.Gener
     _check(name, "torques", tau, ("Pinocchio", tau_pin),
            ("Drake", drake.inverse_dynamics(q[first], qd[first], qdd[first])))
     d = slice(0, drake_n)
-    return {
-        "fk": _median_us(lambda: arm.forward(q), n, repeat),
-        "fk_pin": _median_us(lambda: pino.forward(qp), n, repeat),
-        "fk_drake": _median_us(lambda: drake.forward(q[d]), drake_n, repeat),
-        "jac": _median_us(lambda: jacobian(arm, q), n, repeat),
-        "jac_pin": _median_us(lambda: pino.jacobian(qp), n, repeat),
-        "jac_drake": _median_us(lambda: drake.jacobian(q[d]), drake_n, repeat),
-        "id": _median_us(lambda: inverse_dynamics(arm, q, qd, qdd), n, repeat),
-        "id_pin": _median_us(lambda: pino.rnea(qp, vp, ap), n, repeat),
-        "id_drake": _median_us(lambda: drake.inverse_dynamics(q[d], qd[d], qdd[d]), drake_n, repeat),
-    }
+    return _medians_us({
+        "fk": (lambda: arm.forward(q), n),
+        "fk_pin": (lambda: pino.forward(qp), n),
+        "fk_drake": (lambda: drake.forward(q[d]), drake_n),
+        "jac": (lambda: jacobian(arm, q), n),
+        "jac_pin": (lambda: pino.jacobian(qp), n),
+        "jac_drake": (lambda: drake.jacobian(q[d]), drake_n),
+        "id": (lambda: inverse_dynamics(arm, q, qd, qdd), n),
+        "id_pin": (lambda: pino.rnea(qp, vp, ap), n),
+        "id_drake": (lambda: drake.inverse_dynamics(q[d], qd[d], qdd[d]), drake_n),
+    }, repeat, clock)
 
 
 def main() -> None:
@@ -167,16 +173,18 @@ def main() -> None:
     parser.add_argument("--drake-n", type=int, default=5_000, help="samples for the Drake loops (default 5000)")
     parser.add_argument("--repeat", type=int, default=5, help="runs per measurement, median taken (default 5)")
     parser.add_argument("--arms", default=",".join(ARMS), help="comma-separated paper arms (default: all)")
+    parser.add_argument("--clock", choices=CLOCKS, default="wall",
+                        help="wall: elapsed time; cpu: this process's CPU time (steadier on a busy machine)")
     args = parser.parse_args()
     rng = np.random.default_rng(0)
-    print(f"µs per sample, N = {args.n} (Drake: {args.drake_n}), median of {args.repeat}; "
+    print(f"{args.clock} clock, µs per sample, N = {args.n} (Drake: {args.drake_n}), median of {args.repeat}; "
           "× = Pinocchio loop / armlab batch (goals: FK ≥ 5×, Jacobian ≥ 3×, inverse dynamics ≥ 2×)")
     header = "| arm | " + " | ".join(
         f"{what} armlab | {what} Pinocchio | {what} Drake | {what} ×" for what in ("FK", "Jacobian", "ID")) + " |"
     print(header)
     print("|---" * (1 + 12) + "|")
     for name in args.arms.split(","):
-        r = bench_arm(name, args.n, args.drake_n, args.repeat, rng)
+        r = bench_arm(name, args.n, args.drake_n, args.repeat, rng, CLOCKS[args.clock])
         cells = []
         for key in ("fk", "jac", "id"):
             cells += [f"{r[key]:.3f}", f"{r[key + '_pin']:.2f}", f"{r[key + '_drake']:.1f}",
