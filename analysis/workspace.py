@@ -83,24 +83,31 @@ def tool_positions(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
 
     Paper 003's locating matrices (eqs. 3–4, 8–9) applied to one point, from the tool to the base:
     p ← T_{i−1,i}(q_i)·p for i = n … 1 starting at the tool row's origin, with R(k; q) p by Rodrigues'
-    formula p cos q + (k × p) sin q + k (k·p)(1 − cos q). A matrix-vector product per joint instead of
+    formula p cos q + (k × p) sin q + k (k·p)(1 − cos q) (for k along a coordinate axis, a plane rotation
+    of the other two coordinates). A matrix-vector product per joint instead of
     the 4 × 4 chain of :meth:`Arm.forward`, whose tool positions it equals (``tests/test_workspace.py``).
     """
     from armlab.kinematics.batch import as_batch
 
     q = as_batch(q, arm.n)
     shape = q.shape[:-1]
-    q = q.reshape(-1, arm.n)
-    p = np.repeat(np.asarray(arm.table.tool, dtype=float)[:3, 3:4], q.shape[0], axis=1)  # (3, N)
+    angles = np.ascontiguousarray(q.reshape(-1, arm.n).T)  # (n, N): each joint's values contiguous
+    p = np.repeat(np.asarray(arm.table.tool, dtype=float)[:3, 3:4], angles.shape[1], axis=1)  # (3, N)
     for i in range(arm.n - 1, -1, -1):
-        row, qi = arm.table.rows[i], q[:, i]
+        row, qi = arm.table.rows[i], angles[i]
         k = np.asarray(row.k, dtype=float)
-        if row.kind == "R":
-            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-            c, s = np.cos(qi), np.sin(qi)
-            p = c * p + s * (K @ p) + (1.0 - c) * (np.outer(k, k) @ p)
-        else:
+        if row.kind == "T":
             p = p + k[:, None] * qi
+        elif np.count_nonzero(k) == 1:  # about a coordinate axis a: only the other two coordinates turn
+            a = int(np.flatnonzero(k)[0])
+            b, c = (a + 1) % 3, (a + 2) % 3
+            cos, sin = np.cos(qi), np.sin(qi) * k[a]
+            p = p.copy()
+            p[b], p[c] = cos * p[b] - sin * p[c], sin * p[b] + cos * p[c]
+        else:
+            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+            cos, sin = np.cos(qi), np.sin(qi)
+            p = cos * p + sin * (K @ p) + (1.0 - cos) * (np.outer(k, k) @ p)
         p = np.asarray(row.R, dtype=float) @ p + np.asarray(row.P, dtype=float)[:, None]
     return p.T.reshape(shape + (3,))
 
