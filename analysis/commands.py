@@ -157,5 +157,6 @@ def register(subparsers: Any) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (a rerun resumes it)")
     p.add_argument("--workers", type=_positive_int, metavar="N",
                    help="local worker processes (default: one per core)")
-    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="an existing Dask scheduler to run on")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="an existing Dask scheduler to run on (its workers need the same armlab installed)")
     p.set_defaults(func=cmd_sweep)

@@ -4,12 +4,14 @@
 before any work, then submits every candidate not yet in ``DIR/results.csv`` to a Dask cluster — by
 default a ``LocalCluster`` of worker processes (one thread each, on 127.0.0.1, no dashboard) started
 and closed here; with ``scheduler="tcp://HOST:PORT"`` an existing cluster (``dask scheduler`` /
-``dask worker``). Results are appended to ``results.csv`` as they arrive, one whole line per write,
-flushed and fsynced, so an interrupted sweep loses nothing already written and never leaves half a
-row; a rerun into the same folder computes only the missing candidates. A candidate that raises is
-reported with its parameters and the error and the others go on; a worker that dies has its tasks
-rerun by Dask. At the end ``study.json`` (the study as run, the software versions, every run's
-counts) and the plots (:mod:`armlab.analysis.plots`) are (re)written.
+``dask worker``: each worker needs the same armlab installed, and the files a study names — a user
+arm's ``.urdf``/``.csv``, a ``segments`` file — at the same paths). Results are appended to
+``results.csv`` as they arrive, one whole line per write, flushed and fsynced, so an interrupted
+sweep loses nothing already written and never leaves half a row; a rerun into the same folder
+computes only the missing candidates. A candidate that raises is reported with its parameters and
+the error and the others go on; a worker that dies has its tasks rerun by Dask. At the end
+``study.json`` (the study as run, the software versions, every run's counts) and the plots
+(:mod:`armlab.analysis.plots`) are (re)written.
 
 Exit status of ``armlab sweep``: 0 when every candidate is in ``results.csv``; 2 for a bad study or
 option (nothing computed); :data:`EXIT_FAILED` + k when k candidates failed (capped at k = 100).

@@ -160,3 +160,17 @@ def test_shipped_studies_are_valid() -> None:
     assert len(studies["urm6_bend_angles.json"].candidates) == 4**6
     assert len(studies["urm6_theta3_theta5.json"].candidates) == 21
     assert studies["rr_drive_sizing.json"].objective_columns[:2] == ["peak_torque_1", "peak_torque_2"]
+
+
+def test_a_given_motion_instead_of_the_paper_motion(tmp_path: Path) -> None:
+    """``segments``: a motion file (relative to the study) replaces the paper motion; tf cannot be given."""
+    (tmp_path / "move.json").write_text(json.dumps({"deg": True, "segments": [
+        {"tf": 1.0, "from": [-38, 98], "to": [62, 68]}, {"tf": 1.0, "to": [-38, 98]}]}))
+    base = {"arm": "rr", "vary": {"payload": {"values": [0, 1]}}, "evaluate": ["peak_torque"], "segments": "move.json"}
+    study = load_study(write_study(tmp_path, base))
+    there_and_back = evaluate(study, (1.0,))
+    one_way = evaluate(parse_study({"arm": "rr", "vary": {"payload": {"values": [1]}}, "tf": 1.0,
+                                    "evaluate": ["peak_torque"]}), (1.0,))
+    assert there_and_back["peak_torque_1"] >= one_way["peak_torque_1"] - 1e-9
+    with pytest.raises(ValueError, match="do not give or vary tf"):
+        load_study(write_study(tmp_path, base | {"tf": 2.0}, "bad.json"))
