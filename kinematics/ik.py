@@ -344,7 +344,7 @@ def _levenberg_marquardt(
     Each start takes the step (JᵀJ + λI) δ = Jᵀe, projected into the limits (:func:`_project`); a
     joint at a limit that the step would push beyond it is held (its column of J dropped). A step
     that lowers |e| is kept and λ divided by 3, else λ is multiplied by 4. A start stops when it
-    reaches the target (|e|² < 1e-26), when it is stationary (|Jᵀe| ≤ 1e-9 |J| |e| over the joints
+    reaches the target (|e|² < 1e-26), when it is stationary (|Jᵀe| ≤ 1e-6 |J| |e| over the joints
     not held: a local minimum of |e| within the limits, the closest the tool gets from there) or
     when no step lowers |e| (λ ≥ 1e10). Only the starts still running are computed.
     """
@@ -438,7 +438,8 @@ def numeric_ik(
     for a pose whose position is reachable, the closest pose found.
     """
     position = _single(position, 3)
-    rotation = None if rotation is None else np.asarray(rotation, dtype=float)
+    if rotation is not None:
+        _, rotation = _check_pose(homogeneous(rotation, position))
     q0 = np.zeros(arm.n) if q0 is None else _single(q0, arm.n, "q0")
     if not (isinstance(seeds, int) and seeds >= 1):
         raise ValueError(f"seeds = {seeds!r} must be a positive whole number")
