@@ -665,3 +665,11 @@ def test_property_unlimited_angles_wrapped_into_minus_pi_pi(value: float) -> Non
     wrapped = fit_limits(arm, np.array([[value, 0.0, 0.0, 0.0]]))[0][0, 0]
     assert -np.pi < wrapped <= np.pi, repr(wrapped)
     assert abs(np.sin(wrapped) - np.sin(value)) < 1e-12 and abs(np.cos(wrapped) - np.cos(value)) < 1e-12
+
+
+def test_cli_help_says_what_all_means_for_a_numerical_arm() -> None:
+    result = subprocess.run([sys.executable, "-m", "armlab", "ik", "--help"], capture_output=True, text=True,
+                            timeout=120)
+    text = " ".join(result.stdout.split())
+    assert "every distinct solution found from 256 starts of the numerical solver" in text
+    assert "R = Rz(yaw)·Ry(pitch)·Rx(roll) as in URDF" in text
