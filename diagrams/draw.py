@@ -210,6 +210,27 @@ def _view(s: Scheme) -> tuple[float, float]:
     return float(elevation), float(azimuth)
 
 
+def _frame_labels(fig: Any, ax: Any, labels: list[tuple[str, NDArray]]) -> None:
+    """The frames' labels beside their origins, each moved down a line while it would overlap one placed
+    before it (on the final layout: the figure is drawn once first)."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    fig.canvas.draw()  # fixes the layout, so that data → pixel is final
+    line = 9 * fig.dpi / 72 * 1.35  # pixels per line of the 9 pt labels
+    char = 9 * fig.dpi / 72 * 0.62
+    placed: list[tuple[float, float, float]] = []  # left, bottom, width in pixels
+    for text, origin in sorted(labels, key=lambda item: -item[1][2]):  # top down
+        x, y, _ = proj3d.proj_transform(*origin, ax.get_proj())
+        px, py = ax.transData.transform((x, y))
+        left, width, shift = px + 6, char * len(text), 0.0
+        while any(left < ql + qw and ql < left + width and abs(py + 4 - shift - qb) < line for ql, qb, qw in placed):
+            shift += line
+        placed.append((left, py + 4 - shift, width))
+        ax.annotate(text, xy=(x, y), xytext=(6, 4 - shift * 72 / fig.dpi), textcoords="offset points", fontsize=9,
+                    fontweight="bold", color="k", zorder=6,
+                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8})
+
+
 def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     """Draw the kinematic scheme of ``arm`` at joint values ``q`` (n,), SI, into ``path``.
 
@@ -256,9 +277,6 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
             ax.quiver(*T[:3, 3], *(T[:3, j] * triad), color=_AXIS_COLORS[j], lw=1.6, arrow_length_ratio=0.2,
                       zorder=3)
         groups.setdefault(tuple(np.round(T[:3, 3], 9)), []).append(label)
-    for origin, labels in groups.items():
-        ax.text(*(np.array(origin) + 0.03 * size), ", ".join(labels), fontsize=9, fontweight="bold", color="k",
-                zorder=5, bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.75})
     for text, where in s.link_labels:
         ax.text(*where, text, fontsize=8, color="#7b241c", ha="right", va="top", zorder=4)
     lo, hi = points.min(axis=0), points.max(axis=0)
@@ -285,6 +303,7 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
               "prismatic joint: slider box", g_text, "", *s.table_title.splitlines(), *s.table]
     panel.text(0.0, 0.98, "\n".join(legend), fontsize=8, family="monospace", va="top", ha="left",
                transform=panel.transAxes)
+    _frame_labels(fig, ax, [(", ".join(labels), np.array(origin)) for origin, labels in groups.items()])
     buffer = io.BytesIO()
     fig.savefig(buffer, format=fmt, dpi=DPI)
     import matplotlib.pyplot as plt
