@@ -125,7 +125,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         summary = run.summary
         print(f"simulated {motion.duration:g} s in {run.log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× "
               f"real time), mode {run.log.mode}, {summary['runs']['count']} run(s)", flush=True)
-        written = run.write(folder)
+        written = run.write(folder, deg=args.deg)
     print("max |τ|: " + ", ".join(f"τ{i + 1} = {v:.4f} {u}" for i, (v, u) in enumerate(zip(
         summary["max_abs_torque"], summary["torque_units"], strict=True)))
           + f"; peak power {summary['peak_power']:.4g} W; max tracking error "
@@ -137,7 +137,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if run.diverged:
         d = summary["divergence"]
         print(f"armlab: error: the run diverged: {d['joint']} left the reference at t = {d['time']:.4g} s "
-              f"(tolerance {d['tolerance']:g} {d['unit']}; its largest tracking error {d['max_error']:.3g} {d['unit']}); "
+              f"(tolerance {d['tolerance']:g} {d['unit']}; its largest tracking error {d['max_error']:.3g} "
+              f"{d['unit']}); "
               f"{'raise --kp/--kd' if run.log.mode == 'controller' else 'open-loop inverse dynamics does not '
                  'correct errors: use --mode controller'}", file=sys.stderr)
         return 3

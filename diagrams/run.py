@@ -115,29 +115,30 @@ class Run:
         folder.mkdir(parents=True, exist_ok=True)
         return [*write_plots(self.log, folder), *write_drives(self.log, folder)[1:]]
 
-    def save(self, out: str | Path) -> list[str]:
+    def save(self, out: str | Path, deg: bool = False) -> list[str]:
         """Write every output of the run (:meth:`write`) into folder ``out``, completely or not at all.
 
         ``out`` may be new, empty or an earlier run (which is replaced); ``ValueError`` otherwise.
-        Returns the names written.
+        Returns the names written; ``deg``: the replay shows revolute angles in degrees.
         """
         from armlab.diagrams.output import run_folder
 
         with run_folder(out) as folder:
-            return self.write(folder)
+            return self.write(folder, deg)
 
-    def write(self, folder: str | Path) -> list[str]:
+    def write(self, folder: str | Path, deg: bool = False) -> list[str]:
         """Write every output of the run into the existing ``folder``; the names written.
 
         ``log.csv``, ``summary.json``, ``drives.csv``, ``diagram.svg`` (the Fig. 6 view), ``diagram_full.svg``
         and ``diagram.dot`` (Drake's whole graph; graphviz's ``dot`` is needed), the plots, ``drives.png`` and
-        ``replay.html`` (the run as a 3-D animation).
+        ``replay.html`` (the run as a 3-D animation with its time slider and a readout of t, q — in degrees
+        with ``deg`` — and τ).
         """
         from armlab.diagrams.drives import write_drives
         from armlab.diagrams.graphviz import fig6_dot, render, require_dot
         from armlab.diagrams.output import write_log_csv, write_summary
         from armlab.diagrams.plots import write_plots
-        from armlab.diagrams.replay import write_replay
+        from armlab.diagrams.replay import replay_log
 
         require_dot()
         log, folder = self.log, Path(folder)
@@ -148,6 +149,6 @@ class Run:
         (folder / "diagram_full.svg").write_bytes(render(log.diagram_dot, "svg"))
         plots = write_plots(log, folder)
         drives = write_drives(log, folder)
-        write_replay(log.arm, log.t, log.q, folder / "replay.html", tool_path=log.tool[:, :3])
+        replay_log(log, folder / "replay.html", deg=deg)
         return ["log.csv", "summary.json", "diagram.svg", "diagram_full.svg", "diagram.dot", *(p.name for p in plots),
                 *(p.name for p in drives), "replay.html"]

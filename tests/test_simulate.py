@@ -19,9 +19,8 @@ import pytest
 from armlab.cli import main
 from armlab.diagrams.build import build_diagram
 from armlab.diagrams.motions import paper_motion
-from armlab.diagrams.output import csv_header
+from armlab.diagrams.output import RUN_OUTPUTS, csv_header
 from armlab.diagrams.plant import make_plant, resolve_gravity
-from armlab.diagrams.plots import PLOTS
 from armlab.diagrams.simulate import (
     DEFAULT_ACCURACY,
     DEFAULT_INTEGRATOR,
@@ -392,7 +391,7 @@ def test_simulate_writes_the_whole_run(tmp_path, capsys):
     out = tmp_path / "runs" / "rr"
     assert cli("simulate", "rr", "--path", "abcd", "--dt", "0.01", "--out", str(out)) == 0
     files = {p.name for p in out.iterdir()}
-    assert files == {"log.csv", "summary.json", "diagram.svg", "diagram.dot", *PLOTS, "replay.html"}
+    assert files == set(RUN_OUTPUTS)  # log, summary, diagrams, plots, drives and the replay
     assert [p.name for p in (tmp_path / "runs").iterdir()] == ["rr"]  # no temporary folder left
     umask = os.umask(0o022)
     os.umask(umask)
@@ -427,8 +426,7 @@ def test_simulate_every_arm(tmp_path, name):
     assert cli("simulate", name, "--dt", "0.01", *extra, "--out", str(out)) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["arm"] == name and max(summary["max_tracking_error"]) <= 1e-6
-    assert {p.name for p in out.iterdir()} == {"log.csv", "summary.json", "diagram.svg", "diagram.dot", *PLOTS,
-                                               "replay.html"}
+    assert {p.name for p in out.iterdir()} == set(RUN_OUTPUTS)
 
 
 def test_simulate_motion_options(tmp_path):
