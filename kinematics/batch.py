@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["BLOCK", "ZStep", "as_batch", "blocks", "chain_blocks", "chain_frames", "cos_sin", "cross",
+__all__ = ["BLOCK", "ZStep", "as_batch", "blocks", "chain_blocks", "chain_frames", "chain_points", "cos_sin", "cross",
            "in_blocks", "slide_z", "times_constant", "turn_z"]
 
 #: Samples per block (see the module docstring).
@@ -74,11 +74,18 @@ def in_blocks[Result](function: Callable[[NDArray[np.float64]], Result], q: NDAr
     if flat.shape[0] <= BLOCK:
         return function(q)
     first = function(flat[:BLOCK])
-    out = _map(lambda a: np.empty((flat.shape[0],) + a.shape[1:], a.dtype), first)
+    out = _map(lambda a: _like(a, flat.shape[0]), first)
     for block in blocks(flat.shape[0]):
         part = first if block.start == 0 else function(flat[block])
         _map(lambda whole, piece, rows=block: whole.__setitem__(rows, piece), out, part)
     return _map(lambda a: a.reshape(q.shape[:-1] + a.shape[1:]), out)
+
+
+def _like(a: NDArray, count: int) -> NDArray:
+    """An empty array for ``count`` samples of ``a``'s kind, stored batch-last if ``a`` is (no transposing copies)."""
+    if a.ndim > 1 and a.strides[0] == a.itemsize:  # the batch axis is the one contiguous in memory
+        return np.moveaxis(np.empty(a.shape[1:] + (count,), a.dtype), -1, 0)
+    return np.empty((count,) + a.shape[1:], a.dtype)
 
 
 def cos_sin(angle: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -187,3 +194,29 @@ def chain_frames(
     for block, frames in chain_blocks(q, steps, tail):
         out[:, :3, :, block] = frames
     return np.moveaxis(out, -1, 0).reshape(q.shape[:-1] + (k, 4, 4))
+
+
+def chain_points(
+    q: NDArray[np.float64], steps: Sequence[ZStep], points: dict[str, tuple[int, ArrayLike]],
+    tail: NDArray[np.float64] | None = None,
+) -> tuple[NDArray[np.float64], dict[str, NDArray[np.float64]]]:
+    """The last frame of :func:`chain_frames` ``(..., 4, 4)`` and named points ``(..., 3)``, without the others.
+
+    ``points``: name → (frame index i, xyz in frame i); the point is T_{0,i}·xyz. Each block's frames are
+    computed once and only these results are written out (stored batch-last, returned as views).
+    """
+    count = int(np.prod(q.shape[:-1]))
+    last = np.empty((4, 4, count))
+    last[3] = np.array([0.0, 0.0, 0.0, 1.0])[:, None]
+    out = {name: np.empty((3, count)) for name in points}
+    where = {name: (index, np.asarray(xyz, dtype=float)) for name, (index, xyz) in points.items()}
+    for block, frames in chain_blocks(q, steps, tail):
+        last[:3, :, block] = frames[-1]
+        for name, (index, xyz) in where.items():
+            point = out[name][:, block]
+            point[...] = frames[index, :, 3]
+            for j in np.flatnonzero(xyz):
+                point += xyz[j] * frames[index, :, j]
+    shape = q.shape[:-1]
+    named = {name: a.T.reshape(shape + (3,)) for name, a in out.items()}
+    return np.moveaxis(last, -1, 0).reshape(shape + (4, 4)), named

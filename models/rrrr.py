@@ -15,8 +15,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.kinematics.basic_movements import rrrr_dh_chain
-from armlab.kinematics.batch import in_blocks
+from armlab.kinematics.basic_movements import T_Z1, T_Z3, T_Z4
+from armlab.kinematics.batch import ZStep, chain_points
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point
@@ -42,12 +42,17 @@ class Parameters:
 
 
 def forward(q: NDArray, p: Parameters) -> Forward:
-    """Eqs. (21)–(35): the DH frames' origins O1 … O3 and the end point M, tool frame {4}."""
-    T01, T12, T23, T34 = rrrr_dh_chain(q, (p.L1, p.L2, p.L3, p.L4))
-    T02 = T01 @ T12
-    T03 = T02 @ T23
-    T04 = T03 @ T34  # eq. (18)
-    return Forward(T04, {"O1": T01[..., :3, 3], "O2": T02[..., :3, 3], "O3": T03[..., :3, 3], "M": T04[..., :3, 3]})
+    """Eqs. (21)–(35): the DH frames' origins O1 … O3 and the end point M, tool frame {4}.
+
+    T04 = T01 T12 T23 T34 (eq. 18), each factor the paper's product of basic movements around its
+    joint's turn, T01 = T_Z3(L1)·T_Z6(q1)·T_Z4(π/2) (21), T_{i−1,i} = T_Z6(q_i)·T_Z1(L_i) (26, 29, 32),
+    multiplied out link by link (:func:`armlab.kinematics.batch.chain_points`; the same product as
+    :func:`armlab.kinematics.basic_movements.rrrr_dh_chain`).
+    """
+    steps = [ZStep(T_Z3(p.L1), True, T_Z4(np.pi / 2))] + [ZStep(None, True, T_Z1(L)) for L in (p.L2, p.L3, p.L4)]
+    origin = (0.0, 0.0, 0.0)
+    T04, points = chain_points(q, steps, {"O1": (1, origin), "O2": (2, origin), "O3": (3, origin), "M": (4, origin)})
+    return Forward(T04, points)
 
 
 def dh_table(p: Parameters) -> DHTable:
@@ -78,6 +83,6 @@ def build(**overrides: float) -> Arm:
                 Point("O3", 3, (p.L3, 0.0, 0.0)), Point("M", 5, (0.0, 0.0, 0.0))),
         tool_name="M",
         gravity=(0.0, 0.0, -9.81),
-        forward_fn=lambda q: in_blocks(lambda block: forward(block, p), q),  # in cache-sized blocks
+        forward_fn=lambda q: forward(q, p),
         urdf_file=MODELS_DIR / "rrrr.urdf" if not overrides else None,
     )

@@ -237,3 +237,15 @@ def test_batches_longer_than_a_block(name, rng):
         one_twist, one_accel = tool_motion(arm, q[0, k], qd[0, k], qdd[0, k])
         np.testing.assert_allclose(twist[0, k], one_twist, rtol=0, atol=1e-13)
         np.testing.assert_allclose(accel[0, k], one_accel, rtol=0, atol=1e-13)
+
+
+def test_rrrr_forward_is_paper_000s_basic_movement_product(rng):
+    """The rrrr arm's forward (chained link by link) equals eq. (18)'s product of eqs. (21)–(32)'s matrices."""
+    from armlab.kinematics.basic_movements import rrrr_dh_chain
+
+    arm, _, _ = arm_and_plant("rrrr")
+    q = random_q(arm, rng, SAMPLES)
+    T01, T12, T23, T34 = rrrr_dh_chain(q, tuple(arm.parameters[k] for k in ("L1", "L2", "L3", "L4")))
+    forward = arm.forward(q)
+    np.testing.assert_allclose(forward.tool, T01 @ T12 @ T23 @ T34, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(forward.points["O2"], (T01 @ T12)[:, :3, 3], rtol=0, atol=1e-14)
