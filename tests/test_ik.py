@@ -673,3 +673,35 @@ def test_cli_help_says_what_all_means_for_a_numerical_arm() -> None:
     text = " ".join(result.stdout.split())
     assert "every distinct solution found from 256 starts of the numerical solver" in text
     assert "R = Rz(yaw)·Ry(pitch)·Rx(roll) as in URDF" in text
+
+
+def test_urm6_every_solution_drakes_ik_finds_is_among_ours(rng: np.random.Generator) -> None:
+    """Drake's InverseKinematics (position and orientation constraints on the tool frame, SNOPT/IPOPT) from 64
+    random starts: each solution it reports lies within Drake's own accuracy (a few mrad) of one of ours, and our
+    solutions are further apart than that; so Drake finds no branch we miss."""
+    from pydrake.math import RotationMatrix
+    from pydrake.multibody.inverse_kinematics import InverseKinematics
+    from pydrake.solvers import Solve
+
+    arm, plant, _ = arm_and_plant("urm6")
+    index = np.array([plant.GetJointByName(name).position_start() for name in arm.joint_names])
+    tool = plant.GetFrameByName(arm.tool_name)
+    for q in random_q(arm, rng, 2):
+        target = arm.forward(q).tool
+        ours = np.array(solve(arm, target, all_solutions=True))
+        ik = InverseKinematics(plant)
+        ik.AddPositionConstraint(tool, np.zeros(3), plant.world_frame(), target[:3, 3] - 1e-9, target[:3, 3] + 1e-9)
+        ik.AddOrientationConstraint(plant.world_frame(), RotationMatrix(target[:3, :3]), tool, RotationMatrix(), 1e-9)
+        drake = []
+        for start in rng.uniform(-np.pi, np.pi, size=(64, arm.n)):
+            guess = np.zeros(plant.num_positions())
+            guess[index] = start
+            result = Solve(ik.prog(), guess)
+            if result.is_success():
+                drake.append(result.GetSolution(ik.q())[index])
+        assert len(drake) >= 8
+        d = np.array(drake)[:, None, :] - ours[None, :, :]
+        d = np.abs((d + np.pi) % (2 * np.pi) - np.pi).max(axis=-1)  # (drake, ours), modulo 2π
+        separation = np.abs((ours[:, None] - ours[None] + np.pi) % (2 * np.pi) - np.pi).max(axis=-1)
+        separation = separation[~np.eye(len(ours), dtype=bool)].min(initial=np.inf)
+        assert d.min(axis=1).max() < min(0.03, separation / 4), (d.min(axis=1), separation)
