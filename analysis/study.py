@@ -258,9 +258,10 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     dynamics = any(e in DYNAMICS for e in evaluate)
     if dynamics:
         nominal.require_dynamics("torque objectives")
-    for var in vary:
-        if var.name in ("payload", "tf") and not dynamics:
-            raise ValueError(f"vary.{var.name} changes only the torque objectives ({', '.join(DYNAMICS)}); "
+    for key in ("payload", "tf", "simulate", "segments"):
+        if not dynamics and (key in data or key in data["vary"]):
+            where = f"vary.{key}" if key in data["vary"] else key
+            raise ValueError(f"{where} changes only the torque objectives ({', '.join(DYNAMICS)}); "
                              "evaluate one of them")
     samples = data.get("samples", DEFAULT_SAMPLES // 5)
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1000:
@@ -316,17 +317,18 @@ def build(study: Study, values: tuple[float, ...]) -> tuple[Arm, Motion | None, 
 
 def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
     """The objectives of one candidate (``values`` in the study's units), by column of ``results.csv``."""
+    from armlab.analysis.singular import JACOBIAN_SAMPLES, task_sigma
     from armlab.analysis.workspace import workspace
 
     arm, motion, payload = build(study, values)
     out: dict[str, float] = {}
     if any(e in WORKSPACE for e in study.evaluate):
-        manipulability = any(e.endswith("manipulability") for e in study.evaluate)
-        w = workspace(arm, study.samples, study.resolution, study.seed, jacobians=manipulability)
+        w = workspace(arm, study.samples, study.resolution, study.seed, jacobians=False)
         found = {"workspace_volume": w.volume, "reach": w.reach}
-        if manipulability:
-            found |= {"min_manipulability": float(w.manipulability.min()),
-                      "mean_manipulability": float(w.manipulability.mean())}
+        if any(e.endswith("manipulability") for e in study.evaluate):  # on the workspace's kept configurations
+            manipulability = task_sigma(arm, w.q[:JACOBIAN_SAMPLES])[0]
+            found |= {"min_manipulability": float(manipulability.min()),
+                      "mean_manipulability": float(manipulability.mean())}
         out |= {e: found[e] for e in study.evaluate if e in WORKSPACE}
     if motion is not None:
         tau, qd = _torques(study, arm, motion, payload)
