@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.kinematics.basic_movements import DH_TO_YUP
+from armlab.kinematics.basic_movements import DH_TO_YUP, T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
 
 if TYPE_CHECKING:
@@ -124,6 +124,8 @@ class Erratum:
     corrected: Evaluator | None = None
     reference: Evaluator | None = None  # Drake's value of the same quantity
     angle: bool = False  # compare modulo 2π
+    #: The samples at which the misprint shows (boolean (N,)); ``None``: at every sample.
+    affects: Callable[[Sample], NDArray[np.bool_]] | None = None
 
     @property
     def evaluable(self) -> bool:
@@ -276,6 +278,113 @@ def _003_v4_dot_own_printed(s: Sample) -> NDArray:
         -s1 * qdd1 - l3 * qd1**2 - c1 * qd1**2 - 2 * qd1 * qdd3 - q3 * qdd1 - l4 * s1 * qd1**2 - l4 * c1 * qdd1,
         qdd2,
     )
+
+
+def _003_R04(q: NDArray) -> NDArray:
+    """Eq. (20): ⁰₄[R] = [[−s1, c1, 0], [c1, s1, 0], [0, 0, −1]], (N, 3, 3)."""
+    c1, s1 = _cs(q, 1)
+    zero = np.zeros_like(c1)
+    return np.stack([_stack(-s1, c1, zero), _stack(c1, s1, zero), _stack(zero, zero, zero - 1.0)], axis=-2)
+
+
+def _003_omega4_own(printed: bool) -> Evaluator:
+    """Eqs. (62), (64): ⁴ω4 and ⁴ω̇4 side by side, (N, 6); corrected as ⁰₄[R]ᵀ of eq. (20) times eqs. (46), (48)."""
+
+    def evaluate(s: Sample) -> NDArray:
+        zero = np.zeros(len(s.q))
+        world = np.concatenate([_stack(zero, zero, s.qd[:, 0]), _stack(zero, zero, s.qdd[:, 0])], axis=-1)
+        if printed:
+            return world
+        R = _003_R04(s.q)
+        return np.concatenate([np.einsum("nji,nj->ni", R, world[:, :3]), np.einsum("nji,nj->ni", R, world[:, 3:])],
+                              axis=-1)
+
+    return evaluate
+
+
+def _003_atan2(printed: bool) -> Evaluator:
+    """Eq. (22)'s case table for A tan 2(sα; cα), applied to γ_z's sine and cosine in Drake's tool rotation
+    (⁰₄[R] = Rz(γ_z) Rx(π): sγ = R21, cγ = R11). α in the table is read as arctan(sα/cα), the principal value;
+    a case the printed table does not cover gives NaN."""
+
+    def evaluate(s: Sample) -> NDArray:
+        sin, cos = s.pose[:, -1, 1, 0], s.pose[:, -1, 0, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            alpha = np.arctan(sin / cos)
+        if printed:
+            cases = [(sin >= 0) & (cos > 0), (sin > 0) & (cos < 0), (sin < 0) & (cos < 0), (sin < 0) & (cos >= 0)]
+            values = [alpha, np.pi / 2 + alpha, np.pi + alpha, -np.pi / 2 + alpha]
+        else:
+            cases = [cos > 0, (cos < 0) & (sin >= 0), (cos < 0) & (sin < 0), cos == 0]
+            values = [alpha, np.pi + alpha, -np.pi + alpha, np.pi / 2 * np.sign(sin)]
+        return np.select(cases, values, default=np.nan)
+
+    return evaluate
+
+
+def _003_atan2_affects(s: Sample) -> NDArray[np.bool_]:
+    """The 2nd and 4th cases of eq. (22): sγ and cγ of opposite signs."""
+    return s.pose[:, -1, 1, 0] * s.pose[:, -1, 0, 0] < 0
+
+
+# ---- paper 004 (urm6): the general formulas of the position vectors, eqs. (7) and (22)
+def _004_lengths(s: Sample) -> tuple[NDArray, NDArray, NDArray]:
+    """φ1 … φ7 (N, 7; module 7 has no joint), θ2 … θ7 (6,) and |r1| … |r7| (7,)."""
+    phi = np.concatenate([s.q, np.zeros((len(s.q), 1))], axis=-1)
+    return (phi, np.array([s.p[f"theta{k}"] for k in range(2, 8)]), np.array([s.p[f"r{k}"] for k in range(1, 8)]))
+
+
+def _004_eq7(printed: bool) -> Evaluator:
+    """Eq. (7), p_{i+1} = R_z1(φ) [r + Σ_{k=1..i} Π_{j=1..k} (R_y(j+1)(θ_{j+1}) R_z(j+1)(φ_{j+1})) r_{k+1}] for
+    i = 1 … 6, (N, 6, 3): printed with φ = φ_i, r = r_i, corrected with φ1, r1."""
+
+    def evaluate(s: Sample) -> NDArray:
+        phi, theta, r = _004_lengths(s)
+        z = np.array([0.0, 0.0, 1.0])
+        points = []
+        for i in range(1, 7):
+            total = np.broadcast_to((r[i - 1] if printed else r[0]) * z, (len(s.q), 3)).copy()
+            R = np.eye(3)
+            for k in range(1, i + 1):
+                R = R @ T_Z5(theta[k - 1])[:3, :3] @ T_Z6(phi[:, k])[..., :3, :3]
+                total += R @ (r[k] * z)
+            lead = T_Z6(phi[:, i - 1] if printed else phi[:, 0])[..., :3, :3]
+            points.append(np.einsum("nij,nj->ni", lead, total))
+        return np.stack(points, axis=1)
+
+    return evaluate
+
+
+def _004_eq22(printed: bool) -> Evaluator:
+    """Eq. (22), p_{i+1} = T_z1(φ) Π_{j=1..i} (T_y(j+1)(θ_{j+1}, r_j) T_z(j+1)(φ_{j+1})) r_{i+1} for i = 1 … 6,
+    (N, 6, 3): printed with φ = φ_i, corrected with φ1."""
+
+    def evaluate(s: Sample) -> NDArray:
+        phi, theta, r = _004_lengths(s)
+        points = []
+        for i in range(1, 7):
+            T = T_Z6(phi[:, i - 1] if printed else phi[:, 0])
+            for j in range(1, i + 1):
+                T_y = T_Z5(theta[j - 1])
+                T_y[2, 3] = r[j - 1]  # eq. (10): the displacement r_j along the module's z
+                T = T @ T_y @ T_Z6(phi[:, j])
+            points.append((T @ np.array([0.0, 0.0, r[i], 1.0]))[..., :3])
+        return np.stack(points, axis=1)
+
+    return evaluate
+
+
+def _004_points_drake(s: Sample) -> NDArray:
+    """Drake's positions of the URDF frames p2 … p7 at each configuration, (N, 6, 3)."""
+    plant = s.arm.make_plant()
+    context = plant.CreateDefaultContext()
+    world = plant.world_frame()
+    frames = [plant.GetFrameByName(f"p{k}") for k in range(2, 8)]
+    out = np.empty((len(s.q), 6, 3))
+    for n, q in enumerate(s.q):
+        plant.SetPositions(context, q)
+        out[n] = [plant.CalcRelativeTransform(context, world, frame).translation() for frame in frames]
+    return out
 
 
 # ---- paper 001 (arm4r): the analytical inverse kinematics, eqs. (5), (10)–(21)
@@ -464,6 +573,51 @@ ERRATA: tuple[Erratum, ...] = (
         r" -l_3 \dot{q}_1^2 - 2 \dot{q}_1 \dot{q}_3 - (q_3 + l_4)\ddot{q}_1,\; -\ddot{q}_2)",
         arm="r2t", printed=_003_v4_dot_own_printed, corrected=_r2t_symbolic("v4_dot_own"),
         reference=lambda s: s.own(-1, s.v_dot[:, -1]),
+    ),
+    Erratum(
+        "003", "eqs. (62), (64)",
+        "⁴ω4 and ⁴ω̇4 are printed (0, 0, q̇1) and (0, 0, q̈1) (again in eq. 68); z4 points down (eq. 20, "
+        "⁰₄[R]₃₃ = −1), so ⁰₄[R]ᵀ·(0, 0, q̇1) = (0, 0, −q̇1) and likewise −q̈1. Evaluated side by side, (⁴ω4, ⁴ω̇4).",
+        r"{}^4\overline{\omega}_4 = (0, 0, \dot{q}_1)^T,\; {}^4\dot{\overline{\omega}}_4 = (0, 0, \ddot{q}_1)^T",
+        r"{}^4\overline{\omega}_4 = (0, 0, -\dot{q}_1)^T,\; {}^4\dot{\overline{\omega}}_4 = (0, 0, -\ddot{q}_1)^T",
+        arm="r2t", printed=_003_omega4_own(True), corrected=_003_omega4_own(False),
+        reference=lambda s: np.concatenate([s.own(-1, s.omega[:, -1]), s.own(-1, s.omega_dot[:, -1])], axis=-1),
+    ),
+    Erratum(
+        "003", "eq. (22)",
+        "The case table of A tan 2(sα; cα) gives π/2 + α for sα > 0, cα < 0 and −π/2 + α for sα < 0, cα ≥ 0; "
+        "with α = arctan(sα/cα) these are π + α and α (with α = arctan|sα/cα|: π − α and −α). The case "
+        "sα = 0, cα < 0, the one eq. (23) uses (A tan 2(0; −1) = π), is in none of the four rows. Evaluated on "
+        "γ_z of Drake's tool rotation against eq. (23)'s γ_z = π/2 + q1: wrong exactly in the 2nd and 4th "
+        "quadrants.",
+        r"\mathrm{A\,tan\,2}(s\alpha; c\alpha) = \alpha,\ \pi/2 + \alpha,\ \pi + \alpha,\ -\pi/2 + \alpha"
+        r"\quad (\mathrm{I}, \mathrm{II}, \mathrm{III}, \mathrm{IV})",
+        r"\mathrm{A\,tan\,2}(s\alpha; c\alpha) = \alpha,\ \pi + \alpha,\ -\pi + \alpha,\ \alpha"
+        r"\quad (\alpha = \arctan(s\alpha / c\alpha))",
+        arm="r2t", printed=_003_atan2(True), corrected=_003_atan2(False),
+        reference=lambda s: np.pi / 2 + s.q[:, 0], angle=True, affects=_003_atan2_affects,
+    ),
+    # ------------------------------------------------------------------ paper 004
+    Erratum(
+        "004", "eq. (7)",
+        "The general formula of p_{i+1} starts with R_z1(φ_i) and r_i; eqs. (3)-(6) start every point with "
+        "R_z1(φ1) and r1. As printed it is right only for i = 1 (p2); p3 … p7 turn about the wrong angle and "
+        "start from the wrong segment. Evaluated for p2 … p7.",
+        r"p_{i+1} = R_{z1}(\phi_i) [r_i + \sum_{k=1}^{i} \prod_{j=1}^{k} (R_{y(j+1)}(\vartheta_{j+1})"
+        r" R_{z(j+1)}(\phi_{j+1})) r_{k+1}]",
+        r"p_{i+1} = R_{z1}(\phi_1) [r_1 + \sum_{k=1}^{i} \prod_{j=1}^{k} (R_{y(j+1)}(\vartheta_{j+1})"
+        r" R_{z(j+1)}(\phi_{j+1})) r_{k+1}]",
+        arm="urm6", printed=_004_eq7(True), corrected=_004_eq7(False), reference=_004_points_drake,
+    ),
+    Erratum(
+        "004", "eq. (22)",
+        "The homogeneous general formula starts with T_z1(φ_i); eqs. (11)-(21) start every point with "
+        "T_z1(φ1). As printed it is right only for i = 1 (p2). Evaluated for p2 … p7.",
+        r"p_{i+1} = T_{z1}(\phi_i) \prod_{j=1}^{i} (T_{y(j+1)}(\vartheta_{j+1}, r_j) T_{z(j+1)}(\phi_{j+1}))"
+        r" r_{i+1}",
+        r"p_{i+1} = T_{z1}(\phi_1) \prod_{j=1}^{i} (T_{y(j+1)}(\vartheta_{j+1}, r_j) T_{z(j+1)}(\phi_{j+1}))"
+        r" r_{i+1}",
+        arm="urm6", printed=_004_eq22(True), corrected=_004_eq22(False), reference=_004_points_drake,
     ),
     # ------------------------------------------------------------------ paper 000
     Erratum(

@@ -22,13 +22,11 @@ from armlab.controllers.inverse_dynamics import joint_torques
 from armlab.scripts.report import MATCHES, PaperOutput, Row, compare, differs, not_reproducible
 
 PAPER = "000"
+TITLE = "Hroncová et al., Robot trajectory planning (MM Science Journal, 2022)"
 
 # ----------------------------------------------------------------------------- the PAPER's printed values
 #: §4: the quintic coefficients of Fig. 3's motion (rad, s) — the paper's values.
 PAPER_COEFFICIENTS = {"a1": 0.3272, "a2": -1.6362, "a3": 2.1817, "b1": -0.0982, "b2": 0.4909, "b3": -0.6545}
-#: Fig. 2/3: start and end of M (m), 4 decimals — the paper's values.
-PAPER_M0 = (0.4652, 0.0135)
-PAPER_MFIN = (-0.0050, 0.5830)
 #: §4: peak torques of Fig. 7 (N·m) — the paper's values.
 PAPER_PEAK_TORQUES = (20.8183, 0.4888)
 #: Table 2 (deg): θ10, θ20, θ1tf, θ2tf per segment — the paper's values.
@@ -70,8 +68,8 @@ PAPER_PRINTED = {
 SEGMENTS = ("A-B", "B-C", "C-D", "D-A")
 SEGMENT_TIME = 2.0  # s, the t_f that reproduces §4's coefficients; Table 2's segments get the same
 TOOL_MASS = 0.25  # kg, chosen: the basket of Fig. 26 as a point mass at M
-#: Table 2 tolerance (deg): IK at the workspace's rims is ill-conditioned (see the rows' note).
-TABLE2_TOL_DEG = 1e-5
+#: Table 2 tolerance (deg): the paper prints whole degrees, so half of the last printed unit.
+TABLE2_TOL_DEG = 0.5
 
 
 def _deg(x: np.ndarray) -> np.ndarray:
@@ -82,6 +80,9 @@ def _deg(x: np.ndarray) -> np.ndarray:
 def _fig3_kinematics(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> None:
     from armlab.scripts.figures import new_figure
 
+    out.group("§4, Figs. 3 and 5: the quintic of Fig. 3's motion",
+              "θ1 −38° → 62°, θ2 98° → 68° (the printed angles) by a rest-to-rest quintic per joint. The paper "
+              "prints no coordinates of M0 or M_fin; Fig. 3 marks the ones armlab computes from those angles.")
     coefficients = motion.coefficients()[0]  # (2 joints, 6): [a1 … a6]
     names = ("a", "b")
     table = []
@@ -101,10 +102,6 @@ def _fig3_kinematics(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> 
     q, qd, qdd = motion.evaluate(t)
     M = arm.forward(q).points["M"]
     O2 = arm.forward(q).points["O2"]
-    for label, paper_xy, k in (("M0", PAPER_M0, 0), ("M_fin", PAPER_MFIN, -1)):
-        for axis, i in (("x", 0), ("y", 1)):
-            out.add(compare(PAPER, f"Fig. 2/3 {label} {axis} [m]", paper_xy[i], float(M[k, i]), 5e-5,
-                            "eqs. (1)-(2) at the quintic's end; tolerance: half the 4th printed decimal"))
 
     fig, ax = new_figure("Paper 000, Fig. 3 — trajectory of the end point M\n(θ1 −38° → 62°, θ2 98° → 68°, t_f = "
                          f"{motion.duration:g} s)", size=(6.5, 6))
@@ -112,13 +109,16 @@ def _fig3_kinematics(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> 
     for k, alpha in ((0, 1.0), (len(t) // 4, 0.35), (len(t) // 2, 0.35), (3 * len(t) // 4, 0.35), (-1, 1.0)):
         ax.plot([0, O2[k, 0], M[k, 0]], [0, O2[k, 1], M[k, 1]], "-o", color="0.3", alpha=alpha, ms=3, lw=2,
                 label="arm at t = 0, t_f/4, t_f/2, 3t_f/4, t_f" if k == 0 else None)
-    ax.annotate(f"M0 ({M[0, 0]:.4f}, {M[0, 1]:.4f})", M[0, :2], xytext=(10, -14), textcoords="offset points")
-    ax.annotate(f"M_fin ({M[-1, 0]:.4f}, {M[-1, 1]:.4f})", M[-1, :2], xytext=(8, 6), textcoords="offset points")
+    ax.annotate(f"M0 ({M[0, 0]:.4f}, {M[0, 1]:.4f}), armlab", M[0, :2], xytext=(10, -14),
+                textcoords="offset points")
+    ax.annotate(f"M_fin ({M[-1, 0]:.4f}, {M[-1, 1]:.4f}), armlab", M[-1, :2], xytext=(8, 6),
+                textcoords="offset points")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_aspect("equal")
     ax.legend(loc="lower left")
-    out.figure(fig, "fig03_trajectory", "Fig. 3", "trajectory of M for the quintic of §4")
+    out.figure(fig, "fig03_trajectory", "Fig. 3", "trajectory of M for the quintic of §4 (M0, M_fin: armlab's FK "
+               "of the printed angles, eqs. 1-2)")
 
     fig, axes = new_figure("Paper 000, Fig. 5 — angles, angular velocities and accelerations (Fig. 3's motion)",
                            3, 1, size=(7, 7), sharex=True)
@@ -136,6 +136,7 @@ def _fig3_kinematics(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> 
 def _fig4_workspace(out: PaperOutput, arm: Any, fast: bool) -> None:
     from armlab.scripts.figures import new_figure
 
+    out.group("Fig. 4: the workspace")
     grid = np.arange(0.0, 1.5 * np.pi, 0.1)  # the paper's theta = 0:0.1:3*pi/2 (Matlab's colon: ends ≤ 3π/2)
     t1, t2 = np.meshgrid(grid, grid, indexing="ij")
     M = arm.forward(np.stack([t1.ravel(), t2.ravel()], axis=-1)).points["M"]
@@ -213,26 +214,27 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     motion = abcd_motion(arm, SEGMENT_TIME)
     labels = motion.labels
     # ---- Table 2: exact IK angles at each segment's ends, on the branch Table 2 uses there
+    out.group("Table 2: joint angles at A, B, C and D",
+              "armlab: exact inverse kinematics (law of cosines) of Table 1's points on the IK branch Table 2 uses "
+              "at each end. Table 2 prints whole degrees: a value matches within half a degree.")
     names = ("θ10", "θ20", "θ1tf", "θ2tf")
+    ends = np.array([[seg.q0, seg.qf] for seg in motion.segments])  # (4, 2, 2)
+    points = np.array([[ABCD_POINTS[label[0]], ABCD_POINTS[label[-1]]] for label in labels])
+    fk_gap = float(np.abs(arm.forward(ends.reshape(-1, 2)).points["M"][:, :2] - points.reshape(-1, 2)).max())
     table2 = []
     for k, (label, seg) in enumerate(zip(labels, motion.segments, strict=True)):
         values = _deg(np.array([seg.q0[0], seg.q0[1], seg.qf[0], seg.qf[1]]))
         branches = ABCD_SEGMENTS[k]
         start_branch = "as reached" if branches[1] is None else branches[1]
-        note = (f"kinematics.ik.rr_ik; IK branch at start/end: {start_branch}/{branches[3]} (0: θ2 ≥ 0, "
-                f"1: θ2 ≤ 0), the branch Table 2 uses; tolerance {TABLE2_TOL_DEG:g}° "
-                "(at B and D, on the workspace's rims, arccos near ±1 turns the 1e-16 round-off of |M|² "
-                "into ~1e-8 rad)")
+        note = (f"kinematics.ik.rr_ik on IK branch {start_branch}/{branches[3]} at start/end (0: θ2 ≥ 0, "
+                f"1: θ2 ≤ 0), the branch Table 2 uses; forward kinematics of armlab's angles reproduces Table 1's "
+                f"points to {fk_gap:.1e} m; tolerance {TABLE2_TOL_DEG:g}° (whole degrees printed)")
         for name, paper_value, value in zip(names, PAPER_TABLE2_DEG[label], values, strict=True):
-            rounded = round(value) == paper_value
-            reason = f"the paper rounds to whole degrees (exact {value:.4f}°)" if rounded else None
-            out.add(compare(PAPER, f"Table 2 {label} {name} [deg]", paper_value, float(value), TABLE2_TOL_DEG, note,
-                            reason))
+            out.add(compare(PAPER, f"Table 2 {label} {name} [deg]", paper_value, float(value), TABLE2_TOL_DEG, note))
         table2.append([label, *values.tolist(), *PAPER_TABLE2_DEG[label]])
     out.table("table2_ik_angles", "Table 2 — joint angles at the ends of each segment (deg), armlab vs paper",
-              ["segment", "θ10", "θ20", "θ1tf", "θ2tf", "θ10 paper", "θ20 paper", "θ1tf paper", "θ2tf paper"], table2,
-              note="armlab: exact inverse kinematics (law of cosines) of Table 1's points on the IK branch Table 2 "
-                   "uses at each end.")
+              ["segment", "θ10", "θ20", "θ1tf", "θ2tf", "θ10 paper", "θ20 paper", "θ1tf paper", "θ2tf paper"], table2)
+    _branch_switches(out, motion)
 
     # ---- the circle claim: radial deviation of M along each joint-space segment, and the Cartesian arc
     centre, radius = _circle(ABCD_POINTS)
@@ -244,6 +246,18 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     arc = _cartesian_arc(arm, centre, radius, tau, SEGMENT_TIME)
     M_arc = np.stack([arm.forward(q).points["M"][:, :2] for q in arc["q"]])
     radial_arc = np.abs(np.linalg.norm(M_arc - centre, axis=-1) - radius).max(axis=1)
+
+    # ---- simulation (Fig. 6 diagram) and inverse dynamics of the same reference
+    log = simulate(arm, motion, log_period=log_period)
+    tau_id = joint_torques(arm, log.q_ref, log.qd_ref, log.qdd_ref)
+    id_gap = float(np.abs(tau_id - log.tau).max())
+    tau_arc = np.stack([joint_torques(arm, q, qd, qdd) for q, qd, qdd in zip(arc["q"], arc["qd"], arc["qdd"],
+                                                                              strict=True)])
+    segments = summarize(log)["segments"]  # per segment, both ends included, as armlab simulate reports them
+    peaks = np.array([segments[k]["max_abs_torque"] for k in range(4)])
+    peaks_arc = np.abs(tau_arc).max(axis=1)
+
+    out.group("Fig. 8: is the path A→B→C→D→A a circle?")
     for k, label in enumerate(labels):
         out.add(compare(
             PAPER, f"Fig. 8 claim: M on the circle through A-D, max radial deviation on {label} [m]", 0.0,
@@ -251,33 +265,6 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
             f"circle centre ({centre[0]:.4g}, {centre[1]:.4g}) m, r = {radius:.4g} m from A, B, C (D lies on it to "
             f"{d_on_circle:.1e} m); joint-space quintic, FK at {tau.size} samples",
             "the joint-space quintic leaves the circle (the paper's 'as expected, the circle' is not)"))
-
-    # ---- simulation (Fig. 6 diagram) and inverse dynamics of the same reference
-    log = simulate(arm, motion, log_period=log_period)
-    out.simulated_run(log, "abcd", "the A-B-C-D-A run (Figs. 8-10)")
-    tau_id = joint_torques(arm, log.q_ref, log.qd_ref, log.qdd_ref)
-    id_gap = float(np.abs(tau_id - log.tau).max())
-    tau_arc = np.stack([joint_torques(arm, q, qd, qdd) for q, qd, qdd in zip(arc["q"], arc["qd"], arc["qdd"],
-                                                                              strict=True)])
-    table3, claim_rows = [], []
-    segments = summarize(log)["segments"]  # per segment, both ends included, as armlab simulate reports them
-    for k, label in enumerate(labels):
-        peak = np.array(segments[k]["max_abs_torque"])
-        peak_arc = np.abs(tau_arc[k]).max(axis=0)
-        for j in range(2):
-            out.add(Row(PAPER, f"Table 3 {label} τ{j + 1}max [N·m]", PAPER_TABLE3[label][j], float(peak[j]),
-                        float(peak[j] - PAPER_TABLE3[label][j]),
-                        not_reproducible("mass properties not published (no masses, inertias or gravity direction)"),
-                        "armlab: Drake's Fig. 6 diagram with the chosen masses (parameters below); not tuned"))
-        table3.append([label, *PAPER_TABLE3[label], *peak.tolist(), *peak_arc.tolist()])
-        claim_rows.append([label, float(radial_joint[k]), float(radial_arc[k]), *peak.tolist(), *peak_arc.tolist()])
-    out.table("table3_peak_torques", "Table 3 — peak joint torques per segment (N·m): paper, armlab joint-space, "
-              "armlab Cartesian arc",
-              ["segment", "τ1max paper", "τ2max paper", "τ1max joint-space", "τ2max joint-space", "τ1max Cartesian",
-               "τ2max Cartesian"], table3,
-              note=f"Joint space: simulated (controller torques of Fig. 6's diagram; Drake inverse dynamics of the "
-                   f"reference agrees to {id_gap:.2e} N·m). Cartesian: the true arc by IK along it, torques by Drake's "
-                   "inverse dynamics. Masses are armlab's choice: the paper's values are not reproducible.")
     out.claim(
         "the path A→B→C→D→A is a circle (Fig. 8)",
         f"Table 1's points lie on the circle of radius {radius:.4g} m about ({centre[0]:.4g}, {centre[1]:.4g}) m, and "
@@ -287,32 +274,9 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
         "values by IK along it, all on IK branch 0) in the same 2 s per segment; its peak torques are beside the "
         "joint-space ones (Drake, armlab's chosen masses).",
         ["segment", "max radial dev. joint-space [m]", "max radial dev. Cartesian [m]", "τ1max joint [N·m]",
-         "τ2max joint [N·m]", "τ1max Cartesian [N·m]", "τ2max Cartesian [N·m]"], claim_rows,
-        ["fig08_abcd_path.png", "fig10_abcd_torques.png"])
-    jumps, reconfigurations = [], []
-    segments = motion.segments
-    for k in range(4):
-        a, b = segments[k], segments[(k + 1) % 4]
-        end, start = _deg(a.qf), _deg(b.q0)
-        jump = float(np.abs(start - end).max())
-        jumps.append([f"{labels[k]} → {labels[(k + 1) % 4]}", *end.tolist(), *start.tolist(), jump])
-        if jump > 1e-9:
-            shown = np.round(np.concatenate([end, start]), 2) + 0.0  # + 0.0: no "-0.00"
-            reconfigurations.append(f"at {labels[k][-1]} (reached at ({shown[0]:.2f}°, {shown[1]:.2f}°), left at "
-                                    f"({shown[2]:.2f}°, {shown[3]:.2f}°))")
-    runs = ["-".join([piece.labels[0].split("-")[0]] + [label.split("-")[1] for label in piece.labels])
-            for _, piece in motion.runs()]
-    closes = bool(np.allclose(arc["q"][0, 0], arc["q"][-1, -1], atol=1e-9))
-    out.claim(
-        "Table 2 describes one closed motion; its IK branch switches between segments",
-        f"Table 2's end angles of one segment are not the start angles of the next {'; '.join(reconfigurations)}: "
-        "the IK branch changes there, or θ2 jumps by a full turn (the same pose, but the joint would have to "
-        "unwind). The robot would have to reconfigure at rest between those segments; armlab simulates "
-        f"{', '.join(runs)} as separate runs. On the Cartesian alternative the arm stays on IK branch 0 and the loop "
-        + ("closes in joint space." if closes else "does not close in joint space either."),
-        ["join", "θ1 end [deg]", "θ2 end [deg]", "θ1 next start [deg]", "θ2 next start [deg]", "max jump [deg]"], jumps)
-
-    # ---- Figs. 8, 9, 10
+         "τ2max joint [N·m]", "τ1max Cartesian [N·m]", "τ2max Cartesian [N·m]"],
+        [[label, float(radial_joint[k]), float(radial_arc[k]), *peaks[k].tolist(), *peaks_arc[k].tolist()]
+         for k, label in enumerate(labels)])
     fig, ax = new_figure("Paper 000, Fig. 8 — trajectory of M from A to B, C, D and back to A", size=(6.5, 6))
     phi = np.linspace(0, 2 * np.pi, 361)
     ax.plot(centre[0] + radius * np.cos(phi), centre[1] + radius * np.sin(phi), "-", color="0.75", lw=5,
@@ -329,6 +293,26 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     ax.set_aspect("equal")
     ax.legend(loc="upper left", fontsize=7)
     out.figure(fig, "fig08_abcd_path", "Fig. 8", "M along A-B-C-D-A: joint-space quintics vs the circle")
+
+    out.group("Table 3, Figs. 9 and 10: the A→B→C→D→A run and its peak torques",
+              "Simulated through Drake's Fig. 6 diagram with armlab's chosen masses: the paper publishes no mass "
+              "properties, so its torques are not reproducible; the shapes of Figs. 9-10 are.")
+    table3 = []
+    for k, label in enumerate(labels):
+        for j in range(2):
+            out.add(Row(PAPER, f"Table 3 {label} τ{j + 1}max [N·m]", PAPER_TABLE3[label][j], float(peaks[k, j]),
+                        float(peaks[k, j] - PAPER_TABLE3[label][j]),
+                        not_reproducible("mass properties not published (no masses, inertias or gravity direction)"),
+                        "armlab: Drake's Fig. 6 diagram with the chosen masses (parameters below); not tuned"))
+        table3.append([label, *PAPER_TABLE3[label], *peaks[k].tolist(), *peaks_arc[k].tolist()])
+    out.table("table3_peak_torques", "Table 3 — peak joint torques per segment (N·m): paper, armlab joint-space, "
+              "armlab Cartesian arc",
+              ["segment", "τ1max paper", "τ2max paper", "τ1max joint-space", "τ2max joint-space", "τ1max Cartesian",
+               "τ2max Cartesian"], table3,
+              note=f"Joint space: simulated (controller torques of Fig. 6's diagram; Drake inverse dynamics of the "
+                   f"reference agrees to {id_gap:.2e} N·m). Cartesian: the true arc by IK along it, torques by Drake's "
+                   "inverse dynamics. Masses are armlab's choice: the paper's values are not reproducible.")
+    out.simulated_run(log, "abcd", "the A-B-C-D-A run (Figs. 8-10)")
 
     fig, axes = new_figure("Paper 000, Fig. 9 — θ, ω, α for the sections a) A-B, b) B-C, c) C-D, d) D-A",
                            3, 4, size=(12, 7.5), sharex=True)
@@ -362,11 +346,39 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     out.figure(fig, "fig10_abcd_torques", "Fig. 10", "joint torques per segment, joint-space and Cartesian")
 
 
+def _branch_switches(out: PaperOutput, motion: Any) -> None:
+    """The claim that Table 2 is one closed motion: the joins where its end angles are not the next start's."""
+    labels, segments = motion.labels, motion.segments
+    jumps, reconfigurations = [], []
+    for k in range(4):
+        a, b = segments[k], segments[(k + 1) % 4]
+        end, start = _deg(a.qf), _deg(b.q0)
+        jump = float(np.abs(start - end).max())
+        jumps.append([f"{labels[k]} → {labels[(k + 1) % 4]}", *end.tolist(), *start.tolist(), jump])
+        if jump > 1e-9:
+            shown = np.round(np.concatenate([end, start]), 2) + 0.0  # + 0.0: no "-0.00"
+            reconfigurations.append(f"at {labels[k][-1]} (reached at ({shown[0]:.2f}°, {shown[1]:.2f}°), left at "
+                                    f"({shown[2]:.2f}°, {shown[3]:.2f}°))")
+    runs = ["-".join([piece.labels[0].split("-")[0]] + [label.split("-")[1] for label in piece.labels])
+            for _, piece in motion.runs()]
+    out.claim(
+        "Table 2 describes one closed motion; its IK branch switches between segments",
+        f"Table 2's end angles of one segment are not the start angles of the next {'; '.join(reconfigurations)}: "
+        "the IK branch changes there, or θ2 jumps by a full turn (the same pose, but the joint would have to "
+        "unwind). The robot would have to reconfigure at rest between those segments; armlab simulates "
+        f"{', '.join(runs)} as separate runs. On the Cartesian alternative (Fig. 8 below) the arm stays on IK "
+        "branch 0 throughout.",
+        ["join", "θ1 end [deg]", "θ2 end [deg]", "θ1 next start [deg]", "θ2 next start [deg]", "max jump [deg]"], jumps)
+
+
 def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> None:
     """Fig. 7 (torques of Fig. 3's motion) and Figs. 28-29 (the arm with its tool, vertical plane)."""
     from armlab.diagrams.simulate import simulate
     from armlab.scripts.figures import new_figure
 
+    out.group("§4, Fig. 7: joint torques of Fig. 3's motion",
+              "Simulated through Drake's version of the paper's Fig. 6 diagram (quintic trajectory source → inverse "
+              "dynamics controller → plant → scopes) with armlab's chosen masses.")
     log = simulate(arm, motion, log_period=log_period)
     out.simulated_run(log, "fig07", "Fig. 3's motion (Figs. 5, 7)")
     tau_id = joint_torques(arm, log.q_ref, log.qd_ref, log.qdd_ref)
@@ -388,6 +400,7 @@ def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> Non
     axes[1, 0].set_xlabel("t [s]")
     out.figure(fig, "fig07_torques", "Fig. 7", "joint torques of the quintic of §4 (armlab's chosen masses)")
 
+    out.group("Figs. 26-29: the arm with its tool in the vertical plane")
     tool_log = simulate(arm, motion, payload=TOOL_MASS, log_period=log_period)
     out.simulated_run(tool_log, "fig28", "the arm with its tool in the vertical plane (Figs. 28-29)")
     q_ref = tool_log.q_ref
@@ -415,6 +428,10 @@ def _rrrr(out: PaperOutput) -> None:
     from armlab.scripts.figures import new_figure
 
     arm = get_arm("rrrr")
+    out.group("§7, Figs. 18-19 and 24-25: the RRRR arm at constant joint rates",
+              "Both formulations of the paper: DH (Figs. 11-19) and basic movements with y up (Figs. 20-25).")
+    out.scheme(arm, np.radians([30.0, 40.0, -60.0, 30.0]), "scheme_rrrr", "the RRRR arm (cf. Figs. 11-13, 20) at "
+               "q = (30°, 40°, −60°, 30°), drawn from armlab's model")
     motion = paper_motion(arm)  # q = ω t, ω = (7, 0.05, 0.05, 0.05) rad/s, 15 s
     t = np.linspace(0.0, motion.duration, round(motion.duration / 0.05) + 1)  # the paper's t = 0:0.05:15
     q = motion.evaluate(t)[0]
@@ -451,6 +468,7 @@ def _rrrr(out: PaperOutput) -> None:
             ax.set_aspect("equal", adjustable="datalim")
             ax.legend(loc="upper right")
         out.figure(fig, f"fig{number}_rrrr_planes", f"Fig. {number}", f"trajectory of M in the planes ({form})")
+    out.replay(arm, t, q, "rrrr", "the RRRR arm's constant-rate motion of Figs. 18-19 (q = ω t, 15 s)")
 
 
 def _symbolic(out: PaperOutput) -> None:
@@ -460,6 +478,7 @@ def _symbolic(out: PaperOutput) -> None:
     from armlab.kinematics.errata import ERRATA
     from armlab.kinematics.symbolic import latex_table, rrrr_dh, rrrr_yup
 
+    out.group("Figs. 15-17, 22-23: the printed symbolic expressions")
     dh, yup = rrrr_dh(), rrrr_yup()
     derived = {"Fig. 15 x0M (DH form)": dh.x0M, "Fig. 15 y0M (DH form)": dh.y0M, "Fig. 15 z0M (DH form)": dh.z0M,
                "Fig. 22 x0M (y-up form)": yup.x0M, "Fig. 22 y0M (y-up form)": yup.y0M,
@@ -480,7 +499,7 @@ def _symbolic(out: PaperOutput) -> None:
                     "max |printed − rederived| at 200 random (q, L); tolerance 1e-12"))
         notes[key] = "matches the paper's printed form" if verdict == MATCHES else verdict
     errata = {e.equation: e for e in ERRATA if e.paper == PAPER}
-    entries = []
+    entries, beyond = [], []
     for item in latex_table(include_accelerations=True):
         if not item.source.startswith("000"):
             continue
@@ -496,11 +515,12 @@ def _symbolic(out: PaperOutput) -> None:
             note = match[0]
         else:
             note = "not printed in the paper (derived: v_0M, a_0M by time differentiation, §7)"
+            beyond.append(item.label)
         entries.append((item, note))
     out.expressions("symbolic", "Symbolic expressions, Figs. 15-17, 22-23 (LaTeX)",
                     "Paper 000 — symbolic expressions (Figs. 15-17, 22-23), rederived with sympy",
                     "Each expression is rederived from the paper's matrices of basic movements (kinematics.symbolic) "
-                    "and compared with the printed Matlab output at 200 random (q, L).", entries)
+                    "and compared with the printed Matlab output at 200 random (q, L).", entries, beyond)
 
 
 # ----------------------------------------------------------------------------- the whole paper
@@ -510,8 +530,10 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     from armlab.diagrams.motions import paper_motion
     from armlab.models import get_arm
 
-    out = PaperOutput(PAPER, Path(out_dir), progress)
+    out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("rr")
+    out.scheme(arm, np.radians([-38.0, 98.0]), "scheme_rr", "the RR arm (cf. Fig. 1) at Fig. 3's start, "
+               "θ = (−38°, 98°), drawn from armlab's model")
     motion = paper_motion(arm, tf=SEGMENT_TIME)
     log_period = 0.02 if fast else DEFAULT_LOG_PERIOD
     t = np.linspace(0.0, motion.duration, 101 if fast else 401)

@@ -20,13 +20,18 @@ from typing import Any
 
 import numpy as np
 
-from armlab.scripts.report import MATCHES, PaperOutput, Row, differs
+from armlab.scripts.report import PaperOutput, Row, differs, matches, not_reproducible
 
 PAPER = "001"
+TITLE = "Qin et al., Four degree of freedom manipulator's kinematics simulation analysis based on MATLAB"
 
 #: §3: start and target of the tool (m) — the paper's values.
 PAPER_START = (2.0, 0.0, 0.0)
 PAPER_TARGET = (1.0, 1.0, 1.4)
+
+
+#: d2 ≠ 0 at which eq. (6) tells the modified-DH reading of Table 1 from the standard one (m).
+D2_PROBE = 0.25
 
 
 def paper_T04_at_zero(a2: float, a3: float, d2: float) -> np.ndarray:
@@ -34,24 +39,72 @@ def paper_T04_at_zero(a2: float, a3: float, d2: float) -> np.ndarray:
     return np.array([[1.0, 0, 0, a2 + a3], [0, 0, 1, d2], [0, -1, 0, 0]])
 
 
+def fig4_splits(target: tuple[float, float, float] = PAPER_TARGET, reach: float = 2.0,
+                samples: int = 20001) -> np.ndarray:
+    """The link lengths with which Fig. 4's claim holds exactly: rows (a2, θ) with a2 + a3 = ``reach``
+    (the stretched start), d2 = 0, such that θ = (θ1, θ, θ, θ1), θ1 = atan2(y, x), puts the tool at ``target``.
+
+    Eq. (5) with d2 = 0 and θ2 = θ3 = θ: c1 (a2 cθ + a3 c2θ) = ρ c1 and −(a2 sθ + a3 s2θ) = p_z, ρ = |(p_x, p_y)|.
+    The first is linear in a2, a2(θ) = (ρ − reach·c2θ)/(cθ − c2θ); the roots in θ of the second,
+    g(θ) = a2(θ) sθ + (reach − a2(θ)) s2θ + p_z, are bracketed on a grid of ``samples`` angles and refined
+    by bisection to round-off. Only roots with 0 < a2 < reach are returned, sorted by a2.
+    """
+    rho, pz = float(np.hypot(target[0], target[1])), float(target[2])
+
+    def a2_of(theta: np.ndarray) -> np.ndarray:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (rho - reach * np.cos(2 * theta)) / (np.cos(theta) - np.cos(2 * theta))
+
+    def g(theta: np.ndarray) -> np.ndarray:
+        a2 = a2_of(theta)
+        return a2 * np.sin(theta) + (reach - a2) * np.sin(2 * theta) + pz
+
+    grid = np.linspace(-np.pi, np.pi, samples)
+    a2, values = a2_of(grid), g(grid)
+    inside = (a2 > 0) & (a2 < reach)
+    k = np.nonzero(inside[:-1] & inside[1:] & (np.sign(values[:-1]) * np.sign(values[1:]) < 0))[0]
+    lo, hi = grid[k], grid[k + 1]
+    for _ in range(60):  # bisection, all brackets at once
+        mid = (lo + hi) / 2
+        left = np.sign(g(lo)) * np.sign(g(mid)) <= 0
+        lo, hi = np.where(left, lo, mid), np.where(left, mid, hi)
+    theta = (lo + hi) / 2
+    roots = np.stack([a2_of(theta), theta], axis=-1)
+    return roots[np.argsort(roots[:, 0])]
+
+
 def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.ndarray]]:
+    from dataclasses import replace
+
     from armlab.kinematics.errata import drake_sample
     from armlab.kinematics.ik import arm4r_ik, solve
+    from armlab.models.arm4r import Parameters, dh_table
 
     p = arm.parameters
     zero = np.zeros(arm.n)
     T = arm.forward(zero).tool[:3]
     drake_T = drake_sample(arm, zero[None]).pose[0, -1, :3]
     gap = float(np.abs(T - paper_T04_at_zero(p["a2"], p["a3"], p["d2"])).max())
+    probe = Parameters(a2=p["a2"], a3=p["a3"], d2=D2_PROBE)
+    printed = paper_T04_at_zero(probe.a2, probe.a3, probe.d2)
+    modified, standard = (float(np.abs(table.end_pose(zero)[:3] - printed).max())
+                          for table in (dh_table(probe), replace(dh_table(probe), convention="standard")))
+    out.group("Eq. (6) and §3: the start and the target",
+              "001 prints no link lengths: armlab chose a2 = a3 = 1 m and d2 = 0 from §3's stretched start (2, 0, 0).")
     out.add(Row(PAPER, "eq. (6): T04 at θ = 0, max |entry difference|", "[[1,0,0,a2+a3],[0,0,1,d2],[0,-1,0,0]]",
-                gap, gap, MATCHES if gap <= 1e-12 else differs(f"entries differ by {gap:.3g}"),
+                gap, gap,
+                (matches(f"holds for the chosen lengths: with d2 = {p['d2']:g} Table 1 read as standard DH gives the "
+                         "same T04") if gap <= 1e-12 else differs(f"entries differ by {gap:.3g}")),
                 f"modified DH of Table 1 (kinematics.dh); Drake's plant agrees to {np.abs(T - drake_T).max():.1e}; "
-                f"a2 = {p['a2']:g}, a3 = {p['a3']:g}, d2 = {p['d2']:g} m; tolerance 1e-12"))
+                f"a2 = {p['a2']:g}, a3 = {p['a3']:g}, d2 = {p['d2']:g} m; with d2 = {D2_PROBE:g} m the modified "
+                f"reading still gives eq. (6) (to {modified:.1e}), the standard one is off by {standard:.3g}; "
+                "tolerance 1e-12"))
     start = arm.forward(motion.segments[0].q0).tool[:3, 3]
     miss = float(np.linalg.norm(start - PAPER_START))
     out.add(Row(PAPER, "§3: start (2, 0, 0) m reached stretched horizontally (θ = 0), |miss| [m]",
                 "(2, 0, 0)", f"({start[0]:.6g}, {start[1]:.6g}, {start[2]:.6g})", miss,
-                MATCHES if miss <= 1e-9 else differs(f"θ = 0 puts the tool {miss:.3g} m away"),
+                (matches("by construction: a2 + a3 = 2 and d2 = 0 were chosen from this sentence") if miss <= 1e-9
+                 else differs(f"θ = 0 puts the tool {miss:.3g} m away")),
                 "forward kinematics at the start's IK solution; tolerance 1e-9 m"))
     q0 = motion.segments[0].q0
     pitch = float(q0[1] + q0[2] + q0[3])
@@ -61,9 +114,39 @@ def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.
     raw = arm4r_ik(PAPER_TARGET, pitch, p["a2"], p["a3"], p["d2"])
     out.add(Row(PAPER, "§3: target (1, 1, 1.4) m reachable; max |FK(IK) − target| over the solutions [m]",
                 "reachable", f"{len(solutions)} of {raw.shape[0]} IK solutions within Table 1's limits", miss,
-                MATCHES if solutions and miss <= 1e-9 else differs("no solution within the limits reaches it"),
+                (matches("holds for the chosen lengths a2 = a3 = 1 m") if solutions and miss <= 1e-9
+                 else differs("no solution within the limits reaches it")),
                 "eqs. (9)-(21) as corrected (kinematics.ik.arm4r_ik) with the start's pitch; tolerance 1e-9 m"))
     return raw, solutions
+
+
+def _fig4_claim(out: PaperOutput, arm: Any, q: np.ndarray) -> None:
+    """Fig. 4's claim (joints 1 and 4 coincide, 2 and 3 coincide) with armlab's lengths, and the lengths with which
+    it holds (:func:`fig4_splits`), each checked by forward kinematics and against Table 1's limits."""
+    from armlab.kinematics.errata import wrap_angle
+    from armlab.models import get_arm
+
+    gap14 = float(np.degrees(np.abs(q[:, 0] - q[:, 3]).max()))
+    gap23 = float(np.degrees(np.abs(q[:, 1] - q[:, 2]).max()))
+    reach = arm.parameters["a2"] + arm.parameters["a3"]
+    theta1 = float(np.arctan2(PAPER_TARGET[1], PAPER_TARGET[0]))
+    lo, hi = arm.limit_arrays()
+    holds, outside = [], []
+    for a2, theta in fig4_splits(PAPER_TARGET, reach):
+        split = get_arm("arm4r", a2=float(a2), a3=float(reach - a2), d2=0.0)
+        joints = wrap_angle(np.array([theta1, theta, theta, theta1]))
+        miss = float(np.abs(split.forward(joints).tool[:3, 3] - PAPER_TARGET).max())
+        text = (f"a2 = {a2:.4f} m, a3 = {reach - a2:.4f} m with θ2 = θ3 = {np.degrees(theta):.2f}°, θ1 = θ4 = "
+                f"{np.degrees(theta1):g}° (FK reaches the target to {miss:.0e} m)")
+        (holds if np.all((joints >= lo) & (joints <= hi)) else outside).append(text)
+    note = (f"armlab's motion (a2 = a3 = {reach / 2:g} m, the start's pitch kept) gives max |θ1 − θ4| = {gap14:.4g}°, "
+            f"|θ2 − θ3| = {gap23:.4g}°. With a2 + a3 = {reach:g} m the claim holds exactly for "
+            + " or ".join(holds) + (f"; outside Table 1's limits also for {'; '.join(outside)}" if outside else ""))
+    out.add(Row(PAPER, "Fig. 4 claim: joints 1 and 4 coincide, joints 2 and 3 coincide; max |θ1 − θ4|, |θ2 − θ3| [deg]",
+                "coincide", f"{gap14:.4g}, {gap23:.4g}", max(gap14, gap23),
+                not_reproducible("the paper prints neither the link lengths nor the target orientation (its stop "
+                                 "values are garbled); the claim depends on both: " + " or ".join(holds)),
+                note))
 
 
 def _figures(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> None:
@@ -132,9 +215,11 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     from armlab.diagrams.motions import paper_motion
     from armlab.models import get_arm
 
-    out = PaperOutput(PAPER, Path(out_dir), progress)
+    out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("arm4r")
     motion = paper_motion(arm)  # §3: (2, 0, 0) → (1, 1, 1.4), the start's pitch, nearest solution, 2 s
+    out.scheme(arm, motion.segments[0].qf, "scheme_arm4r", "the 4R arm (cf. Figs. 1-2) at the target's IK solution, "
+               "drawn from armlab's model")
     raw, solutions = _rows(out, arm, motion)
     within = [any(np.allclose(np.cos(r - s), 1.0) for s in solutions) for r in raw]
     out.table("ik_solutions", "§3 — inverse-kinematics solutions for the target (1, 1, 1.4) m (deg)",
@@ -147,15 +232,10 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
                    "into the limits.")
     t = np.linspace(0.0, motion.duration, 101 if fast else 401)
     q = motion.evaluate(t)[0]
-    gap14 = float(np.degrees(np.abs(q[:, 0] - q[:, 3]).max()))
-    gap23 = float(np.degrees(np.abs(q[:, 1] - q[:, 2]).max()))
-    out.add(Row(PAPER, "Fig. 4 claim: joints 1 and 4 coincide, joints 2 and 3 coincide; max |θ1 − θ4|, |θ2 − θ3| [deg]",
-                "coincide", f"{gap14:.4g}, {gap23:.4g}", max(gap14, gap23),
-                MATCHES if max(gap14, gap23) <= 1e-9 else differs(
-                    "with the start's pitch kept, the nearest solution's joints do not pair up; the paper's stop "
-                    "values are garbled, so its target orientation is unknown"),
-                "along the quintic from the start to the IK solution nearest it"))
+    out.group("Figs. 3-7: the motion from the start to the target")
+    _fig4_claim(out, arm, q)
     _figures(out, arm, motion, t)
+    out.group("Beyond the paper: the motion's joint torques and its 3-D replay")
     _dynamics(out, arm, motion, 0.02 if fast else DEFAULT_LOG_PERIOD)
     out.chosen_parameters(arm, ("a2", "a3", "d2", "m1", "m2", "m3", "m4"))
     out.chosen("motion", "rest-to-rest quintic per joint in 2 s", "the Robotics Toolbox's jtraj is a quintic; §3's 2 s")

@@ -23,6 +23,7 @@ import numpy as np
 from armlab.scripts.report import MATCHES, PaperOutput, Row, differs
 
 PAPER = "003"
+TITLE = "Schonstein & Panc, Kinematical modelling for R2T serial structure (2017)"
 
 
 # ----------------------------------------------------------------------------- the PAPER's printed forms
@@ -67,12 +68,15 @@ def _check(out: PaperOutput, quantity: str, printed: str, computed: str, gap: fl
 
 
 def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> Any:
-    from armlab.kinematics.errata import ERRATA, drake_sample
+    from armlab.kinematics.errata import drake_sample
     from armlab.kinematics.iterative import iterative_kinematics
     from armlab.kinematics.locating import orientation_angles
-    from armlab.models import get_arm
+    from armlab.scripts.report import errata_checked
 
     l = dict(arm.parameters)
+    out.group("Eqs. (17)-(23), (43)-(48): the printed forms checked against Drake",
+              "Along the demo motion (the paper prints no motion); the misprinted equations are listed in the errata "
+              "below and checked here against Drake at random configurations.")
     sample = drake_sample(arm, q, qd, qdd)
     frames = arm.table.frames(q)
     motion = iterative_kinematics(arm.table, q, qd, qdd)
@@ -104,14 +108,14 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
     omega_dot = np.stack([np.zeros(len(q)), np.zeros(len(q)), qdd[:, 0]], -1)
     _check(out, "eq. (48): ⁰ω̇4 = (0, 0, q̈1) [rad/s²]", "(0, 0, q̈1)", "Drake's ⁰ω̇4",
            float(np.abs(omega_dot - sample.omega_dot[:, -1]).max()), 1e-9, f"vs Drake {where}")
-    for e in ERRATA:
-        if e.paper != PAPER or not e.evaluable:
+    samples = 20
+    for e, printed, corrected in errata_checked(samples):
+        if e.paper != PAPER:
             continue
-        s = drake_sample(get_arm(e.arm, **e.overrides), q, qd, qdd) if e.overrides else sample
-        printed, corrected = e.errors(s)
         out.add(Row(PAPER, f"{e.equation} (misprint), max |printed − Drake|", "printed form", "corrected form",
-                    printed, differs(f"misprint — {e.description}") if printed > 1e-9 else MATCHES,
-                    f"the corrected form agrees with Drake to {corrected:.1e} {where}"))
+                    printed, differs("misprint (see the errata below)") if printed > 1e-9 else MATCHES,
+                    f"the corrected form agrees with Drake to {corrected:.1e} at {samples} random configurations "
+                    "within the joint limits; tolerance 1e-9"))
     return sample, motion
 
 
@@ -136,6 +140,8 @@ def _end_effector(out: PaperOutput, t: np.ndarray, v: np.ndarray, w: np.ndarray,
 def _figures(out: PaperOutput, arm: Any, t: np.ndarray, motion: Any, drake_gap: float) -> None:
     from armlab.scripts.figures import new_figure
 
+    out.group("Eqs. (24)-(33), (46)-(49), (62)-(69): the motion of the end effector and of every link",
+              "The iterative algorithm along the demo motion (the paper prints no motion or plot).")
     _end_effector(out, t, motion.v_0[:, -1], motion.w_0[:, -1], motion.vd_0[:, -1], motion.wd_0[:, -1], "0",
                   "Paper 003 — end effector (tool P4) velocity and acceleration in {0}, eqs. (32)-(33), demo transfer",
                   "fig_end_effector", "End-effector courses (eqs. 32-33, 46-49)",
@@ -165,6 +171,7 @@ def _symbolic(out: PaperOutput) -> None:
     from armlab.kinematics.errata import ERRATA
     from armlab.kinematics.symbolic import latex_table
 
+    out.group("Eqs. (17), (19)-(21), (43)-(49), (61)-(65): the symbolic expressions")
     errata = [e for e in ERRATA if e.paper == PAPER]
     checked = {"17", "20", "43", "46", "48"}  # the printed forms _rows evaluates
     entries = []
@@ -191,11 +198,13 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     from armlab.diagrams.motions import paper_motion
     from armlab.models import get_arm
 
-    out = PaperOutput(PAPER, Path(out_dir), progress)
+    out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("r2t")
     demo = paper_motion(arm)
     t = np.linspace(0.0, demo.duration, 151 if fast else 601)
     q, qd, qdd = demo.evaluate(t)
+    out.scheme(arm, q[len(t) // 2], "scheme_r2t", "the R2T arm (cf. Figs. 1-2) half-way through the demo motion, "
+               "drawn from armlab's model")
     every = max(1, len(t) // 25)
     sample, _ = _rows(out, arm, q[::every], qd[::every], qdd[::every])
     from armlab.kinematics.iterative import iterative_kinematics
@@ -204,6 +213,7 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     gap = max(float(np.abs(getattr(motion, a)[::every, -1] - getattr(sample, b)[:, -1]).max())
               for a, b in (("v_0", "v"), ("w_0", "omega"), ("vd_0", "v_dot"), ("wd_0", "omega_dot")))
     _figures(out, arm, t, motion, gap)
+    out.replay(arm, t, q, "demo", f"the demo motion ({demo.description})")
     _symbolic(out)
     out.chosen_parameters(arm, ("l1", "l2", "l3", "l4", "l5", "q2_max", "q3_max", "m1", "m2", "m3"))
     out.chosen("demo motion", demo.description, "paper 003 prints no motion")

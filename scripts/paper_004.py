@@ -20,6 +20,7 @@ import numpy as np
 from armlab.scripts.report import MATCHES, PaperOutput, Row, compare, differs
 
 PAPER = "004"
+TITLE = "Ondočko et al., Position forward kinematics of 6-DOF robotic arm"
 
 #: Paper 004, Table 2 (mm): p1 … p7 as printed by both of its models — the PAPER's values.
 PAPER_TABLE2_MM = {
@@ -73,13 +74,20 @@ def _figure(out: PaperOutput, points_mm: np.ndarray, names: list[str], phi_deg: 
 
 def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> list[Row]:
     """Reproduce paper 004 into ``out_dir``; returns its report rows (``fast`` changes nothing here)."""
+    from armlab.diagrams.motions import paper_motion
+    from armlab.kinematics.errata import ERRATA, drake_sample
     from armlab.kinematics.urm import position_vectors_homogeneous
     from armlab.models import get_arm
     from armlab.models.urm6 import TABLE1_PHI_DEG
 
-    out = PaperOutput(PAPER, Path(out_dir), progress)
+    out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("urm6")
     phi = np.radians(TABLE1_PHI_DEG)
+    out.scheme(arm, phi, "scheme_urm6", "the URM arm (cf. Figs. 1-3) at Table 1's configuration, drawn from armlab's "
+               "model")
+    out.group("Table 2 and Fig. 4: the position vectors p1…p7 at Table 1's configuration",
+              "Computed by the paper's rotation-matrix form (eqs. 1-7), cross-checked against its homogeneous form "
+              "(eq. 22, corrected) and Drake's plant from the URDF; the paper's own check was two independent models.")
     names = [f"p{k}" for k in range(1, 8)]
     fk = arm.forward(phi).points  # eqs. (1)-(7)
     rotation_form = np.array([fk[n] for n in names]) * 1e3
@@ -107,6 +115,20 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
                 MATCHES if drake_gap <= 1e-9 else differs(f"eqs. (1)-(7) and Drake differ by {drake_gap:.3g} mm"),
                 "here: the paper's eqs. (1)-(7) vs Drake's plant from the URDF; tolerance 1e-9 mm"))
     _figure(out, rotation_form, names, np.asarray(TABLE1_PHI_DEG))
+    demo = paper_motion(arm)
+    t = np.linspace(0.0, demo.duration, 201)
+    out.replay(arm, t, demo.evaluate(t)[0], "demo", f"the arm moving to Table 1's configuration ({demo.description})")
+
+    out.group("Eqs. (7) and (22): the general formulas as printed, at Table 1's configuration")
+    sample = drake_sample(arm, phi[None])
+    for e in (e for e in ERRATA if e.paper == PAPER):
+        off = np.linalg.norm(e.printed(sample)[0] - e.reference(sample)[0], axis=-1) * 1e3  # p2 … p7, mm
+        corrected = float(np.abs(e.corrected(sample)[0] - e.reference(sample)[0]).max()) * 1e3
+        out.add(Row(PAPER, f"{e.equation} (misprint): p2…p7 as printed at Table 1's configuration, "
+                    "max |printed − Drake| [mm]", "printed form", "corrected form", float(off.max()),
+                    differs("misprint (see the errata below)") if off.max() > 1e-6 else MATCHES,
+                    "|printed − Drake| per point: " + ", ".join(f"p{k + 2} {v:.4g} mm" for k, v in enumerate(off))
+                    + f"; the corrected form agrees with Drake to {corrected:.1e} mm"))
     out.chosen_parameters(arm, ("module_mass",))
     return out.finish()
 

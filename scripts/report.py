@@ -2,22 +2,33 @@
 
 A paper script (``scripts/paper_NNN.py``) writes its figures, tables and notes through a
 :class:`PaperOutput`, which prints one progress line per item and records it in the
-folder's ``manifest.json``. :func:`write_report` then reads every paper folder's manifest
-and writes ``report.md`` and ``report.html`` (figures inline) beside them.
+folder's ``manifest.json``; :meth:`PaperOutput.group` starts a group (a figure or table of the
+paper), and the rows, figures, tables, claims, runs and replays that follow belong to it, so
+the report shows each figure beside the rows it supports. :func:`write_report` then reads
+every paper folder's manifest and writes ``report.md`` and a self-contained ``report.html``
+(figures embedded, mathematics rendered by :mod:`armlab.scripts.math_html`, no network).
 
 Every :class:`Row` compares one number (or printed expression) the paper publishes with
 the value armlab computes at run time. Its verdict is exactly one of
 
-* ``"matches"``;
+* ``"matches"``, or ``"matches: <qualifier>"`` when the match holds only by construction or
+  for armlab's chosen parameters (:func:`matches`);
 * ``"differs: <reason>"``;
 * ``"not reproducible: <what the paper leaves out>"``.
+
+Every CSV armlab writes goes through :func:`csv_text`: numbers as plain decimal text (never
+the ``repr`` of a numpy scalar), so ``numpy.loadtxt`` and ``csv`` read them back.
 """
 
 from __future__ import annotations
 
+import base64
 import csv
+import hashlib
 import html
+import io
 import json
+import numbers
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
@@ -25,16 +36,23 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+from armlab.files import write_file
+
 __all__ = [
     "MATCHES",
     "PaperOutput",
     "Row",
     "compare",
+    "csv_cell",
+    "csv_text",
     "differs",
+    "errata_checked",
     "load_rows",
     "markdown_table",
+    "matches",
     "not_reproducible",
     "verdict_counts",
+    "write_csv",
     "write_report",
 ]
 
@@ -43,8 +61,18 @@ DIFFERS = "differs"
 NOT_REPRODUCIBLE = "not reproducible"
 VERDICT_KINDS = (MATCHES, DIFFERS, NOT_REPRODUCIBLE)
 MANIFEST = "manifest.json"
+#: Significant digits: armlab's values and table cells, and deviations (paper values are shown as printed).
+VALUE_DIGITS = 7
+DEVIATION_DIGITS = 2
+#: Magnitudes below this are round-off (shown with :data:`DEVIATION_DIGITS` digits).
+ROUND_OFF = 1e-9
 
 Value = float | str | None
+
+
+def matches(qualifier: str = "") -> str:
+    """``"matches"``, or ``"matches: <qualifier>"`` (e.g. "by construction", "holds for the chosen lengths")."""
+    return f"{MATCHES}: {qualifier}" if qualifier else MATCHES
 
 
 def differs(reason: str) -> str:
@@ -70,9 +98,9 @@ class Row:
     note: str = ""
 
     def __post_init__(self) -> None:
-        if self.verdict != MATCHES and not any(self.verdict.startswith(f"{k}: ") for k in VERDICT_KINDS[1:]):
+        if self.verdict != MATCHES and not any(self.verdict.startswith(f"{k}: ") for k in VERDICT_KINDS):
             raise ValueError(f"verdict {self.verdict!r} is not allowed: "
-                             "'matches', 'differs: …' or 'not reproducible: …'")
+                             "'matches', 'matches: …', 'differs: …' or 'not reproducible: …'")
 
     @property
     def kind(self) -> str:
@@ -108,16 +136,57 @@ def verdict_counts(rows: Sequence[Row]) -> dict[str, int]:
     return {kind: counts.get(kind, 0) for kind in VERDICT_KINDS}
 
 
-def _fmt(value: Value, digits: int = 10) -> str:
+# --------------------------------------------------------------------------- numbers as text
+def csv_cell(value: Any) -> str:
+    """One CSV cell: a number as plain decimal text (full precision; numpy scalars too), ``None`` empty."""
+    if value is None:
+        return ""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        return repr(float(value) + 0.0)  # + 0.0: no "-0.0"
+    raise ValueError(f"CSV cell {value!r} ({type(value).__name__}) is not allowed: a number, a string or None")
+
+
+def csv_text(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    """A CSV file's text: the header row and one line per row, cells by :func:`csv_cell`."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(headers)
+    writer.writerows([[csv_cell(v) for v in row] for row in rows])
+    return buffer.getvalue()
+
+
+def write_csv(path: str | Path, headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> Path:
+    """Write :func:`csv_text` to ``path`` atomically (:func:`armlab.files.write_file`)."""
+    return write_file(path, csv_text(headers, rows))
+
+
+def _fmt(value: Any, digits: int = VALUE_DIGITS) -> str:
+    """A value for the report: a number with ``digits`` significant digits, text as it is, ``None`` as —."""
     if value is None:
         return "—"
     if isinstance(value, str):
         return value
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+        return str(int(value))
+    value = float(value) + 0.0
     if value == 0:
         return "0"
-    if abs(value) < 1e-3 or abs(value) >= 1e6:
-        return f"{value:.3e}"
+    if abs(value) < ROUND_OFF:  # round-off: its digits mean nothing
+        digits = min(digits, DEVIATION_DIGITS)
+    if abs(value) < 1e-3 or abs(value) >= 1e7:
+        return f"{value:.{max(digits - 1, 0)}e}".replace("e-0", "e-").replace("e+0", "e+")
     return f"{value:.{digits}g}"
+
+
+def _paper_fmt(value: Any) -> str:
+    """A paper value as the paper prints it (up to 10 significant digits, no trailing zeros)."""
+    return _fmt(value, 10)
 
 
 def _md_cell(text: str) -> str:
@@ -125,88 +194,127 @@ def _md_cell(text: str) -> str:
 
 
 def markdown_table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
-    """A GitHub-flavoured Markdown table; floats printed with 10 significant digits."""
+    """A GitHub-flavoured Markdown table; numbers with :data:`VALUE_DIGITS` significant digits."""
     lines = ["| " + " | ".join(_md_cell(h) for h in headers) + " |", "|" + "---|" * len(headers)]
     for row in rows:
-        lines.append("| " + " | ".join(_md_cell(_fmt(v) if not isinstance(v, str) else v) for v in row) + " |")
+        lines.append("| " + " | ".join(_md_cell(_fmt(v)) for v in row) + " |")
     return "\n".join(lines) + "\n"
 
 
 # --------------------------------------------------------------------------- one paper's outputs
 @dataclass
 class PaperOutput:
-    """Collects one paper's rows and writes its figures, tables and notes into ``folder``."""
+    """Collects one paper's rows and writes its figures, tables and notes into ``folder``.
+
+    Everything recorded after :meth:`group` belongs to that group (its ``"group"`` index in the
+    manifest; ``"row_groups"`` holds each row's).
+    """
 
     paper: str
     folder: Path
     progress: Callable[[str], Any] = print
+    title: str = ""
     rows: list[Row] = field(default_factory=list)
-    manifest: dict[str, list] = field(
-        default_factory=lambda: {"figures": [], "tables": [], "texts": [], "claims": [], "parameters": [],
-                                 "runs": [], "errata": []}
+    manifest: dict[str, Any] = field(
+        default_factory=lambda: {"title": "", "groups": [], "row_groups": [], "figures": [], "tables": [],
+                                 "texts": [], "claims": [], "parameters": [], "runs": [], "replays": [],
+                                 "schemes": [], "errata": []}
     )
 
     def __post_init__(self) -> None:
         self.folder = Path(self.folder)
         self.folder.mkdir(parents=True, exist_ok=True)
+        self.manifest["title"] = self.title
 
     def _say(self, what: str, files: Sequence[str]) -> None:
         self.progress(f"[{self.paper}] {what} → {', '.join(files)}")
 
+    def _group_index(self) -> int:
+        if not self.manifest["groups"]:
+            self.group("Other results")
+        return len(self.manifest["groups"]) - 1
+
+    def _record(self, kind: str, entry: dict[str, Any]) -> None:
+        self.manifest[kind].append({**entry, "group": self._group_index()})
+
+    def group(self, title: str, text: str = "") -> None:
+        """Start a group (one figure or table of the paper, or one claim): what follows belongs to it."""
+        self.manifest["groups"].append({"title": title, "text": text})
+
     def add(self, *rows: Row) -> None:
-        """Append report rows."""
+        """Append report rows (to the current group)."""
+        index = self._group_index()
         self.rows.extend(rows)
+        self.manifest["row_groups"].extend([index] * len(rows))
 
     def figure(self, fig: Any, stem: str, label: str, caption: str) -> None:
         """Save a matplotlib figure as ``stem.png`` (120 dpi) and ``stem.svg`` and close it."""
         from armlab.scripts.figures import save
 
         files = save(fig, self.folder / stem)
-        self.manifest["figures"].append({"label": label, "caption": caption, "png": f"{stem}.png",
-                                         "svg": f"{stem}.svg"})
+        self._record("figures", {"label": label, "caption": caption, "png": f"{stem}.png", "svg": f"{stem}.svg"})
         self._say(label, [p.name for p in files])
+
+    def scheme(self, arm: Any, q: Any, stem: str, label: str) -> None:
+        """The arm's kinematic scheme at ``q`` (:func:`armlab.diagrams.draw.draw_arm`) as ``stem.png``."""
+        from armlab.diagrams.draw import draw_arm
+
+        draw_arm(arm, q, self.folder / f"{stem}.png")
+        self.manifest["schemes"].append({"label": label, "png": f"{stem}.png"})
+        self._say(label, [f"{stem}.png"])
 
     def table(self, stem: str, label: str, headers: Sequence[str], rows: Sequence[Sequence[Any]],
               note: str = "") -> None:
-        """Write a table as ``stem.csv`` (full precision) and ``stem.md``."""
-        with open(self.folder / f"{stem}.csv", "w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(headers)
-            writer.writerows([[repr(v) if isinstance(v, float) else v for v in row] for row in rows])
+        """Write a table as ``stem.csv`` (full precision, :func:`csv_text`) and ``stem.md``."""
+        write_csv(self.folder / f"{stem}.csv", headers, rows)
         text = f"# {label}\n\n" + markdown_table(headers, rows) + (f"\n{note}\n" if note else "")
         (self.folder / f"{stem}.md").write_text(text)
-        self.manifest["tables"].append({"label": label, "csv": f"{stem}.csv", "md": f"{stem}.md",
-                                        "headers": list(headers), "rows": [[_fmt(v) for v in r] for r in rows],
-                                        "note": note})
+        self._record("tables", {"label": label, "csv": f"{stem}.csv", "md": f"{stem}.md", "headers": list(headers),
+                                "rows": [[_fmt(v) for v in r] for r in rows], "note": note})
         self._say(label, [f"{stem}.csv", f"{stem}.md"])
 
-    def expressions(self, stem: str, label: str, title: str, intro: str, entries: Sequence[tuple[Any, str]]) -> None:
+    def expressions(self, stem: str, label: str, title: str, intro: str, entries: Sequence[tuple[Any, str]],
+                    beyond: Sequence[str] = ()) -> None:
         """Write printed expressions as ``stem.md``: per entry (a :class:`~armlab.kinematics.symbolic.LatexItem`
-        and a note whether it matches the paper's printed form) a heading, the LaTeX and the note."""
+        and a note whether it matches the paper's printed form) a heading, the LaTeX and the note. The
+        report renders them, except those whose labels are in ``beyond`` (derived, not printed by the
+        paper: named there, with a pointer to ``stem.md``)."""
         lines = [f"# {title}", "", intro, ""]
         for item, note in entries:
-            lines += [f"## {item.label} — {item.source}", "", f"$$\n{item.latex}\n$$", "", f"*{note}*", ""]
+            lines += [f"## ${item.label}$ — {item.source}", "", f"$$\n{item.latex}\n$$", "", f"*{note}*", ""]
         (self.folder / f"{stem}.md").write_text("\n".join(lines))
-        self.manifest["texts"].append({"label": label, "md": f"{stem}.md"})
+        self._record("texts", {"label": label, "md": f"{stem}.md", "intro": intro, "entries": [
+            {"label": item.label, "source": item.source, "latex": item.latex, "note": note,
+             "printed": item.label not in beyond} for item, note in entries]})
         self._say(label, [f"{stem}.md"])
 
     def simulated_run(self, log: Any, stem: str, label: str) -> None:
-        """A simulated run's Systems diagram as ``diagram_<stem>.svg`` (graphviz's ``dot``) and its 3-D
-        replay as ``replay_<stem>.html`` (:func:`armlab.diagrams.replay.write_replay`)."""
-        from armlab.diagrams.graphviz import render
+        """A simulated run's Systems diagram as ``diagram_<stem>.svg`` (the Fig. 6 view,
+        :func:`armlab.diagrams.graphviz.fig6_dot`) and its 3-D replay as ``replay_<stem>.html``."""
+        from armlab.diagrams.graphviz import fig6_dot, render
         from armlab.diagrams.replay import write_replay
 
         svg, replay = f"diagram_{stem}.svg", f"replay_{stem}.html"
-        (self.folder / svg).write_bytes(render(log.diagram_dot, "svg"))
+        (self.folder / svg).write_bytes(render(fig6_dot(log.diagram_dot), "svg"))
         write_replay(log.arm, log.t, log.q, self.folder / replay, tool_path=log.tool[:, :3])
-        self.manifest["runs"].append({"label": label, "svg": svg, "replay": replay})
+        self._record("runs", {"label": label, "svg": svg, "replay": replay})
         self._say(f"{label}: Systems diagram and 3-D replay", [svg, replay])
+
+    def replay(self, arm: Any, t: Any, q: Any, stem: str, label: str) -> None:
+        """A kinematic motion ``q(t)`` of ``arm`` as the 3-D replay ``replay_<stem>.html`` (no simulation)."""
+        from armlab.diagrams.replay import write_replay
+
+        name = f"replay_{stem}.html"
+        write_replay(arm, t, q, self.folder / name)
+        self._record("replays", {"label": label, "replay": name})
+        self._say(f"{label}: 3-D replay", [name])
 
     def claim(self, title: str, text: str, headers: Sequence[str] = (), rows: Sequence[Sequence[Any]] = (),
               figures: Sequence[str] = ()) -> None:
-        """A claim of the paper that the numbers contradict (or qualify), with evidence."""
-        self.manifest["claims"].append({"title": title, "text": text, "headers": list(headers),
-                                        "rows": [[_fmt(v) for v in r] for r in rows], "figures": list(figures)})
+        """A claim of the paper that the numbers contradict (or qualify), with evidence (``figures``: PNG names
+        of figures recorded in this paper, shown with the claim)."""
+        self._record("claims", {"title": title, "text": text, "headers": list(headers),
+                                "rows": [[_fmt(v) for v in r] for r in rows], "figures": list(figures)})
 
     def chosen(self, name: str, value: str, why: str) -> None:
         """A parameter armlab chose where the paper is silent."""
@@ -219,16 +327,17 @@ class PaperOutput:
         mine = [e for e in ERRATA if e.paper == self.paper]
         checked = {}
         if any(e.evaluable for e in mine):
-            checked = {id(e): (printed, corrected) for e, printed, corrected in _errata_checked(samples)}
+            checked = {id(e): (printed, corrected) for e, printed, corrected in errata_checked(samples)}
         for e in mine:
             if id(e) in checked:
                 printed, corrected = checked[id(e)]
-                evidence = (f"{e.description} Against Drake at {samples} random configurations: printed form off by "
-                            f"up to {printed:.3g}, corrected form by {corrected:.1e}.")
+                evidence = (f"Against Drake at {samples} random configurations: printed form off by up to "
+                            f"{_fmt(printed, 3)}, corrected form by {_fmt(corrected, 2)}.")
             else:
-                evidence = f"{e.description} (not evaluable: a printing or naming error)"
-            self.manifest["errata"].append({"where": f"{e.paper} {e.equation}", "printed": e.printed_form,
-                                            "corrected": e.corrected_form, "evidence": evidence})
+                evidence = "Not evaluable against Drake: a printing or naming error, no quantity to compare."
+            self.manifest["errata"].append({"where": f"{e.paper} {e.equation}", "description": e.description,
+                                            "printed": e.printed_form, "corrected": e.corrected_form,
+                                            "evidence": evidence})
 
     def chosen_parameters(self, arm: Any, keys: Sequence[str]) -> None:
         """Record the arm parameters ``keys`` that its model file marks as chosen, with the reason given there."""
@@ -239,12 +348,8 @@ class PaperOutput:
     def finish(self) -> list[Row]:
         """Record the paper's errata, write ``rows.csv`` and ``manifest.json``; return the rows."""
         self.errata()
-        with open(self.folder / "rows.csv", "w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(["paper", "quantity", "paper_value", "armlab_value", "deviation", "verdict", "note"])
-            for row in self.rows:
-                writer.writerow([repr(v) if isinstance(v, float) else ("" if v is None else v)
-                                 for v in asdict(row).values()])
+        write_csv(self.folder / "rows.csv", ["paper", "quantity", "paper_value", "armlab_value", "deviation",
+                                             "verdict", "note"], [list(asdict(row).values()) for row in self.rows])
         self.manifest["rows"] = [asdict(row) for row in self.rows]
         (self.folder / MANIFEST).write_text(json.dumps(self.manifest, indent=1, ensure_ascii=False))
         return self.rows
@@ -262,7 +367,7 @@ def load_rows(folder: Path) -> list[Row] | None:
 
 # --------------------------------------------------------------------------- errata
 @cache
-def _errata_checked(samples: int) -> list[tuple[Any, float, float]]:
+def errata_checked(samples: int) -> list[tuple[Any, float, float]]:
     """:func:`armlab.kinematics.errata.check` once per process (it queries Drake for every paper)."""
     from armlab.kinematics.errata import check
 
@@ -270,42 +375,263 @@ def _errata_checked(samples: int) -> list[tuple[Any, float, float]]:
 
 
 # --------------------------------------------------------------------------- the report
+_CSS = """body{font-family:system-ui,sans-serif;max-width:1280px;margin:1.5em auto;padding:0 1em;color:#222;
+line-height:1.35}h1{font-size:1.6em}h2{border-bottom:2px solid #1f5fa8;padding-bottom:.15em;margin-top:1.8em}
+h3{margin:1.4em 0 .4em;color:#1f3f68}h4{margin:1em 0 .3em}
+table{border-collapse:collapse;margin:.6em 0;font-size:.88em}th,td{border:1px solid #c8c8c8;padding:3px 6px;
+text-align:left;vertical-align:top}th{background:#eef2f6}td.n{text-align:right;font-variant-numeric:tabular-nums;
+white-space:nowrap}.note{display:block;color:#666;font-size:.86em}
+tr.matches td.v{color:#16692b}tr.differs td.v{color:#a15c00}tr.notrep td.v{color:#8b1a1a}
+tr.matches td.v b,tr.differs td.v b,tr.notrep td.v b{display:block}
+.summary td,.summary th{font-size:1.05em;padding:5px 10px}.summary a{font-weight:bold;text-decoration:none}
+.c-matches{color:#16692b}.c-differs{color:#a15c00}.c-notrep{color:#8b1a1a}
+.figs{display:grid;grid-template-columns:repeat(auto-fill,minmax(380px,1fr));gap:10px;margin:.5em 0}
+figure{margin:0;border:1px solid #ddd;padding:4px;background:#fff;cursor:zoom-in}figure img{width:100%;height:auto}
+figure.big{grid-column:1/-1;cursor:zoom-out}figure.big img{max-width:1100px;display:block;margin:auto}
+figcaption{font-size:.82em;color:#555}
+.toc{columns:2;font-size:.92em;background:#f6f8fa;padding:.6em 1.2em;border:1px solid #dde}
+.toc ul{margin:.1em 0;padding-left:1.2em}.toc>ul{padding-left:0;list-style:none}
+.math img.m{vertical-align:middle}.ml{display:inline-flex;flex-direction:column;vertical-align:middle}
+.ml>span:not(:first-child){padding-left:2em}
+table.mat{display:inline-table;border:none;border-left:2px solid #333;border-right:2px solid #333;
+vertical-align:middle;margin:0 .3em}table.mat td{border:none;padding:2px 8px;vertical-align:middle}
+.scroll{max-height:560px;overflow:auto;border:1px solid #ddd;padding:.3em .6em;background:#fcfcfc}
+.expr{margin:.6em 0 .9em}.expr .lhs{margin-right:.4em}.files{font-size:.88em}
+.claim{border-left:4px solid #a15c00;padding:.2em .8em;background:#fffaf2;margin:.6em 0}
+.index{font-size:.9em;margin:.3em 0 .5em}.index a{text-decoration:none}.index summary{cursor:pointer}
+table.rows{width:100%;table-layout:fixed}table.rows th:nth-child(1){width:36%}table.rows th:nth-child(2){width:13%}
+table.rows th:nth-child(3){width:15%}table.rows th:nth-child(4){width:7%}table.rows td{overflow-wrap:anywhere}
+.erratum{margin:.7em 0;padding:.3em .6em;border-left:4px solid #1f5fa8;background:#f7f9fc}
+.pc{display:grid;grid-template-columns:1fr 1fr;gap:.3em 1em;margin-top:.3em}.pc>div{overflow-x:auto}
+.tag{display:block;font-size:.78em;color:#666;text-transform:uppercase;letter-spacing:.04em}"""
+
+
+def _anchor(*parts: str) -> str:
+    return "-".join(part.replace(" ", "").replace(".", "") for part in parts)
+
+
+def _data_uri(path: Path) -> str:
+    """The file as a data URI; a PNG re-encoded with a 256-colour palette (a quarter of the bytes, same look)."""
+    if path.suffix == ".png":
+        from PIL import Image
+
+        buffer = io.BytesIO()
+        with Image.open(path) as image:
+            image.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE).save(buffer, format="PNG")
+        return f"data:image/png;base64,{base64.b64encode(buffer.getvalue()).decode()}"
+    return f"data:image/svg+xml;base64,{base64.b64encode(path.read_bytes()).decode()}"
+
+
 class _Doc:
     """Blocks rendered both as Markdown and as HTML."""
 
-    def __init__(self) -> None:
+    def __init__(self, out_dir: Path) -> None:
+        self.out_dir = out_dir
         self.md: list[str] = []
         self.html: list[str] = []
 
-    def heading(self, level: int, text: str) -> None:
-        self.md.append(f"{'#' * level} {text}\n")
-        self.html.append(f"<h{level}>{html.escape(text)}</h{level}>")
+    def heading(self, level: int, text: str, anchor: str = "") -> None:
+        self.md.append(f"{'#' * level} {text}" + (f' <a id="{anchor}"></a>' if anchor else "") + "\n")
+        ident = f' id="{anchor}"' if anchor else ""
+        self.html.append(f"<h{level}{ident}>{html.escape(text)}</h{level}>")
 
-    def para(self, text: str, html_text: str | None = None) -> None:
+    def para(self, text: str, html_text: str | None = None, css: str = "") -> None:
         self.md.append(text + "\n")
-        self.html.append(f"<p>{html_text if html_text is not None else html.escape(text)}</p>")
+        cls = f' class="{css}"' if css else ""
+        self.html.append(f"<p{cls}>{html_text if html_text is not None else html.escape(text)}</p>")
 
-    def table(self, headers: Sequence[str], rows: Sequence[Sequence[Any]], classes: Sequence[str] = ()) -> None:
+    def raw(self, md: str, html_text: str) -> None:
+        self.md.append(md)
+        self.html.append(html_text)
+
+    def table(self, headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
         self.md.append(markdown_table(headers, rows))
-        out = ["<table><thead><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in headers) + "</tr></thead><tbody>"]
-        for i, row in enumerate(rows):
-            css = f' class="{classes[i]}"' if i < len(classes) and classes[i] else ""
-            out.append(f"<tr{css}>" + "".join(f"<td>{html.escape(_fmt(v))}</td>" for v in row) + "</tr>")
-        out.append("</tbody></table>")
-        self.html.append("".join(out))
+        body = "".join("<tr>" + "".join(f"<td>{html.escape(_fmt(v))}</td>" for v in row) + "</tr>" for row in rows)
+        self.html.append("<table><thead><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in headers)
+                         + f"</tr></thead><tbody>{body}</tbody></table>")
 
-    def image(self, src: str, caption: str) -> None:
-        self.md.append(f"![{caption}]({src})\n")
-        self.html.append(f'<figure><img src="{html.escape(src)}" alt="{html.escape(caption)}">'
-                         f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+    def figures(self, items: Sequence[tuple[str, str]]) -> None:
+        """Figures (path relative to the report, caption) in a grid, embedded in the HTML."""
+        if not items:
+            return
+        self.md.append("".join(f"![{caption}]({src})\n\n" for src, caption in items))
+        self.html.append('<div class="figs">' + "".join(
+            f'<figure onclick="this.classList.toggle(\'big\')" title="click to enlarge or shrink">'
+            f'<img src="{_data_uri(self.out_dir / src)}" alt="{html.escape(caption)}">'
+            f"<figcaption>{html.escape(caption)}</figcaption></figure>" for src, caption in items) + "</div>")
 
 
-_CSS = """body{font-family:system-ui,sans-serif;max-width:1200px;margin:2em auto;padding:0 1em;color:#222}
-table{border-collapse:collapse;margin:1em 0;font-size:0.9em}th,td{border:1px solid #bbb;padding:3px 6px;
-text-align:left;vertical-align:top}th{background:#eee}tr.matches td:nth-child(6){color:#16692b}
-tr.differs td:nth-child(6){color:#a15c00}tr.notrep td:nth-child(6){color:#7a1f1f}
-figure{display:inline-block;margin:0.5em;max-width:100%}img{max-width:100%;border:1px solid #ddd}
-figcaption{font-size:0.85em;color:#555}code,pre{background:#f6f6f6}"""
+_CSS_KIND = {MATCHES: "matches", DIFFERS: "differs", NOT_REPRODUCIBLE: "notrep"}
+_ROW_HEADERS = ["quantity (and where armlab's value comes from)", "paper value", "armlab value", "deviation",
+                "verdict"]
+
+
+def _rows_block(doc: _Doc, paper: str, numbered: Sequence[tuple[int, Row]]) -> None:
+    """The rows as a table; a note several rows share is printed once under it, the rows marked [1], [2], …"""
+    shared = [note for note, count in Counter(r.note for _, r in numbered if r.note).items() if count > 1]
+    marks = {note: f"[{i + 1}]" for i, note in enumerate(shared)}
+
+    def note_of(r: Row) -> str:
+        return f"see {marks[r.note]}" if r.note in marks else r.note
+
+    md_rows = [[r.quantity + (f" — {note_of(r)}" if r.note else ""), _paper_fmt(r.paper_value), _fmt(r.armlab_value),
+                _fmt(r.deviation, DEVIATION_DIGITS), r.verdict] for _, r in numbered]
+    body = []
+    for k, r in numbered:
+        kind, _, why = r.verdict.partition(": ")
+        note = f'<span class="note">{html.escape(note_of(r))}</span>' if r.note else ""
+        verdict = f"<b>{html.escape(kind)}</b>{html.escape(why)}"
+        body.append(f'<tr id="{_anchor("row", paper, str(k))}" class="{_CSS_KIND[r.kind]}">'
+                    f"<td>{html.escape(r.quantity)}{note}</td><td class=n>{html.escape(_paper_fmt(r.paper_value))}</td>"
+                    f"<td class=n>{html.escape(_fmt(r.armlab_value))}</td>"
+                    f"<td class=n>{html.escape(_fmt(r.deviation, DEVIATION_DIGITS))}</td>"
+                    f'<td class="v">{verdict}</td></tr>')
+    footnotes = [f"{mark} {note}" for note, mark in marks.items()]
+    doc.raw(markdown_table(_ROW_HEADERS, md_rows) + "".join(f"\n{f}\n" for f in footnotes),
+            '<table class="rows"><thead><tr>' + "".join(f"<th>{h}</th>" for h in _ROW_HEADERS) + "</tr></thead><tbody>"
+            + "".join(body) + "</tbody></table>"
+            + "".join(f'<p class="note">{html.escape(f)}</p>' for f in footnotes))
+
+
+def _expressions_block(doc: _Doc, paper: str, text: dict[str, Any]) -> None:
+    from armlab.scripts.math_html import latex_html
+
+    doc.para(text["intro"] + f" (LaTeX source: {paper}/{text['md']})")
+    md, out = [], []
+    derived = [e for e in text["entries"] if not e.get("printed", True)]
+    for e in (e for e in text["entries"] if e.get("printed", True)):
+        md.append(f"**${e['label']}$** — {e['source']}\n\n$$\n{e['latex']}\n$$\n\n*{e['note']}*\n")
+        symbol, _, words = e["label"].partition(", ")
+        words = f" ({words})" if words else ""
+        out.append(f'<div class="expr"><div><span class="lhs">{latex_html(symbol)}{html.escape(words)}</span> — '
+                   f"{html.escape(e['source'])}: <i>{html.escape(e['note'])}</i></div>"
+                   f"<div>{latex_html(e['latex'])}</div></div>")
+    doc.raw("\n".join(md), '<div class="scroll">' + "".join(out) + "</div>")
+    if derived:
+        intro = f"Derived beyond the paper (not printed there), in {paper}/{text['md']}: "
+        doc.raw(intro + "; ".join(f"${e['label']}$ ({e['source']})" for e in derived) + ".\n",
+                f"<p>{html.escape(intro)}" + "; ".join(f"{latex_html(e['label'])} ({html.escape(e['source'])})"
+                                                      for e in derived) + ".</p>")
+
+
+def _errata_block(doc: _Doc, errata: Sequence[dict[str, str]]) -> None:
+    from armlab.scripts.math_html import latex_html
+
+    md = "".join(f"- **{e['where']}**: {e['description']} {e['evidence']}\n  - as printed: ${e['printed']}$\n"
+                 f"  - corrected: ${e['corrected']}$\n" for e in errata)
+    body = "".join(f'<div class="erratum"><b>{html.escape(e["where"])}</b>: {html.escape(e["description"])} '
+                   f'<span class="note">{html.escape(e["evidence"])}</span><div class="pc">'
+                   f'<div><span class="tag">as printed</span>{latex_html(e["printed"])}</div>'
+                   f'<div><span class="tag">corrected</span>{latex_html(e["corrected"])}</div></div></div>'
+                   for e in errata)
+    doc.raw(md + "\n", body)
+
+
+def _links(doc: _Doc, paper: str, files: Sequence[tuple[str, str]]) -> None:
+    if not files:
+        return
+    doc.raw("".join(f"- {label}: [{f}]({paper}/{f})\n" for label, f in files) + "\n",
+            '<ul class="files">' + "".join(
+                f'<li>{html.escape(label)}: <a href="{html.escape(paper)}/{html.escape(f)}">{html.escape(f)}</a></li>'
+                for label, f in files) + "</ul>")
+
+
+def _paper_section(doc: _Doc, paper: str, m: dict[str, Any], rows: Sequence[Row], shown: dict[str, str]) -> None:
+    """One paper: its verdict index, scheme, groups (rows beside their figures), errata, parameters, files."""
+    numbered = list(enumerate(rows))
+    doc.heading(2, f"Paper {paper}" + (f": {m['title']}" if m.get("title") else ""), _anchor("paper", paper))
+    counts = verdict_counts(rows)
+    for kind in VERDICT_KINDS:
+        mine = [(k, r) for k, r in numbered if r.kind == kind]
+        if not mine:
+            continue
+        label = f"{counts[kind]} {kind}"
+        links = " · ".join(f'<a href="#{_anchor("row", paper, str(k))}">{html.escape(r.quantity)}</a>' for k, r in mine)
+        opened = "" if kind == MATCHES else " open"  # the list of matches is long: folded
+        doc.raw(f"- {label}: " + "; ".join(r.quantity for _, r in mine) + "\n",
+                f'<details class="index" id="{_anchor(paper, kind)}"{opened}><summary><b class="c-{_CSS_KIND[kind]}">'
+                f"{label}</b></summary>{links}</details>")
+    if m.get("schemes"):
+        doc.heading(3, "The arm", _anchor(paper, "arm"))
+        doc.figures([(f"{paper}/{s['png']}", s["label"]) for s in m["schemes"]])
+    groups = m.get("groups") or [{"title": "Results", "text": ""}]
+    row_groups = m.get("row_groups") or [0] * len(rows)
+    for g, group in enumerate(groups):
+        doc.heading(3, group["title"], _anchor(paper, "g", str(g)))
+        if group.get("text"):
+            doc.para(group["text"])
+        mine = [(k, r) for k, r in numbered if row_groups[k] == g]
+        if mine:
+            _rows_block(doc, paper, mine)
+        for claim in (c for c in m["claims"] if c.get("group", 0) == g):
+            doc.raw(f"**Claim: {claim['title']}.** {claim['text']}\n",
+                    f'<div class="claim"><b>Claim: {html.escape(claim["title"])}.</b> {html.escape(claim["text"])}'
+                    "</div>")
+            if claim["headers"]:
+                doc.table(claim["headers"], claim["rows"])
+        for table in (t for t in m["tables"] if t.get("group", 0) == g):
+            doc.heading(4, table["label"])
+            doc.table(table["headers"], table["rows"])
+            if table["note"]:
+                doc.para(table["note"], css="note")
+            _links(doc, paper, [("full precision", table["csv"])])
+        doc.figures([(f"{paper}/{f['png']}", f"{f['label']}: {f['caption']}")
+                     for f in m["figures"] if f.get("group", 0) == g])
+        runs = [r for r in m["runs"] if r.get("group", 0) == g]
+        diagrams = []
+        for r in runs:
+            digest = hashlib.sha1((doc.out_dir / paper / r["svg"]).read_bytes()).hexdigest()
+            if digest in shown:
+                doc.para(f"{r['label']}: simulated through the Systems diagram shown under “{shown[digest]}”.")
+            else:
+                shown[digest] = group["title"]
+                diagrams.append((f"{paper}/{r['svg']}", f"Systems diagram (Drake) of {r['label']}"))
+        doc.figures(diagrams)
+        replays = [(r["label"], r["replay"]) for r in runs]
+        replays += [(r["label"], r["replay"]) for r in m.get("replays", []) if r.get("group", 0) == g]
+        _links(doc, paper, [(f"3-D replay of {label} (open in a browser)", f) for label, f in replays])
+        for text in (t for t in m["texts"] if t.get("group", 0) == g):
+            _expressions_block(doc, paper, text)
+    if m["errata"]:
+        doc.heading(3, f"Errata of paper {paper}: printed equations checked against Drake", _anchor(paper, "errata"))
+        _errata_block(doc, m["errata"])
+    if m["parameters"]:
+        doc.heading(3, "Parameters armlab chose where the paper is silent", _anchor(paper, "parameters"))
+        doc.table(["parameter", "value", "why"], [[c["name"], c["value"], c["why"]] for c in m["parameters"]])
+
+
+def _toc(doc: _Doc, papers: Sequence[str], manifests: dict[str, dict]) -> None:
+    md, out = ["## Contents\n"], ['<nav class="toc"><ul>']
+    for p in papers:
+        m = manifests[p]
+        entries = ([("The arm", _anchor(p, "arm"))] if m.get("schemes") else [])
+        entries += [(g["title"], _anchor(p, "g", str(k))) for k, g in enumerate(m.get("groups", []))]
+        entries += [("Errata", _anchor(p, "errata"))] if m["errata"] else []
+        entries += [("Parameters armlab chose", _anchor(p, "parameters"))] if m["parameters"] else []
+        title = f"Paper {p}" + (f": {m['title']}" if m.get("title") else "")
+        md.append(f"- [{title}](#{_anchor('paper', p)})\n" + "".join(f"  - [{t}](#{a})\n" for t, a in entries))
+        out.append(f'<li><a href="#{_anchor("paper", p)}"><b>{html.escape(title)}</b></a><ul>'
+                   + "".join(f'<li><a href="#{a}">{html.escape(t)}</a></li>' for t, a in entries) + "</ul></li>")
+    out.append("</ul></nav>")
+    doc.raw("".join(md) + "\n", "<h2>Contents</h2>" + "".join(out))
+
+
+def _summary(doc: _Doc, papers: Sequence[str], manifests: dict[str, dict], rows: Sequence[Row]) -> None:
+    headers = ["paper", "matches", "differs", "not reproducible", "errata"]
+    md, out = [], []
+    for p in papers:
+        mine = [r for r in rows if r.paper == p]
+        c = verdict_counts(mine)
+        title = manifests[p].get("title") or ""
+        md.append([f"[{p}](#{_anchor('paper', p)}) {title}",
+                   *[f"[{c[k]}](#{_anchor(p, k)})" if c[k] else "0" for k in VERDICT_KINDS],
+                   f"[{len(manifests[p]['errata'])}](#{_anchor(p, 'errata')})"])
+        cells = "".join((f'<td class="n c-{_CSS_KIND[k]}"><a class="c-{_CSS_KIND[k]}" href="#{_anchor(p, k)}">'
+                         f"{c[k]}</a></td>") if c[k] else '<td class="n">0</td>' for k in VERDICT_KINDS)
+        out.append(f'<tr><td><a href="#{_anchor("paper", p)}">{p}</a> {html.escape(title)}</td>{cells}'
+                   f'<td class="n"><a href="#{_anchor(p, "errata")}">{len(manifests[p]["errata"])}</a></td></tr>')
+    doc.raw(markdown_table(headers, md), '<table class="summary"><thead><tr>'
+            + "".join(f"<th>{h}</th>" for h in headers) + "</tr></thead><tbody>" + "".join(out) + "</tbody></table>")
 
 
 def write_report(
@@ -314,81 +640,33 @@ def write_report(
     rows: Sequence[Row],
     elapsed: float | None = None,
 ) -> Path:
-    """Write ``out_dir/report.md`` and ``out_dir/report.html`` from the rows and each paper folder's manifest."""
+    """Write ``out_dir/report.md`` and the self-contained ``out_dir/report.html`` from the rows and each
+    paper folder's manifest: a summary per paper, contents, then per paper its rows beside their figures."""
     out_dir = Path(out_dir)
     counts = verdict_counts(rows)
     manifests = {p: json.loads((out_dir / p / MANIFEST).read_text()) for p in papers}
-    doc = _Doc()
+    doc = _Doc(out_dir)
     doc.heading(1, "armlab reproduce: the papers beside armlab")
     summary = (f"{len(rows)} published numbers and claims checked: {counts[MATCHES]} match, "
                f"{counts[DIFFERS]} differ, {counts[NOT_REPRODUCIBLE]} are not reproducible from what the papers print.")
     if elapsed is not None:
         summary += f" Reproduction took {elapsed:.1f} s."
     doc.para(summary)
-    doc.para("Every armlab value below is computed at run time; paper values are the papers' printed numbers. "
-             "Deviation = armlab − paper (or the largest absolute difference for a vector or matrix).")
-
-    doc.heading(2, "Published numbers")
-    headers = ["paper", "quantity", "paper value", "armlab value", "deviation", "verdict", "note"]
-    css = {MATCHES: "matches", DIFFERS: "differs", NOT_REPRODUCIBLE: "notrep"}
-    for paper in papers:
-        mine = [r for r in rows if r.paper == paper]
-        c = verdict_counts(mine)
-        doc.heading(3, f"Paper {paper} ({c[MATCHES]} match, {c[DIFFERS]} differ, "
-                       f"{c[NOT_REPRODUCIBLE]} not reproducible)")
-        doc.table(headers, [[r.paper, r.quantity, r.paper_value, r.armlab_value, r.deviation, r.verdict, r.note]
-                            for r in mine], [css[r.kind] for r in mine])
-
-    doc.heading(2, "Errata: printed equations that disagree with Drake")
-    errata = [e for p in papers for e in manifests[p]["errata"]]
-    if errata:
-        doc.para("Printed and corrected forms are LaTeX; the evidence evaluates both against Drake's plant.")
-        doc.table(["where", "as printed", "corrected", "evidence"],
-                  [[e["where"], e["printed"], e["corrected"], e["evidence"]] for e in errata])
-    else:
-        doc.para("No errata among the papers reproduced here.")
-
-    doc.heading(2, "What the papers claim, and what the numbers say")
-    for paper in papers:
-        for claim in manifests[paper]["claims"]:
-            doc.heading(3, f"{paper}: {claim['title']}")
-            doc.para(claim["text"])
-            if claim["headers"]:
-                doc.table(claim["headers"], claim["rows"])
-            for fig in claim["figures"]:
-                doc.image(f"{paper}/{fig}", fig)
-
-    doc.heading(2, "Parameters armlab chose where the papers are silent")
-    doc.table(["paper", "parameter", "value", "why"],
-              [[p, c["name"], c["value"], c["why"]] for p in papers for c in manifests[p]["parameters"]])
-
-    doc.heading(2, "Figures, tables, expressions, diagrams and 3-D replays")
-    for paper in papers:
-        m = manifests[paper]
-        doc.heading(3, f"Paper {paper}")
-        links = [(t["label"], [t["csv"], t["md"]]) for t in m["tables"]]
-        links += [(t["label"], [t["md"]]) for t in m["texts"]]
-        links += [(r["label"], [r["svg"], r["replay"]]) for r in m["runs"]]
-        if links:
-            doc.md.append("".join(f"- {label}: " + ", ".join(f"[{f}]({paper}/{f})" for f in files) + "\n"
-                                  for label, files in links))
-            doc.html.append("<ul>" + "".join(
-                f"<li>{html.escape(label)}: "
-                + ", ".join(f'<a href="{html.escape(paper)}/{html.escape(f)}">{html.escape(f)}</a>' for f in files)
-                + "</li>" for label, files in links) + "</ul>")
-        for table in m["tables"]:
-            doc.heading(4, table["label"])
-            doc.table(table["headers"], table["rows"])
-            if table["note"]:
-                doc.para(table["note"])
-        for fig in m["figures"]:
-            doc.image(f"{paper}/{fig['png']}", f"{fig['label']}: {fig['caption']}")
-        for r in m["runs"]:
-            doc.image(f"{paper}/{r['svg']}", f"{r['label']}: Systems diagram (3-D replay: {r['replay']})")
+    _summary(doc, papers, manifests, rows)
+    doc.para("Paper values are the numbers the papers print, shown as printed; armlab's values are computed at run "
+             f"time and shown to {VALUE_DIGITS} significant digits, deviations (armlab − paper, or the largest "
+             f"absolute difference for a vector or matrix) to {DEVIATION_DIGITS}. A number matches when it lies "
+             "within half of the last printed digit unless the row says otherwise; “matches: by construction” "
+             "and “matches: holds for the chosen …” say what the match rests on.", css="note")
+    _toc(doc, papers, manifests)
+    shown: dict[str, str] = {}
+    for p in papers:
+        _paper_section(doc, p, manifests[p], [r for r in rows if r.paper == p], shown)
 
     md_path = out_dir / "report.md"
     md_path.write_text("\n".join(doc.md))
-    page = ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>armlab reproduce</title>"
+    page = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
+            "<meta name='viewport' content='width=device-width, initial-scale=1'><title>armlab reproduce</title>"
             f"<style>{_CSS}</style></head><body>" + "\n".join(doc.html) + "</body></html>\n")
     (out_dir / "report.html").write_text(page)
     return md_path

@@ -66,9 +66,17 @@ def test_003_eq20_rotation_eq21_corrected_position_and_orientation_angles(rng):
         assert abs(np.angle(np.exp(1j * (gamma - (np.pi / 2 + q1))))) < 1e-12
 
 
-def test_000_rr_start_point_M0():
-    M0 = get_arm("rr").forward(np.radians([-38.0, 98.0])).points["M"]
-    assert np.abs(M0[:2] - [0.4652, 0.0135]).max() < 5e-5  # paper 000 §2 prints 4 decimals
+def test_000_rr_end_points_of_fig3_by_eqs_1_2_and_drake():
+    """M0 and M_fin of Fig. 3: the paper prints only the angles (θ1 −38° → 62°, θ2 98° → 68°) and L1 = 0.4 m,
+    L2 = 0.3 m; eqs. (1)-(2), armlab's forward kinematics and Drake's plant give the same points."""
+    arm, plant, ctx = arm_and_plant("rr")
+    for q in np.radians([[-38.0, 98.0], [62.0, 68.0]]):
+        eqs = np.array([0.4 * np.cos(q[0]) + 0.3 * np.cos(q.sum()), 0.4 * np.sin(q[0]) + 0.3 * np.sin(q.sum())])
+        M = arm.forward(q).points["M"]
+        np.testing.assert_allclose(M[:2], eqs, atol=1e-12)
+        plant.SetPositions(ctx, q)
+        drake = plant.CalcRelativeTransform(ctx, plant.world_frame(), plant.GetFrameByName(arm.tool_name))
+        np.testing.assert_allclose(drake.translation(), M, atol=1e-12)
 
 
 def test_000_rrrr_two_forms_differ_by_the_base_rotation(rng):
