@@ -50,13 +50,19 @@ def _chain(arm: Arm, q: NDArray[np.float64]) -> Iterator[tuple[slice, NDArray, N
     k = np.array([row.k for row in arm.table.rows])  # k_i in frame {i}
     for block, frames in chain_blocks(q, arm.table.steps, arm.table.tool):
         R = frames[1:n + 1, :, :3]
-        z = sum(k[:, j, None, None] * R[:, :, j] for j in range(3) if k[:, j].any())  # z_i = R_{0,i} k_i
+        if (k == (0.0, 0.0, 1.0)).all():  # z_i = R_{0,i} k_i
+            z = R[:, :, 2]
+        else:
+            z = sum(k[:, j, None, None] * R[:, :, j] for j in range(3) if k[:, j].any())
         yield block, z, frames[1:n + 1, :, 3], frames[n + 1, :, 3]
 
 
 def _columns(revolute: NDArray, z: NDArray, p: NDArray, p_tool: NDArray) -> tuple[NDArray, NDArray]:
     """The Jacobian's columns J_v, J_ω ``(n, 3, B)``: [z_i × (p_t − p_i); z_i] or [z_i; 0]."""
-    return np.where(revolute, cross(z, p_tool - p), z), np.where(revolute, z, 0.0)
+    lever = cross(z, p_tool - p)
+    if revolute.all():
+        return lever, z
+    return np.where(revolute, lever, z), np.where(revolute, z, 0.0)
 
 
 def jacobian(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:

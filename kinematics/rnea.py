@@ -57,6 +57,8 @@ class LinkInertias:
 
 #: Mass properties already extracted, by URDF text, base, tool, joints and payload.
 _INERTIAS: dict[tuple, LinkInertias] = {}
+#: Each recent arm object's URDF text, by id (the arm is kept, so its id is not reused).
+_TEXTS: dict[int, tuple[Arm, str]] = {}
 
 
 def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
@@ -68,8 +70,12 @@ def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
     from armlab.diagrams.plant import check_payload, make_plant
 
     payload = check_payload(payload)
-    text = arm.urdf() if arm.urdf_file is None else arm.urdf_file.read_text()
-    key = (text, arm.base_link, arm.tool_name, tuple(arm.joint_names), payload)
+    known = _TEXTS.get(id(arm))
+    if known is None or known[0] is not arm:  # the URDF text read (or generated) once per arm object
+        if len(_TEXTS) >= 64:
+            _TEXTS.clear()
+        known = _TEXTS[id(arm)] = (arm, arm.urdf() if arm.urdf_file is None else arm.urdf_file.read_text())
+    key = (known[1], arm.base_link, arm.tool_name, tuple(arm.joint_names), payload)
     if key not in _INERTIAS:
         plant = make_plant(arm, np.zeros(3), payload)
         context = plant.CreateDefaultContext()
