@@ -66,10 +66,24 @@ class SignalState:
 _STATE = SignalState()
 
 
+def _importing(frame: FrameType | None) -> bool:
+    """Whether ``frame`` runs inside an import (a module's code, or an extension module's initialisation)."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
+
+
 def _on_signal(signum: int, frame: FrameType | None) -> None:
     _STATE.received = signum
     if _STATE.held:
         _STATE.pending = signum
+        return
+    if _importing(frame):
+        # An exception inside an extension module's initialisation (pydrake's) aborts the interpreter: the
+        # signal is sent again shortly, until it arrives outside the import.
+        threading.Timer(0.05, os.kill, (os.getpid(), signum)).start()
         return
     raise Interrupted(signum)
 

@@ -102,7 +102,20 @@ class Sandbox:
         return [sys.executable, "-m", "armlab", *argv]
 
     def env(self) -> dict[str, str]:
-        return {**os.environ, "TMPDIR": str(self.tmp)}
+        """The environment of a subprocess: the sandbox's TMPDIR, and a tag its descendants inherit."""
+        return {**os.environ, "TMPDIR": str(self.tmp), "ARMLAB_SANDBOX": str(self.root)}
+
+    def processes(self) -> list[int]:
+        """The live processes started from this sandbox (subprocesses and their descendants, by their tag)."""
+        tag = f"ARMLAB_SANDBOX={self.root}\0".encode()
+        found = []
+        for environ in Path("/proc").glob("[0-9]*/environ"):
+            try:
+                if tag in environ.read_bytes():
+                    found.append(int(environ.parent.name))
+            except OSError:  # ended meanwhile
+                pass
+        return found
 
     def run(self, *argv: str, timeout: float = 120, **kwargs) -> Outcome:
         """``armlab ARGV`` as a subprocess in the sandbox."""

@@ -8,6 +8,7 @@ after the command printed a line holding a given text. The command runs as a sub
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 import threading
@@ -34,6 +35,7 @@ MOMENTS = [
     (REPRODUCE, "", 2.0),
     (REPRODUCE, "[000]", 0.0),
     (REPRODUCE, "[000]", 3.0),
+    (VIEW, "", 1.5),  # importing Drake, starting Meshcat
     (VIEW, "open http", 0.0),
     (VIEW, "open http", 1.0),
 ]
@@ -42,6 +44,21 @@ MOMENTS = [
 @pytest.fixture
 def box(tmp_path, monkeypatch, capsys) -> Sandbox:
     return Sandbox(tmp_path, monkeypatch, capsys)
+
+
+def _start(box: Sandbox, *argv: str) -> subprocess.Popen:
+    """``armlab ARGV`` in its own process group (as a shell's job), stdout and stderr read as text."""
+    return subprocess.Popen(box.command(*argv), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            cwd=box.cwd, env=box.env(), start_new_session=True)
+
+
+def _send(process: subprocess.Popen, signum: int) -> None:
+    """SIGINT as Ctrl-C sends it: to the whole process group (workers, helpers included); SIGTERM as ``kill``
+    sends it: to the process alone."""
+    if signum == signal.SIGINT:
+        os.killpg(process.pid, signum)
+    else:
+        process.send_signal(signum)
 
 
 def _wait_for(process: subprocess.Popen, text: str, lines: list[str]) -> bool:
@@ -58,14 +75,13 @@ def _wait_for(process: subprocess.Popen, text: str, lines: list[str]) -> bool:
 @pytest.mark.parametrize(("argv", "text", "delay"), MOMENTS, ids=lambda v: " ".join(v)[:30] if isinstance(v, tuple)
                          else str(v))
 def test_a_stop_signal_leaves_nothing(box, argv, text, delay, signum):
-    process = subprocess.Popen(box.command(*argv), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               cwd=box.cwd, env=box.env())
+    process = _start(box, *argv)
     lines: list[str] = []
     if text:
         assert _wait_for(process, text, lines), (lines, process.stderr.read())
     time.sleep(delay)
     assert process.poll() is None, "the command ended before the signal"
-    process.send_signal(signum)
+    _send(process, signum)
     sent = time.monotonic()
     _, err = process.communicate(timeout=PROMPT + 60)
     took = time.monotonic() - sent
@@ -73,3 +89,12 @@ def test_a_stop_signal_leaves_nothing(box, argv, text, delay, signum):
     assert took < PROMPT
     assert "Traceback" not in err and "error" not in err, err
     assert box.debris() == []
+    assert _ended(box)
+
+
+def _ended(box: Sandbox) -> bool:
+    """No process of the sandbox is left (e.g. a Dask worker), waiting up to 10 s for them to end."""
+    end = time.monotonic() + 10
+    while box.processes() and time.monotonic() < end:
+        time.sleep(0.2)
+    return not box.processes()
