@@ -402,10 +402,12 @@ def drake_tool_pose(arm, plant, q: np.ndarray) -> np.ndarray:
 
 
 def pose_miss(T: np.ndarray, target: np.ndarray) -> tuple[float, float]:
-    """(position miss in m, orientation miss in rad = the angle of R_targetᵀ R, by arccos of its trace)."""
-    c = (np.trace(target[:3, :3].T @ T[:3, :3]) - 1) / 2
-    s = np.linalg.norm(target[:3, :3].T @ T[:3, :3] - np.eye(3)) / np.sqrt(2)  # = 2 sin(θ/2)·√2/√2
-    return float(np.linalg.norm(T[:3, 3] - target[:3, 3])), float(np.arctan2(s * np.sqrt(1 - s**2 / 4), c))
+    """(position miss in m, orientation miss in rad = the angle θ of R_targetᵀ R), independently of rotation_log:
+    |R − I|_F = 2√2 sin(θ/2) (accurate for small θ, unlike arccos of the trace) and cos θ = (tr R − 1)/2."""
+    R = target[:3, :3].T @ T[:3, :3]
+    s = np.linalg.norm(R - np.eye(3)) / np.sqrt(2)  # 2 sin(θ/2)
+    sin_theta = s * np.sqrt(max(1 - s**2 / 4, 0.0))  # 2 sin(θ/2) cos(θ/2)
+    return float(np.linalg.norm(T[:3, 3] - target[:3, 3])), float(np.arctan2(sin_theta, (np.trace(R) - 1) / 2))
 
 
 def assert_reaches_pose(arm, plant, solutions: list[np.ndarray], target: np.ndarray) -> None:
