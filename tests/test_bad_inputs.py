@@ -329,3 +329,41 @@ def test_read_dh_csv_property(tmp_path, header, lines):
         _one_line_error(error, str(path))
         return
     assert len(table.rows) == len(limits) > 0
+
+
+_spec = st.fixed_dictionaries({}, optional={
+    "from": _value, "to": _value, "steps": st.one_of(st.integers(-3, 12), _json), "values": _value,
+    "unit": st.sampled_from(["deg", "rad", "m", "kg", "s", "furlong"]),
+})
+_near_valid_study = st.fixed_dictionaries(
+    {"arm": st.just("rr"),
+     "vary": st.fixed_dictionaries({"L1": st.fixed_dictionaries({"from": st.floats(-1, 2), "to": st.floats(-1, 2),
+                                                                 "steps": st.integers(-1, 6)})}),
+     "evaluate": st.just(["reach"])},
+    optional={"samples": st.integers(0, 20_000), "seed": st.integers(-2, 5), "resolution": st.floats(-1, 1)},
+)
+_study = _near_valid_study | st.fixed_dictionaries(
+    {"arm": st.one_of(st.sampled_from(["rr", "urm6", "puma", "arm.csv"]), _json),
+     "vary": st.one_of(st.dictionaries(st.sampled_from(["L1", "L2", "theta3", "payload", "tf", "zz"]), _spec,
+                                       max_size=2), _json),
+     "evaluate": st.one_of(st.lists(st.sampled_from(["reach", "workspace_volume", "peak_torque", "nope"]),
+                                    max_size=3), _json)},
+    optional={"samples": st.one_of(st.integers(0, 5000), _json), "seed": _json, "payload": _json, "tf": _json,
+              "simulate": _json, "resolution": _json},
+)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(_study)
+def test_load_study_property(tmp_path, data):
+    """The analysis helper's study files (``armlab sweep STUDY.json``): a study or a one-line ValueError."""
+    from armlab.analysis.study import load_study
+
+    path = tmp_path / "study.json"
+    path.write_text(json.dumps(data))
+    try:
+        study = load_study(path)
+    except ValueError as error:
+        _one_line_error(error, str(path))
+        return
+    assert study.candidates
