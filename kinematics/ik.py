@@ -363,8 +363,14 @@ def _levenberg_marquardt(
         stationary = np.linalg.norm(gradient, axis=-1) <= 1e-6 * np.linalg.norm(J, axis=(-2, -1)) * np.sqrt(
             cost[running])
         J = np.where(held[:, None, :], 0.0, J)  # a joint held by its limit takes no part in the step
-        A = np.swapaxes(J, -1, -2) @ J + damping[running, None, None] * np.eye(arm.n)
-        trial = _project(arm, q[running] + np.linalg.solve(A, gradient[..., None])[..., 0], lower, upper)
+        Jt = np.swapaxes(J, -1, -2)
+        if rows < arm.n:  # the same step as Jᵀ(JJᵀ + λI)⁻¹e: a rows × rows system instead of n × n
+            A = J @ Jt + damping[running, None, None] * np.eye(rows)
+            step = (Jt @ np.linalg.solve(A, error[running, :, None]))[..., 0]
+        else:
+            A = Jt @ J + damping[running, None, None] * np.eye(arm.n)
+            step = np.linalg.solve(A, gradient[..., None])[..., 0]
+        trial = _project(arm, q[running] + step, lower, upper)
         trial_error = _pose_error(arm, position, rotation, trial)
         trial_cost = np.einsum("...i,...i", trial_error, trial_error)
         better = trial_cost < cost[running]
