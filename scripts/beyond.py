@@ -66,7 +66,7 @@ def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
     combined = _study({"arm": "urm6", "vary": {name: {"values": [best[name]], "unit": "deg"} for name in names},
                        "evaluate": ["workspace_volume"], "samples": samples})
     combined_volume = evaluate(combined, combined.candidates[0])["workspace_volume"]
-    table.append(["all six at their best", "", ", ".join(f"{best[n]:g}" for n in names), combined_volume,
+    table.append(["all six at their best", "", "[" + ", ".join(f"{best[n]:g}" for n in names) + "]", combined_volume,
                   combined_volume / nominal_volume])
 
     fig, ax = new_figure("Beyond paper 004 — workspace volume of the URM arm against each bend angle ϑi "
