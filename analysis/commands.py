@@ -37,7 +37,7 @@ def _format(summary: dict[str, Any]) -> list[str]:
     s = summary
     lines = [f"{s['arm']}: workspace {s['measure']} {s['volume']:.6g} {s['volume_unit']} ({s['samples']} samples; "
              f"occupied voxels of {s['resolution']:.4g} m: {s['volume_voxels']:.6g}, extrapolated to h → 0 from h "
-             "and 2h)",
+             "and 2h)" + (f"; {s['note']}" if "note" in s else ""),
              f"reach {s['reach']:.6g} m; bounding box x {s['bbox']['min'][0]:+.4f} … {s['bbox']['max'][0]:+.4f}, "
              f"y {s['bbox']['min'][1]:+.4f} … {s['bbox']['max'][1]:+.4f}, "
              f"z {s['bbox']['min'][2]:+.4f} … {s['bbox']['max'][2]:+.4f} m"]

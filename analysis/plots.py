@@ -135,7 +135,9 @@ def _edges(values: np.ndarray) -> np.ndarray:
 
 
 def _plane_coords(ws: Workspace, points: np.ndarray) -> np.ndarray:
-    return (points - ws.origin) @ ws.basis.T
+    """Coordinates in the workspace's own plane (or line: then a second, zero coordinate), (M, 2)."""
+    coords = (points - ws.origin) @ ws.basis.T
+    return np.column_stack([coords, np.zeros(len(coords))]) if ws.dim == 1 else coords
 
 
 def workspace_figures(ws: Workspace, out: Path) -> list[str]:
@@ -174,7 +176,7 @@ def _slices(ws: Workspace, path: Path) -> str:
         if pair is None:
             xy = _plane_coords(ws, pts)
             sel = np.ones(len(pts), dtype=bool)
-            names = [_axis_name(b) for b in ws.basis]
+            names = [_axis_name(b) for b in ws.basis] + ["—"] * (2 - ws.dim)
             mark_xy = _plane_coords(ws, marks) if len(marks) else marks
         else:
             centre = float(np.median(pts[:, normal])) if normal == 2 else 0.0

@@ -35,6 +35,7 @@ __all__ = [
     "Workspace",
     "default_resolution",
     "joint_box",
+    "motion_rank",
     "reach_bound",
     "sample_joints",
     "tool_positions",
@@ -112,6 +113,16 @@ def tool_positions(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
     return p.T.reshape(shape + (3,))
 
 
+def motion_rank(arm: Arm, q: NDArray[np.float64], basis: NDArray[np.float64]) -> int:
+    """Independent directions (within ``basis``, (d, 3)) the tool point moves in: the largest rank of the
+    translational Jacobian over the configurations ``q`` (k, n) (:func:`armlab.kinematics.differential.jacobian`)."""
+    from armlab.kinematics.differential import jacobian
+
+    J = basis @ jacobian(arm, q)[:, :3, :]  # (k, d, n)
+    s = np.linalg.svd(J, compute_uv=False)
+    return int(np.max(np.sum(s > 1e-9 * max(float(s.max()), 1e-300), axis=-1)))
+
+
 def reach_bound(arm: Arm) -> float:
     """An upper bound of the tool point's distance from the base (m): the sum of every link's offset,
     the tool's, and each prismatic joint's largest stroke."""
@@ -185,6 +196,16 @@ class Workspace:
     manipulability: NDArray[np.float64] | None = None
     sigma_min: NDArray[np.float64] | None = None
     singular: dict[str, Any] = field(default_factory=dict)
+    motions: int = 3  # independent directions the tool point moves in (rank of J_v): < dim, a curved surface
+
+    @property
+    def note(self) -> str:
+        """Why the volume is 0 when the tool point moves in fewer directions than its positions span."""
+        if self.motions >= self.dim:
+            return ""
+        shape = {1: "a curve", 2: "a curved surface"}[self.motions]
+        return (f"the tool point moves in {self.motions} direction(s) only: its positions form {shape} in "
+                f"{self.dim}-D, whose {self.measure} is 0 (the occupied voxels are a shell of thickness h)")
 
     @property
     def volume_unit(self) -> str:
@@ -206,6 +227,7 @@ class Workspace:
             "volume": self.volume,
             "volume_unit": self.volume_unit,
             "volume_voxels": self.volume_voxels,
+            **({"note": self.note} if self.note else {}),
             "resolution": self.resolution,
             "reach": self.reach,
             "bbox": {"min": self.bbox[0].tolist(), "max": self.bbox[1].tolist()},
@@ -280,6 +302,7 @@ def workspace(
     first_points = tool_positions(arm, first)
     origin, basis = workspace_plane(first_points)
     dim = basis.shape[0]
+    motions = motion_rank(arm, first[:16], basis)
     bound = reach_bound(arm) + float(np.linalg.norm(origin))
     h = _check_resolution(resolution) if resolution is not None else \
         default_resolution((first_points - origin) @ basis.T, samples, bound)
@@ -313,7 +336,7 @@ def workspace(
     measures = grid.measures()
     result = Workspace(
         arm=arm.name, samples=samples, dim=dim, origin=origin, basis=basis, resolution=h,
-        volume=grid.extrapolated(measures), volume_voxels=measures[0],
+        volume=grid.extrapolated(measures) if motions == dim else 0.0, volume_voxels=measures[0], motions=motions,
         reach=reach, bbox=np.stack([lo, hi]),
         convergence={"samples": [float(c) for c in checkpoints], "volume_vs_samples": counts,
                      "resolution": [h * f for f in RESOLUTION_FACTORS], "volume_vs_resolution": measures},

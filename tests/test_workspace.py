@@ -167,3 +167,18 @@ def test_cli_bad_input(tmp_path: Path) -> None:
         assert run.returncode == 2, (args, run.stderr)
         assert run.stderr.startswith("armlab: error:") and message in run.stderr and "Traceback" not in run.stderr
     assert (tmp_path / "other" / "notes.txt").read_text() == "mine"
+
+
+def test_a_slider_s_workspace_is_its_stroke(tmp_path: Path) -> None:
+    (tmp_path / "slider.csv").write_text("type,a,alpha,d,theta,lower,upper\nT,0,0,0,0,0,0.5\n")
+    ws = workspace(get_arm(str(tmp_path / "slider.csv")), 20_000, jacobians=False)
+    assert ws.dim == 1 and ws.measure == "length" and abs(ws.volume - 0.5) < 1e-3
+
+
+def test_a_curved_surface_has_no_volume(tmp_path: Path) -> None:
+    """A spatial 2R arm's tool point sweeps a torus patch: 3-D positions, 2 directions of motion, volume 0."""
+    (tmp_path / "arm.csv").write_text("# units: deg\ntype,a,alpha,d,theta,lower,upper\nR,0.5,90,0,0,-90,90\n"
+                                      "R,0.3,0,0,0,,\n")
+    ws = workspace(get_arm(str(tmp_path / "arm.csv")), 50_000, jacobians=False)
+    assert ws.dim == 3 and ws.motions == 2 and ws.volume == 0.0 and "curved surface" in ws.summary()["note"]
+    assert ws.volume_voxels > 0  # the shell of voxels the surface crosses
