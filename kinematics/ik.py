@@ -405,7 +405,8 @@ def _starts(arm: Arm, q0: NDArray, seeds: int) -> NDArray[np.float64]:
     """``q0`` and ``seeds − 1`` deterministic random starts within the limits (unlimited joints: (−π, π])."""
     lower, upper = arm.limit_arrays(unlimited=np.pi)
     random = np.random.default_rng(0).uniform(lower, upper, size=(seeds - 1, arm.n))
-    return np.vstack([_project(arm, q0, *arm.limit_arrays())[None, :], random])
+    first = _project(arm, fit_limits(arm, q0[None, :], q0)[0][0], *arm.limit_arrays())  # unlimited: (−π, π]
+    return np.vstack([first[None, :], random])
 
 
 def _search(
@@ -622,6 +623,13 @@ def _closed_form(arm: Arm, position: NDArray, rotation: NDArray | None, pitch: f
     return candidates[miss <= ORIENTATION_TOL]
 
 
+def _joint_difference(arm: Arm, q: NDArray, near: NDArray) -> NDArray[np.float64]:
+    """``q − near``, for an unlimited revolute joint taken modulo 2π into [−π, π) (its angle is wrapped anyway)."""
+    unlimited = arm.revolute & np.isinf(arm.limit_arrays()[0])
+    d = q - near
+    return np.where(unlimited, np.remainder(d + np.pi, 2 * np.pi) - np.pi, d)
+
+
 def _distinct(arm: Arm, q: NDArray, tol: float) -> NDArray[np.float64]:
     """The rows of ``q`` ``(k, n)`` that differ from every earlier row by more than ``tol`` (revolute: modulo 2π)."""
     keep: list[int] = []
@@ -656,14 +664,18 @@ def solve(
 
     Every solution is fitted into the joint limits by :func:`fit_limits`; those that do not fit
     are dropped, duplicates (revolute joints modulo 2π) removed, and the rest sorted by Euclidean
-    joint distance to ``near`` (default zeros). Returns every solution if ``all_solutions``, else
-    ``[best]``. ``ValueError`` (naming the bad value) for a wrong number of coordinates, NaN/inf, a
-    coordinate beyond ±1e6 m, a matrix that is not a pose, a pitch for an arm other than arm4r, an
+    joint distance to ``near`` (default zeros; an unlimited revolute joint's difference taken modulo
+    2π). Returns every solution if ``all_solutions``, else ``[best]``. ``ValueError`` (naming the bad
+    value) for a wrong number of coordinates, NaN/inf, a coordinate beyond ±1e6 m (``near``: ±1e6),
+    a matrix that is not a pose, a pitch for an arm other than arm4r, an
     unreachable target (with the closest distance), or a target reachable only outside the joint
     limits (naming the joint and its limits).
     """
     position, rotation = _target(arm, target)
     near = np.zeros(arm.n) if near is None else _single(near, arm.n, "near")
+    if np.abs(near).max() > MAX_COORDINATE:
+        raise ValueError(f"near = {np.ravel(near).tolist()} is out of range: joint values are limited to "
+                         f"±{MAX_COORDINATE:g} (rad or m)")
     if pitch is not None and not (arm.name == "arm4r" and _analytic(arm)):
         raise ValueError(f"pitch = {pitch} applies only to arm4r (its tool pitch θ2+θ3+θ4), not to {arm.name}")
     if _analytic(arm):
@@ -674,5 +686,5 @@ def solve(
     kept = fitted[[v is None for v in violations]]
     if kept.shape[0] == 0:
         raise ValueError(_outside_limits_message(arm, _target_text(position, rotation), violations))
-    unique = sorted(_distinct(arm, kept, tol), key=lambda q: float(np.linalg.norm(q - near)))
+    unique = sorted(_distinct(arm, kept, tol), key=lambda q: float(np.linalg.norm(_joint_difference(arm, q, near))))
     return unique if all_solutions else unique[:1]

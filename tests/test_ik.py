@@ -114,8 +114,10 @@ def test_best_solution_is_nearest_to_near(name: str, rng: np.random.Generator) -
         target, pitch = ik_request(arm, q)
         near = fit_limits(arm, q[None, :])[0][0]
         every = solve(arm, target, pitch=pitch, near=near, all_solutions=True)
-        distances = [np.linalg.norm(s - near) for s in every]
-        assert distances == sorted(distances)
+        d = np.array(every) - near
+        unlimited = arm.revolute & np.isinf(arm.limit_arrays()[0])  # an unlimited angle's difference modulo 2π
+        distances = np.linalg.norm(np.where(unlimited, (d + np.pi) % (2 * np.pi) - np.pi, d), axis=-1)
+        assert np.all(np.diff(distances) >= 0)
         (best,) = solve(arm, target, pitch=pitch, near=near)
         np.testing.assert_array_equal(best, every[0])
         assert np.linalg.norm(best - near) < 1e-7  # closed forms find q itself; Drake's IK started at q stays
@@ -521,7 +523,7 @@ def test_urm6_full_pose_branches_are_distinct(rng: np.random.Generator) -> None:
         d = solutions[:, None, :] - solutions[None, :, :]
         d = np.abs((d + np.pi) % (2 * np.pi) - np.pi).max(axis=-1)
         assert np.all(d[~np.eye(len(solutions), dtype=bool)] > 1e-6), "a solution is returned twice"
-        distances = np.linalg.norm(solutions, axis=1)
+        distances = np.linalg.norm(solutions, axis=1)  # urm6's joints are unlimited: wrapped to (−π, π]
         assert np.all(np.diff(distances) >= 0)  # nearest to near = 0 first
 
 
@@ -707,3 +709,15 @@ def test_urm6_every_solution_drakes_ik_finds_is_among_ours(rng: np.random.Genera
         separation = np.abs((ours[:, None] - ours[None] + np.pi) % (2 * np.pi) - np.pi).max(axis=-1)
         separation = separation[~np.eye(len(ours), dtype=bool)].min(initial=np.inf)
         assert d.min(axis=1).max() < min(0.03, separation / 4), (d.min(axis=1), separation)
+
+
+def test_far_near_is_a_range_error_and_a_wrapped_near_counts_modulo_2pi() -> None:
+    """near beyond ±1e6 is refused in one line; for unlimited joints near and near + 2π give the same order."""
+    arm = get_arm("urm6")
+    q = np.radians([15.0, 30.0, 50.0, 130.0, -130.0, -20.0])
+    target = arm.forward(q).tool
+    with pytest.raises(ValueError, match=r"near = \[1e\+308, 0\.0, .*\] is out of range"):
+        solve(arm, target, near=[1e308, 0, 0, 0, 0, 0])
+    shifted = solve(arm, target, near=q + 2 * np.pi * np.array([3, -1, 0, 2, 0, -5]), all_solutions=True)
+    np.testing.assert_allclose(shifted, solve(arm, target, near=q, all_solutions=True), rtol=0, atol=1e-12)
+    assert same_modulo_2pi(arm, shifted[0], q)
