@@ -103,8 +103,7 @@ def tool_positions(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
             a = int(np.flatnonzero(k)[0])
             b, c = (a + 1) % 3, (a + 2) % 3
             cos, sin = np.cos(qi), np.sin(qi) * k[a]
-            p = p.copy()
-            p[b], p[c] = cos * p[b] - sin * p[c], sin * p[b] + cos * p[c]
+            p[b], p[c] = cos * p[b] - sin * p[c], sin * p[b] + cos * p[c]  # p is this loop's own array
         else:
             K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
             cos, sin = np.cos(qi), np.sin(qi)
