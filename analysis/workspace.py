@@ -296,6 +296,8 @@ def workspace(
 
     began = time.perf_counter()
     samples = _check_samples(samples)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed = {seed!r} is not allowed: give a whole number ≥ 0")
     rng = np.random.default_rng(seed)
     first = sample_joints(arm, min(samples, CHUNK), rng)
     first_points = tool_positions(arm, first)

@@ -132,6 +132,7 @@ def test_workspace_plane_of_a_tilted_plane() -> None:
     ({"samples": 1500.5}, "whole number ≥ 1000"),
     ({"resolution": -1.0}, "positive voxel edge"),
     ({"resolution": 1e-6}, "too fine"),
+    ({"seed": -1}, "seed = -1"),
 ])
 def test_bad_arguments_are_one_line_errors(kwargs: dict, message: str) -> None:
     with pytest.raises(ValueError, match=message):
