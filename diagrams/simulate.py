@@ -177,7 +177,8 @@ class _Watch:
         from tqdm import tqdm
 
         self.duration, self.accuracy, self.steps, self.offset = duration, accuracy, 0, 0.0
-        self.bar = tqdm(total=duration, desc=f"simulating {name}", unit="s", disable=None, delay=0.2, file=sys.stderr,
+        self.bar = tqdm(total=duration, desc=f"simulating {name}", unit="s", disable=None, delay=0.2, leave=False,
+                        file=sys.stderr,
                         bar_format="{desc}: {n:.2f}/{total:g} s |{bar}| {elapsed}<{remaining}, {rate_fmt}")
 
     def __call__(self, context: Context) -> None:
