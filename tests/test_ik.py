@@ -616,20 +616,27 @@ def test_unreachable_closest_distance(target: tuple) -> None:
     assert abs(reported - gap) <= 5e-6 * gap, (reported, gap)
 
 
-@pytest.mark.parametrize(("name", "target", "value"), [("urm6", "1e308,0,0", "x = 1e+308"),
-                                                       ("rrrr", "-1e308,0,0", "x = -1e+308"),
-                                                       ("rr", "0.5,1e300", "y = 1e+300"),
-                                                       ("shoulder", "0,0,1e7", "z = 1e+07")])
-def test_huge_targets_are_a_range_error(name: str, target: str, value: str, tmp_path) -> None:
-    """One line on stderr naming the value, exit 2, no traceback and no RuntimeWarning (warnings are errors here)."""
-    if name == "shoulder":
-        name = str(tmp_path / "shoulder.csv")
-        (tmp_path / "shoulder.csv").write_text("type,a,alpha,d,theta,lower,upper\nR,0,1.5707963267948966,0.5,0,,\n"
-                                               "R,0.5,0,0,0,,\nR,0.5,0,0,0,,\n")
-    result = subprocess.run([sys.executable, "-W", "error", "-m", "armlab", "ik", name, f"--target={target}"],
+@pytest.mark.parametrize(("argv", "message"), [
+    (("urm6", "--target=1e308,0,0"), "target x = 1e+308 m is out of range: values are limited to ±1e+06 m"),
+    (("rrrr", "--target=-1e308,0,0"), "target x = -1e+308 m is out of range: values are limited to ±1e+06 m"),
+    (("rr", "--target=0.5,1e300"), "target y = 1e+300 m is out of range: values are limited to ±1e+06 m"),
+    (("SHOULDER", "--target=0,0,1e7"), "target z = 1e+07 m is out of range: values are limited to ±1e+06 m"),
+    (("arm4r", "--target=1,1,1.4", "--pitch=1e308"), "pitch = 1e+308 rad is out of range"),
+    (("urm6", "--target=0.2,0.2,0.6", "--rpy=0,1e300,0", "--deg"),
+     "rpy = [0.0, 1.7453292519943297e+298, 0.0] rad is out of range"),
+    (("urm6", "--target=0.2,0.2,0.6", "--near=1e308,0,0,0,0,0"), "near = [1e+308, 0.0, 0.0, 0.0, 0.0, 0.0] (rad or m)"),
+])
+def test_huge_values_are_a_range_error(argv: tuple, message: str, tmp_path) -> None:
+    """One line on stderr naming the value, exit 2, no traceback and no RuntimeWarning (warnings are errors here);
+    before, 1e308 gave an overflow traceback and a pitch of 1e308 a wrong answer (θ4 = 0)."""
+    shoulder = tmp_path / "shoulder.csv"
+    shoulder.write_text("type,a,alpha,d,theta,lower,upper\nR,0,1.5707963267948966,0.5,0,,\nR,0.5,0,0,0,,\n"
+                        "R,0.5,0,0,0,,\n")
+    argv = tuple(str(shoulder) if a == "SHOULDER" else a for a in argv)
+    result = subprocess.run([sys.executable, "-W", "error", "-m", "armlab", "ik", *argv],
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 2, result.stderr
-    assert result.stderr == f"armlab: error: target {value} m is out of range: coordinates are limited to ±1e+06 m\n"
+    assert result.stderr.startswith(f"armlab: error: {message}") and result.stderr.count("\n") == 1, result.stderr
 
 
 def test_pose_with_an_orientation_the_arm_cannot_take(rng: np.random.Generator) -> None:
@@ -716,7 +723,7 @@ def test_far_near_is_a_range_error_and_a_wrapped_near_counts_modulo_2pi() -> Non
     arm = get_arm("urm6")
     q = np.radians([15.0, 30.0, 50.0, 130.0, -130.0, -20.0])
     target = arm.forward(q).tool
-    with pytest.raises(ValueError, match=r"near = \[1e\+308, 0\.0, .*\] is out of range"):
+    with pytest.raises(ValueError, match=r"near = \[1e\+308, 0\.0, .*\] \(rad or m\) is out of range"):
         solve(arm, target, near=[1e308, 0, 0, 0, 0, 0])
     shifted = solve(arm, target, near=q + 2 * np.pi * np.array([3, -1, 0, 2, 0, -5]), all_solutions=True)
     np.testing.assert_allclose(shifted, solve(arm, target, near=q, all_solutions=True), rtol=0, atol=1e-12)
