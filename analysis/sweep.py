@@ -25,8 +25,10 @@ import io
 import json
 import os
 import sys
+import tempfile
 import time
 import uuid
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -150,22 +152,31 @@ def _record(out: Path, study: Study, study_json: dict[str, Any], run: dict[str, 
 
 
 # ---------------------------------------------------------------------------------------- the engine
-def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
-    """A Dask client of the cluster at ``scheduler``, or of a new ``LocalCluster`` (returned to close)."""
+def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any:
+    """A Dask client of the cluster at ``scheduler``, or of a new ``LocalCluster`` whose workers keep their
+    scratch files in a temporary folder; ``stack`` closes them (and removes the folder)."""
     import logging
 
+    import dask
     from distributed import Client, LocalCluster
 
     if scheduler is not None:
         try:
-            return Client(scheduler, timeout="10s"), None
+            client = Client(scheduler, timeout="10s")
         except (OSError, TimeoutError) as error:
             raise ValueError(f"--scheduler {scheduler}: cannot connect: {error}") from None
+        stack.callback(client.close)
+        return client
+    scratch = stack.enter_context(tempfile.TemporaryDirectory(prefix="armlab-dask-"))
+    stack.enter_context(dask.config.set({"temporary-directory": scratch}))  # scheduler's and workers' scratch
     # No dashboard; the scheduler's own HTTP endpoint (health, metrics) on a free port of 127.0.0.1, not 8787.
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                            dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
                            silence_logs=logging.ERROR)
-    return Client(cluster), cluster
+    stack.callback(cluster.close)
+    client = Client(cluster)
+    stack.callback(client.close)
+    return client
 
 
 def default_workers() -> int:
@@ -228,11 +239,12 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
     from armlab.analysis.study import timed_evaluate
 
     started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
-    client, cluster = _client(workers or (None if scheduler else default_workers()), scheduler)
-    appender = _Appender(out / RESULTS)
-    bar = tqdm(total=len(todo), unit="candidate", file=sys.stderr,
-               disable=not (sys.stderr.isatty() if progress is None else progress), dynamic_ncols=True)
-    try:
+    with ExitStack() as stack:
+        client = _client(stack, workers or (None if scheduler else default_workers()), scheduler)
+        appender = _Appender(out / RESULTS)
+        stack.callback(appender.close)
+        bar = stack.enter_context(tqdm(total=len(todo), unit="candidate", file=sys.stderr, dynamic_ncols=True,
+                                       disable=not (sys.stderr.isatty() if progress is None else progress)))
         n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
         remote = client.scatter(study, broadcast=True)
         token = uuid.uuid4().hex[:8]  # a sweep's own keys: another sweep's results are never reused
@@ -257,12 +269,6 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
                                  answer["wall_time_s"], answer["worker"]])
                 result.computed += 1
             bar.update(1)
-    finally:
-        bar.close()
-        appender.close()
-        client.close()
-        if cluster is not None:
-            cluster.close()
     return {"started": started, "scheduler": scheduler or f"LocalCluster ({n_workers} workers)",
             "workers": n_workers, "computed": result.computed, "failed": result.failed}
 
