@@ -1,20 +1,21 @@
 """The workspace of a serial arm: volume (area of a planar arm), reach, bounding box, manipulability.
 
 The joint space is sampled uniformly within the joint limits (a revolute joint without limits over one
-full turn, −π … π), the tool point is computed for every sample in chunks (:func:`tool_positions`), and
-the workspace **volume** is the number of voxels of edge ``h`` the tool points occupy, times h³ (h² and
-an area for a planar arm, whose tool points are found to lie in one plane; h and a length for a line).
+full turn, −π … π), the tool point is computed for every sample in chunks by the arm's batched forward
+kinematics (:func:`tool_positions`), and the workspace **volume** is the number of voxels of edge ``h``
+the tool points occupy, times h³ (h² and an area for a planar arm, whose tool points are found to lie in
+one plane; h and a length for a line).
 
 A voxel estimate has two errors: too few samples leave cells inside the workspace empty (the estimate
 grows with N), and a cell that the boundary cuts counts whole (the estimate shrinks with h, to first
 order in h). The reported volume is therefore the Richardson extrapolation to h → 0 from the counts at
 h and 2h, V = 2·V(h) − V(2h), which removes the error of first order in h once the cells are filled;
 the default resolution keeps about :data:`SAMPLES_PER_CELL` samples per occupied cell (estimated from
-the first batch of samples) so that they are. :func:`workspace` records V at N/64 … N samples and V(h) at h … 8h, so
-the convergence is seen.
+the first batch of samples) so that they are. :func:`workspace` records V at N/64 … N samples and V(h)
+at h … 8h, so the convergence is seen.
 
 Manipulability (Yoshikawa's w = √det(J Jᵀ) and the smallest singular value σ_min) and the singular
-configurations are those of the arm's task Jacobian (:func:`task_jacobian`), on a subsample.
+configurations are computed on a subsample by :mod:`armlab.analysis.singular`.
 """
 
 from __future__ import annotations
@@ -80,36 +81,9 @@ def sample_joints(arm: Arm, samples: int, rng: np.random.Generator | int | None 
 
 
 def tool_positions(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
-    """The tool point of every configuration of the batch ``q`` (..., n), shape ``(..., 3)``, in metres.
-
-    Paper 003's locating matrices (eqs. 3–4, 8–9) applied to one point, from the tool to the base:
-    p ← T_{i−1,i}(q_i)·p for i = n … 1 starting at the tool row's origin, with R(k; q) p by Rodrigues'
-    formula p cos q + (k × p) sin q + k (k·p)(1 − cos q) (for k along a coordinate axis, a plane rotation
-    of the other two coordinates). A matrix-vector product per joint instead of
-    the 4 × 4 chain of :meth:`Arm.forward`, whose tool positions it equals (``tests/test_workspace.py``).
-    """
-    from armlab.kinematics.batch import as_batch
-
-    q = as_batch(q, arm.n)
-    shape = q.shape[:-1]
-    angles = np.ascontiguousarray(q.reshape(-1, arm.n).T)  # (n, N): each joint's values contiguous
-    p = np.repeat(np.asarray(arm.table.tool, dtype=float)[:3, 3:4], angles.shape[1], axis=1)  # (3, N)
-    for i in range(arm.n - 1, -1, -1):
-        row, qi = arm.table.rows[i], angles[i]
-        k = np.asarray(row.k, dtype=float)
-        if row.kind == "T":
-            p = p + k[:, None] * qi
-        elif np.count_nonzero(k) == 1:  # about a coordinate axis a: only the other two coordinates turn
-            a = int(np.flatnonzero(k)[0])
-            b, c = (a + 1) % 3, (a + 2) % 3
-            cos, sin = np.cos(qi), np.sin(qi) * k[a]
-            p[b], p[c] = cos * p[b] - sin * p[c], sin * p[b] + cos * p[c]  # p is this loop's own array
-        else:
-            K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-            cos, sin = np.cos(qi), np.sin(qi)
-            p = cos * p + sin * (K @ p) + (1.0 - cos) * (np.outer(k, k) @ p)
-        p = np.asarray(row.R, dtype=float) @ p + np.asarray(row.P, dtype=float)[:, None]
-    return p.T.reshape(shape + (3,))
+    """The tool point of every configuration of the batch ``q`` (..., n), shape ``(..., 3)``, in metres:
+    the origin of :meth:`Arm.forward`'s tool frame (the paper's own batched forward kinematics)."""
+    return arm.forward(q).tool[..., :3, 3]
 
 
 def motion_rank(arm: Arm, q: NDArray[np.float64], basis: NDArray[np.float64]) -> int:

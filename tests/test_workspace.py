@@ -10,19 +10,11 @@ import numpy as np
 import pytest
 
 from armlab.analysis.singular import SINGULAR_TOL, task_sigma
-from armlab.analysis.workspace import joint_box, sample_joints, tool_positions, workspace, workspace_plane
-from armlab.models import ARMS, get_arm
+from armlab.analysis.workspace import joint_box, sample_joints, workspace, workspace_plane
+from armlab.models import get_arm
 
 ARMLAB = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "armlab")
 RR_AREA = np.pi * (0.7**2 - 0.1**2)  # annulus L1 ± L2 of paper 000's RR arm
-
-
-@pytest.mark.parametrize("name", list(ARMS))
-def test_tool_positions_equal_forward_kinematics(name: str) -> None:
-    arm = get_arm(name)
-    q = sample_joints(arm, 2000, 3)
-    np.testing.assert_allclose(tool_positions(arm, q), arm.forward(q).tool[:, :3, 3], rtol=0, atol=1e-12)
-    assert tool_positions(arm, q[0]).shape == (3,)
 
 
 def test_unlimited_revolute_joints_cover_a_full_turn() -> None:
