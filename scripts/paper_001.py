@@ -51,13 +51,14 @@ def fig4_splits(target: tuple[float, float, float] = PAPER_TARGET, reach: float 
     """
     rho, pz = float(np.hypot(target[0], target[1])), float(target[2])
 
-    def a2_of(theta: np.ndarray) -> np.ndarray:
+    def a2_of(theta: np.ndarray) -> np.ndarray:  # ±inf where cθ = c2θ (θ = 0, ±2π/3): no root there
         with np.errstate(divide="ignore", invalid="ignore"):
             return (rho - reach * np.cos(2 * theta)) / (np.cos(theta) - np.cos(2 * theta))
 
     def g(theta: np.ndarray) -> np.ndarray:
         a2 = a2_of(theta)
-        return a2 * np.sin(theta) + (reach - a2) * np.sin(2 * theta) + pz
+        with np.errstate(invalid="ignore"):
+            return a2 * np.sin(theta) + (reach - a2) * np.sin(2 * theta) + pz
 
     grid = np.linspace(-np.pi, np.pi, samples)
     a2, values = a2_of(grid), g(grid)
@@ -131,21 +132,25 @@ def _fig4_claim(out: PaperOutput, arm: Any, q: np.ndarray) -> None:
     reach = arm.parameters["a2"] + arm.parameters["a3"]
     theta1 = float(np.arctan2(PAPER_TARGET[1], PAPER_TARGET[0]))
     lo, hi = arm.limit_arrays()
-    holds, outside = [], []
+    holds, outside, lengths = [], [], []
     for a2, theta in fig4_splits(PAPER_TARGET, reach):
         split = get_arm("arm4r", a2=float(a2), a3=float(reach - a2), d2=0.0)
         joints = wrap_angle(np.array([theta1, theta, theta, theta1]))
         miss = float(np.abs(split.forward(joints).tool[:3, 3] - PAPER_TARGET).max())
         text = (f"a2 = {a2:.4f} m, a3 = {reach - a2:.4f} m with θ2 = θ3 = {np.degrees(theta):.2f}°, θ1 = θ4 = "
                 f"{np.degrees(theta1):g}° (FK reaches the target to {miss:.0e} m)")
-        (holds if np.all((joints >= lo) & (joints <= hi)) else outside).append(text)
+        within = bool(np.all((joints >= lo) & (joints <= hi)))
+        (holds if within else outside).append(text)
+        lengths += [f"a2 = {a2:.4f} m"] if within else []
     note = (f"armlab's motion (a2 = a3 = {reach / 2:g} m, the start's pitch kept) gives max |θ1 − θ4| = {gap14:.4g}°, "
             f"|θ2 − θ3| = {gap23:.4g}°. With a2 + a3 = {reach:g} m the claim holds exactly for "
             + " or ".join(holds) + (f"; outside Table 1's limits also for {'; '.join(outside)}" if outside else ""))
     out.add(Row(PAPER, "Fig. 4 claim: joints 1 and 4 coincide, joints 2 and 3 coincide; max |θ1 − θ4|, |θ2 − θ3| [deg]",
                 "coincide", f"{gap14:.4g}, {gap23:.4g}", max(gap14, gap23),
                 not_reproducible("the paper prints neither the link lengths nor the target orientation (its stop "
-                                 "values are garbled); the claim depends on both: " + " or ".join(holds)),
+                                 "values are garbled); the claim depends on both: it holds exactly for "
+                                 + " or ".join(lengths) + f" (a2 + a3 = {reach:g} m, θ2 = θ3, θ1 = θ4 = "
+                                 f"{np.degrees(theta1):g}°), not for the chosen a2 = a3 = {reach / 2:g} m"),
                 note))
 
 

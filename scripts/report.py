@@ -295,9 +295,12 @@ class PaperOutput:
         from armlab.diagrams.replay import write_replay
 
         svg, replay = f"diagram_{stem}.svg", f"replay_{stem}.html"
-        (self.folder / svg).write_bytes(render(fig6_dot(log.diagram_dot), "svg"))
+        dot = fig6_dot(log.diagram_dot)
+        (self.folder / svg).write_bytes(render(dot, "svg"))
         write_replay(log.arm, log.t, log.q, self.folder / replay, tool_path=log.tool[:, :3])
-        self._record("runs", {"label": label, "svg": svg, "replay": replay})
+        # the diagram's structure, whatever order Drake lists its connections in: the report shows each once
+        structure = hashlib.sha1("\n".join(sorted(dot.splitlines())).encode()).hexdigest()
+        self._record("runs", {"label": label, "svg": svg, "replay": replay, "structure": structure})
         self._say(f"{label}: Systems diagram and 3-D replay", [svg, replay])
 
     def replay(self, arm: Any, t: Any, q: Any, stem: str, label: str) -> None:
@@ -548,7 +551,7 @@ def _paper_section(doc: _Doc, paper: str, m: dict[str, Any], rows: Sequence[Row]
         label = f"{counts[kind]} {kind}"
         links = " · ".join(f'<a href="#{_anchor("row", paper, str(k))}">{html.escape(r.quantity)}</a>' for k, r in mine)
         opened = "" if kind == MATCHES else " open"  # the list of matches is long: folded
-        doc.raw(f"- {label}: " + "; ".join(r.quantity for _, r in mine) + "\n",
+        doc.raw(f'- <a id="{_anchor(paper, kind)}"></a>{label}: ' + "; ".join(r.quantity for _, r in mine) + "\n",
                 f'<details class="index" id="{_anchor(paper, kind)}"{opened}><summary><b class="c-{_CSS_KIND[kind]}">'
                 f"{label}</b></summary>{links}</details>")
     if m.get("schemes"):
@@ -580,7 +583,7 @@ def _paper_section(doc: _Doc, paper: str, m: dict[str, Any], rows: Sequence[Row]
         runs = [r for r in m["runs"] if r.get("group", 0) == g]
         diagrams = []
         for r in runs:
-            digest = hashlib.sha1((doc.out_dir / paper / r["svg"]).read_bytes()).hexdigest()
+            digest = r.get("structure") or hashlib.sha1((doc.out_dir / paper / r["svg"]).read_bytes()).hexdigest()
             if digest in shown:
                 doc.para(f"{r['label']}: simulated through the Systems diagram shown under “{shown[digest]}”.")
             else:
