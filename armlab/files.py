@@ -171,15 +171,36 @@ def _umask() -> int:
     return mask
 
 
+def _make_folder(folder: Path) -> list[Path]:
+    """Make ``folder`` with its missing parents; the folders made, deepest first (see :func:`_unmake`)."""
+    made = [p for p in (folder, *folder.parents) if not p.exists()]
+    folder.mkdir(parents=True, exist_ok=True)
+    return made
+
+
+def _unmake(made: list[Path]) -> None:
+    """Remove the folders :func:`_make_folder` made, deepest first, as long as they are empty."""
+    for folder in made:
+        try:
+            folder.rmdir()
+        except OSError:  # not empty (someone else's files by now) or gone
+            return
+
+
 def write_file(path: str | Path, data: bytes | str) -> Path:
-    """Write ``data`` (text as UTF-8) to ``path`` atomically; ``ValueError`` if its folder cannot be written."""
+    """Write ``data`` (text as UTF-8) to ``path`` atomically; ``ValueError`` if its folder cannot be written.
+
+    Missing folders of ``path`` are made, and removed again if the file cannot be written."""
     path = Path(path)
     parent = path.parent
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
-    except OSError as error:
-        raise ValueError(f"{path}: cannot write in {parent}: {error.strerror or error}") from None
+    made: list[Path] = []
+    with _signals_held():
+        try:
+            made = _make_folder(parent)
+            fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
+        except OSError as error:
+            _unmake(made)
+            raise ValueError(f"{path}: cannot write in {parent}: {error.strerror or error}") from None
     try:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data.encode() if isinstance(data, str) else data)
@@ -188,6 +209,7 @@ def write_file(path: str | Path, data: bytes | str) -> Path:
     except BaseException:
         with _signals_held():
             _remove(Path(tmp))
+            _unmake(made)
         raise
     return path
 
@@ -226,16 +248,19 @@ class OutputFolder:
             if any(self.out.iterdir()) and not is_previous(self.out):
                 raise ValueError(f"--out {self.out}: exists and is not {kind}; give a new or empty folder")
         parent = self.out.absolute().parent
+        self._made: list[Path] = []  # the missing parents made for it, removed again if the output fails
         with _signals_held():
             try:
-                parent.mkdir(parents=True, exist_ok=True)
+                self._made = _make_folder(parent)
                 self.tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.out.name}.", suffix=".tmp"))
             except OSError as error:
+                _unmake(self._made)
                 raise ValueError(f"--out {self.out}: cannot write in {parent}: {error.strerror or error}") from None
             try:
                 self.tmp.chmod(0o777 & ~_umask())
             except BaseException:
                 _remove(self.tmp)
+                _unmake(self._made)
                 raise
 
     def __enter__(self) -> Path:
@@ -246,8 +271,13 @@ class OutputFolder:
         with _signals_held():
             if kind is not None:
                 _remove(self.tmp)
+                _unmake(self._made)
                 return
-            self._commit()
+            try:
+                self._commit()
+            except BaseException:
+                _unmake(self._made)
+                raise
 
     def _commit(self) -> None:
         """Rename the temporary folder onto ``out`` (an existing ``out`` moved aside first, and back on failure)."""

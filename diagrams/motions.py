@@ -268,7 +268,8 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
         rate = spec.get("rate")
         if (qf is None) == (rate is None):
             raise ValueError(f"{where}: give exactly one of \"to\", \"to_point\" or \"rate\"")
-        tf = check_duration(_number(spec["tf"], f"{where} tf"), f"{where} tf")
+        _number(spec["tf"], f"{where} tf")  # a JSON number: not "2", true or null
+        tf = check_duration(spec["tf"], f"{where} tf")
         if rate is not None:
             segments.append(ConstantRate(q0, _values(arm, rate, deg, f"{where} rate"), tf, label))
         else:

@@ -118,8 +118,8 @@ def _closed_reader(box: Sandbox, *argv: str) -> tuple[int, str]:
     return process.returncode, err.decode()
 
 
-@pytest.mark.parametrize("argv", [("list",), ("fk", "urm6", "--q", "0,0,0,0,0,0", "--json"), (*SHORT, "--out", "run")],
-                         ids=lambda v: v[0])
+@pytest.mark.parametrize("argv", [("list",), ("fk", "urm6", "--q", "0,0,0,0,0,0", "--json"), (*SHORT, "--out", "run"),
+                                  (*SHORT, "--out", "new/deeper/run")], ids=lambda v: " ".join(v)[-20:])
 def test_a_reader_that_goes_away_ends_it_quietly(box, argv):
     """``armlab … | head``: exit 141 (128 + SIGPIPE, as the shell's own tools), nothing on stderr, no output."""
     code, err = _closed_reader(box, *argv)
