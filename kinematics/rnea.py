@@ -11,7 +11,7 @@ outward, i = 1 … n, from ω_0 = ω̇_0 = 0 and v̇_0 = −g (gravity as an acc
     ω_i  = Rᵀω_{i−1} + q̇_i ẑ                                         (6.45; prismatic: Rᵀω_{i−1})
     ω̇_i  = Rᵀω̇_{i−1} + Rᵀω_{i−1} × q̇_i ẑ + q̈_i ẑ                       (6.46; prismatic: Rᵀω̇_{i−1})
     v̇_i  = Rᵀ(ω̇_{i−1} × P + ω_{i−1} × (ω_{i−1} × P) + v̇_{i−1})          (6.47)
-           [+ 2 ω_i × q̇_i ẑ + q̈_i ẑ for a prismatic joint]               (6.35)
+           [+ 2 ω_i × q̇_i ẑ + q̈_i ẑ for a prismatic joint]               (§6.5)
     v̇_ci = ω̇_i × c_i + ω_i × (ω_i × c_i) + v̇_i                          (6.48)
     F_i  = m_i v̇_ci,   N_i = I_i ω̇_i + ω_i × I_i ω_i                     (6.49–6.50)
 
@@ -41,6 +41,7 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = ["LinkInertias", "inverse_dynamics", "link_inertias"]
+
 
 @dataclass(frozen=True)
 class LinkInertias:
@@ -104,8 +105,8 @@ def _skew(v: NDArray) -> NDArray:
 @dataclass(frozen=True)
 class _Link:
     """The constants of one link in its turned frame {i}' (joint axis z): ``C``, ``P`` the rotation and
-    origin of {i}' in {i−1}' at q_i = 0; ``to_next``: [−[P]×] of the next link (``None`` if it slides, its
-    origin then depends on q); ``K`` = [−[m c]×; I_o] (6×3) with I_o the inertia about the origin, ``mc`` = [m c]×.
+    origin of {i}' in {i−1}' at q_i = 0; its mass m, ``K`` = [−[m c]×; I_o] (6×3) with c its centre of mass
+    and I_o its inertia about the origin, ``mc`` = [m c]×.
     """
 
     C: NDArray
@@ -143,7 +144,7 @@ def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray
             w[2] += qd[i]  # (6.45)
         else:
             w, vd = W[0], W[2]
-            vd[0] += 2 * qd[i] * w[1]  # 2 ω × q̇ ẑ + q̈ ẑ: (6.35)
+            vd[0] += 2 * qd[i] * w[1]  # 2 ω × q̇ ẑ + q̈ ẑ (prismatic, §6.5)
             vd[1] -= 2 * qd[i] * w[0]
             vd[2] += qdd[i]
         X = np.matmul(link.K, W[:2])  # [ω × m c; I_o ω], [ω̇ × m c; I_o ω̇]
