@@ -203,6 +203,48 @@ def test_segments_files(box, content, code, fragment):
     assert box.debris(*(["run"] if code == 0 else [])) == []
 
 
+# ---- arm files through the CLI (the models' own tables: tests/test_custom.py, test_security.py): --------------
+# (file name, content, argv with {} for the file, exit code, fragment)
+DH = "type,a,alpha,d,theta,lower,upper\n"
+ARM_FILES = [
+    ("empty.csv", DH, ("show", "{}"), 2, "empty.csv: the DH table has no rows"),
+    ("nan.csv", DH + "R,nan,0,0,0,-1,1\n", ("fk", "{}", "--q", "0"), 2, "a = 'nan' is not a finite number"),
+    ("rev.csv", DH + "R,0.5,0,0,0,1,-1\n", ("show", "{}"), 2, "lower = 1.0 must be below upper = -1.0"),
+    ("huge.csv", DH + "R,1e308,0,0,0,-1,1\nR,1e308,0,0,0,-1,1\n", ("fk", "{}", "--q", "0,0"), 2, ""),
+    ("kin.csv", DH + "R,0.5,0,0,0,-1,1\n", ("simulate", "{}", "--out", "run"), 2, "kin is a kinematic arm"),
+    ("kin.csv", DH + "R,0.5,0,0,0,-1,1\n", ("fk", "{}", "--q", "0.5"), 0, "tool"),
+    ("bad.urdf", "not xml", ("show", "{}"), 2, "bad.urdf is not valid XML"),
+    ("rev.urdf", '<robot name="x"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
+     '<child link="b"/><limit lower="1" upper="-1"/></joint></robot>', ("show", "{}"), 2, "the limits are reversed"),
+    ("bin.csv", b"\xff\xfe\x00", ("show", "{}"), 2, "bin.csv"),
+]
+
+
+@pytest.mark.parametrize(("name", "content", "argv", "code", "fragment"), ARM_FILES, ids=lambda v: str(v)[:30])
+def test_arm_files(box, name, content, argv, code, fragment):
+    box.write(name, content)
+    check(box.main(*(a.replace("{}", name) for a in argv)), code, fragment)
+    assert box.debris() == []
+
+
+# ---- a sample of the cases above as real processes: exit code, stderr and the interpreter's exit as a user sees
+SAMPLE = [*CLI_NUMBERS[::8], *CLI_NUMBERS_ACCEPTED[:1]]
+
+
+@pytest.mark.parametrize(("argv", "code", "fragment"), SAMPLE, ids=lambda v: " ".join(v)[:40] if isinstance(v, tuple)
+                         else None)
+def test_cli_numbers_as_processes(box, argv, code, fragment):
+    check(box.run(*argv), code, fragment)
+    assert box.debris("d.dot") == []
+
+
+@pytest.mark.parametrize(("content", "code", "fragment"), [SEGMENT_FILES[2], SEGMENT_FILES[11]], ids=["deep", "tf"])
+def test_segments_files_as_processes(box, content, code, fragment):
+    box.write("seg.json", content)
+    check(box.run("simulate", "rr", "--segments", "seg.json", "--out", "run"), code, fragment)
+    assert box.debris() == []
+
+
 # ---- resource limits: files that are too big, endless, or not files; (make the path, exit code, fragment) ---------
 def _fifo(box: Sandbox) -> str:
     os.mkfifo(box.cwd / "fifo")
