@@ -130,8 +130,9 @@ def manipulability(J: ArrayLike, axes: Literal["all", "trans", "rot"] | None = N
 
     The product of the singular values of the selected rows J_s (``axes``: ``"all"`` the 6 rows,
     ``"trans"`` rows v, ``"rot"`` rows ω; default ``"all"`` when n ≥ 6, else ``"trans"``), which is
-    √det(J_s J_sᵀ) when J_s has no more rows than columns and √det(J_sᵀ J_s) otherwise. Zero exactly
-    at a singular configuration (for ``"trans"``: m²·… units of m per rad, mixed for ``"all"``).
+    √det(J_s J_sᵀ) when J_s has no more rows than columns and √det(J_sᵀ J_s) otherwise; zero at a
+    singular configuration. Units: the product of the singular values' (m/rad or 1 for the rows v,
+    rad/rad or rad/m for ω; ``"all"`` mixes them, so compare its values only for one arm).
     """
     return np.prod(_singular_values(J, axes), axis=-1)
 
