@@ -695,5 +695,13 @@ def solve(
     kept = fitted[[v is None for v in violations]]
     if kept.shape[0] == 0:
         raise ValueError(_outside_limits_message(arm, _target_text(position, rotation), violations))
+    error = _pose_error(arm, position, rotation, kept)  # the last word: the arm's own FK of what is returned
+    miss = np.maximum(np.linalg.norm(error[:, :3], axis=-1) / POSITION_TOL,
+                      np.linalg.norm(error[:, 3:], axis=-1) / ORIENTATION_TOL)
+    if not np.any(miss <= 1.0):
+        raise ValueError(f"{_target_text(position, rotation)}: no solution of {arm.name} reaches it to "
+                         f"{POSITION_TOL:g} m and {ORIENTATION_TOL:g} rad (the closest misses by "
+                         f"{np.linalg.norm(error[np.argmin(miss)]):.3g})")
+    kept = kept[miss <= 1.0]
     unique = sorted(_distinct(arm, kept, tol), key=lambda q: float(np.linalg.norm(_joint_difference(arm, q, near))))
     return unique if all_solutions else unique[:1]
