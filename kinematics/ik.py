@@ -674,9 +674,10 @@ def solve(
     Every solution is fitted into the joint limits by :func:`fit_limits`; those that do not fit
     are dropped, duplicates (revolute joints modulo 2π) removed, and the rest sorted by Euclidean
     joint distance to ``near`` (default zeros; an unlimited revolute joint's difference taken modulo
-    2π). Returns every solution if ``all_solutions``, else ``[best]``. ``ValueError`` (naming the bad
-    value) for a wrong number of coordinates, NaN/inf, a coordinate beyond ±1e6 m (``near``: ±1e6),
-    a matrix that is not a pose, a pitch for an arm other than arm4r, an
+    2π). Each is checked by the arm's own FK to reach the target to 1e-9 m (and 1e-9 rad). Returns
+    every solution if ``all_solutions``, else ``[best]``. ``ValueError`` (naming the bad value) for a
+    wrong number of coordinates, NaN/inf, a coordinate beyond ±1e6 m or a pitch or ``near`` beyond
+    ±1e6, a matrix that is not a pose, a pitch for an arm other than arm4r (or with a pose), an
     unreachable target (with the closest distance), or a target reachable only outside the joint
     limits (naming the joint and its limits).
     """
