@@ -272,6 +272,29 @@ RESOURCE_LIMITS = [
 ]
 
 
+#: Work that cannot finish (the estimate made before the run): (argv, exit code, fragment).
+WORK_LIMITS = [
+    ((*SIM, "--tf", "1e6"), 2, "more than the 1,000,000 allowed"),
+    ((*SIM, "--dt", "1e-9"), 2, "2,000,000,001 log samples"),
+    (("simulate", "urm6", "--from", "0,0,0,0,0,0", "--to", "1e6,0,0,0,0,0", "--out", "run"), 2, "integrator steps"),
+]
+
+
+@pytest.mark.parametrize(("argv", "code", "fragment"), WORK_LIMITS, ids=lambda v: " ".join(v)[:50]
+                         if isinstance(v, tuple) else None)
+@pytest.mark.timeout(30)
+def test_work_limits(box, argv, code, fragment):
+    check(box.main(*argv), code, fragment)
+    assert box.debris() == []
+
+
+@pytest.mark.timeout(30)
+def test_a_segments_file_with_endless_work(box):
+    box.write("seg.json", json.dumps({"segments": [{"tf": 1e7, "from": [0, 0], "to": [0.1, 0.1]}]}))
+    check(box.main("simulate", "rr", "--segments", "seg.json", "--out", "run"), 2, "allowed")
+    assert box.debris() == []
+
+
 @pytest.mark.parametrize(("make", "code", "fragment"), RESOURCE_LIMITS, ids=lambda v: getattr(v, "__name__", None))
 @pytest.mark.timeout(30)
 def test_resource_limits(box, make, code, fragment):
