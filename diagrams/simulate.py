@@ -417,7 +417,7 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
         "gravity": log.gravity.tolist(),
         "payload_kg": log.payload,
         "log_period": log.log_period,
-        "integrator": {"scheme": DEFAULT_INTEGRATOR, "target_accuracy": log.accuracy, "max_step": MAX_STEP},
+        "integrator": {"scheme": DEFAULT_INTEGRATOR, "target_accuracy": log.accuracy, "max_step": max_step(log.mode)},
         **_stats(log, np.ones(log.t.shape, dtype=bool)),
         "quintic_coefficients": motion.coefficients().tolist(),
         "segments": segments,

@@ -435,7 +435,7 @@ def test_simulate_motion_options(tmp_path):
         "--gravity", "off", "--mode", "inverse_dynamics", "--dt", "0.007", "--out", str(out))
     summary = json.loads((out / "summary.json").read_text())
     assert summary["duration"] == 1.5 and summary["payload_kg"] == 20 and summary["gravity"] == [0, 0, 0]
-    assert summary["mode"] == "inverse_dynamics"
+    assert summary["mode"] == "inverse_dynamics" and summary["integrator"]["max_step"] == 0.002  # open loop: 2 ms
     np.testing.assert_allclose(summary["segments"][0]["q_end"], [np.pi / 2, 0.2, 0.0])
     table = np.loadtxt(out / "log.csv", delimiter=",", skiprows=1)
     assert table.shape[0] == 216 and table[-2, 0] == pytest.approx(1.498) and table[-1, 0] == 1.5  # 7 ms, and the end
