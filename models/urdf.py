@@ -18,7 +18,7 @@ the parent link, a red ball at the tool. Every joint is actuated through a ``Sim
 from __future__ import annotations
 
 from dataclasses import dataclass
-from xml.sax.saxutils import quoteattr
+from html import escape
 
 import numpy as np
 from numpy.typing import NDArray
@@ -191,7 +191,7 @@ def urdf_text(
     out = ['<?xml version="1.0"?>']
     if comment:
         out.append(f"<!-- {comment} -->")
-    out.append(f"<robot name={quoteattr(name)}>")
+    out.append(f'<robot name="{escape(name, quote=True)}">')  # html, not xml.sax.saxutils: that imports urllib
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
     out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')
     base_r = max(b.radius for b in bodies) * 2.5
