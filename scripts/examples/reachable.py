@@ -16,7 +16,7 @@ import argparse
 import numpy as np
 
 import armlab
-from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
+from armlab.kinematics.ik import pose
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -33,11 +33,7 @@ def main(argv: list[str] | None = None) -> int:
         target = arm.fk(np.radians(TABLE1_PHI_DEG)) if arm.name == "urm6" else arm.fk(np.zeros(arm.n))
     else:
         position = np.array([float(v) for v in args.position.split(",")])
-        target = position
-        if args.rpy is not None:
-            roll, pitch, yaw = np.radians([float(v) for v in args.rpy.split(",")])
-            target = T_Z6(yaw) @ T_Z5(pitch) @ T_Z4(roll)
-            target[:3, 3] = position
+        target = position if args.rpy is None else pose(position, np.radians([float(v) for v in args.rpy.split(",")]))
     try:
         solutions = arm.ik(target, all=True)
     except ValueError as error:
