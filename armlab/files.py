@@ -110,7 +110,12 @@ def stop_on_signals() -> Iterator[SignalState]:
 
 @contextmanager
 def _signals_held() -> Iterator[None]:
-    """A stop signal arriving inside waits (raised on leaving): temporaries are renamed or removed whole."""
+    """A stop signal arriving inside waits (raised on leaving): temporaries are renamed or removed whole.
+
+    Only the main thread counts: Python runs signal handlers there, and other threads must not change its count."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
     _STATE.held += 1
     try:
         yield
