@@ -12,16 +12,14 @@ motion about or along z, which only mixes two columns (:func:`turn_z`) or shifts
 
 from __future__ import annotations
 
-import dataclasses
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["BLOCK", "ZStep", "as_batch", "blocks", "chain_blocks", "chain_frames", "chain_points", "cos_sin", "cross",
-           "in_blocks", "slide_z", "times_constant", "turn_z"]
+           "slide_z", "times_constant", "turn_z"]
 
 #: Samples per block (see the module docstring).
 BLOCK = 4096
@@ -46,46 +44,6 @@ def as_batch(q: ArrayLike, n: int, name: str = "q") -> NDArray[np.float64]:
 def blocks(count: int) -> list[slice]:
     """Slices of at most :data:`BLOCK` samples covering ``range(count)``."""
     return [slice(start, min(start + BLOCK, count)) for start in range(0, count, BLOCK)]
-
-
-def _map(function: Callable[..., Any], *trees: Any) -> Any:
-    """``function`` applied to the arrays at the same place in ``trees`` (arrays, dicts, tuples, dataclasses)."""
-    first = trees[0]
-    if isinstance(first, np.ndarray):
-        return function(*trees)
-    if isinstance(first, dict):
-        return {key: _map(function, *(tree[key] for tree in trees)) for key in first}
-    if isinstance(first, tuple | list):
-        return type(first)(_map(function, *items) for items in zip(*trees, strict=True))
-    if dataclasses.is_dataclass(first):
-        return dataclasses.replace(first, **{f.name: _map(function, *(getattr(tree, f.name) for tree in trees))
-                                            for f in dataclasses.fields(first)})
-    raise TypeError(f"in_blocks: a result of type {type(first).__name__} is not an array or a container of arrays")
-
-
-def in_blocks[Result](function: Callable[[NDArray[np.float64]], Result], q: NDArray[np.float64]) -> Result:
-    """``function(q)`` for a batch ``q`` ``(..., n)``, evaluated :data:`BLOCK` samples at a time.
-
-    ``function`` maps ``(B, n)`` to arrays whose first axis is the batch (or dicts, tuples, dataclasses of
-    them); the blocks' results are written into arrays of the whole batch, reshaped to ``q``'s batch axes.
-    A short batch is one call.
-    """
-    flat = q.reshape(-1, q.shape[-1])
-    if flat.shape[0] <= BLOCK:
-        return function(q)
-    first = function(flat[:BLOCK])
-    out = _map(lambda a: _like(a, flat.shape[0]), first)
-    for block in blocks(flat.shape[0]):
-        part = first if block.start == 0 else function(flat[block])
-        _map(lambda whole, piece, rows=block: whole.__setitem__(rows, piece), out, part)
-    return _map(lambda a: a.reshape(q.shape[:-1] + a.shape[1:]), out)
-
-
-def _like(a: NDArray, count: int) -> NDArray:
-    """An empty array for ``count`` samples of ``a``'s kind, stored batch-last if ``a`` is (no transposing copies)."""
-    if a.ndim > 1 and a.strides[0] == a.itemsize:  # the batch axis is the one contiguous in memory
-        return np.moveaxis(np.empty(a.shape[1:] + (count,), a.dtype), -1, 0)
-    return np.empty((count,) + a.shape[1:], a.dtype)
 
 
 def cos_sin(angle: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -16,7 +16,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.kinematics.batch import in_blocks
+from armlab.kinematics.batch import chain_points
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, parameter_notes
 from armlab.models.urdf import Body, JointLimits, Point
@@ -51,8 +51,9 @@ def dh_table(p: Parameters) -> DHTable:
 
 def forward(q: NDArray, p: Parameters) -> Forward:
     """T_{0,i} by the modified DH chain: elbow O3, wrist O4; the tool frame is {4}."""
-    frames = dh_table(p).frames(q)
-    return Forward(frames[..., 4, :, :], {"O3": frames[..., 3, :3, 3], "O4": frames[..., 4, :3, 3]})
+    origin = (0.0, 0.0, 0.0)
+    T04, points = chain_points(q, dh_table(p).steps, {"O3": (3, origin), "O4": (4, origin)})
+    return Forward(T04, points)
 
 
 def build(**overrides: float) -> Arm:
@@ -73,6 +74,6 @@ def build(**overrides: float) -> Arm:
         points=(Point("O3", 3, (0.0, 0.0, 0.0)), Point("O4", 5, (0.0, 0.0, 0.0))),
         tool_name="O4",
         gravity=(0.0, 0.0, -9.81),
-        forward_fn=lambda q: in_blocks(lambda block: forward(block, p), q),  # in cache-sized blocks
+        forward_fn=lambda q: forward(q, p),
         urdf_file=MODELS_DIR / "arm4r.urdf" if not overrides else None,
     )
