@@ -41,7 +41,6 @@ from armlab.kinematics.quintic import Motion, to_piecewise_polynomial
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.framework import Diagram
-    from pydrake.trajectories import PiecewisePolynomial
 
     from armlab.models.arm import Arm
 
@@ -69,8 +68,8 @@ def check_log_period(period: float, duration: float | None = None) -> float:
 class RunDiagram:
     """A built diagram and handles to its parts (the loggers by role: reference, state, torque, tool).
 
-    ``trajectory`` is the TrajectorySource's q_d(t); ``gains`` the controller's (kp, kd, ki) per joint
-    (used in ``"controller"`` mode); ``arm`` the arm the plant is built from.
+    ``gains`` are the controller's (kp, kd, ki) per joint (used in ``"controller"`` mode); ``arm`` the arm
+    the plant is built from.
     """
 
     diagram: Diagram
@@ -83,7 +82,6 @@ class RunDiagram:
     mode: str
     log_period: float
     sampling: str
-    trajectory: PiecewisePolynomial
     gains: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
     arm: Arm
 
@@ -126,8 +124,9 @@ def build_diagram(
     plant = builder.AddNamedSystem("MultibodyPlant", make_plant(arm, g, payload))
     model = make_plant(arm, g, payload)
 
-    trajectory = to_piecewise_polynomial(motion)
-    source = builder.AddNamedSystem("TrajectorySource", TrajectorySource(trajectory, output_derivative_order=2))
+    source = builder.AddNamedSystem(
+        "TrajectorySource", TrajectorySource(to_piecewise_polynomial(motion), output_derivative_order=2)
+    )
     split = builder.AddNamedSystem("reference_split", Demultiplexer([2 * n, n]))
     builder.Connect(source.get_output_port(), split.get_input_port())
     gains = (gain_vector(kp, n, "kp"), gain_vector(kd, n, "kd"), gain_vector(ki, n, "ki"))
@@ -158,4 +157,4 @@ def build_diagram(
     diagram = builder.Build()
     diagram.set_name(f"{arm.name} Fig. 6 ({mode})")
     return RunDiagram(diagram, plant, model, loggers, motion, g, float(payload), mode, log_period, sampling,
-                      trajectory, gains, arm)
+                      gains, arm)
