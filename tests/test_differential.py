@@ -249,3 +249,14 @@ def test_rrrr_forward_is_paper_000s_basic_movement_product(rng):
     forward = arm.forward(q)
     np.testing.assert_allclose(forward.tool, T01 @ T12 @ T23 @ T34, rtol=0, atol=1e-14)
     np.testing.assert_allclose(forward.points["O2"], (T01 @ T12)[:, :3, 3], rtol=0, atol=1e-14)
+
+
+def test_cos_sin_from_the_half_angle_tangent(rng):
+    """kinematics.batch.cos_sin (used by every chain) equals numpy's cos and sin to 2 ulp, ±π included."""
+    from armlab.kinematics.batch import cos_sin
+
+    angle = np.concatenate([rng.uniform(-50, 50, 20_000), np.pi * np.array([-3, -1, -0.5, 0, 0.5, 1, 2, 3]),
+                            [np.nextafter(np.pi, 0), np.nextafter(-np.pi, 0), 1e6]])
+    c, s = cos_sin(angle)
+    np.testing.assert_allclose(c, np.cos(angle), rtol=0, atol=4.5e-16)
+    np.testing.assert_allclose(s, np.sin(angle), rtol=0, atol=4.5e-16)
