@@ -138,6 +138,7 @@ def test_a_killed_worker_s_tasks_are_rerun(tmp_path: Path, cluster: Cluster,
         assert time.monotonic() < deadline and thread.is_alive(), "the sweep made no progress"
         time.sleep(0.05)
     cluster.kill(cluster.workers[0])
+    assert (out / RESULTS).read_text().count("\n") - 1 < 8  # killed mid-sweep: candidates were left to do
     thread.join(timeout=600)
     assert not thread.is_alive()
     done = result["done"]
