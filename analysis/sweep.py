@@ -219,7 +219,8 @@ def run_sweep(
     todo = [i for i in range(len(candidates)) if i not in done]
     result = SweepResult(out, len(candidates), len(done), 0)
     report = report or (lambda line: print(line, file=sys.stderr, flush=True))
-    run: dict[str, Any] = {}
+    run: dict[str, Any] = {"started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "computed": 0,
+                           "failed": []}
     if todo:
         run = _compute(study, candidates, todo, out, workers, scheduler, progress, report, result)
     result.wall_time = time.perf_counter() - began
