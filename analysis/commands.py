@@ -148,7 +148,7 @@ def register(subparsers: Any) -> None:
             reach, min_manipulability, mean_manipulability, peak_torque, rms_torque, peak_power. Optional:
             samples, resolution (m), seed, payload, tf, simulate (true: paper 000's Fig. 6 simulation; false:
             batch inverse dynamics along the motion every 1 ms), segments (a motion file instead of the paper
-            motion).
+            motion). Example studies: {Path(__file__).resolve().parent / "studies"}/*.json.
 
             exit status: 0 every candidate computed; 2 bad study or options (nothing computed);
             {EXIT_FAILED} + k when k candidates failed (k at most 100); each failure is reported on stderr."""),
