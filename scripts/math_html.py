@@ -100,7 +100,7 @@ def math_svg(mathtext: str) -> str:
 
     buffer = io.BytesIO()
     try:
-        with rc_context({"svg.fonttype": "path", "mathtext.fontset": "dejavuserif"}):
+        with rc_context({"svg.fonttype": "path", "mathtext.fontset": "dejavuserif", "savefig.transparent": True}):
             math_to_image(f"${mathtext}$", buffer, prop=FontProperties(size=FONT_SIZE), format="svg")
     except ValueError as error:
         raise ValueError(f"mathtext cannot render {mathtext!r}: {str(error).splitlines()[0]}") from None

@@ -181,7 +181,7 @@ def _fmt(value: Any, digits: int = VALUE_DIGITS) -> str:
         digits = min(digits, DEVIATION_DIGITS)
     if abs(value) < 1e-3 or abs(value) >= 1e7:
         return f"{value:.{max(digits - 1, 0)}e}".replace("e-0", "e-").replace("e+0", "e+")
-    return f"{value:.{digits}g}"
+    return f"{value:.{max(digits, len(str(int(abs(value)))))}g}"  # never fewer than the integer digits (703)
 
 
 def _paper_fmt(value: Any) -> str:
@@ -383,7 +383,7 @@ line-height:1.35}h1{font-size:1.6em}h2{border-bottom:2px solid #1f5fa8;padding-b
 h3{margin:1.4em 0 .4em;color:#1f3f68}h4{margin:1em 0 .3em}
 table{border-collapse:collapse;margin:.6em 0;font-size:.88em}th,td{border:1px solid #c8c8c8;padding:3px 6px;
 text-align:left;vertical-align:top}th{background:#eef2f6}td.n{text-align:right;font-variant-numeric:tabular-nums;
-white-space:nowrap}.note{display:block;color:#666;font-size:.86em}
+white-space:nowrap}td.t{font-size:.92em}.note{display:block;color:#666;font-size:.86em}
 tr.matches td.v{color:#16692b}tr.differs td.v{color:#a15c00}tr.notrep td.v{color:#8b1a1a}
 tr.matches td.v b,tr.differs td.v b,tr.notrep td.v b{display:block}
 .summary td,.summary th{font-size:1.05em;padding:5px 10px}.summary a{font-weight:bold;text-decoration:none}
@@ -473,21 +473,29 @@ def _rows_block(doc: _Doc, paper: str, numbered: Sequence[tuple[int, Row]]) -> N
     """The rows as a table; a note several rows share is printed once under it, the rows marked [1], [2], …"""
     shared = [note for note, count in Counter(r.note for _, r in numbered if r.note).items() if count > 1]
     marks = {note: f"[{i + 1}]" for i, note in enumerate(shared)}
+    if len(marks) == 1 and all(r.note in marks for _, r in numbered):  # one note for all: below, unmarked
+        marks = {shared[0]: "For every row above:"}
 
     def note_of(r: Row) -> str:
-        return f"see {marks[r.note]}" if r.note in marks else r.note
+        if r.note in marks:
+            return "" if len(marks) == 1 and marks[r.note].startswith("For") else f"see {marks[r.note]}"
+        return r.note
 
-    md_rows = [[r.quantity + (f" — {note_of(r)}" if r.note else ""), _paper_fmt(r.paper_value), _fmt(r.armlab_value),
-                _fmt(r.deviation, DEVIATION_DIGITS), r.verdict] for _, r in numbered]
+    def cell(value: Any, digits: int = VALUE_DIGITS, paper_value: bool = False) -> str:
+        text = _paper_fmt(value) if paper_value else _fmt(value, digits)
+        css = "n" if value is None or isinstance(value, numbers.Real) else "t"
+        return f'<td class="{css}">{html.escape(text)}</td>'
+
+    md_rows = [[r.quantity + (f" — {note_of(r)}" if note_of(r) else ""), _paper_fmt(r.paper_value),
+                _fmt(r.armlab_value), _fmt(r.deviation, DEVIATION_DIGITS), r.verdict] for _, r in numbered]
     body = []
     for k, r in numbered:
         kind, _, why = r.verdict.partition(": ")
-        note = f'<span class="note">{html.escape(note_of(r))}</span>' if r.note else ""
+        note = f'<span class="note">{html.escape(note_of(r))}</span>' if note_of(r) else ""
         verdict = f"<b>{html.escape(kind)}</b>{html.escape(why)}"
         body.append(f'<tr id="{_anchor("row", paper, str(k))}" class="{_CSS_KIND[r.kind]}">'
-                    f"<td>{html.escape(r.quantity)}{note}</td><td class=n>{html.escape(_paper_fmt(r.paper_value))}</td>"
-                    f"<td class=n>{html.escape(_fmt(r.armlab_value))}</td>"
-                    f"<td class=n>{html.escape(_fmt(r.deviation, DEVIATION_DIGITS))}</td>"
+                    f"<td>{html.escape(r.quantity)}{note}</td>{cell(r.paper_value, paper_value=True)}"
+                    f"{cell(r.armlab_value)}{cell(r.deviation, DEVIATION_DIGITS)}"
                     f'<td class="v">{verdict}</td></tr>')
     footnotes = [f"{mark} {note}" for note, mark in marks.items()]
     doc.raw(markdown_table(_ROW_HEADERS, md_rows) + "".join(f"\n{f}\n" for f in footnotes),
@@ -520,9 +528,9 @@ def _expressions_block(doc: _Doc, paper: str, text: dict[str, Any]) -> None:
 def _errata_block(doc: _Doc, errata: Sequence[dict[str, str]]) -> None:
     from armlab.scripts.math_html import latex_html
 
-    md = "".join(f"- **{e['where']}**: {e['description']} {e['evidence']}\n  - as printed: ${e['printed']}$\n"
-                 f"  - corrected: ${e['corrected']}$\n" for e in errata)
-    body = "".join(f'<div class="erratum"><b>{html.escape(e["where"])}</b>: {html.escape(e["description"])} '
+    md = "".join(f"- **{e['where']}**: {e.get('description', '')} {e['evidence']}\n  - as printed: "
+                 f"${e['printed']}$\n  - corrected: ${e['corrected']}$\n" for e in errata)
+    body = "".join(f'<div class="erratum"><b>{html.escape(e["where"])}</b>: {html.escape(e.get("description", ""))} '
                    f'<span class="note">{html.escape(e["evidence"])}</span><div class="pc">'
                    f'<div><span class="tag">as printed</span>{latex_html(e["printed"])}</div>'
                    f'<div><span class="tag">corrected</span>{latex_html(e["corrected"])}</div></div></div>'
@@ -594,7 +602,10 @@ def _paper_section(doc: _Doc, paper: str, m: dict[str, Any], rows: Sequence[Row]
         replays += [(r["label"], r["replay"]) for r in m.get("replays", []) if r.get("group", 0) == g]
         _links(doc, paper, [(f"3-D replay of {label} (open in a browser)", f) for label, f in replays])
         for text in (t for t in m["texts"] if t.get("group", 0) == g):
-            _expressions_block(doc, paper, text)
+            if "entries" in text:
+                _expressions_block(doc, paper, text)
+            else:  # a manifest of an earlier armlab: the expressions are in their Markdown file only
+                _links(doc, paper, [(text["label"], text["md"])])
     if m["errata"]:
         doc.heading(3, f"Errata of paper {paper}: printed equations checked against Drake", _anchor(paper, "errata"))
         _errata_block(doc, m["errata"])

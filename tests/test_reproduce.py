@@ -335,6 +335,24 @@ def test_001_fig4_splits_put_the_tool_on_the_target():
     assert np.all(np.abs(a2 - arm.parameters["a2"]) > 0.5)
 
 
+def test_report_of_a_manifest_from_an_earlier_armlab(tmp_path):
+    """A paper kept from an earlier reproduction (no groups, expressions only as Markdown, errata without a
+    description) still reports its rows and links its files."""
+    from dataclasses import asdict
+
+    from armlab.scripts.report import write_report
+
+    row = compare("004", "Table 2, p1 z [mm]", 300.0, 300.0, 2e-4)
+    (tmp_path / "004").mkdir()
+    (tmp_path / "004" / "manifest.json").write_text(json.dumps({
+        "figures": [], "tables": [], "texts": [{"label": "old expressions", "md": "symbolic.md"}], "claims": [],
+        "parameters": [], "runs": [], "rows": [asdict(row)],
+        "errata": [{"where": "004 eq. (7)", "printed": "p_{i+1}", "corrected": "p_1", "evidence": "old"}]}))
+    write_report(tmp_path, ["004"], [row])
+    html = (tmp_path / "report.html").read_text()
+    assert "Table 2, p1 z [mm]" in html and 'href="004/symbolic.md"' in html and "004 eq. (7)" in html
+
+
 def test_compare_and_row_validation():
     assert compare("x", "q", 1.0, 1.0 + 1e-10, 1e-9).verdict == MATCHES
     assert compare("x", "q", 1.0, 1.1, 1e-9, reason="rounded").verdict == "differs: rounded"
