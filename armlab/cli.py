@@ -155,10 +155,13 @@ def _rates(arm: Arm, text: str | None, deg: bool, name: str) -> np.ndarray:
     """Joint rates from ``"v1,v2,…"`` (zeros when not given): count checked, deg/s converted if ``deg``."""
     if text is None:
         return np.zeros(arm.n)
+    from armlab.limits import check_range
+
     values = np.array(parse_floats(text, name))
     if values.size != arm.n:
         raise ValueError(f"{name}: {arm.name} has {arm.n} joints, got {values.size} values ({text})")
-    return np.where(arm.revolute, np.radians(values), values) if deg else values
+    return check_range(np.where(arm.revolute, np.radians(values), values) if deg else values, name,
+                       key="qdd" if name == "--qdd" else "qd")
 
 
 def _cmd_fk(args: argparse.Namespace) -> int:

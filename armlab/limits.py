@@ -37,6 +37,9 @@ LIMITS: dict[str, Limit] = {
     "gravity": Limit(0.0, 100.0, "m/s²", "about 10 g", "|g|"),
     "payload": Limit(0.0, 1000.0, "kg", "a point mass up to one tonne"),
     "accuracy": Limit(1e-12, 0.1, "", "the integrator's target accuracy"),
+    "q": Limit(-1e6, 1e6, "rad or m", "beyond any joint's travel", "q"),
+    "qd": Limit(-1e4, 1e4, "rad/s or m/s", "beyond any drive's speed", "q̇"),
+    "qdd": Limit(-1e6, 1e6, "rad/s² or m/s²", "beyond any drive's acceleration", "q̈"),
 }
 
 
@@ -56,18 +59,21 @@ def allowed(name: str) -> str:
     return f"{_num(limit.low)} ≤ {limit.symbol or _key(name)} ≤ {_num(limit.high)}{unit}"
 
 
-def check_range(value: ArrayLike, name: str, size: ArrayLike | None = None) -> NDArray[np.float64]:
+def check_range(value: ArrayLike, name: str, size: ArrayLike | None = None, key: str | None = None
+                ) -> NDArray[np.float64]:
     """``value`` as a float array if each value (or ``size``, e.g. a vector's norm, when given) is finite and in range.
 
     ``name`` is the quantity's name in :data:`LIMITS`, with or without the option's dashes (the
-    message uses it as given). ``ValueError`` names the first bad value, the range and its reason.
+    message uses it as given), or ``key`` is (then ``name`` may be any label, e.g. ``"--from"`` for ``"q"``).
+    ``ValueError`` names the first bad value, the range and its reason.
     """
     values = np.asarray(value, dtype=float)
     measured = np.ravel(values if size is None else np.asarray(size, dtype=float))
-    limit = LIMITS[_key(name)]
+    key = name if key is None else key
+    limit = LIMITS[_key(key)]
     bad = ~(np.isfinite(measured) & (measured >= limit.low) & (measured <= limit.high))
     if np.any(bad):
         first = _num(measured[np.argmax(bad)])
         given = first if size is None else f"{','.join(_num(v) for v in np.ravel(values))} ({limit.symbol} = {first})"
-        raise ValueError(f"{name} {given} is out of range: allowed {allowed(name)} ({limit.why})")
+        raise ValueError(f"{name} {given} is out of range: allowed {allowed(key)} ({limit.why})")
     return values

@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, RunDiagram, build_diagram, check_log_period
 from armlab.kinematics.quintic import Motion
+from armlab.limits import check_range
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -278,8 +279,7 @@ def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY,
     """
     from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
 
-    if not np.isfinite(accuracy) or accuracy <= 0:
-        raise ValueError(f"accuracy = {accuracy} is not allowed: give a positive finite target accuracy")
+    check_range(accuracy, "accuracy")
     motion = run.motion
     simulator = Simulator(run.diagram)
     context = simulator.get_mutable_context()

@@ -127,8 +127,11 @@ class Arm:
     def check_q(self, q: ArrayLike, name: str = "q", deg: bool = False) -> NDArray[np.float64]:
         """``q`` as an array, raising ``ValueError`` for a wrong count, NaN/inf or a value outside limits.
 
-        ``deg``: the user gave revolute values in degrees, so the error quotes them in degrees.
+        An unlimited joint's value is held to ``armlab.limits.LIMITS["q"]`` (±1e6 rad). ``deg``: the user gave
+        revolute values in degrees, so the error quotes them in degrees.
         """
+        from armlab.limits import check_range
+
         q = as_batch(q, self.n, name)
         for i, (row, lim) in enumerate(zip(self.table.rows, self.limits, strict=True)):
             if lim.lower is None:
@@ -141,7 +144,7 @@ class Arm:
                 value, lower, upper = np.degrees(shown) if unit == "deg" else shown
                 raise ValueError(f"{self.name}: {row.name} = {value:.6g} {unit} is outside its limits "
                                  f"[{lower:.6g}, {upper:.6g}] {unit}")
-        return q
+        return check_range(q, name, key="q")  # the unlimited joints
 
     # -------------------------------------------------------------- dynamics
     def mass_properties(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -291,10 +294,9 @@ class Arm:
 
         Each ``(6,)`` for one state, ``(N, 6)`` for a batch; ``qd``, ``qdd`` shaped like ``q``.
         """
-        from armlab.kinematics.batch import as_batch
         from armlab.kinematics.differential import tool_motion
 
-        return tool_motion(self, self.check_q(q), as_batch(qd, self.n, "qd"), as_batch(qdd, self.n, "qdd"))
+        return tool_motion(self, self.check_q(q), *self._rates(qd, qdd))
 
     def inverse_dynamics(
         self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
@@ -305,11 +307,15 @@ class Arm:
         ``gravity``: ``None`` (the arm's), ``"off"``, ``"-z"`` …, or (gx, gy, gz) m/s²; ``payload``: a point mass
         (kg) at the tool point. The arm needs mass data (``has_dynamics``).
         """
-        from armlab.kinematics.batch import as_batch
         from armlab.kinematics.rnea import inverse_dynamics
 
-        return inverse_dynamics(self, self.check_q(q), as_batch(qd, self.n, "qd"), as_batch(qdd, self.n, "qdd"),
-                                gravity=gravity, payload=payload)
+        return inverse_dynamics(self, self.check_q(q), *self._rates(qd, qdd), gravity=gravity, payload=payload)
+
+    def _rates(self, qd: ArrayLike, qdd: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Joint rates and accelerations checked for shape, finite values and ``armlab.limits`` ranges."""
+        from armlab.limits import check_range
+
+        return check_range(as_batch(qd, self.n, "qd"), "qd"), check_range(as_batch(qdd, self.n, "qdd"), "qdd")
 
     def manipulability(self, q: ArrayLike, axes: str | None = None) -> NDArray[np.float64] | float:
         """Yoshikawa's manipulability √det(J Jᵀ) of the tool: the product of the singular values of J's rows ``axes``.

@@ -39,6 +39,7 @@ from urllib.parse import unquote
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.files import read_input
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
@@ -73,6 +74,11 @@ class DHInertial:
     inertia: tuple[tuple[float, float, float], ...] = field(default=((0.0,) * 3,) * 3)
 
 
+#: Largest magnitude of any number in a user's arm file (lengths, angles, masses, inertias, limits): far beyond
+#: any arm, and small enough that squares and products of them stay finite (no inf or NaN downstream).
+MAX_FILE_NUMBER = 1e12
+
+
 def _number(text: str | None, what: str) -> float:
     try:
         value = float(text or "")
@@ -80,14 +86,16 @@ def _number(text: str | None, what: str) -> float:
         raise ValueError(f"{what} = {text!r} is not a number") from None
     if not np.isfinite(value):
         raise ValueError(f"{what} = {text!r} is not a finite number")
+    if abs(value) > MAX_FILE_NUMBER:
+        raise ValueError(f"{what} = {text!r} is out of range: allowed |value| ≤ {MAX_FILE_NUMBER:g}")
     return value
 
 
 def _read_text(path: Path, what: str) -> str:
+    """A user's file as text: a regular file of bounded size (:func:`armlab.files.read_input`), UTF-8."""
+    raw = read_input(path, f"cannot read {what} {path}")
     try:
-        return path.read_text(encoding="utf-8-sig")
-    except OSError as error:
-        raise ValueError(f"cannot read {what} {path}: {error.strerror}") from None
+        return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         raise ValueError(f"cannot read {what} {path}: it is not UTF-8 text") from None
 

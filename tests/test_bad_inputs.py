@@ -51,6 +51,10 @@ CLI_NUMBERS = [
     (("fk", "rr", "--q", "-1e308,0"), 2, "joint1 = -1e+308 rad is outside its limits"),
     (("fk", "r2t", "--q", "0,1e308,0"), 2, "joint2 = 1e+308 m is outside its limits"),
     (("fk", "rr", "--q", "0,0,0"), 2, "rr has 2 joints, got 3 values"),
+    (("fk", "rrrr", "--q", "1e308,0,0,0"), 2, "--q 1e308 is out of range: allowed -1e6 ≤ q ≤ 1e6 rad or m"),
+    (("fk", "rr", "--q", "0,0", "--qd", "1e308,1e308"), 2, "--qd 1e308 is out of range: allowed -10000 ≤ q̇"),
+    (("fk", "rr", "--q", "0,0", "--qdd", "0,-1e7"), 2, "--qdd -1e7 is out of range: allowed -1e6 ≤ q̈ ≤ 1e6"),
+    (("fk", "rr", "--q", "0,0", "--qd", "1,2,3"), 2, "--qd: rr has 2 joints, got 3 values"),
     (("fk", "rr", "--q", "1e-320,-0"), 0, "tool"),
     (("ik", "rr", "--target", "1e309,0"), 2, "'1e309' is not a finite number"),
     (("ik", "urm6", "--target", "1e308,0,0"), 2, "out of range"),
@@ -134,6 +138,8 @@ API_SIMULATE = [
     ({"gravity": [1e308, 0, 0]}, "gravity 1e308,0,0 (|g| = 1e308) is out of range"),
     ({"gravity": [0, 0, float("inf")]}, "give 3 finite numbers"),
     ({"gravity": "up"}, "'up' is not a number"),
+    ({"accuracy": 1e-300}, "accuracy 1e-300 is out of range: allowed 1e-12 ≤ accuracy ≤ 0.1"),
+    ({"divergence_tolerance": -1}, "divergence tolerance = -1 is not allowed"),
 ]
 
 
@@ -144,6 +150,29 @@ def test_api_simulate(kwargs, fragment):
     arm = armlab.load("rr")
     with pytest.raises(ValueError) as error:
         armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.2), **kwargs)
+    _one_line_error(error.value, fragment)
+
+
+#: An arm's methods: (method of armlab.load("rr"), its arguments, message fragment).
+API_ARM = [
+    ("fk", ([0, 5],), "joint2 = 5 rad is outside its limits"),
+    ("fk", ([0, 0, 0],), "expected 2 joint values"),
+    ("jacobian", ([float("nan"), 0],), "q[0] = nan is not a finite number"),
+    ("tool_motion", ([0, 0], [0, 0], [0, 2e6]), "qdd 2e6 is out of range"),
+    ("inverse_dynamics", ([0, 0], [1e308, 0], [0, 0]), "qd 1e308 is out of range"),
+    ("inverse_dynamics", ([0, 0], [0, 0], [0, 0, 0]), "qdd has shape (3,)"),
+    ("manipulability", ([0, 0], "sideways"), "axes"),
+    ("ik", ([1e308, 0],), "out of range"),
+    ("ik", ([0.9, 0],), "out of reach"),
+]
+
+
+@pytest.mark.parametrize(("method", "args", "fragment"), API_ARM, ids=str)
+def test_api_arm_methods(method, args, fragment):
+    import armlab
+
+    with pytest.raises(ValueError) as error:
+        getattr(armlab.load("rr"), method)(*args)
     _one_line_error(error.value, fragment)
 
 
