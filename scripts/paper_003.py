@@ -96,8 +96,8 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
         gap = float(np.abs(_wrap(angles[:, i] - paper_angles(q)[:, i])).max())
         span = f"{angles[:, i].min() + 0.0:.6g} … {angles[:, i].max() + 0.0:.6g} over the samples"
         _check(out, f"eqs. (22)-(23): {name} [rad]", printed, span, gap, 1e-9,
-               f"R = Rz(γ) Ry(β) Rx(α) of Drake's tool rotation (kinematics.locating.orientation_angles), modulo 2π, "
-               f"{where}")
+               f"R = Rz(γ) Ry(β) Rx(α) of Drake's tool rotation (kinematics.locating.orientation_angles, by the "
+               f"standard two-argument arctangent: eq. (22)'s case table is an erratum, below), modulo 2π, {where}")
     v3 = paper_v3(q, qd, l)
     gap = float(max(np.abs(v3 - sample.v[:, 2]).max(), np.abs(v3 - motion.v_0[:, 2]).max()))
     _check(out, "eq. (43): ⁰v3 [m/s]", "printed ⁰v3", "⁰v3 of Drake and of the iterative algorithm", gap, 1e-9,
