@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.kinematics.batch import as_batch
+from armlab.kinematics.batch import as_batch, chain_points
 from armlab.kinematics.locating import LocatingTable
 from armlab.models.urdf import Body, JointLimits, Point, link_inertials, urdf_text
 
@@ -188,12 +188,9 @@ class Arm:
 
     def table_forward(self, q: ArrayLike) -> Forward:
         """Forward kinematics from the matrix of nominal geometry (paper 003, eqs. 8–9)."""
-        frames = self.table.frames(q)
-        points = {}
-        for point in self.points:
-            T = frames[..., point.link, :, :]
-            points[point.name] = T[..., :3, :3] @ np.asarray(point.xyz) + T[..., :3, 3]
-        return Forward(frames[..., -1, :, :], points)
+        tool, points = chain_points(as_batch(q, self.n), self.table.steps,
+                                    {point.name: (point.link, point.xyz) for point in self.points}, self.table.tool)
+        return Forward(tool, points)
 
     # ------------------------------------------------------------------ URDF
     def urdf(self) -> str:

@@ -41,6 +41,7 @@ from numpy.typing import NDArray
 
 from armlab.files import read_input
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
+from armlab.kinematics.batch import chain_points
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm, Forward
@@ -279,8 +280,8 @@ def from_dh_csv(path: str | Path) -> Arm:
 
 def _dh_forward(table: DHTable, q: np.ndarray) -> Forward:
     """The DH frames' origins O1 … On; the tool is DH frame n."""
-    frames = table.frames(q)
-    return Forward(frames[..., -1, :, :], {f"O{i}": frames[..., i, :3, 3] for i in range(1, table.n + 1)})
+    tool, points = chain_points(q, table.steps, {f"O{i}": (i, (0.0, 0.0, 0.0)) for i in range(1, table.n + 1)})
+    return Forward(tool, points)
 
 
 # --------------------------------------------------------------------------- URDF files
