@@ -50,7 +50,9 @@ lint: setup
 bench: setup
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
 	$(BIN)/python scripts/bench_kinematics.py
+	$(BIN)/python scripts/bench_ik.py
 	$(BIN)/python scripts/bench_simulate.py
+	$(BIN)/python scripts/bench_analysis.py
 
 clean:
 	rm -rf $(VENV) out *.egg-info
