@@ -383,7 +383,7 @@ line-height:1.35}h1{font-size:1.6em}h2{border-bottom:2px solid #1f5fa8;padding-b
 h3{margin:1.4em 0 .4em;color:#1f3f68}h4{margin:1em 0 .3em}
 table{border-collapse:collapse;margin:.6em 0;font-size:.88em}th,td{border:1px solid #c8c8c8;padding:3px 6px;
 text-align:left;vertical-align:top}th{background:#eef2f6}td.n{text-align:right;font-variant-numeric:tabular-nums;
-white-space:nowrap}td.t{font-size:.92em}.note{display:block;color:#666;font-size:.86em}
+white-space:nowrap}td.t{font-size:.92em}.mark{color:#666;font-size:.8em;vertical-align:super}.note{display:block;color:#666;font-size:.86em}
 tr.matches td.v{color:#16692b}tr.differs td.v{color:#a15c00}tr.notrep td.v{color:#8b1a1a}
 tr.matches td.v b,tr.differs td.v b,tr.notrep td.v b{display:block}
 .summary td,.summary th{font-size:1.05em;padding:5px 10px}.summary a{font-weight:bold;text-decoration:none}
@@ -491,7 +491,11 @@ def _rows_block(doc: _Doc, paper: str, numbered: Sequence[tuple[int, Row]]) -> N
     body = []
     for k, r in numbered:
         kind, _, why = r.verdict.partition(": ")
-        note = f'<span class="note">{html.escape(note_of(r))}</span>' if note_of(r) else ""
+        text = note_of(r)
+        if text.startswith("see ["):  # a shared note's mark, on the quantity's line
+            note = f' <span class="mark">{html.escape(text.removeprefix("see "))}</span>'
+        else:
+            note = f'<span class="note">{html.escape(text)}</span>' if text else ""
         verdict = f"<b>{html.escape(kind)}</b>{html.escape(why)}"
         body.append(f'<tr id="{_anchor("row", paper, str(k))}" class="{_CSS_KIND[r.kind]}">'
                     f"<td>{html.escape(r.quantity)}{note}</td>{cell(r.paper_value, paper_value=True)}"
