@@ -9,13 +9,15 @@ bounds (:func:`allowed`).
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LIMITS", "Limit", "allowed", "check_range"]
+__all__ = ["LIMITS", "Limit", "allowed", "check_positive", "check_range"]
 
 
 @dataclass(frozen=True)
@@ -77,3 +79,17 @@ def check_range(value: ArrayLike, name: str, size: ArrayLike | None = None, key:
         given = first if size is None else f"{','.join(_num(v) for v in np.ravel(values))} ({limit.symbol} = {first})"
         raise ValueError(f"{name} {given} is out of range: allowed {allowed(key)} ({limit.why})")
     return values
+
+
+def check_positive(value: Any, what: str, unit: str, allowed_text: str) -> float:
+    """``value`` as a float if it is a positive finite number (a duration, a tolerance, a resolution …).
+
+    Else ``ValueError`` ``"WHAT = VALUE UNIT is not allowed: ALLOWED_TEXT"``; text that is no number counts as bad.
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not math.isfinite(number) or number <= 0:
+        raise ValueError(f"{what} = {value}{' ' + unit if unit else ''} is not allowed: {allowed_text}")
+    return number

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.files import write_file
+from armlab.limits import check_positive
 
 if TYPE_CHECKING:
     from armlab.diagrams.simulate import SimulationLog
@@ -107,14 +108,7 @@ def format_violation(v: dict[str, Any]) -> str:
 
 def check_tolerance(tolerance: float) -> float:
     """The divergence tolerance (rad or m) as a float; ``ValueError`` unless positive and finite."""
-    try:
-        value = float(tolerance)
-    except (TypeError, ValueError):
-        value = float("nan")
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"divergence tolerance = {tolerance} is not allowed: give a positive finite tracking error "
-                         "(rad or m)")
-    return value
+    return check_positive(tolerance, "divergence tolerance", "", "give a positive finite tracking error (rad or m)")
 
 
 def divergence(log: SimulationLog, tolerance: float = DIVERGENCE_TOLERANCE) -> dict[str, Any] | None:

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
+from armlab.limits import check_positive
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial
@@ -49,13 +50,7 @@ _POWERS = np.arange(5, -1, -1)
 
 def check_duration(tf: float, name: str = "tf") -> float:
     """``tf`` as a float, or ``ValueError`` unless it is a positive finite number of seconds."""
-    try:
-        value = float(tf)
-    except (TypeError, ValueError):
-        value = float("nan")
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} = {tf} s is not allowed: a duration must be a positive finite number of seconds")
-    return value
+    return check_positive(tf, name, "s", "a duration must be a positive finite number of seconds")
 
 
 def _joint_vector(q: ArrayLike, name: str) -> NDArray[np.float64]:
