@@ -22,21 +22,24 @@ Both give their files and folders the ordinary permissions of the user's umask (
 
 from __future__ import annotations
 
+import csv
+import io
 import json
+import numbers
 import os
 import shutil
 import signal
 import stat
 import tempfile
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from types import FrameType, TracebackType
 from typing import Any
 
-__all__ = ["MAX_INPUT_BYTES", "Interrupted", "OutputFolder", "SignalState", "read_input", "read_json",
-           "stop_on_signals", "write_file"]
+__all__ = ["MAX_INPUT_BYTES", "Interrupted", "OutputFolder", "SignalState", "csv_cell", "csv_text", "read_input",
+           "read_json", "stop_on_signals", "write_csv", "write_file"]
 
 #: The largest input file read (bytes): far more than any segments file, study, DH table or URDF needs; a
 #: bound on memory and time.
@@ -303,3 +306,32 @@ class OutputFolder:
             _remove(self.tmp)
             if old is not None:
                 _remove(old)
+
+
+def csv_cell(value: Any) -> str:
+    """One CSV cell: a number as plain decimal text (full precision; numpy scalars too), ``None`` empty."""
+    if value is None:
+        return ""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        return repr(float(value) + 0.0)  # + 0.0: no "-0.0"
+    raise ValueError(f"CSV cell {value!r} ({type(value).__name__}) is not allowed: a number, a string or None")
+
+
+def csv_text(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    """A CSV file's text: the header row and one line per row, cells by :func:`csv_cell`."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(headers)
+    writer.writerows([[csv_cell(v) for v in row] for row in rows])
+    return buffer.getvalue()
+
+
+def write_csv(path: str | Path, headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> Path:
+    """Write :func:`csv_text` to ``path`` atomically (:func:`write_file`)."""
+    return write_file(path, csv_text(headers, rows))

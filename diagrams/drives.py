@@ -16,15 +16,13 @@ not give (``None``) is not checked.
 
 from __future__ import annotations
 
-import csv
-import io
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.files import write_file
+from armlab.files import write_csv
 from armlab.limits import check_positive
 
 if TYPE_CHECKING:
@@ -148,22 +146,13 @@ def drive_table(log: SimulationLog) -> list[dict[str, Any]]:
     } for i, (name, lim) in enumerate(zip(log.arm.joint_names, log.arm.limits, strict=True))]
 
 
-def _csv_text(rows: list[dict[str, Any]]) -> str:
-    buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=list(rows[0]), lineterminator="\n")
-    writer.writeheader()
-    for row in rows:
-        writer.writerow({k: "" if v is None else (f"{v:.9g}" if isinstance(v, float) else v) for k, v in row.items()})
-    return buffer.getvalue()
-
-
 def write_drives(log: SimulationLog, folder: str | Path) -> list[Path]:
     """``drives.csv`` (:func:`drive_table`, empty cells for unknown limits) and ``drives.png`` in ``folder``."""
     from armlab.scripts.figures import DPI, new_figure
 
     folder = Path(folder)
     rows = drive_table(log)
-    paths = [write_file(folder / "drives.csv", _csv_text(rows))]
+    paths = [write_csv(folder / "drives.csv", list(rows[0]), [list(row.values()) for row in rows])]
     n = log.arm.n
     cols = min(n, 3)
     fig, axes = new_figure(f"{log.arm.name}: drive operating points (torque against speed) and limits",

@@ -16,14 +16,13 @@ the value armlab computes at run time. Its verdict is exactly one of
 * ``"differs: <reason>"``;
 * ``"not reproducible: <what the paper leaves out>"``.
 
-Every CSV armlab writes goes through :func:`csv_text`: numbers as plain decimal text (never
+Every CSV armlab writes goes through :func:`armlab.files.csv_text`: numbers as plain decimal text (never
 the ``repr`` of a numpy scalar), so ``numpy.loadtxt`` and ``csv`` read them back.
 """
 
 from __future__ import annotations
 
 import base64
-import csv
 import hashlib
 import html
 import io
@@ -36,15 +35,13 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from armlab.files import write_file
+from armlab.files import write_csv
 
 __all__ = [
     "MATCHES",
     "PaperOutput",
     "Row",
     "compare",
-    "csv_cell",
-    "csv_text",
     "differs",
     "errata_checked",
     "load_rows",
@@ -52,7 +49,6 @@ __all__ = [
     "matches",
     "not_reproducible",
     "verdict_counts",
-    "write_csv",
     "write_report",
 ]
 
@@ -137,35 +133,6 @@ def verdict_counts(rows: Sequence[Row]) -> dict[str, int]:
 
 
 # --------------------------------------------------------------------------- numbers as text
-def csv_cell(value: Any) -> str:
-    """One CSV cell: a number as plain decimal text (full precision; numpy scalars too), ``None`` empty."""
-    if value is None:
-        return ""
-    if isinstance(value, str):
-        return value
-    if isinstance(value, bool):
-        return "yes" if value else "no"
-    if isinstance(value, numbers.Integral):
-        return str(int(value))
-    if isinstance(value, numbers.Real):
-        return repr(float(value) + 0.0)  # + 0.0: no "-0.0"
-    raise ValueError(f"CSV cell {value!r} ({type(value).__name__}) is not allowed: a number, a string or None")
-
-
-def csv_text(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
-    """A CSV file's text: the header row and one line per row, cells by :func:`csv_cell`."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(headers)
-    writer.writerows([[csv_cell(v) for v in row] for row in rows])
-    return buffer.getvalue()
-
-
-def write_csv(path: str | Path, headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> Path:
-    """Write :func:`csv_text` to ``path`` atomically (:func:`armlab.files.write_file`)."""
-    return write_file(path, csv_text(headers, rows))
-
-
 def _fmt(value: Any, digits: int = VALUE_DIGITS) -> str:
     """A value for the report: a number with ``digits`` significant digits, text as it is, ``None`` as —."""
     if value is None:
@@ -265,7 +232,7 @@ class PaperOutput:
 
     def table(self, stem: str, label: str, headers: Sequence[str], rows: Sequence[Sequence[Any]],
               note: str = "") -> None:
-        """Write a table as ``stem.csv`` (full precision, :func:`csv_text`) and ``stem.md``."""
+        """Write a table as ``stem.csv`` (full precision, :func:`~armlab.files.csv_text`) and ``stem.md``."""
         write_csv(self.folder / f"{stem}.csv", headers, rows)
         text = f"# {label}\n\n" + markdown_table(headers, rows) + (f"\n{note}\n" if note else "")
         (self.folder / f"{stem}.md").write_text(text)

@@ -305,7 +305,7 @@ def test_every_csv_loads_as_plain_numbers(run, tmp_path):
 
 
 def test_csv_cells():
-    from armlab.scripts.report import csv_cell, csv_text
+    from armlab.files import csv_cell, csv_text
 
     assert csv_cell(np.float64(62.49999999999999)) == "62.49999999999999" and csv_cell(np.int64(3)) == "3"
     assert csv_cell(-0.0) == "0.0" and csv_cell(None) == "" and csv_cell(True) == "yes" and csv_cell("a,b") == "a,b"
