@@ -183,7 +183,10 @@ def _tool_path(log: SimulationLog) -> Any:
         _ends(ax, p[:, :2])
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
-        ax.set_aspect("equal", adjustable="datalim")
+        centre, half = (p[:, :2].max(axis=0) + p[:, :2].min(axis=0)) / 2, max(float(np.ptp(p[:, :2])) / 2, 1e-3)
+        ax.set_xlim(centre[0] - 1.1 * half, centre[0] + 1.1 * half)  # a tool that stands still: a 2 mm window
+        ax.set_ylim(centre[1] - 1.1 * half, centre[1] + 1.1 * half)
+        ax.set_aspect("equal", adjustable="box")
     else:
         spec = ax.get_subplotspec()
         ax.remove()

@@ -178,3 +178,17 @@ def test_closed_path_shows_start_and_end_and_3d_paths_are_to_scale(tmp_path):
     assert np.allclose(spans, spans[0]) and np.allclose(box, box[0])  # equal data spans in an equal-sided box
     plt.close("all")
     assert [p.name for p in write_plots(log, tmp_path)] == list(PLOTS)
+
+
+def test_a_tool_standing_still_plots_without_warnings(tmp_path):
+    """A hold (zero-extent tool path, constant curves) used to warn 'identical low and high ylims'."""
+    import warnings
+
+    from armlab.kinematics.quintic import Motion, QuinticSegment
+
+    arm = get_arm("rr")
+    log = simulate(arm, Motion((QuinticSegment(np.array([1.5, 0.0]), np.array([1.5, 0.0]), 0.5, "hold"),)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        paths = write_plots(log, tmp_path)
+    assert [p.name for p in paths] == list(PLOTS)
