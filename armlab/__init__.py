@@ -15,14 +15,30 @@ The subpackages are ``armlab.models`` (the arms and their URDF files), ``armlab.
 ``armlab.scripts``. Drake is imported only where needed.
 """
 
-from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, through
-from armlab.diagrams.run import Run
-from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
-from armlab.models.arm import Arm
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, through
+    from armlab.diagrams.run import Run
+    from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
+    from armlab.models.arm import Arm
 
 __version__ = "0.1.0"
 
-__all__ = [
+#: The public names and the modules they live in, imported on first use (PEP 562) so that the CLI's
+#: start (``armlab --help``) loads none of them.
+_EXPORTS = {
+    "Arm": "armlab.models.arm",
+    "ConstantRate": "armlab.kinematics.quintic",
+    "Motion": "armlab.kinematics.quintic",
+    "QuinticSegment": "armlab.kinematics.quintic",
+    "Run": "armlab.diagrams.run",
+    **{name: "armlab.api" for name in ("constant_rate", "load", "paper_motion", "quintic", "read_segments",
+                                       "simulate", "through")},
+}
+
+__all__ = [  # the names of _EXPORTS, listed for readers and linters
     "Arm",
     "ConstantRate",
     "Motion",
@@ -37,3 +53,15 @@ __all__ = [
     "simulate",
     "through",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'armlab' has no attribute {name!r}")
+    value = getattr(import_module(_EXPORTS[name]), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

@@ -200,3 +200,15 @@ def test_drives_are_ideal_a_passed_effort_limit_is_reported_not_clamped():
     run = armlab.simulate(arm, armlab.quintic(arm, np.zeros(4), [0.5, -0.5, 0.5, 0.3], 0.4), payload=2.0)
     assert np.abs(run.tau).max() > 250 and np.abs(run.q - run.q_ref).max() < 1e-6 and not run.diverged
     assert {(v["joint"], v["quantity"]) for v in run.violations} == {("joint1", "effort"), ("joint2", "effort")}
+
+
+def test_the_package_exports_the_api_and_the_cli_start_loads_none_of_it():
+    import subprocess
+    import sys
+
+    assert set(armlab.__all__) >= {"load", "quintic", "through", "constant_rate", "simulate", "Run", "Arm", "Motion"}
+    assert all(getattr(armlab, name) is not None for name in armlab.__all__)
+    code = "import sys, armlab.cli; armlab.cli.build_parser(); print(sorted(m for m in sys.modules if m in " \
+           "('armlab.api', 'armlab.diagrams.run', 'pydrake', 'matplotlib', 'sympy', 'distributed')))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
