@@ -161,16 +161,17 @@ def write_drives(log: SimulationLog, folder: str | Path) -> list[Path]:
     for i, (row, ax) in enumerate(zip(rows, axes, strict=False)):
         for k in range(len(log.run_starts)):
             rows_k = log.run == k
-            ax.plot(log.qd[rows_k, i], log.tau[rows_k, i], color="#1f5fa8", lw=1.2)
+            ax.plot(log.qd[rows_k, i], log.tau[rows_k, i], color="#1f5fa8", lw=1.2,
+                    label="operating points (q̇, τ)" if k == 0 else None)
         ax.plot(log.qd[[0, -1], i], log.tau[[0, -1], i], "o", color="#1f5fa8", ms=3)
         w, e = row["velocity_limit"], row["effort_limit"]
         if w is not None and e is not None:
-            ax.plot([-w, w, w, -w, -w], [-e, -e, e, e, -e], color="#c0392b", lw=1.2)
+            ax.plot([-w, w, w, -w, -w], [-e, -e, e, e, -e], color="#c0392b", lw=1.2, label="speed and effort limits")
         elif w is not None:
-            ax.axvline(-w, color="#c0392b", lw=1.2)
+            ax.axvline(-w, color="#c0392b", lw=1.2, label="speed limits (effort limit unknown)")
             ax.axvline(w, color="#c0392b", lw=1.2)
         elif e is not None:
-            ax.axhline(-e, color="#c0392b", lw=1.2)
+            ax.axhline(-e, color="#c0392b", lw=1.2, label="effort limits (speed limit unknown)")
             ax.axhline(e, color="#c0392b", lw=1.2)
         peak = max(row["peak_torque"], 1e-12)
         ax.set_title(f"{row['joint']}: peak |τ| {peak:.4g} {row['torque_unit']}, peak |q̇| "
@@ -179,6 +180,8 @@ def write_drives(log: SimulationLog, folder: str | Path) -> list[Path]:
         ax.set_ylabel(f"τ{i + 1} [{row['torque_unit']}]")
     for ax in axes[n:]:
         ax.set_visible(False)
+    legend = {label: handle for ax in axes[:n] for handle, label in zip(*ax.get_legend_handles_labels(), strict=True)}
+    fig.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=len(legend), fontsize=8)
     path = folder / "drives.png"
     fig.savefig(path, dpi=DPI)
     import matplotlib.pyplot as plt
