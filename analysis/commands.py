@@ -73,9 +73,13 @@ def _format(summary: dict[str, Any]) -> list[str]:
 
 def cmd_workspace(args: argparse.Namespace) -> int:
     """``armlab workspace``: see the module docstring."""
-    from armlab.analysis.workspace import workspace
+    from armlab.analysis.workspace import check_resolution, check_samples, check_seed, workspace
     from armlab.cli import load_arm
 
+    check_samples(args.samples, "--samples")
+    check_seed(args.seed, "--seed")
+    if args.resolution is not None:
+        check_resolution(args.resolution, "--resolution")
     arm = load_arm(args.arm)
     folder = workspace_folder(args.out) if args.out else None
     ws = workspace(arm, args.samples, args.resolution, args.seed)
@@ -111,7 +115,8 @@ def _positive_int(text: str) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``workspace`` and ``sweep`` subcommands to the CLI's subparsers."""
     from armlab.analysis.sweep import EXIT_FAILED, cmd_sweep
-    from armlab.analysis.workspace import DEFAULT_SAMPLES, SAMPLES_PER_CELL
+    from armlab.analysis.workspace import DEFAULT_SAMPLES, MAX_SAMPLES, MAX_SEED, SAMPLES_PER_CELL
+    from armlab.limits import allowed
 
     p = subparsers.add_parser(
         "workspace", help="an arm's workspace: volume, reach, manipulability, singular configurations",
@@ -124,10 +129,11 @@ def register(subparsers: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
     p.add_argument("--samples", type=_positive_int, default=DEFAULT_SAMPLES, metavar="N",
-                   help=f"joint-space samples (default {DEFAULT_SAMPLES:.0e}; at least 1000)")
+                   help=f"joint-space samples (default {DEFAULT_SAMPLES:.0e}; 1000 … {MAX_SAMPLES:.0e})")
     p.add_argument("--resolution", type=float, metavar="H",
-                   help=f"voxel edge in metres (default: about {SAMPLES_PER_CELL} samples per occupied cell)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random samples (default 0)")
+                   help=f"voxel edge in metres, {allowed('resolution')} (default: about {SAMPLES_PER_CELL} samples "
+                        "per occupied cell)")
+    p.add_argument("--seed", type=int, default=0, help=f"seed of the random samples, 0 … {MAX_SEED} (default 0)")
     p.add_argument("--out", metavar="DIR", help="output folder (written completely or not at all)")
     p.add_argument("--json", action="store_true", help="print the summary (workspace.json) as JSON")
     p.set_defaults(func=cmd_workspace)

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,8 +37,8 @@ if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
     from armlab.models.arm import Arm
 
-__all__ = ["DYNAMICS", "OBJECTIVES", "UNITS", "WORKSPACE", "Study", "Variable", "evaluate", "load_study",
-           "parse_study"]
+__all__ = ["DYNAMICS", "MAX_CANDIDATES", "OBJECTIVES", "UNITS", "WORKSPACE", "Study", "Variable", "evaluate",
+           "load_study", "parse_study"]
 
 #: Objectives computed from the workspace (:func:`armlab.analysis.workspace.workspace`), with units.
 WORKSPACE = {"workspace_volume": "m^dim", "reach": "m", "min_manipulability": "", "mean_manipulability": ""}
@@ -52,6 +53,8 @@ _OWN_UNITS = {"payload": ("kg", "g"), "tf": ("s", "ms")}
 _KEYS = ("arm", "vary", "evaluate", "samples", "resolution", "seed", "payload", "tf", "simulate", "segments")
 #: Period of the motion's samples for the batch inverse dynamics (s).
 TORQUE_PERIOD = 1e-3
+#: Most candidates of one study (each is built and checked before any work starts).
+MAX_CANDIDATES = 10_000
 
 
 @dataclass(frozen=True)
@@ -151,17 +154,10 @@ class Study:
 # --------------------------------------------------------------------------------------------- parsing
 def load_study(path: str | Path) -> Study:
     """Read and check a study file (:func:`parse_study`); ``ValueError`` with one line naming the problem."""
+    from armlab.files import read_json
+
     path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as error:
-        raise ValueError(f"{path}: cannot read it: {error.strerror or error}") from None
-    except UnicodeDecodeError:
-        raise ValueError(f"{path}: cannot read it: it is not UTF-8 text") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise ValueError(f"{path}: not valid JSON: {error}") from None
+    data = read_json(path, "study")
     try:
         return parse_study(data, path.parent)
     except ValueError as error:
@@ -206,7 +202,17 @@ def _variable(name: str, spec: Any, known: list[str]) -> Variable:
             raise ValueError(f"vary.{name}.steps = {json.dumps(steps)}: the range is empty; give a whole number ≥ 1")
         if steps == 1 and lo != hi:
             raise ValueError(f"vary.{name}: steps = 1 from {lo:g} to {hi:g}; give steps ≥ 2 or from = to")
+        if steps > MAX_CANDIDATES:
+            raise ValueError(f"vary.{name}.steps = {steps:,} is more than the {MAX_CANDIDATES:,} candidates a study "
+                             "may have; give fewer steps")
         values = np.linspace(lo, hi, steps).tolist()
+    if name not in _OWN_UNITS:  # an arm parameter: bounded like the numbers of an arm file
+        from armlab.models.custom import MAX_FILE_NUMBER
+
+        big = next((v for v in values if abs(v * UNITS.get(unit, 1.0)) > MAX_FILE_NUMBER), None)
+        if big is not None:
+            raise ValueError(f"vary.{name}: {big:g}{' ' + unit if unit else ''} is out of range: allowed |{name}| ≤ "
+                             f"{MAX_FILE_NUMBER:g} (m or rad; like the numbers of an arm file)")
     return Variable(name, unit, tuple(values))
 
 
@@ -220,6 +226,9 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
 
     from armlab.analysis.workspace import (
         DEFAULT_SAMPLES,
+        check_resolution,
+        check_samples,
+        check_seed,
         sample_joints,
         tool_positions,
         workspace_plane,
@@ -247,6 +256,10 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     if not isinstance(data["vary"], dict) or not data["vary"]:
         raise ValueError("vary must be a non-empty object {parameter: range}")
     vary = tuple(_variable(k, v, known) for k, v in data["vary"].items())
+    count = math.prod(len(v.values) for v in vary)
+    if count > MAX_CANDIDATES:
+        raise ValueError(f"vary makes {count:,} candidates ({' × '.join(str(len(v.values)) for v in vary)}), more "
+                         f"than the {MAX_CANDIDATES:,} a study may have; vary fewer values")
     evaluate = data["evaluate"]
     if not isinstance(evaluate, list) or not evaluate or not all(isinstance(e, str) for e in evaluate):
         raise ValueError(f"evaluate = {json.dumps(evaluate)} must be a non-empty list of objectives")
@@ -263,12 +276,8 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
             where = f"vary.{key}" if key in data["vary"] else key
             raise ValueError(f"{where} changes only the torque objectives ({', '.join(DYNAMICS)}); "
                              "evaluate one of them")
-    samples = data.get("samples", DEFAULT_SAMPLES // 5)
-    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1000:
-        raise ValueError(f"samples = {json.dumps(samples)} must be a whole number ≥ 1000")
-    seed = data.get("seed", 0)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise ValueError(f"seed = {json.dumps(seed)} must be a whole number ≥ 0")
+    samples = check_samples(data.get("samples", DEFAULT_SAMPLES // 5))
+    seed = check_seed(data.get("seed", 0))
     payload = _number(data.get("payload", 0.0), "payload")
     tf = None if data.get("tf") is None else _number(data["tf"], "tf")
     simulate = data.get("simulate", False)
@@ -285,9 +294,7 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     dim = workspace_plane(tool_positions(nominal, q))[1].shape[0]
     resolution = data.get("resolution")
     if resolution is not None:
-        resolution = _number(resolution, "resolution")
-        if resolution <= 0:
-            raise ValueError(f"resolution = {resolution:g} m must be positive")
+        resolution = check_resolution(_number(resolution, "resolution"))
     study = Study(name, vary, tuple(evaluate), samples, resolution, seed, payload, tf, simulate, segments,
                   nominal.n, dim)
     for values in study.candidates:
@@ -304,6 +311,8 @@ def build(study: Study, values: tuple[float, ...]) -> tuple[Arm, Motion | None, 
     """The candidate's arm, its motion (``None`` without torque objectives) and payload; ``ValueError`` if bad."""
     from armlab.diagrams.motions import paper_motion, read_segments
     from armlab.diagrams.plant import check_payload
+    from armlab.diagrams.simulate import DEFAULT_LOG_PERIOD, check_work
+    from armlab.limits import check_range
     from armlab.models import get_arm
 
     overrides, payload, tf = study.settings(values)
@@ -311,7 +320,10 @@ def build(study: Study, values: tuple[float, ...]) -> tuple[Arm, Motion | None, 
     if not any(e in DYNAMICS for e in study.evaluate):
         return arm, None, payload
     payload = check_payload(payload)
+    if tf is not None:
+        check_range(tf, "tf")
     motion = read_segments(arm, study.segments) if study.segments else paper_motion(arm, tf=tf)
+    check_work(motion, DEFAULT_LOG_PERIOD if study.simulate else TORQUE_PERIOD)
     return arm, motion, payload
 
 

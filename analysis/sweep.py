@@ -24,16 +24,18 @@ import csv
 import io
 import json
 import os
+import shutil
 import sys
 import tempfile
 import time
 import uuid
-from contextlib import ExitStack
+from collections.abc import Iterator
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from armlab.files import write_file
+from armlab.files import _signals_held, write_file
 
 if TYPE_CHECKING:
     from armlab.analysis.study import Study
@@ -134,6 +136,7 @@ def _prepare(out: Path, study: Study, study_json: dict[str, Any]) -> dict[int, l
             raise ValueError(f"--out {out}: holds a different study; give another --out (or the same study file)")
         return read_results(results, study.columns)
     write_file(results, _line(study.columns))
+    _record(out, study, study_json, {})  # the folder is this study's from the start: a stopped sweep resumes
     return {}
 
 
@@ -153,8 +156,9 @@ def _record(out: Path, study: Study, study_json: dict[str, Any], run: dict[str, 
 
 # ---------------------------------------------------------------------------------------- the engine
 def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any:
-    """A Dask client of the cluster at ``scheduler``, or of a new ``LocalCluster`` whose workers keep their
-    scratch files in a temporary folder; ``stack`` closes them (and removes the folder)."""
+    """A Dask client of the cluster at ``scheduler``, or of a new ``LocalCluster`` whose scheduler and workers keep
+    their scratch files in a private temporary folder (made by ``mkdtemp``, mode 0700, not the shared
+    ``$TMPDIR/dask-scratch-space``); ``stack`` closes them and removes the folder on every exit path."""
     import logging
 
     import dask
@@ -167,16 +171,39 @@ def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any
             raise ValueError(f"--scheduler {scheduler}: cannot connect: {error}") from None
         stack.callback(client.close)
         return client
-    scratch = stack.enter_context(tempfile.TemporaryDirectory(prefix="armlab-dask-"))
-    stack.enter_context(dask.config.set({"temporary-directory": scratch}))  # scheduler's and workers' scratch
-    # No dashboard; the scheduler's own HTTP endpoint (health, metrics) on a free port of 127.0.0.1, not 8787.
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                           dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
-                           silence_logs=logging.ERROR)
-    stack.callback(cluster.close)
-    client = Client(cluster)
-    stack.callback(client.close)
+    scratch = tempfile.mkdtemp(prefix="armlab-dask-")
+    stack.callback(shutil.rmtree, scratch, ignore_errors=True)
+    stack.enter_context(dask.config.set({"temporary-directory": scratch}))  # the scheduler's scratch
+    # A stop signal during the start waits until the cluster is on ``stack`` (else Dask's atexit hook meets a
+    # half-started cluster). The workers write their stderr to a log in the scratch folder: Ctrl-C reaches the
+    # terminal's whole process group, and each worker would print its KeyboardInterrupt's traceback; this process
+    # stops and closes them.
+    with _signals_held(), _stderr_to(os.path.join(scratch, "workers.log")):
+        # No dashboard; the scheduler's own HTTP endpoint (health, metrics) on a free port of 127.0.0.1, not 8787.
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
+                               local_directory=scratch, silence_logs=logging.CRITICAL)
+        stack.callback(cluster.close)
+        client = Client(cluster)
+        stack.callback(client.close)
     return client
+
+
+@contextmanager
+def _stderr_to(path: str) -> Iterator[None]:
+    """File descriptor 2 writes to the file ``path`` (made private, mode 0600) meanwhile; the processes started
+    meanwhile keep it as their stderr."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    log = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_APPEND, 0o600)
+    try:
+        os.dup2(log, 2)
+        yield
+    finally:
+        sys.stderr.flush()
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(log)
 
 
 def default_workers() -> int:
@@ -225,9 +252,10 @@ def run_sweep(
         run = _compute(study, candidates, todo, out, workers, scheduler, progress, report, result)
     result.wall_time = time.perf_counter() - began
     run = run | {"wall_time_s": result.wall_time}
-    _record(out, study, study_json, run)
-    rows = read_results(out / RESULTS, study.columns)
-    result.plots = write_plots(study, rows, out)
+    with _signals_held():  # a stop signal now waits for study.json and the plots to be written, all of them
+        _record(out, study, study_json, run)
+        rows = read_results(out / RESULTS, study.columns)
+        result.plots = write_plots(study, rows, out)
     return result
 
 

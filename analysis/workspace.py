@@ -32,8 +32,13 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_SAMPLES",
+    "MAX_SAMPLES",
+    "MAX_SEED",
     "SAMPLES_PER_CELL",
     "Workspace",
+    "check_resolution",
+    "check_samples",
+    "check_seed",
     "default_resolution",
     "joint_box",
     "motion_rank",
@@ -46,6 +51,10 @@ __all__ = [
 
 #: Joint-space samples of ``armlab workspace`` unless ``--samples`` says otherwise.
 DEFAULT_SAMPLES = 1_000_000
+#: Most joint-space samples of one workspace (about 20 minutes of forward kinematics on one core).
+MAX_SAMPLES = 1_000_000_000
+#: Largest seed of the random samples.
+MAX_SEED = 2**32 - 1
 #: Samples per cell of the reach's ball that the default resolution aims for.
 SAMPLES_PER_CELL = 40
 #: Configurations per batch of forward kinematics (bounds the memory of a workspace run).
@@ -269,9 +278,8 @@ def workspace(
     import time
 
     began = time.perf_counter()
-    samples = _check_samples(samples)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"seed = {seed!r} is not allowed: give a whole number ≥ 0")
+    samples = check_samples(samples)
+    seed = check_seed(seed)
     rng = np.random.default_rng(seed)
     first = sample_joints(arm, min(samples, CHUNK), rng)
     first_points = tool_positions(arm, first)
@@ -279,7 +287,7 @@ def workspace(
     dim = basis.shape[0]
     motions = motion_rank(arm, first[:16], basis)
     bound = reach_bound(arm) + float(np.linalg.norm(origin))
-    h = _check_resolution(resolution) if resolution is not None else \
+    h = check_resolution(resolution) if resolution is not None else \
         default_resolution((first_points - origin) @ basis.T, samples, bound)
     grid = _Occupancy(h, bound, dim)
     checkpoints = sorted({samples >> k for k in range(SAMPLE_HALVINGS + 1) if samples >> k >= 1})
@@ -325,18 +333,40 @@ def workspace(
     return result
 
 
-def _check_samples(samples: Any) -> int:
-    number = isinstance(samples, (int, np.integer, float)) and not isinstance(samples, bool)
-    if not number or not float(samples).is_integer() or samples < 1000:
-        raise ValueError(f"samples = {samples!r} is not allowed: give a whole number ≥ 1000")
-    return int(samples)
+def _short(value: float) -> str:
+    """A whole number as short text: ``1e9`` if that is exact, else all its digits."""
+    from armlab.limits import _num
+
+    text = _num(float(value))
+    return text if float(text) == value else str(int(value))
 
 
-def _check_resolution(h: Any) -> float:
+def _whole(value: Any, name: str, low: int, high: int, why: str) -> int:
+    """``value`` as an int if it is a whole number in ``low … high``; else a one-line ``ValueError`` naming ``name``."""
+    whole = (isinstance(value, (int, np.integer)) and not isinstance(value, bool)) or \
+        (isinstance(value, float) and value.is_integer())
+    if not whole or not low <= value <= high:
+        shown = _short(value) if whole and abs(value) <= 1e308 else repr(value)[:40]
+        raise ValueError(f"{name} {shown} is not allowed: give a whole number {low} … {_short(high)} ({why})")
+    return int(value)
+
+
+def check_samples(samples: Any, name: str = "samples") -> int:
+    """The joint-space sample count as an int, 1000 … :data:`MAX_SAMPLES`; ``ValueError`` naming ``name`` else."""
+    return _whole(samples, name, 1000, MAX_SAMPLES, "more would take hours")
+
+
+def check_seed(seed: Any, name: str = "seed") -> int:
+    """The random samples' seed as an int, 0 … :data:`MAX_SEED`; ``ValueError`` naming ``name`` else."""
+    return _whole(seed, name, 0, MAX_SEED, "the seed of the random samples")
+
+
+def check_resolution(h: Any, name: str = "resolution") -> float:
+    """The voxel edge (m) as a float within :data:`armlab.limits.LIMITS`' range; ``ValueError`` naming ``name``."""
+    from armlab.limits import check_range
+
     try:
         value = float(h)
     except (TypeError, ValueError):
-        value = float("nan")
-    if not math.isfinite(value) or value <= 0:
-        raise ValueError(f"resolution = {h!r} m is not allowed: give a positive voxel edge in metres")
-    return value
+        raise ValueError(f"{name} {h!r} is not allowed: give a voxel edge in metres") from None
+    return float(check_range(value, name, key="resolution"))

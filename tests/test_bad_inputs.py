@@ -100,10 +100,16 @@ CLI_NUMBERS = [
     (("view", "rr", "--port", "1e3"), 2, "invalid int value: '1e3'"),
     (("view", "rr", "--q", "1e308,0"), 2, "joint1 = 1e+308 rad is outside its limits"),
     (("workspace", "rr", "--samples", "nan"), 2, "--samples: 'nan' is not a whole number"),
-    (("workspace", "rr", "--samples", "10"), 2, "samples = 10 is not allowed"),
-    (("workspace", "rr", "--resolution", "0"), 2, "resolution = 0.0 m is not allowed"),
-    (("workspace", "rr", "--resolution", "-inf"), 2, "resolution = -inf m is not allowed"),
+    (("workspace", "rr", "--samples", "10"), 2, "--samples 10 is not allowed: give a whole number 1000 … 1e9"),
+    (("workspace", "rr", "--samples", "1e308"), 2, "--samples 1e308 is not allowed: give a whole number 1000 … 1e9"),
+    (("workspace", "rr", "--samples", "1e10"), 2, "--samples 1e10 is not allowed"),
+    (("workspace", "rr", "--resolution", "0"), 2, "--resolution 0 is out of range: allowed 1e-6 ≤ h ≤ 100 m"),
+    (("workspace", "rr", "--resolution", "1e308"), 2, "--resolution 1e308 is out of range: allowed 1e-6 ≤ h ≤ 100"),
+    (("workspace", "rr", "--resolution", "-inf"), 2, "--resolution -inf is out of range"),
+    (("workspace", "rr", "--resolution", "nan"), 2, "--resolution nan is out of range"),
     (("workspace", "rr", "--seed", "1e308"), 2, "--seed: invalid int value: '1e308'"),
+    (("workspace", "rr", "--seed", "-1"), 2, "--seed -1 is not allowed: give a whole number 0 … 4294967295"),
+    (("workspace", "rr", "--seed", "4294967296"), 2, "--seed 4294967296 is not allowed"),
 ]
 #: Values at the ends of the allowed ranges: a result.
 CLI_NUMBERS_ACCEPTED = [
@@ -230,6 +236,40 @@ def test_segments_files(box, content, code, fragment):
     box.write("seg.json", content)
     check(box.main("simulate", "rr", "--segments", "seg.json", "--dt", "0.01", "--out", "run"), code, fragment)
     assert box.debris(*(["run"] if code == 0 else [])) == []
+
+
+# ---- study files: (content, exit code, fragment) -- `armlab sweep study.json --out out`, refused before any work
+def _study(**change) -> str:
+    return json.dumps({"arm": "rr", "vary": {"L1": {"values": [0.3, 0.4]}}, "evaluate": ["reach"], "samples": 5000}
+                      | change)
+
+
+STUDY_FILES = [
+    ("[" * 10_000 + "]" * 10_000, 2, "study study.json: not valid JSON: nested too deeply"),
+    ('{"arm": "rr", "vary": ' * 10_000 + "{}" + "}" * 10_000, 2, "nested too deeply"),
+    (b"\xff{}", 2, "it is not UTF-8 text"),
+    (_study(vary={"L1": {"from": 0.1, "to": 0.5, "steps": 10**9}}), 2, "steps = 1,000,000,000 is more than the 10,000"),
+    (_study(vary={"L1": {"from": 0.1, "to": 0.5, "steps": 1e9}}), 2, "steps = 1000000000.0: the range is empty"),
+    (_study(vary={"L1": {"from": 0.1, "to": 0.5, "steps": 101}, "L2": {"values": list(range(1, 101))}}), 2,
+     "vary makes 10,100 candidates (101 × 100), more than the 10,000"),
+    (_study(vary={"L1": {"values": [0.3, 1e308]}}), 2, "vary.L1: 1e+308 is out of range: allowed |L1| ≤ 1e+12"),
+    (_study(vary={"L1": {"from": -1e13, "to": 1, "steps": 2}}), 2, "vary.L1: -1e+13 is out of range"),
+    (_study(samples=10**11), 2, "samples 1e11 is not allowed: give a whole number 1000 … 1e9"),
+    (_study(samples=1e11), 2, "samples 1e11 is not allowed"),
+    (_study(seed=-1), 2, "seed -1 is not allowed: give a whole number 0 … 4294967295"),
+    (_study(resolution=1e308), 2, "resolution 1e308 is out of range: allowed 1e-6 ≤ h ≤ 100 m"),
+    (_study(evaluate=["peak_torque"], vary={"tf": {"values": [1, 1e308]}}), 2, "tf 1e308 is out of range"),
+    (_study(evaluate=["peak_torque"], vary={"payload": {"values": [1e6]}}), 2, "payload 1e6 is out of range"),
+    (_study(evaluate=["peak_torque"], tf=1e5, simulate=True), 2, "100,000,001 log samples, more than the 1,000,000"),
+]
+
+
+@pytest.mark.parametrize(("content", "code", "fragment"), STUDY_FILES, ids=lambda v: repr(v)[:40])
+@pytest.mark.timeout(60)
+def test_study_files(box, content, code, fragment):
+    box.write("study.json", content)
+    check(box.main("sweep", "study.json", "--out", "out"), code, fragment)
+    assert box.debris() == []
 
 
 # ---- arm files through the CLI (the models' own tables: tests/test_custom.py, test_security.py): --------------

@@ -13,6 +13,7 @@ import signal
 import subprocess
 import threading
 import time
+from pathlib import Path
 
 import pytest
 from contract import Sandbox
@@ -98,3 +99,49 @@ def _ended(box: Sandbox) -> bool:
     while box.processes() and time.monotonic() < end:
         time.sleep(0.2)
     return not box.processes()
+
+
+STUDY = str(Path(__file__).parents[1] / "analysis" / "studies" / "urm6_theta3_theta5.json")
+
+
+#: When the signal is sent to a sweep: (lines results.csv holds, seconds after it does, or after the start if 0 lines)
+SWEEP_MOMENTS = [
+    (0, 1.5),  # importing, reading the study
+    (1, 0.3),  # the header written: the local cluster starting, its workers importing
+    (2, 0.0),  # the first candidate's row: computing
+    (8, 1.0),  # later on
+]
+
+
+def _wait_lines(path: Path, lines: int, process: subprocess.Popen) -> None:
+    """Wait until the file ``path`` holds ``lines`` whole lines (while ``process`` runs, at most 120 s)."""
+    end = time.monotonic() + 120
+    while not (path.exists() and path.read_text().count("\n") >= lines):
+        assert process.poll() is None and time.monotonic() < end, (process.poll(), "no such line")
+        time.sleep(0.02)
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=lambda s: s.name)
+@pytest.mark.parametrize(("lines", "delay"), SWEEP_MOMENTS, ids=lambda v: str(v))
+def test_a_stop_signal_ends_a_sweep(box, lines, delay, signum):
+    """``armlab sweep`` keeps the candidates computed so far (its results.csv resumes), but no temporaries, no
+    half-written file, no Dask scratch folder in TMPDIR and no worker process are left, no worker prints a traceback,
+    and it exits promptly."""
+    process = _start(box, "sweep", STUDY, "--out", "sweep", "--workers", "2")
+    if lines:
+        _wait_lines(box.cwd / "sweep" / "results.csv", lines, process)
+    time.sleep(delay)
+    assert process.poll() is None, "the sweep ended before the signal"
+    _send(process, signum)
+    sent = time.monotonic()
+    _, err = process.communicate(timeout=PROMPT + 60)
+    assert process.returncode == 128 + signum, (process.returncode, err[-3000:])
+    assert time.monotonic() - sent < PROMPT
+    assert "Traceback" not in err, err
+    assert box.debris("sweep") == []
+    assert {p.name for p in (box.cwd / "sweep").glob("*")} <= {"results.csv", "study.json"}
+    results = box.cwd / "sweep" / "results.csv"
+    if results.exists():
+        rows = [line.split(",") for line in results.read_text().splitlines()]
+        assert rows and all(len(row) == len(rows[0]) for row in rows)
+    assert _ended(box)

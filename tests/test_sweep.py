@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import csv
 import json
+import os
+import signal
 import subprocess
+import time
 from pathlib import Path
 
 import pytest
@@ -45,7 +48,16 @@ def objectives(folder: Path, columns: list[str]) -> dict[int, list[float]]:
     ({"vary": {}}, "vary must be a non-empty object"),
     ({"evaluate": ["beauty"]}, "unknown objective 'beauty'"),
     ({"evaluate": []}, "non-empty list"),
-    ({"samples": 10}, "samples = 10"),
+    ({"samples": 10}, "samples 10 is not allowed"),
+    ({"samples": 10**11}, "samples 1e11 is not allowed: give a whole number 1000 … 1e9"),
+    ({"seed": -1}, "seed -1 is not allowed"),
+    ({"resolution": 1e308}, "resolution 1e308 is out of range"),
+    ({"vary": {"L1": {"from": 0.1, "to": 0.5, "steps": 10**9}}}, "steps = 1,000,000,000 is more than the 10,000"),
+    ({"vary": {"L1": {"from": 0.1, "to": 0.5, "steps": 200}, "L2": {"from": 0.1, "to": 0.5, "steps": 200}}},
+     r"vary makes 40,000 candidates \(200 × 200\), more than the 10,000"),
+    ({"vary": {"L1": {"values": [0.3, 1e308]}}}, r"vary.L1: 1e\+308 is out of range"),
+    ({"vary": {"tf": {"values": [1, 1e308]}}, "evaluate": ["peak_torque"]}, "tf 1e308 is out of range"),
+    ({"vary": {"tf": {"values": [1, 1e5]}}, "evaluate": ["peak_torque"]}, "100,000,001 log samples"),
     ({"vary": {"tf": {"values": [1, 2]}}}, "changes only the torque objectives"),
     ({"colour": "red"}, "unknown key 'colour'"),
     ({"vary": {"payload": {"values": [-1]}}, "evaluate": ["peak_torque"]}, "payload"),
@@ -126,6 +138,26 @@ def test_sweep_resumes_and_never_keeps_half_a_row(tmp_path: Path) -> None:
     assert (out / RESULTS).read_text().count("\n") == 5 and (out / RESULTS).read_text().endswith("\n")
     assert run_sweep(study, out, workers=1).computed == 0
     assert len(json.loads((out / STUDY).read_text())["runs"]) == 3
+
+
+def test_a_stopped_sweep_resumes(tmp_path: Path) -> None:
+    """Ctrl-C (SIGINT to the process group) after the first rows: exit 130, and a rerun computes only the rest."""
+    study = write_study(tmp_path, RR_LENGTHS | {"samples": 400000})
+    out = tmp_path / "out"
+    process = subprocess.Popen([ARMLAB, "sweep", str(study), "--out", str(out), "--workers", "1"],
+                               stderr=subprocess.PIPE, text=True, start_new_session=True)
+    began = time.monotonic()
+    while not ((out / RESULTS).exists() and (out / RESULTS).read_text().count("\n") >= 2):
+        assert process.poll() is None and time.monotonic() - began < 120, "no row written"
+        time.sleep(0.05)
+    os.killpg(process.pid, signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130 and "Traceback" not in err, err
+    kept = rows(out)
+    assert 1 <= len(kept) < 4 and {p.name for p in out.iterdir()} == {RESULTS, STUDY}
+    again = run_sweep(study, out, workers=1)
+    assert (again.done_before, again.computed, again.failed) == (len(kept), 4 - len(kept), [])
+    assert {i: r for i, r in rows(out).items() if i in kept} == kept
 
 
 def test_another_study_into_the_same_folder_is_refused(tmp_path: Path) -> None:

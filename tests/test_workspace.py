@@ -120,11 +120,14 @@ def test_workspace_plane_of_a_tilted_plane() -> None:
 
 
 @pytest.mark.parametrize(("kwargs", "message"), [
-    ({"samples": 10}, "whole number ≥ 1000"),
-    ({"samples": 1500.5}, "whole number ≥ 1000"),
-    ({"resolution": -1.0}, "positive voxel edge"),
+    ({"samples": 10}, "samples 10 is not allowed: give a whole number 1000 … 1e9"),
+    ({"samples": 1500.5}, "whole number 1000 … 1e9"),
+    ({"samples": 10**11}, "samples 1e11 is not allowed"),
+    ({"resolution": -1.0}, "resolution -1 is out of range: allowed 1e-6 ≤ h ≤ 100 m"),
+    ({"resolution": 1e308}, "resolution 1e308 is out of range"),
     ({"resolution": 1e-6}, "too fine"),
-    ({"seed": -1}, "seed = -1"),
+    ({"seed": -1}, "seed -1 is not allowed: give a whole number 0 … 4294967295"),
+    ({"seed": 2**32}, "seed 4294967296 is not allowed"),
 ])
 def test_bad_arguments_are_one_line_errors(kwargs: dict, message: str) -> None:
     with pytest.raises(ValueError, match=message):
@@ -152,8 +155,8 @@ def test_cli_writes_every_file_and_prints_json(tmp_path: Path) -> None:
 def test_cli_bad_input(tmp_path: Path) -> None:
     (tmp_path / "other").mkdir()
     (tmp_path / "other" / "notes.txt").write_text("mine")
-    for args, message in ((["rr", "--samples", "5"], "whole number ≥ 1000"),
-                          (["rr", "--resolution", "0"], "positive voxel edge"),
+    for args, message in ((["rr", "--samples", "5"], "--samples 5 is not allowed"),
+                          (["rr", "--resolution", "0"], "--resolution 0 is out of range"),
                           (["nope"], "unknown arm"),
                           (["rr", "--out", str(tmp_path / "other")], "is not an armlab workspace folder")):
         run = subprocess.run([ARMLAB, "workspace", *args], capture_output=True, text=True, timeout=120)
