@@ -5,7 +5,7 @@
   whose peak passes its limit, with the first time it does.
 * :func:`divergence` — the first time the tracking error |q − q_d| passes a threshold (an
   open-loop run, or gains too low, leaving the reference), or ``None``.
-* :func:`drive_table` and :func:`write_drives` — per joint peak |τ|, RMS τ, peak |q̇| and peak
+* :func:`drive_table`, :func:`write_drives_csv` and :func:`plot_drives` — per joint peak |τ|, RMS τ, peak |q̇| and peak
   mechanical power |τ q̇|, against the effort and velocity limits: ``drives.csv`` and
   ``drives.png`` (each joint's torque–speed operating points inside its limit box, the picture an
   engineer takes to a motor catalogue).
@@ -35,7 +35,8 @@ __all__ = [
     "drive_table",
     "format_violation",
     "limit_violations",
-    "write_drives",
+    "plot_drives",
+    "write_drives_csv",
 ]
 
 #: Tracking error (rad for revolute joints, m for prismatic ones) past which a run has left its
@@ -146,13 +147,17 @@ def drive_table(log: SimulationLog) -> list[dict[str, Any]]:
     } for i, (name, lim) in enumerate(zip(log.arm.joint_names, log.arm.limits, strict=True))]
 
 
-def write_drives(log: SimulationLog, folder: str | Path) -> list[Path]:
-    """``drives.csv`` (:func:`drive_table`, empty cells for unknown limits) and ``drives.png`` in ``folder``."""
+def write_drives_csv(log: SimulationLog, path: str | Path) -> Path:
+    """``drives.csv``: :func:`drive_table`, one row per joint, empty cells for unknown limits."""
+    rows = drive_table(log)
+    return write_csv(path, list(rows[0]), [list(row.values()) for row in rows])
+
+
+def plot_drives(log: SimulationLog, path: str | Path) -> Path:
+    """``drives.png``: each joint's torque against its speed along the run, inside its effort/speed limit box."""
     from armlab.scripts.figures import DPI, new_figure
 
-    folder = Path(folder)
     rows = drive_table(log)
-    paths = [write_csv(folder / "drives.csv", list(rows[0]), [list(row.values()) for row in rows])]
     n = log.arm.n
     cols = min(n, 3)
     fig, axes = new_figure(f"{log.arm.name}: drive operating points (torque against speed) and limits",
@@ -182,9 +187,8 @@ def write_drives(log: SimulationLog, folder: str | Path) -> list[Path]:
         ax.set_visible(False)
     legend = {label: handle for ax in axes[:n] for handle, label in zip(*ax.get_legend_handles_labels(), strict=True)}
     fig.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=len(legend), fontsize=8)
-    path = folder / "drives.png"
     fig.savefig(path, dpi=DPI)
     import matplotlib.pyplot as plt
 
     plt.close(fig)
-    return [*paths, path]
+    return Path(path)

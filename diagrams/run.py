@@ -108,12 +108,12 @@ class Run:
     # ------------------------------------------------------------------ the files
     def plot(self, folder: str | Path) -> list[Path]:
         """Write the run's plots into ``folder`` (joints, torques, tool path and motion, drives); their paths."""
-        from armlab.diagrams.drives import write_drives
+        from armlab.diagrams.drives import plot_drives
         from armlab.diagrams.plots import write_plots
 
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        return [*write_plots(self.log, folder), *write_drives(self.log, folder)[1:]]
+        return [*write_plots(self.log, folder), plot_drives(self.log, folder / "drives.png")]
 
     def save(self, out: str | Path, deg: bool = False) -> list[str]:
         """Write every output of the run (:meth:`write`) into folder ``out``, completely or not at all.
@@ -134,7 +134,7 @@ class Run:
         ``replay.html`` (the run as a 3-D animation with its time slider and a readout of t, q — in degrees
         with ``deg`` — and τ).
         """
-        from armlab.diagrams.drives import write_drives
+        from armlab.diagrams.drives import plot_drives, write_drives_csv
         from armlab.diagrams.graphviz import fig6_dot, render, require_dot
         from armlab.diagrams.output import write_log_csv, write_summary
         from armlab.diagrams.plots import write_plots
@@ -148,7 +148,7 @@ class Run:
         (folder / "diagram.svg").write_bytes(render(fig6_dot(log.diagram_dot), "svg"))
         (folder / "diagram_full.svg").write_bytes(render(log.diagram_dot, "svg"))
         plots = write_plots(log, folder)
-        drives = write_drives(log, folder)
+        drives = [write_drives_csv(log, folder / "drives.csv"), plot_drives(log, folder / "drives.png")]
         replay_log(log, folder / "replay.html", deg=deg)
         return ["log.csv", "summary.json", "diagram.svg", "diagram_full.svg", "diagram.dot", *(p.name for p in plots),
                 *(p.name for p in drives), "replay.html"]

@@ -10,6 +10,7 @@ from conftest import arm_and_plant, random_q
 
 import armlab
 from armlab.cli import main
+from armlab.diagrams.plots import PLOTS
 
 TWO_LINK_URDF = """<?xml version="1.0"?>
 <robot name="two_link">
@@ -138,6 +139,8 @@ def test_simulate_returns_a_run_whose_torques_are_the_inverse_dynamics(tmp_path)
     assert not run.diverged and run.violations == []
     assert [d["joint"] for d in run.drives] == ["joint1", "joint2"]
     assert run.drives[0]["peak_torque"] == pytest.approx(np.abs(run.tau[:, 0]).max())
+    plotted = run.plot(tmp_path / "plots")
+    assert [p.name for p in plotted] == [*PLOTS, "drives.png"] and all(p.stat().st_size > 0 for p in plotted)
     written = run.save(tmp_path / "run")
     assert {"log.csv", "summary.json", "drives.csv", "drives.png", "replay.html"} <= set(written)
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
