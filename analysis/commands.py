@@ -115,7 +115,7 @@ def _positive_int(text: str) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``workspace`` and ``sweep`` subcommands to the CLI's subparsers."""
     from armlab.analysis.sweep import EXIT_FAILED, cmd_sweep
-    from armlab.analysis.workspace import DEFAULT_SAMPLES, MAX_SAMPLES, MAX_SEED, SAMPLES_PER_CELL
+    from armlab.analysis.workspace import DEFAULT_SAMPLES, MAX_SAMPLES, MAX_SEED, SAMPLES_PER_CELL, _short
     from armlab.limits import allowed
 
     p = subparsers.add_parser(
@@ -129,7 +129,7 @@ def register(subparsers: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
     p.add_argument("--samples", type=_positive_int, default=DEFAULT_SAMPLES, metavar="N",
-                   help=f"joint-space samples (default {DEFAULT_SAMPLES:.0e}; 1000 … {MAX_SAMPLES:.0e})")
+                   help=f"joint-space samples, 1000 … {_short(MAX_SAMPLES)} (default {_short(DEFAULT_SAMPLES)})")
     p.add_argument("--resolution", type=float, metavar="H",
                    help=f"voxel edge in metres, {allowed('resolution')} (default: about {SAMPLES_PER_CELL} samples "
                         "per occupied cell)")

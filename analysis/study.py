@@ -198,8 +198,10 @@ def _variable(name: str, spec: Any, known: list[str]) -> Variable:
             raise ValueError(f"vary.{name}: missing {', '.join(repr(k) for k in missing)} (or give \"values\")")
         lo, hi = _number(spec["from"], f"vary.{name}.from"), _number(spec["to"], f"vary.{name}.to")
         steps = spec["steps"]
-        if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
-            raise ValueError(f"vary.{name}.steps = {json.dumps(steps)}: the range is empty; give a whole number ≥ 1")
+        if isinstance(steps, bool) or not isinstance(steps, int):
+            raise ValueError(f"vary.{name}.steps = {json.dumps(steps)} must be a whole number 1 … {MAX_CANDIDATES:,}")
+        if steps < 1:
+            raise ValueError(f"vary.{name}.steps = {steps}: the range is empty; give a whole number ≥ 1")
         if steps == 1 and lo != hi:
             raise ValueError(f"vary.{name}: steps = 1 from {lo:g} to {hi:g}; give steps ≥ 2 or from = to")
         if steps > MAX_CANDIDATES:

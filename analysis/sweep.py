@@ -8,8 +8,10 @@ and closed here; with ``scheduler="tcp://HOST:PORT"`` an existing cluster (``das
 arm's ``.urdf``/``.csv``, a ``segments`` file — at the same paths). Results are appended to
 ``results.csv`` as they arrive, one whole line per write, flushed and fsynced, so an interrupted
 sweep loses nothing already written and never leaves half a row; a rerun into the same folder
-computes only the missing candidates. A candidate that raises is reported with its parameters and
-the error and the others go on; a worker that dies has its tasks rerun by Dask. At the end
+computes only the missing candidates (``study.json`` is written when the folder is made, so a stopped sweep
+resumes too). Stopped by Ctrl-C or SIGTERM, it closes the cluster and removes the cluster's private scratch folder
+(its workers' stderr included: no worker prints a traceback). A candidate that raises is reported with its
+parameters and the error and the others go on; a worker that dies has its tasks rerun by Dask. At the end
 ``study.json`` (the study as run, the software versions, every run's counts) and the plots
 (:mod:`armlab.analysis.plots`) are (re)written.
 

@@ -152,6 +152,13 @@ def test_cli_writes_every_file_and_prints_json(tmp_path: Path) -> None:
     assert again.returncode == 0 and "singular where joint2 = -180, 0, 180 deg" in again.stdout
 
 
+def test_cli_help_states_the_ranges() -> None:
+    run = subprocess.run([ARMLAB, "workspace", "--help"], capture_output=True, text=True, timeout=60)
+    text = " ".join(run.stdout.split())
+    for fragment in ("joint-space samples, 1000 … 1e9 (default 1e6)", "1e-6 ≤ h ≤ 100 m", "0 … 4294967295"):
+        assert fragment in text
+
+
 def test_cli_bad_input(tmp_path: Path) -> None:
     (tmp_path / "other").mkdir()
     (tmp_path / "other" / "notes.txt").write_text("mine")
