@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from armlab.files import _signals_held, write_file
+from armlab.files import signals_held, write_file
 
 if TYPE_CHECKING:
     from armlab.analysis.study import Study
@@ -180,7 +180,7 @@ def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any
     # half-started cluster). The workers write their stderr to a log in the scratch folder: Ctrl-C reaches the
     # terminal's whole process group, and each worker would print its KeyboardInterrupt's traceback; this process
     # stops and closes them.
-    with _signals_held(), _stderr_to(os.path.join(scratch, "workers.log")):
+    with signals_held(), _stderr_to(os.path.join(scratch, "workers.log")):
         # No dashboard; the scheduler's own HTTP endpoint (health, metrics) on a free port of 127.0.0.1, not 8787.
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
@@ -254,7 +254,7 @@ def run_sweep(
         run = _compute(study, candidates, todo, out, workers, scheduler, progress, report, result)
     result.wall_time = time.perf_counter() - began
     run = run | {"wall_time_s": result.wall_time}
-    with _signals_held():  # a stop signal now waits for study.json and the plots to be written, all of them
+    with signals_held():  # a stop signal now waits for study.json and the plots to be written, all of them
         _record(out, study, study_json, run)
         rows = read_results(out / RESULTS, study.columns)
         result.plots = write_plots(study, rows, out)

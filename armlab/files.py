@@ -39,7 +39,7 @@ from types import FrameType, TracebackType
 from typing import Any
 
 __all__ = ["MAX_INPUT_BYTES", "Interrupted", "OutputFolder", "SignalState", "csv_cell", "csv_text", "read_input",
-           "read_json", "stop_on_signals", "write_csv", "write_file"]
+           "read_json", "signals_held", "stop_on_signals", "write_csv", "write_file"]
 
 #: The largest input file read (bytes): far more than any segments file, study, DH table or URDF needs; a
 #: bound on memory and time.
@@ -112,7 +112,7 @@ def stop_on_signals() -> Iterator[SignalState]:
 
 
 @contextmanager
-def _signals_held() -> Iterator[None]:
+def signals_held() -> Iterator[None]:
     """A stop signal arriving inside waits (raised on leaving): temporaries are renamed or removed whole.
 
     Only the main thread counts: Python runs signal handlers there, and other threads must not change its count."""
@@ -202,7 +202,7 @@ def write_file(path: str | Path, data: bytes | str) -> Path:
     path = Path(path)
     parent = path.parent
     made: list[Path] = []
-    with _signals_held():
+    with signals_held():
         try:
             made = _make_folder(parent)
             fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
@@ -215,7 +215,7 @@ def write_file(path: str | Path, data: bytes | str) -> Path:
             os.fchmod(handle.fileno(), 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
-        with _signals_held():
+        with signals_held():
             _remove(Path(tmp))
             _unmake(made)
         raise
@@ -257,7 +257,7 @@ class OutputFolder:
                 raise ValueError(f"--out {self.out}: exists and is not {kind}; give a new or empty folder")
         parent = self.out.absolute().parent
         self._made: list[Path] = []  # the missing parents made for it, removed again if the output fails
-        with _signals_held():
+        with signals_held():
             try:
                 self._made = _make_folder(parent)
                 self.tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.out.name}.", suffix=".tmp"))
@@ -276,7 +276,7 @@ class OutputFolder:
 
     def __exit__(self, kind: type[BaseException] | None, value: BaseException | None,
                  traceback: TracebackType | None) -> None:
-        with _signals_held():
+        with signals_held():
             if kind is not None:
                 _remove(self.tmp)
                 _unmake(self._made)
