@@ -74,7 +74,7 @@ class RunDiagram:
 
     diagram: Diagram
     plant: MultibodyPlant
-    model: MultibodyPlant  # the controller's copy of the plant
+    model: MultibodyPlant  # the controller's model of the arm: the plant itself (the exact model)
     loggers: dict[str, Any]
     motion: Motion
     gravity: NDArray[np.float64]
@@ -122,7 +122,7 @@ def build_diagram(
 
     builder = DiagramBuilder()
     plant = builder.AddNamedSystem("MultibodyPlant", make_plant(arm, g, payload))
-    model = make_plant(arm, g, payload)
+    model = plant  # the exact model: the controller evaluates the plant itself, on a context of its own
 
     source = builder.AddNamedSystem(
         "TrajectorySource", TrajectorySource(to_piecewise_polynomial(motion), output_derivative_order=2)

@@ -15,11 +15,12 @@ columns' time derivatives, with ż_i = ω_i × z_i (the axis is fixed in link i)
     revolute:  d/dt [z_i × (p_t − p_i)] = (ω_i × z_i) × (p_t − p_i) + z_i × (v_t − v_i),   d/dt z_i = ω_i × z_i
     prismatic: d/dt z_i = ω_i × z_i,
 
-where the angular velocity ω_i of link i and the velocity v_i of the origin of frame {i} follow from a
-forward recursion over the joints (prefix sums, vectorised over joints and samples):
+where the angular velocity ω_i of link i and the tool point's velocity relative to the origin of frame {i}
+follow from prefix sums over the joints (vectorised over joints and samples): joints j ≤ i move both points
+as one body turning at ω_i (a slide moves both alike), joints j > i move the tool point alone, so
 
     ω_i = Σ_{j ≤ i, revolute} q̇_j z_j,
-    v_i = ω_i × p_i − Σ_{j ≤ i, revolute} q̇_j z_j × p_j + Σ_{j ≤ i, prismatic} q̇_j z_j.
+    v_t − v_i = ω_i × (p_t − p_i) + Σ_{j > i} q̇_j J_v,j     (J_v,j: column j's [v] rows).
 
 Every function takes one configuration ``(n,)`` or a batch ``(..., n)``.
 """
@@ -39,22 +40,30 @@ if TYPE_CHECKING:
 
 __all__ = ["AXES", "jacobian", "manipulability", "sigma_min", "tool_motion"]
 
+#: Samples per block in :func:`tool_motion`: its dozen working arrays ``(n, 3, block)`` then stay small enough to be
+#: reused from the heap; at 4096 samples each call page-faults megabytes of fresh memory in (2–2.5× slower).
+MOTION_BLOCK = 1024
 #: Rows of the Jacobian each ``axes`` choice selects: all six, the translational [v] or the rotational [ω].
 AXES = {"all": slice(0, 6), "trans": slice(0, 3), "rot": slice(3, 6)}
 
 
-def _chain(arm: Arm, q: NDArray[np.float64]) -> Iterator[tuple[slice, NDArray, NDArray, NDArray]]:
+def _chain(arm: Arm, q: NDArray[np.float64], size: int | None = None
+           ) -> Iterator[tuple[slice, NDArray, NDArray, NDArray]]:
     """A block at a time: ``(block, z, p, p_t)``, the world joint axes z_i and frame origins p_i ``(n, 3, B)``
-    and the tool point ``(3, B)`` of the samples ``block`` of ``q`` flattened to ``(N, n)``."""
+    and the tool point ``(3, B)`` of the samples ``block`` of ``q`` flattened to ``(N, n)``; blocks of at most
+    ``size`` samples if given, else :func:`~armlab.kinematics.batch.chain_blocks`' own."""
     n = arm.n
     k = np.array([row.k for row in arm.table.rows])  # k_i in frame {i}
-    for block, frames in chain_blocks(q, arm.table.steps, arm.table.tool):
-        R = frames[1:n + 1, :, :3]
-        if (k == (0.0, 0.0, 1.0)).all():  # z_i = R_{0,i} k_i
-            z = R[:, :, 2]
-        else:
-            z = sum(k[:, j, None, None] * R[:, :, j] for j in range(3) if k[:, j].any())
-        yield block, z, frames[1:n + 1, :, 3], frames[n + 1, :, 3]
+    flat = q.reshape(-1, n)
+    size = size or max(1, flat.shape[0])
+    for start in range(0, flat.shape[0], size):
+        for block, frames in chain_blocks(flat[start:start + size], arm.table.steps, arm.table.tool):
+            R = frames[1:n + 1, :, :3]
+            if (k == (0.0, 0.0, 1.0)).all():  # z_i = R_{0,i} k_i
+                z = R[:, :, 2]
+            else:
+                z = sum(k[:, j, None, None] * R[:, :, j] for j in range(3) if k[:, j].any())
+            yield slice(start + block.start, start + block.stop), z, frames[1:n + 1, :, 3], frames[n + 1, :, 3]
 
 
 def _columns(revolute: NDArray, z: NDArray, p: NDArray, p_tool: NDArray) -> tuple[NDArray, NDArray]:
@@ -97,17 +106,27 @@ def tool_motion(
     rates, accelerations = (np.ascontiguousarray(a.reshape(-1, n).T)[:, None, :] for a in (qd, qdd))  # (n, 1, N)
     revolute = arm.revolute[:, None, None]
     twist, accel = np.empty((6, rates.shape[-1])), np.empty((6, rates.shape[-1]))  # stored batch-last
-    for block, z, p, p_tool in _chain(arm, np.ascontiguousarray(q)):
+    every = bool(revolute.all())
+    for block, z, p, p_tool in _chain(arm, np.ascontiguousarray(q), MOTION_BLOCK):
+        lever = p_tool - p  # p_t − p_i
         J_v, J_w = _columns(revolute, z, p, p_tool)
         rate, acc = rates[..., block], accelerations[..., block]
         w = np.cumsum(rate * J_w, axis=0)  # ω_i
-        v = cross(w, p) - np.cumsum(rate * cross(J_w, p), axis=0) + np.cumsum(rate * (z - J_w), axis=0)
+        v_joints = np.cumsum(rate * J_v, axis=0)  # Σ_{j ≤ i} q̇_j J_v,j; the last is the tool's v
+        v_tool = v_joints[-1]
+        relative = cross(w, lever)  # v_t − v_i = ω_i × (p_t − p_i) + v_t − Σ_{j ≤ i} q̇_j J_v,j
+        relative += v_tool
+        relative -= v_joints
         z_dot = cross(w, z)  # ż_i = ω_i × z_i
-        twist[:3, block] = v_tool = (rate * J_v).sum(axis=0)
+        J_v_dot = cross(z_dot, lever)
+        J_v_dot += cross(z, relative)
+        if not every:
+            J_v_dot = np.where(revolute, J_v_dot, z_dot)
+            z_dot = np.where(revolute, z_dot, 0.0)
+        twist[:3, block] = v_tool
         twist[3:, block] = w[-1]
-        J_v_dot = np.where(revolute, cross(z_dot, p_tool - p) + cross(z, v_tool - v), z_dot)
         accel[:3, block] = (acc * J_v + rate * J_v_dot).sum(axis=0)
-        accel[3:, block] = (acc * J_w + rate * np.where(revolute, z_dot, 0.0)).sum(axis=0)
+        accel[3:, block] = (acc * J_w + rate * z_dot).sum(axis=0)
     return twist.T.reshape(shape + (6,)), accel.T.reshape(shape + (6,))
 
 

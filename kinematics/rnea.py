@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.kinematics.batch import as_batch, blocks, cos_sin, cross, turn_z
+from armlab.kinematics.batch import as_batch, cos_sin, cross, turn_z
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -60,6 +60,9 @@ class LinkInertias:
 _INERTIAS: dict[tuple, LinkInertias] = {}
 #: Each recent arm object's URDF text, by id (the arm is kept, so its id is not reused).
 _TEXTS: dict[int, tuple[Arm, str]] = {}
+#: Samples per block of :func:`inverse_dynamics`: the working arrays (a few ``(3, 3, block)`` per link) then stay
+#: small enough to be reused from the heap instead of being page-faulted in afresh on every call.
+BLOCK = 1024
 
 
 def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
@@ -186,6 +189,27 @@ def inverse_dynamics(
     q, qd, qdd = np.broadcast_arrays(as_batch(q, n, "q"), as_batch(qd, n, "qd"), as_batch(qdd, n, "qdd"))
     g = resolve_gravity(arm, gravity)
     inertias = link_inertias(arm, payload)
+    known = _LINKS.get(id(inertias))
+    if known is None or known[0] is not inertias or known[1] is not arm.table:
+        if len(_LINKS) >= 64:
+            _LINKS.clear()
+        known = _LINKS[id(inertias)] = (inertias, arm.table, _links(arm, inertias))
+    links = known[2]
+    shape = q.shape[:-1]
+    q, qd, qdd = (np.ascontiguousarray(a.reshape(-1, n).T) for a in (q, qd, qdd))
+    tau = np.empty_like(q)
+    for start in range(0, q.shape[1], BLOCK):
+        block = slice(start, start + BLOCK)
+        tau[:, block] = _block(links, g, q[:, block], qd[:, block], qdd[:, block])
+    return tau.T.reshape(shape + (n,))
+
+
+#: Each recent link table, by the id of its mass properties (both kept, so the ids are not reused).
+_LINKS: dict[int, tuple[LinkInertias, object, list[_Link]]] = {}
+
+
+def _links(arm: Arm, inertias: LinkInertias) -> list[_Link]:
+    """The constants of each link (:class:`_Link`) of ``arm``'s chain with mass properties ``inertias``."""
     # link frames turned so each joint axis is z: {i}' = {i}·A_i, mass properties re-expressed in them
     turned = [np.eye(4) if step.post is None else step.post for step in arm.table.steps]
     links = []
@@ -196,9 +220,4 @@ def inverse_dynamics(
         I_o = A_T @ inertias.inertia[i] @ A_T.T + m * (c @ c * np.eye(3) - np.outer(c, c))  # about the origin
         links.append(_Link(C[:3, :3].copy(), C[:3, 3].copy(), step.revolute, m, np.vstack([-_skew(m * c), I_o]),
                            _skew(m * c)))
-    shape = q.shape[:-1]
-    q, qd, qdd = (np.ascontiguousarray(a.reshape(-1, n).T) for a in (q, qd, qdd))
-    tau = np.empty_like(q)
-    for block in blocks(q.shape[1]):
-        tau[:, block] = _block(links, g, q[:, block], qd[:, block], qdd[:, block])
-    return tau.T.reshape(shape + (n,))
+    return links
