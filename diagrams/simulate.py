@@ -142,7 +142,7 @@ def sample_times(duration: float, period: float) -> NDArray[np.float64]:
 def _travel(motion: Motion) -> float:
     """The largest path length of one joint over ``motion`` (rad or m), from 64 samples per segment."""
     t = np.linspace(0.0, motion.duration, 64 * len(motion.segments) + 1)
-    return float(np.max(np.sum(np.abs(np.diff(motion.evaluate(t)[0], axis=0)), axis=0)))
+    return float(np.max(np.sum(np.abs(np.diff(reference(motion, t)[:, :motion.n], axis=0)), axis=0)))
 
 
 def check_work(motion: Motion, log_period: float, mode: str = "controller") -> tuple[int, int]:
@@ -160,8 +160,10 @@ def check_work(motion: Motion, log_period: float, mode: str = "controller") -> t
     if samples > MAX_SAMPLES:
         raise ValueError(f"a {motion.duration:g} s motion logged every {log_period:g} s makes {samples:,} log samples, "
                          f"more than the {MAX_SAMPLES:,} allowed: give a longer log period (--dt) or a shorter motion")
-    travel = max(_travel(piece) for piece in runs)
-    steps = sum(max(piece.duration / max_step(mode), _travel(piece) / TRAVEL_PER_STEP) for piece in runs)
+    travels = [_travel(piece) for piece in runs]
+    travel = max(travels)
+    steps = sum(max(piece.duration / max_step(mode), length / TRAVEL_PER_STEP)
+                for piece, length in zip(runs, travels, strict=True))
     if steps > MAX_STEPS:
         raise ValueError(f"a {motion.duration:g} s motion with {travel:.3g} rad (or m) of joint travel needs at least "
                          f"{steps:,.0f} integrator steps (≤ {max_step(mode):g} s and ≤ {TRAVEL_PER_STEP:g} rad each), "
