@@ -168,13 +168,12 @@ def test_replay_rejects_a_bad_tool_path(tmp_path):
 
 # ------------------------------------------------------------------------ what a person sees
 @pytest.mark.parametrize("name", ARM_NAMES)
-def test_simulate_replay_in_chromium_shows_the_arm_in_two_poses(tmp_path, name):
-    """What ``armlab simulate ARM --out DIR`` writes, opened from disk as a user would."""
-    from armlab.cli import main
-
+def test_simulate_replay_in_chromium_shows_the_arm_in_two_poses(simulated, tmp_path, name):
+    """What ``armlab simulate ARM --out DIR`` writes (exit 0; the session's run, see conftest.py), opened from disk
+    as a user would."""
     extra = ("--tf", "2") if name == "rrrr" else ()  # the paper's 15 s run, shortened
-    assert main(["simulate", name, "--dt", "0.01", *extra, "--out", str(tmp_path / "run")]) == 0
-    assert_shows_arm_moving(*screenshots(tmp_path / "run" / "replay.html", (0.3, 1.7), tmp_path))
+    run = simulated(name, "--dt", "0.01", *extra)
+    assert_shows_arm_moving(*screenshots(run / "replay.html", (0.3, 1.7), tmp_path))
 
 
 def test_the_checks_fail_on_a_blank_a_broken_and_a_still_page(tmp_path):

@@ -13,13 +13,10 @@ from armlab.scripts.report import MATCHES, Row, compare, matches, verdict_counts
 from armlab.scripts.reproduce import MARKER, PAPERS, output_folder, reproduce
 
 
-@pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    """One fast reproduction of every paper: (output folder, result, progress lines)."""
-    out = tmp_path_factory.mktemp("reproduce") / "out"
-    lines: list[str] = []
-    result = reproduce(out, fast=True, progress=lines.append)
-    return out, result, lines
+@pytest.fixture
+def run(reproduction):
+    """The session's one fast reproduction of every paper (conftest.py): (output folder, result, progress lines)."""
+    return reproduction
 
 
 def rows_of(result, paper: str) -> dict[str, Row]:
@@ -226,7 +223,8 @@ def test_every_expression_renders_with_mathtext():
     from armlab.scripts.math_html import latex_html, to_mathtext
 
     texts = [form for e in ERRATA for form in (e.printed_form, e.corrected_form)]
-    texts += [item.latex for item in latex_table(include_accelerations=False)] + [i.label for i in latex_table(False)]
+    items = latex_table(include_accelerations=False)
+    texts += [item.latex for item in items] + [item.label for item in items]
     for text in texts:
         rendered = latex_html(text)
         assert rendered.count("<img") >= 1 and "begin{matrix}" not in rendered, text
@@ -395,9 +393,11 @@ def test_one_paper_again_keeps_the_others(run, tmp_path):
     assert (copy / "000" / "replay_abcd.html").exists()
 
 
-def test_a_failed_reproduction_leaves_the_previous_one(tmp_path, monkeypatch):
+def test_a_failed_reproduction_leaves_the_previous_one(run, tmp_path, monkeypatch):
+    import shutil
+
     out = tmp_path / "out"
-    reproduce(out, ("004",), fast=True, progress=lambda line: None)
+    shutil.copytree(run[0], out)  # the previous reproduction (a copy of the session's)
     before = sorted(p.relative_to(out) for p in out.rglob("*"))
 
     def broken(*args, **kwargs):
