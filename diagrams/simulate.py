@@ -247,7 +247,7 @@ def log_samples(run: RunDiagram, t: NDArray[np.float64], x: NDArray[np.float64],
     samples at once.
     """
     from armlab.kinematics.differential import tool_motion
-    from armlab.kinematics.rnea import inverse_dynamics
+    from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_point
 
     arm, n = run.arm, run.arm.n
     ref = reference(run.motion, t)  # the TrajectorySource's polynomials, in numpy (several times faster than Drake's)
@@ -258,12 +258,12 @@ def log_samples(run: RunDiagram, t: NDArray[np.float64], x: NDArray[np.float64],
         kp, kd, ki = run.gains
         # the controller's model is the plant (same arm, gravity, payload): the plant's v̇ is the commanded one
         vdot = a_d + kp * (q_d - q) + kd * (v_d - v) + ki * x[:, other_rows]
-        tau = inverse_dynamics(arm, q, v, vdot, run.gravity, run.payload)
+        tau, tool = inverse_dynamics_and_tool_point(arm, q, v, vdot, run.gravity, run.payload)  # one pass for both
     else:
         tau = inverse_dynamics(arm, q_d, v_d, a_d, run.gravity, run.payload)
         vdot = _forward_dynamics(run, q, v, tau)
-    twist, accel = tool_motion(arm, q, v, vdot)
-    tool = np.hstack([arm.forward(q).tool[:, :3, 3], twist[:, :3], accel[:, :3]])
+        twist, accel = tool_motion(arm, q, v, vdot)
+        tool = np.hstack([arm.forward(q).tool[:, :3, 3], twist[:, :3], accel[:, :3]])
     return {"reference": ref, "state": state, "torque": tau, "tool": tool}
 
 

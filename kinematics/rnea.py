@@ -40,7 +40,7 @@ from armlab.kinematics.batch import as_batch, cos_sin, cross, turn_z
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["LinkInertias", "inverse_dynamics", "link_inertias"]
+__all__ = ["LinkInertias", "inverse_dynamics", "inverse_dynamics_and_tool_point", "link_inertias"]
 
 
 @dataclass(frozen=True)
@@ -120,15 +120,17 @@ class _Link:
     mc: NDArray
 
 
-def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray) -> NDArray:
-    """τ ``(n, B)`` for one block of states ``(n, B)`` (the module docstring's equations).
+def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray,
+           velocity: bool = False) -> tuple[NDArray, NDArray]:
+    """τ ``(n, B)`` for one block of states ``(n, B)`` (the module docstring's equations), and the last link's
+    ω, ω̇, v̇ (and with ``velocity`` its origin's velocity v) ``(3 or 4, 3, B)`` in its frame {n}'.
 
-    The three vectors ω, ω̇ and v̇ of a link are one array ``(3, 3, B)`` rotated together; the force and
-    moment ``(2, 3, B)`` likewise. Moments are taken about the link's origin,
-    n_i = I_o ω̇_i + ω_i × I_o ω_i + m c_i × v̇_i (= N_i + c_i × F_i of 6.50–6.52).
+    The three vectors ω, ω̇ and v̇ of a link (and v: v_i = Rᵀ(v_{i−1} + ω_{i−1} × P) [+ q̇_i ẑ prismatic]) are one
+    array ``(3 or 4, 3, B)`` rotated together; the force and moment ``(2, 3, B)`` likewise. Moments are taken
+    about the link's origin, n_i = I_o ω̇_i + ω_i × I_o ω_i + m c_i × v̇_i (= N_i + c_i × F_i of 6.50–6.52).
     """
     n, B = q.shape
-    W = np.zeros((3, 3, B))  # ω, ω̇, v̇ of the base
+    W = np.zeros((4 if velocity else 3, 3, B))  # ω, ω̇, v̇ (, v) of the base
     W[2] = -g[:, None]
     turns, wrenches = [], []
     for i, link in enumerate(links):
@@ -136,6 +138,8 @@ def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray
         P = link.P[:, None] if link.revolute else link.P[:, None] + link.C[:, 2:3] * q[i]  # origin of {i} in {i−1}
         A = np.matmul(-_skew(link.P), W[:2]) if link.revolute else cross(W[:2], P)  # ω × P, ω̇ × P
         W[2] += A[1] + cross(w, A[0])  # v̇ + ω̇ × P + ω × (ω × P), then rotated: (6.47)
+        if velocity:
+            W[3] += A[0]  # v + ω × P
         W = np.matmul(link.C.T, W)  # Cᵀ, then R_z(q)ᵀ: into frame {i}
         c, s = cos_sin(q[i]) if link.revolute else (None, None)
         if link.revolute:
@@ -150,6 +154,8 @@ def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray
             vd[0] += 2 * qd[i] * w[1]  # 2 ω × q̇ ẑ + q̈ ẑ (prismatic, §6.5)
             vd[1] -= 2 * qd[i] * w[0]
             vd[2] += qdd[i]
+            if velocity:
+                W[3, 2] += qd[i]
         X = np.matmul(link.K, W[:2])  # [ω × m c; I_o ω], [ω̇ × m c; I_o ω̇]
         wrench = X[1].reshape(2, 3, B) + cross(w, X[0].reshape(2, 3, B))
         wrench[0] += link.mass * W[2]  # F = m (v̇ + ω̇ × c + ω × (ω × c)): (6.48)–(6.49)
@@ -168,7 +174,7 @@ def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray
             wrench += child
             wrench[1] += cross(P, child[0])
         tau[i] = wrench[1, 2] if links[i].revolute else wrench[0, 2]  # (6.53)
-    return tau
+    return tau, W
 
 
 def inverse_dynamics(
@@ -182,6 +188,28 @@ def inverse_dynamics(
     ``payload``: a point mass (kg) at the tool frame's origin. Equal to Drake's ``CalcInverseDynamics``
     with gravity as the plant's force elements. ``ValueError`` for a kinematic arm (no mass data).
     """
+    return _newton_euler(arm, q, qd, qdd, gravity, payload, tool=False)[0]
+
+
+def inverse_dynamics_and_tool_point(
+    arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
+    payload: float = 0.0,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """(τ, [p v a] of the tool point): :func:`inverse_dynamics` and, from the same outward recursion, the tool
+    point's position (m), velocity (m/s) and acceleration (m/s²) in the world frame, ``(..., n)`` and ``(..., 9)``.
+
+    The recursion also carries each link origin's velocity; with ω, ω̇, v̇, v of the last link in its frame and r
+    the tool point there, the tool point moves at v + ω × r and accelerates at v̇ + ω̇ × r + ω × (ω × r) (+ g:
+    the recursion's v̇ starts from −g), turned into the world by the tool pose of ``arm.forward``. The same
+    numbers as :func:`armlab.kinematics.differential.tool_motion`'s [v], [a] and the forward kinematics, for one
+    pass instead of three.
+    """
+    return _newton_euler(arm, q, qd, qdd, gravity, payload, tool=True)
+
+
+def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None,
+                  payload: float, tool: bool) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """τ ``(..., n)`` and, if ``tool``, the tool point's [p v a] ``(..., 9)`` (else an empty array)."""
     from armlab.diagrams.plant import resolve_gravity
 
     arm.require_dynamics("inverse dynamics")
@@ -198,10 +226,25 @@ def inverse_dynamics(
     shape = q.shape[:-1]
     q, qd, qdd = (np.ascontiguousarray(a.reshape(-1, n).T) for a in (q, qd, qdd))
     tau = np.empty_like(q)
+    last = np.empty((4, 3, q.shape[1])) if tool else np.empty((0, 3, 0))  # ω, ω̇, v̇, v of link n in {n}'
     for start in range(0, q.shape[1], BLOCK):
         block = slice(start, start + BLOCK)
-        tau[:, block] = _block(links, g, q[:, block], qd[:, block], qdd[:, block])
-    return tau.T.reshape(shape + (n,))
+        tau[:, block], W = _block(links, g, q[:, block], qd[:, block], qdd[:, block], velocity=tool)
+        if tool:
+            last[..., block] = W
+    if not tool:
+        return tau.T.reshape(shape + (n,)), last
+    step = arm.table.steps[-1]
+    M = arm.table.tool if step.post is None else step.post @ arm.table.tool  # the tool frame in {n}'
+    r = M[:3, 3, None]
+    w, wd, vd, v = last
+    v_tool = v + cross(w, r)
+    a_tool = vd + cross(wd, r) + cross(w, cross(w, r))
+    pose = arm.forward(q.T).tool  # (N, 4, 4)
+    R = pose[:, :3, :3] @ M[:3, :3].T  # {n}' in the world
+    pva = np.concatenate([pose[:, :3, 3], np.einsum("nij,jn->ni", R, v_tool), np.einsum("nij,jn->ni", R, a_tool) + g],
+                         axis=1)
+    return tau.T.reshape(shape + (n,)), pva.reshape(shape + (9,))
 
 
 #: Each recent link table, by the id of its mass properties (both kept, so the ids are not reused).
