@@ -624,7 +624,8 @@ def test_unreachable_closest_distance(target: tuple) -> None:
     (("arm4r", "--target=1,1,1.4", "--pitch=1e308"), "pitch = 1e+308 rad is out of range"),
     (("urm6", "--target=0.2,0.2,0.6", "--rpy=0,1e300,0", "--deg"),
      "rpy = [0.0, 1.7453292519943297e+298, 0.0] rad is out of range"),
-    (("urm6", "--target=0.2,0.2,0.6", "--near=1e308,0,0,0,0,0"), "near = [1e+308, 0.0, 0.0, 0.0, 0.0, 0.0] (rad or m)"),
+    (("urm6", "--target=0.2,0.2,0.6", "--near=1e308,0,0,0,0,0"),
+     "--near 1e308 is out of range: allowed -1e6 ≤ q ≤ 1e6 rad or m"),
 ])
 def test_huge_values_are_a_range_error(argv: tuple, message: str, tmp_path) -> None:
     """One line on stderr naming the value, exit 2, no traceback and no RuntimeWarning (warnings are errors here);
