@@ -28,7 +28,8 @@ than :data:`MAX_STEPS`.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -42,7 +43,7 @@ from armlab.limits import check_range
 if TYPE_CHECKING:
     from collections.abc import Callable
 
-    from pydrake.systems.framework import Context
+    from pydrake.systems.framework import Context, Diagram
 
     from armlab.models.arm import Arm
 
@@ -86,7 +87,8 @@ class SimulationLog:
 
     Arrays are ``(m, n)`` except ``t``, ``run``, ``segment`` ``(m,)`` and ``tool`` ``(m, 9)`` =
     [x y z vx vy vz ax ay az] of the tool point in the world frame. Where a motion is made of
-    several runs, the time at a join appears twice (end of one run, start of the next).
+    several runs, the time at a join appears twice (end of one run, start of the next). ``diagram`` is the
+    first run's Fig. 6 diagram, :attr:`diagram_dot` its picture.
     """
 
     arm: Arm
@@ -108,7 +110,13 @@ class SimulationLog:
     tool: NDArray[np.float64]
     run_starts: list[float]
     wall_time: float
-    diagram_dot: str
+    diagram: Diagram = field(repr=False, compare=False)
+
+    @cached_property
+    def diagram_dot(self) -> str:
+        """Graphviz text of :attr:`diagram`, one level deep (made when first asked for: 0.6 ms, as much as a
+        fifth of the samples, that most callers never use)."""
+        return self.diagram.GetGraphvizString(max_depth=1)
 
     def segment_rows(self, k: int) -> NDArray[np.bool_]:
         """The samples of segment ``k``, both ends included (a join's time belongs to both segments it joins)."""
@@ -142,7 +150,7 @@ def sample_times(duration: float, period: float) -> NDArray[np.float64]:
 def _travel(motion: Motion) -> float:
     """The largest path length of one joint over ``motion`` (rad or m), from 64 samples per segment."""
     t = np.linspace(0.0, motion.duration, 64 * len(motion.segments) + 1)
-    return float(np.max(np.sum(np.abs(np.diff(reference(motion, t)[:, :motion.n], axis=0)), axis=0)))
+    return float(np.max(np.sum(np.abs(np.diff(reference(motion, t, 1), axis=0)), axis=0)))
 
 
 def check_work(motion: Motion, log_period: float, mode: str = "controller") -> tuple[int, int]:
@@ -217,8 +225,10 @@ def _forward_dynamics(run: RunDiagram, q: NDArray, v: NDArray, tau: NDArray) -> 
     return np.linalg.solve(mass, (tau - bias)[..., None])[..., 0]
 
 
-def reference(motion: Motion, t: NDArray[np.float64]) -> NDArray[np.float64]:
+def reference(motion: Motion, t: NDArray[np.float64], orders: int = 3) -> NDArray[np.float64]:
     """[q_d, q̇_d, q̈_d] ``(m, 3n)`` at times ``t`` ``(m,)``: :meth:`Motion.evaluate`'s polynomials by Horner's rule.
+
+    ``orders``: how many of them (1: q_d alone, ``(m, n)``; 2: [q_d, q̇_d]; 3: all).
 
     Each segment's θ(τ) = Σ a_k τ^(6−k) and its two derivatives in the segment's local time τ, as the
     TrajectorySource evaluates them, by numpy's ``polyval`` (5 multiply-adds per value instead of the powers of τ).
@@ -226,13 +236,13 @@ def reference(motion: Motion, t: NDArray[np.float64]) -> NDArray[np.float64]:
     from numpy.polynomial.polynomial import polyder, polyval
 
     n = motion.n
-    out = np.empty((t.size, 3 * n))
+    out = np.empty((t.size, orders * n))
     index = motion.segment_index(t)
     for k, (start, c) in enumerate(zip(motion.breaks, motion.coefficients(), strict=False)):
         rows = index == k
         tau = t[rows] - start
         low = c[:, ::-1].T  # (6, n), lowest power first
-        for d in range(3):
+        for d in range(orders):
             out[rows, d * n:(d + 1) * n] = polyval(tau, polyder(low, d)).T
     return out
 
@@ -361,7 +371,7 @@ def simulate(
     check_work(motion, log_period, mode)
     n = arm.n
     parts: list[dict[str, Any]] = []
-    dot = ""
+    first: Diagram | None = None
     wall = 0.0
     first_segment = 0
     watch = _Watch(arm.name, motion.duration, accuracy)
@@ -369,7 +379,7 @@ def simulate(
         for k, (start, piece) in enumerate(motion.runs()):
             run = build_diagram(arm, piece, gravity, payload, log_period, mode, kp, kd, ki, sampling)
             if k == 0:
-                dot = run.diagram.GetGraphvizString(max_depth=1)
+                first = run.diagram
             watch.offset = start
             began = time.perf_counter()
             data = run_simulator(run, accuracy, watch)
@@ -390,7 +400,7 @@ def simulate(
         accuracy=accuracy, t=cat("t"), run=cat("run"), segment=cat("segment"),
         q_ref=reference[:, :n], qd_ref=reference[:, n:2 * n], qdd_ref=reference[:, 2 * n:],
         q=state[:, :n], qd=state[:, n:], tau=cat("torque"), tool=cat("tool"),
-        run_starts=[start for start, _ in motion.runs()], wall_time=wall, diagram_dot=dot,
+        run_starts=[start for start, _ in motion.runs()], wall_time=wall, diagram=first,
     )
 
 
