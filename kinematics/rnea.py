@@ -240,10 +240,13 @@ def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity
     w, wd, vd, v = last
     v_tool = v + cross(w, r)
     a_tool = vd + cross(wd, r) + cross(w, cross(w, r))
-    pose = arm.forward(q.T).tool  # (N, 4, 4)
-    R = pose[:, :3, :3] @ M[:3, :3].T  # {n}' in the world
-    pva = np.concatenate([pose[:, :3, 3], np.einsum("nij,jn->ni", R, v_tool), np.einsum("nij,jn->ni", R, a_tool) + g],
-                         axis=1)
+    pose = arm.forward(q.T).tool  # (N, 4, 4): the tool frame in the world, R_0t = R_0n'·M_Rᵀ
+    pva = np.empty((q.shape[1], 9))
+    pva[:, :3] = pose[:, :3, 3]
+    for k, vector in ((1, v_tool), (2, a_tool)):
+        in_tool = M[:3, :3].T @ vector  # in the tool frame's axes, then R_0t column by column
+        pva[:, 3 * k:3 * k + 3] = sum(pose[:, :3, j] * in_tool[j][:, None] for j in range(3))
+    pva[:, 6:] += g
     return tau.T.reshape(shape + (n,)), pva.reshape(shape + (9,))
 
 
