@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.kinematics.batch import as_batch, cos_sin, cross, turn_z
+from armlab.kinematics.batch import as_batch, blocks, cos_sin, cross, turn_z
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -60,9 +60,6 @@ class LinkInertias:
 _INERTIAS: dict[tuple, LinkInertias] = {}
 #: Each recent arm object's URDF text, by id (the arm is kept, so its id is not reused).
 _TEXTS: dict[int, tuple[Arm, str]] = {}
-#: Samples per block of :func:`inverse_dynamics`: the working arrays (a few ``(3, 3, block)`` per link) then stay
-#: small enough to be reused from the heap instead of being page-faulted in afresh on every call.
-BLOCK = 1024
 
 
 def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
@@ -227,8 +224,7 @@ def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity
     q, qd, qdd = (np.ascontiguousarray(a.reshape(-1, n).T) for a in (q, qd, qdd))
     tau = np.empty_like(q)
     last = np.empty((4, 3, q.shape[1])) if tool else np.empty((0, 3, 0))  # ω, ω̇, v̇, v of link n in {n}'
-    for start in range(0, q.shape[1], BLOCK):
-        block = slice(start, start + BLOCK)
+    for block in blocks(q.shape[1]):
         tau[:, block], W = _block(links, g, q[:, block], qd[:, block], qdd[:, block], velocity=tool)
         if tool:
             last[..., block] = W

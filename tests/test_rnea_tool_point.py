@@ -8,8 +8,9 @@ import pytest
 from conftest import random_q
 from test_rnea import dynamic_arm  # noqa: F401 (the fixture)
 
+from armlab.kinematics.batch import BLOCK
 from armlab.kinematics.differential import tool_motion
-from armlab.kinematics.rnea import BLOCK, inverse_dynamics, inverse_dynamics_and_tool_point
+from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_point
 
 
 @pytest.mark.parametrize(("gravity", "payload"), [(None, 0.0), ("off", 0.0), ((1.0, -4.0, -9.0), 2.5)])
