@@ -16,7 +16,8 @@ the integrator takes its own steps and keeps its dense output (the state between
 the diagram's systems would: the TrajectorySource's polynomials and their derivatives, the controller's
 law τ = ID(q, q̇, q̈_d + kp (q_d − q) + kd (q̇_d − q̇) + ki ∫(q_d − q)) (or τ = ID(q_d, q̇_d, q̈_d) open
 loop) by the batched recursive Newton–Euler of :mod:`armlab.kinematics.rnea`, and the tool point's
-p, v, a by :mod:`armlab.kinematics.differential`. The loggers' own end sample is checked against the
+p, v, a from the same Newton–Euler pass (closed loop) or by :mod:`armlab.kinematics.differential` (open
+loop, where the torques are the reference's and the state is not). The loggers' own end sample is checked against the
 last row. ``tests/test_simulate.py`` checks every sample against the periodic loggers (``sampling="periodic"``).
 
 Before it starts, :func:`check_work` refuses a motion that would make more than :data:`MAX_SAMPLES`
