@@ -11,8 +11,9 @@
   drives for a path given point by point): the batch recursive Newton–Euler of
   :func:`armlab.kinematics.rnea.inverse_dynamics`.
 
-The controllers use ``model``, a separate finalized copy of the plant (same URDF, gravity and payload) as
-the controller's model of the arm, and drive the simulated ``plant``'s actuation input.
+The controllers use ``model`` as their model of the arm (Fig. 6's exact model: the simulated ``plant``
+itself, evaluated on a context of the controller's own, or any finalized plant of the same arm) and drive
+the simulated ``plant``'s actuation input.
 """
 
 from __future__ import annotations

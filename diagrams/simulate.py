@@ -151,7 +151,7 @@ def sample_times(duration: float, period: float) -> NDArray[np.float64]:
 def _travel(motion: Motion) -> float:
     """The largest path length of one joint over ``motion`` (rad or m), from 64 samples per segment."""
     t = np.linspace(0.0, motion.duration, 64 * len(motion.segments) + 1)
-    return float(np.max(np.sum(np.abs(np.diff(reference(motion, t, 1), axis=0)), axis=0)))
+    return float(np.max(np.sum(np.abs(np.diff(motion.evaluate(t, 1)[0], axis=0)), axis=0)))
 
 
 def check_work(motion: Motion, log_period: float, mode: str = "controller") -> tuple[int, int]:
@@ -226,28 +226,6 @@ def _forward_dynamics(run: RunDiagram, q: NDArray, v: NDArray, tau: NDArray) -> 
     return np.linalg.solve(mass, (tau - bias)[..., None])[..., 0]
 
 
-def reference(motion: Motion, t: NDArray[np.float64], orders: int = 3) -> NDArray[np.float64]:
-    """[q_d, q̇_d, q̈_d] ``(m, 3n)`` at times ``t`` ``(m,)``: :meth:`Motion.evaluate`'s polynomials by Horner's rule.
-
-    ``orders``: how many of them (1: q_d alone, ``(m, n)``; 2: [q_d, q̇_d]; 3: all).
-
-    Each segment's θ(τ) = Σ a_k τ^(6−k) and its two derivatives in the segment's local time τ, as the
-    TrajectorySource evaluates them, by numpy's ``polyval`` (5 multiply-adds per value instead of the powers of τ).
-    """
-    from numpy.polynomial.polynomial import polyder, polyval
-
-    n = motion.n
-    out = np.empty((t.size, orders * n))
-    index = motion.segment_index(t)
-    for k, (start, c) in enumerate(zip(motion.breaks, motion.coefficients(), strict=False)):
-        rows = index == k
-        tau = t[rows] - start
-        low = c[:, ::-1].T  # (6, n), lowest power first
-        for d in range(orders):
-            out[rows, d * n:(d + 1) * n] = polyval(tau, polyder(low, d)).T
-    return out
-
-
 def log_samples(run: RunDiagram, t: NDArray[np.float64], x: NDArray[np.float64], plant_rows: NDArray[np.intp],
                 other_rows: NDArray[np.intp]) -> dict[str, NDArray[np.float64]]:
     """What the loggers of ``run`` record at times ``t`` ``(m,)`` with the diagram's continuous state ``x`` ``(m, k)``.
@@ -261,7 +239,7 @@ def log_samples(run: RunDiagram, t: NDArray[np.float64], x: NDArray[np.float64],
     from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_point
 
     arm, n = run.arm, run.arm.n
-    ref = reference(run.motion, t)  # the TrajectorySource's polynomials, in numpy (several times faster than Drake's)
+    ref = np.hstack(run.motion.evaluate(t))  # the TrajectorySource's polynomials, in numpy (Horner's rule)
     q_d, v_d, a_d = ref[:, :n], ref[:, n:2 * n], ref[:, 2 * n:]
     state = x[:, plant_rows]
     q, v = state[:, :n], state[:, n:]

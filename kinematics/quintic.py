@@ -265,13 +265,24 @@ class Motion:
         return np.clip(np.searchsorted(self.breaks, np.asarray(t, dtype=float), side="right") - 1,
                        0, len(self.segments) - 1)
 
-    def evaluate(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """q, q̇, q̈ at times ``t`` (shape ``(m,)``), each ``(m, n)``, from the closed-form polynomials."""
+    def evaluate(self, t: ArrayLike, orders: int = 3) -> tuple[NDArray[np.float64], ...]:
+        """q, q̇, q̈ at times ``t`` (shape ``(m,)``), each ``(m, n)``, from the closed-form polynomials.
+
+        Each segment's θ(τ) = Σ a_k τ^(6−k) and its derivatives in the segment's local time τ, by Horner's
+        rule (numpy's ``polyval``), as Drake's ``PiecewisePolynomial`` evaluates them. ``orders``: how many
+        of q, q̇, q̈ to return (1 to 3).
+        """
+        from numpy.polynomial.polynomial import polyder, polyval
+
         t = np.atleast_1d(np.asarray(t, dtype=float))
+        out = tuple(np.empty((t.size, self.n)) for _ in range(orders))
         index = self.segment_index(t)
-        c = self.coefficients()[index]  # (m, n, 6)
-        tau = (t - self.breaks[index])[:, None]
-        return tuple(evaluate_coefficients(c, tau, d) for d in range(3))  # type: ignore[return-value]
+        for k, (start, c) in enumerate(zip(self.breaks, self.coefficients(), strict=False)):
+            rows = index == k
+            low = c[:, ::-1].T  # (6, n), lowest power first
+            for d in range(orders):
+                out[d][rows] = polyval(t[rows] - start, polyder(low, d)).T
+        return out
 
     def joins(self) -> list[bool]:
         """For each segment after the first: does it start where (q and q̇) the previous one ends, exactly?"""
