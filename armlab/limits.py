@@ -43,7 +43,7 @@ LIMITS: dict[str, Limit] = {
     "qd": Limit(-1e4, 1e4, "rad/s or m/s", "beyond any drive's speed", "q̇"),
     "qdd": Limit(-1e6, 1e6, "rad/s² or m/s²", "beyond any drive's acceleration", "q̈"),
     "resolution": Limit(1e-6, 100.0, "m", "a workspace's voxel edge, a micrometre to 100 m", "h"),
-    "tf": Limit(0.0, 1e6, "s", "a design study's motion time, up to 11 days"),
+    "tf": Limit(0.0, 1e6, "s", "a motion's duration, up to 11 days", "tf"),
 }
 
 
