@@ -68,17 +68,6 @@ OUTPUT_FOLDERS = [
 ]
 
 
-@pytest.mark.parametrize(("setup", "argv", "code", "fragment", "outputs"), OUTPUT_FOLDERS,
-                         ids=lambda v: " ".join(v)[:50] if isinstance(v, tuple) else getattr(v, "__name__", None))
-def test_output_folders(box, setup, argv, code, fragment, outputs):
-    if setup is not None:
-        setup(box)
-    check(box.main(*argv), code, fragment)
-    assert box.debris(*outputs) == []
-    for out in outputs:
-        assert not [p for p in (box.cwd / out).rglob("*") if p.suffix in (".tmp", ".old")]
-
-
 def test_replacing_a_run_keeps_only_the_new_one(box):
     check(box.main(*SHORT, "--out", "run"), 0, "wrote run")
     check(box.main("simulate", "rr", "--tf", "0.3", "--dt", "0.01", "--out", "run"), 0, "wrote run")
@@ -99,13 +88,16 @@ OUTPUT_FILES = [
 ]
 
 
-@pytest.mark.parametrize(("setup", "argv", "code", "fragment", "outputs"), OUTPUT_FILES,
+@pytest.mark.parametrize(("setup", "argv", "code", "fragment", "outputs"), OUTPUT_FOLDERS + OUTPUT_FILES,
                          ids=lambda v: " ".join(v)[:50] if isinstance(v, tuple) else getattr(v, "__name__", None))
-def test_output_files(box, setup, argv, code, fragment, outputs):
+def test_outputs(box, setup, argv, code, fragment, outputs):
+    """A folder or file written whole, or one error line; no debris, no .tmp/.old left inside the output."""
     if setup is not None:
         setup(box)
     check(box.main(*argv), code, fragment)
     assert box.debris(*outputs) == []
+    for out in outputs:
+        assert not [p for p in (box.cwd / out).rglob("*") if p.suffix in (".tmp", ".old")]
 
 
 # ---- streams: a reader that goes away, a full disk behind stdout or stderr (subprocesses) -----------------------
