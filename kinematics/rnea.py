@@ -22,9 +22,10 @@ inward, i = n … 1 (R, P of link i+1 in i; f_{n+1} = n_{n+1} = 0):
     τ_i = n_i · ẑ (revolute),  f_i · ẑ (prismatic)                       (6.53)
 
 The link frames are the arm's chain (:meth:`armlab.kinematics.locating.LocatingTable.steps`, the URDF's
-link frames), each turned so that its joint axis is z. The mass properties are those of the Drake plant
-of the same URDF (:func:`armlab.diagrams.plant.make_plant`, with the payload as a point mass at the tool
-frame's origin), each moving link together with every body welded to it by fixed joints.
+link frames), each turned so that its joint axis is z. The mass properties are the arm's own
+(:meth:`armlab.models.arm.Arm.mass_properties`: each moving link with every body welded to it by fixed
+joints, as the Drake plant of its URDF has them), with the payload as a point mass at the tool frame's
+origin; the tests check the torques against Drake's ``CalcInverseDynamics``.
 """
 
 from __future__ import annotations
@@ -56,45 +57,23 @@ class LinkInertias:
     inertia: NDArray[np.float64]
 
 
-#: Mass properties already extracted, by URDF text, base, tool, joints and payload.
-_INERTIAS: dict[tuple, LinkInertias] = {}
-#: Each recent arm object's URDF text, by id (the arm is kept, so its id is not reused).
-_TEXTS: dict[int, tuple[Arm, str]] = {}
-
-
 def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
-    """Each moving link's mass properties from the arm's Drake plant, with a ``payload`` (kg) at the tool.
-
-    Every body welded to a moving link (through fixed joints, the tool's and the payload's included) is
-    re-expressed in the link's frame and added to it. Extracted once per URDF and payload.
-    """
-    from armlab.diagrams.plant import check_payload, make_plant
+    """Each moving link's mass properties (:meth:`Arm.mass_properties`, the numbers its URDF and so its
+    Drake plant are built from), with a ``payload`` (kg) as a point mass at the tool frame's origin added to
+    link n, as :func:`armlab.diagrams.plant.make_plant` welds it there."""
+    from armlab.diagrams.plant import check_payload
 
     payload = check_payload(payload)
-    known = _TEXTS.get(id(arm))
-    if known is None or known[0] is not arm:  # the URDF text read (or generated) once per arm object
-        if len(_TEXTS) >= 64:
-            _TEXTS.clear()
-        known = _TEXTS[id(arm)] = (arm, arm.urdf() if arm.urdf_file is None else arm.urdf_file.read_text())
-    key = (known[1], arm.base_link, arm.tool_name, tuple(arm.joint_names), payload)
-    if key not in _INERTIAS:
-        plant = make_plant(arm, np.zeros(3), payload)
-        context = plant.CreateDefaultContext()
-        mass, com, inertia = np.zeros(arm.n), np.zeros((arm.n, 3)), np.zeros((arm.n, 3, 3))
-        for i, name in enumerate(arm.joint_names):
-            link = plant.GetJointByName(name).child_body()
-            moment, about_origin = np.zeros(3), np.zeros((3, 3))
-            for body in plant.GetBodiesWeldedTo(link):
-                X = plant.CalcRelativeTransform(context, link.body_frame(), body.body_frame())  # X_LB
-                M = body.CalcSpatialInertiaInBodyFrame(context).ReExpress(X.rotation()).Shift(-X.translation())
-                mass[i] += M.get_mass()
-                moment += M.CalcComMoment()
-                about_origin += M.CalcRotationalInertia().CopyToFullMatrix3()
-            com[i] = moment / mass[i] if mass[i] > 0 else 0.0
-            c = com[i]
-            inertia[i] = about_origin - mass[i] * (c @ c * np.eye(3) - np.outer(c, c))  # parallel axes
-        _INERTIAS[key] = LinkInertias(mass, com, inertia)
-    return _INERTIAS[key]
+    mass, com, inertia = arm.mass_properties()
+    if payload > 0:
+        r = arm.table.tool[:3, 3]  # the tool frame's origin in link frame {n}
+        m, c = mass[-1], com[-1]
+        total = m + payload
+        joint = (m * c + payload * r) / total
+        shift = [(m, c - joint), (payload, r - joint)]  # parallel axes onto the joint centre of mass
+        inertia[-1] = inertia[-1] + sum(k * (d @ d * np.eye(3) - np.outer(d, d)) for k, d in shift)
+        mass[-1], com[-1] = total, joint
+    return LinkInertias(mass, com, inertia)
 
 
 def _skew(v: NDArray) -> NDArray:
@@ -213,13 +192,7 @@ def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity
     n = arm.n
     q, qd, qdd = np.broadcast_arrays(as_batch(q, n, "q"), as_batch(qd, n, "qd"), as_batch(qdd, n, "qdd"))
     g = resolve_gravity(arm, gravity)
-    inertias = link_inertias(arm, payload)
-    known = _LINKS.get(id(inertias))
-    if known is None or known[0] is not inertias or known[1] is not arm.table:
-        if len(_LINKS) >= 64:
-            _LINKS.clear()
-        known = _LINKS[id(inertias)] = (inertias, arm.table, _links(arm, inertias))
-    links = known[2]
+    links = _links(arm, link_inertias(arm, payload))
     shape = q.shape[:-1]
     q, qd, qdd = (np.ascontiguousarray(a.reshape(-1, n).T) for a in (q, qd, qdd))
     tau = np.empty_like(q)
@@ -244,10 +217,6 @@ def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity
         pva[:, 3 * k:3 * k + 3] = sum(pose[:, :3, j] * in_tool[j][:, None] for j in range(3))
     pva[:, 6:] += g
     return tau.T.reshape(shape + (n,)), pva.reshape(shape + (9,))
-
-
-#: Each recent link table, by the id of its mass properties (both kept, so the ids are not reused).
-_LINKS: dict[int, tuple[LinkInertias, object, list[_Link]]] = {}
 
 
 def _links(arm: Arm, inertias: LinkInertias) -> list[_Link]:
