@@ -7,9 +7,9 @@
   torques from the reference alone, τ = M(q_d) q̈_d + C(q_d, q̇_d) q̇_d − τ_g(q_d), no feedback
   (Drake's ``InverseDynamics`` in ``kInverseDynamics`` mode fed the reference state).
 
-* :func:`joint_torques` — the same τ along a sampled trajectory, without a diagram (e.g. to size the
-  drives for a path given point by point): the batch recursive Newton–Euler of
-  :func:`armlab.kinematics.rnea.inverse_dynamics`.
+The same τ along a sampled trajectory without a diagram (e.g. to size the drives for a path given point
+by point) is ``arm.inverse_dynamics(q, qd, qdd)``: the batch recursive Newton–Euler of
+:func:`armlab.kinematics.rnea.inverse_dynamics`.
 
 The controllers use ``model`` as their model of the arm (Fig. 6's exact model: the simulated ``plant``
 itself, evaluated on a context of the controller's own, or any finalized plant of the same arm) and drive
@@ -28,7 +28,6 @@ if TYPE_CHECKING:
     from pydrake.systems.controllers import InverseDynamics, InverseDynamicsController
     from pydrake.systems.framework import DiagramBuilder
 
-    from armlab.models.arm import Arm
 
 __all__ = [
     "DEFAULT_KD",
@@ -36,7 +35,6 @@ __all__ = [
     "add_inverse_dynamics",
     "add_inverse_dynamics_controller",
     "gain_vector",
-    "joint_torques",
 ]
 
 #: Default position gain (1/s²): natural frequency 10 rad/s of the error dynamics ë + kd ė + kp e = 0.
@@ -107,18 +105,3 @@ def add_inverse_dynamics(
     builder.AddSystem(inverse_dynamics)
     builder.Connect(inverse_dynamics.get_output_port_generalized_force(), plant.get_actuation_input_port())
     return inverse_dynamics
-
-
-def joint_torques(
-    arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
-    payload: float = 0.0,
-) -> NDArray[np.float64]:
-    """τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) at each sample (arrays ``(N, n)``, or one state ``(n,)``), N·m or N.
-
-    The batch recursive Newton–Euler (:func:`armlab.kinematics.rnea.inverse_dynamics`, equal to Drake's
-    ``CalcInverseDynamics`` with gravity as the plant's force elements); ``gravity`` and ``payload`` as in
-    :func:`armlab.diagrams.plant.make_plant` (default: the arm's gravity, no payload).
-    """
-    from armlab.kinematics.rnea import inverse_dynamics
-
-    return inverse_dynamics(arm, q, qd, qdd, gravity, payload)

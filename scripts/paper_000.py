@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 
-from armlab.controllers.inverse_dynamics import joint_torques
 from armlab.scripts.report import MATCHES, PaperOutput, Row, compare, differs, not_reproducible
 
 PAPER = "000"
@@ -249,9 +248,9 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
 
     # ---- simulation (Fig. 6 diagram) and inverse dynamics of the same reference
     log = simulate(arm, motion, log_period=log_period)
-    tau_id = joint_torques(arm, log.q_ref, log.qd_ref, log.qdd_ref)
+    tau_id = arm.inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref)
     id_gap = float(np.abs(tau_id - log.tau).max())
-    tau_arc = np.stack([joint_torques(arm, q, qd, qdd) for q, qd, qdd in zip(arc["q"], arc["qd"], arc["qdd"],
+    tau_arc = np.stack([arm.inverse_dynamics(q, qd, qdd) for q, qd, qdd in zip(arc["q"], arc["qd"], arc["qdd"],
                                                                               strict=True)])
     segments = summarize(log)["segments"]  # per segment, both ends included, as armlab simulate reports them
     peaks = np.array([segments[k]["max_abs_torque"] for k in range(4)])
@@ -381,7 +380,7 @@ def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> Non
               "dynamics controller → plant → scopes) with armlab's chosen masses.")
     log = simulate(arm, motion, log_period=log_period)
     out.simulated_run(log, "fig07", "Fig. 3's motion (Figs. 5, 7)")
-    tau_id = joint_torques(arm, log.q_ref, log.qd_ref, log.qdd_ref)
+    tau_id = arm.inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref)
     id_gap = float(np.abs(tau_id - log.tau).max())
     peak = np.abs(log.tau).max(axis=0)
     for j in range(2):

@@ -99,8 +99,6 @@ def armlab_cli(*argv: str) -> int:
 
 def test_user_urdf_without_transmissions_simulates(tmp_path, capsys):
     """Every joint gets an actuator; the run tracks and its torques are Drake's inverse dynamics."""
-    from armlab.controllers.inverse_dynamics import joint_torques
-
     path = tmp_path / "two.urdf"
     path.write_text(two_link_urdf())
     out = tmp_path / "run"
@@ -110,7 +108,7 @@ def test_user_urdf_without_transmissions_simulates(tmp_path, capsys):
     q_ref, qd_ref, qdd_ref, q, tau = (table[:, 1 + 2 * k: 3 + 2 * k] for k in (0, 1, 2, 3, 5))
     assert np.abs(q - q_ref).max() < 1e-6
     arm = get_arm(str(path))
-    np.testing.assert_allclose(tau, joint_torques(arm, q_ref, qd_ref, qdd_ref), atol=1e-6)
+    np.testing.assert_allclose(tau, arm.inverse_dynamics(q_ref, qd_ref, qdd_ref), atol=1e-6)
     np.testing.assert_allclose(table[:, -9:-6], arm.forward(q).tool[:, :3, 3], atol=1e-9)
 
 

@@ -10,7 +10,6 @@ import pytest
 from conftest import ARM_NAMES, arm_and_plant, random_q
 from test_differential import USER_URDF
 
-from armlab.controllers.inverse_dynamics import joint_torques
 from armlab.diagrams.plant import make_plant
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.models import get_arm
@@ -104,11 +103,11 @@ def test_rr_matches_lagrange_closed_form(rng):
                                rtol=1e-10, atol=1e-10)
 
 
-def test_joint_torques_is_the_batch_rnea(rng):
+def test_the_arms_inverse_dynamics_is_the_batch_rnea(rng):
     arm, _, _ = arm_and_plant("rrrr")
     q = random_q(arm, rng, 20)
     qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape)
-    np.testing.assert_array_equal(joint_torques(arm, q, qd, qdd, payload=0.5),
+    np.testing.assert_array_equal(arm.inverse_dynamics(q, qd, qdd, payload=0.5),
                                   inverse_dynamics(arm, q, qd, qdd, payload=0.5))
 
 

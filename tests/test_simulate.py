@@ -113,20 +113,18 @@ def lagrange_rr(arm, q, qd, qdd, g):
     return np.stack([tau1, tau2], axis=-1)
 
 
-def test_joint_torques_along_samples_equal_the_lagrange_equations(rng):
-    """controllers.joint_torques (no diagram) at random states, gravity in the arm's plane, against Lagrange."""
-    from armlab.controllers.inverse_dynamics import joint_torques
-
+def test_inverse_dynamics_along_samples_equals_the_lagrange_equations(rng):
+    """arm.inverse_dynamics (no diagram) at random states, gravity in the arm's plane, against Lagrange."""
     arm = get_arm("rr")
     q, qd, qdd = rng.uniform(-3, 3, (3, 200, 2))
     for gravity in (None, "off", (3.0, -4.0, 0.0)):
         g = resolve_gravity(arm, gravity)
-        np.testing.assert_allclose(joint_torques(arm, q, qd, qdd, gravity), lagrange_rr(arm, q, qd, qdd, g),
+        np.testing.assert_allclose(arm.inverse_dynamics(q, qd, qdd, gravity), lagrange_rr(arm, q, qd, qdd, g),
                                    rtol=0, atol=1e-9)
     with pytest.raises(ValueError, match="qd"):
-        joint_torques(arm, q, qd[:, :1], qdd)
+        arm.inverse_dynamics(q, qd[:, :1], qdd)
     with pytest.raises(ValueError, match="not a finite number"):
-        joint_torques(arm, q, qd, np.full_like(qdd, np.nan))
+        arm.inverse_dynamics(q, qd, np.full_like(qdd, np.nan))
 
 
 @pytest.mark.parametrize("path", [None, "abcd"])
