@@ -121,7 +121,6 @@ def simulate(
     from armlab.diagrams.simulate import DEFAULT_ACCURACY
     from armlab.diagrams.simulate import simulate as run_diagram
 
-    arm.require_dynamics("a simulation")
     tolerance = check_tolerance(DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance)
     log = run_diagram(
         arm, motion, gravity=gravity, payload=payload,

@@ -112,7 +112,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from armlab.diagrams.output import run_folder
 
     arm = load_arm(args.arm)
-    arm.require_dynamics("armlab simulate")
+    arm.require_dynamics("armlab simulate")  # before anything is printed (the plant checks it again)
     motion = motion_from_args(arm, args)
     setup = _setup(arm, args)
     log_period = check_log_period(args.dt, min(m.duration for _, m in motion.runs()))
