@@ -33,6 +33,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armlab.files import json_number
+
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
     from armlab.models.arm import Arm
@@ -164,12 +166,6 @@ def load_study(path: str | Path) -> Study:
         raise ValueError(f"{path}: {error}") from None
 
 
-def _number(raw: Any, name: str) -> float:
-    if isinstance(raw, bool) or not isinstance(raw, (int, float)) or not np.isfinite(raw):
-        raise ValueError(f"{name} = {json.dumps(raw)} must be a finite number")
-    return float(raw)
-
-
 def _variable(name: str, spec: Any, known: list[str]) -> Variable:
     if name not in known:
         raise ValueError(f"vary: unknown parameter {name!r}; allowed: {', '.join(known)}")
@@ -189,14 +185,14 @@ def _variable(name: str, spec: Any, known: list[str]) -> Variable:
         raw = spec["values"]
         if not isinstance(raw, list) or not raw:
             raise ValueError(f"vary.{name}.values = {json.dumps(raw)}: the range is empty; give a non-empty list")
-        values = [_number(v, f"vary.{name}.values[{i}]") for i, v in enumerate(raw)]
+        values = [json_number(v, f"vary.{name}.values[{i}]") for i, v in enumerate(raw)]
         if len(set(values)) != len(values):
             raise ValueError(f"vary.{name}.values = {json.dumps(raw)} repeats a value")
     else:
         missing = [k for k in ("from", "to", "steps") if k not in spec]
         if missing:
             raise ValueError(f"vary.{name}: missing {', '.join(repr(k) for k in missing)} (or give \"values\")")
-        lo, hi = _number(spec["from"], f"vary.{name}.from"), _number(spec["to"], f"vary.{name}.to")
+        lo, hi = json_number(spec["from"], f"vary.{name}.from"), json_number(spec["to"], f"vary.{name}.to")
         steps = spec["steps"]
         if isinstance(steps, bool) or not isinstance(steps, int):
             raise ValueError(f"vary.{name}.steps = {json.dumps(steps)} must be a whole number 1 … {MAX_CANDIDATES:,}")
@@ -280,8 +276,8 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
                              "evaluate one of them")
     samples = check_samples(data.get("samples", DEFAULT_SAMPLES // 5))
     seed = check_seed(data.get("seed", 0))
-    payload = _number(data.get("payload", 0.0), "payload")
-    tf = None if data.get("tf") is None else _number(data["tf"], "tf")
+    payload = json_number(data.get("payload", 0.0), "payload")
+    tf = None if data.get("tf") is None else json_number(data["tf"], "tf")
     simulate = data.get("simulate", False)
     if not isinstance(simulate, bool):
         raise ValueError(f"simulate = {json.dumps(simulate)} must be true or false")
@@ -296,7 +292,7 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     dim = workspace_plane(tool_positions(nominal, q))[1].shape[0]
     resolution = data.get("resolution")
     if resolution is not None:
-        resolution = check_resolution(_number(resolution, "resolution"))
+        resolution = check_resolution(json_number(resolution, "resolution"))
     study = Study(name, vary, tuple(evaluate), samples, resolution, seed, payload, tf, simulate, segments,
                   nominal.n, dim)
     for values in study.candidates:
@@ -345,9 +341,11 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
                       "mean_manipulability": float(manipulability.mean())}
         out |= {e: found[e] for e in study.evaluate if e in WORKSPACE}
     if motion is not None:
-        tau, qd = _torques(study, arm, motion, payload)
-        found = {"peak_torque": np.max(np.abs(tau), axis=0), "rms_torque": np.sqrt(np.mean(tau**2, axis=0)),
-                 "peak_power": float(np.max(np.abs(np.sum(tau * qd, axis=1))))}
+        from armlab.diagrams.drives import torque_stats
+
+        stats = torque_stats(*_torques(study, arm, motion, payload))
+        found = {"peak_torque": stats["max_abs_torque"], "rms_torque": stats["rms_torque"],
+                 "peak_power": stats["peak_power"]}
         for e in study.evaluate:
             if e in ("peak_torque", "rms_torque"):
                 out |= {f"{e}_{i + 1}": float(v) for i, v in enumerate(found[e])}

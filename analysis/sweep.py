@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from armlab.files import signals_held, write_file
+from armlab.files import csv_cell, signals_held, write_file
 
 if TYPE_CHECKING:
     from armlab.analysis.study import Study
@@ -78,8 +78,9 @@ def versions() -> dict[str, str]:
 
 # ------------------------------------------------------------------------------------ results.csv
 def _line(values: list[Any]) -> str:
+    """One results.csv row, cells as every CSV armlab writes (:func:`armlab.files.csv_cell`)."""
     buffer = io.StringIO()
-    csv.writer(buffer, lineterminator="\n").writerow([repr(v) if isinstance(v, float) else v for v in values])
+    csv.writer(buffer, lineterminator="\n").writerow([csv_cell(v) for v in values])
     return buffer.getvalue()
 
 

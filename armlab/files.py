@@ -25,6 +25,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import numbers
 import os
 import shutil
@@ -38,8 +39,22 @@ from pathlib import Path
 from types import FrameType, TracebackType
 from typing import Any
 
-__all__ = ["MAX_INPUT_BYTES", "Interrupted", "OutputFolder", "SignalState", "csv_cell", "csv_text", "read_input",
-           "read_json", "signals_held", "stop_on_signals", "write_csv", "write_file"]
+__all__ = [
+    "MAX_INPUT_BYTES",
+    "Interrupted",
+    "OutputFolder",
+    "SignalState",
+    "csv_cell",
+    "csv_text",
+    "is_json_number",
+    "json_number",
+    "read_input",
+    "read_json",
+    "signals_held",
+    "stop_on_signals",
+    "write_csv",
+    "write_file",
+]
 
 #: The largest input file read (bytes): far more than any segments file, study, DH table or URDF needs; a
 #: bound on memory and time.
@@ -335,3 +350,15 @@ def csv_text(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
 def write_csv(path: str | Path, headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> Path:
     """Write :func:`csv_text` to ``path`` atomically (:func:`write_file`)."""
     return write_file(path, csv_text(headers, rows))
+
+
+def is_json_number(raw: Any) -> bool:
+    """True for a JSON number (an int or float, not a bool)."""
+    return isinstance(raw, (int, float)) and not isinstance(raw, bool)
+
+
+def json_number(raw: Any, name: str) -> float:
+    """A number read from a user's JSON (:func:`read_json`), finite; ``ValueError`` naming ``name`` otherwise."""
+    if not is_json_number(raw) or not math.isfinite(raw):
+        raise ValueError(f"{name} = {json.dumps(raw)} must be a finite number")
+    return float(raw)

@@ -36,6 +36,7 @@ __all__ = [
     "format_violation",
     "limit_violations",
     "plot_drives",
+    "torque_stats",
     "write_drives_csv",
 ]
 
@@ -128,6 +129,13 @@ def divergence(log: SimulationLog, tolerance: float = DIVERGENCE_TOLERANCE) -> d
     return {"joint": log.arm.joint_names[joint], "time": float(log.t[first]),
             "max_error": float(error[:, joint].max()), "tolerance": tolerance,
             "unit": _units(log)["position"][joint]}
+
+
+def torque_stats(tau: NDArray[np.float64], qd: NDArray[np.float64]) -> dict[str, Any]:
+    """Per joint peak |τ| and RMS τ (N·m or N, ``(n,)``) and the peak mechanical power max_t |Σ τ_i q̇_i| (W) of
+    torques ``tau`` and rates ``qd`` sampled along a motion ``(m, n)``."""
+    return {"max_abs_torque": np.max(np.abs(tau), axis=0), "rms_torque": np.sqrt(np.mean(tau**2, axis=0)),
+            "peak_power": float(np.max(np.abs(np.sum(tau * qd, axis=1))))}
 
 
 def drive_table(log: SimulationLog) -> list[dict[str, Any]]:

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.files import read_json
+from armlab.files import is_json_number, json_number, read_json
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, Segment, check_duration
 
 if TYPE_CHECKING:
@@ -186,20 +186,9 @@ def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> 
     return motion
 
 
-def _is_number(raw: Any) -> bool:
-    return isinstance(raw, (int, float)) and not isinstance(raw, bool)
-
-
-def _number(raw: Any, name: str) -> float:
-    """A JSON number, finite; ``ValueError`` naming ``name`` otherwise."""
-    if not _is_number(raw) or not np.isfinite(raw):
-        raise ValueError(f"{name} = {json.dumps(raw)} must be a finite number")
-    return float(raw)
-
-
 def _numbers(raw: Any, name: str) -> NDArray[np.float64]:
     """A JSON list of finite numbers as an array; ``ValueError`` naming ``name`` otherwise."""
-    if not isinstance(raw, list) or not raw or not all(_is_number(v) for v in raw):
+    if not isinstance(raw, list) or not raw or not all(is_json_number(v) for v in raw):
         raise ValueError(f"{name} = {json.dumps(raw)} must be a list of numbers")
     values = np.array(raw, dtype=float)
     if not np.all(np.isfinite(values)):
@@ -225,10 +214,10 @@ def _end(arm: Arm, spec: Mapping[str, Any], which: str, deg: bool, near: NDArray
     xyz = _numbers(point, f"{where} {which}_point")
     pitch = spec.get(f"{which}_pitch")
     if pitch is not None:
-        pitch = _number(pitch, f"{where} {which}_pitch")
+        pitch = json_number(pitch, f"{where} {which}_pitch")
         pitch = float(np.radians(pitch)) if deg else pitch
     branch = spec.get(f"{which}_branch")
-    if branch is not None and not (_is_number(branch) and isinstance(branch, int) and branch in (0, 1)):
+    if branch is not None and not (is_json_number(branch) and isinstance(branch, int) and branch in (0, 1)):
         raise ValueError(f"{where} {which}_branch = {json.dumps(branch)} is not allowed: 0 (θ2 ≥ 0) or 1 (θ2 ≤ 0)")
     try:
         return point_to_joints(arm, xyz, branch, pitch, near)
@@ -268,7 +257,7 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
         rate = spec.get("rate")
         if (qf is None) == (rate is None):
             raise ValueError(f"{where}: give exactly one of \"to\", \"to_point\" or \"rate\"")
-        _number(spec["tf"], f"{where} tf")  # a JSON number: not "2", true or null
+        json_number(spec["tf"], f"{where} tf")  # a JSON number: not "2", true or null
         tf = check_duration(spec["tf"], f"{where} tf")
         if rate is not None:
             segments.append(ConstantRate(q0, _values(arm, rate, deg, f"{where} rate"), tf, label))

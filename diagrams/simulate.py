@@ -384,11 +384,13 @@ def simulate(
 
 
 def _stats(log: SimulationLog, rows: NDArray[np.bool_]) -> dict[str, Any]:
-    tau, qd = log.tau[rows], log.qd[rows]
+    from armlab.diagrams.drives import torque_stats
+
+    stats = torque_stats(log.tau[rows], log.qd[rows])
     return {
-        "max_abs_torque": np.max(np.abs(tau), axis=0).tolist(),
-        "rms_torque": np.sqrt(np.mean(tau**2, axis=0)).tolist(),
-        "peak_power": float(np.max(np.abs(np.sum(tau * qd, axis=1)))),
+        "max_abs_torque": stats["max_abs_torque"].tolist(),
+        "rms_torque": stats["rms_torque"].tolist(),
+        "peak_power": stats["peak_power"],
         "max_tracking_error": np.max(np.abs(log.q[rows] - log.q_ref[rows]), axis=0).tolist(),
     }
 
