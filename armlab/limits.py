@@ -40,6 +40,8 @@ LIMITS: dict[str, Limit] = {
     "payload": Limit(0.0, 1000.0, "kg", "a point mass up to one tonne"),
     "accuracy": Limit(1e-12, 0.1, "", "the integrator's target accuracy"),
     "q": Limit(-1e6, 1e6, "rad or m", "beyond any joint's travel", "q"),
+    "coordinate": Limit(-1e6, 1e6, "m", "no arm is a thousand kilometres long", "x, y, z"),
+    "angle": Limit(-1e6, 1e6, "rad", "2π shifts keep such an angle exact to 1e-10 rad"),
     "qd": Limit(-1e4, 1e4, "rad/s or m/s", "beyond any drive's speed", "q̇"),
     "qdd": Limit(-1e6, 1e6, "rad/s² or m/s²", "beyond any drive's acceleration", "q̈"),
     "resolution": Limit(1e-6, 100.0, "m", "a workspace's voxel edge, a micrometre to 100 m", "h"),

@@ -31,6 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.locating import homogeneous, orientation_angles
+from armlab.limits import check_range
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -273,7 +274,7 @@ def pose(position: ArrayLike, rpy: ArrayLike) -> NDArray[np.float64]:
     values = np.asarray(rpy, dtype=float)
     if values.shape != (3,) or not np.all(np.isfinite(values)):
         raise ValueError(f"rpy {np.ravel(values).tolist()} must be 3 finite angles (roll, pitch, yaw)")
-    _check_range(values, "rpy", MAX_ANGLE, "rad")
+    check_range(values, "rpy", key="angle")
     r, p, y = values
     return homogeneous((T_Z6(y) @ T_Z5(p) @ T_Z4(r))[:3, :3], _single(position, 3, "position"))
 
@@ -307,18 +308,6 @@ SEEDS = 256
 ORIENTATION_TOL = 1e-9
 #: Numerical solutions closer than this (rad or m, revolute joints modulo 2π) are the same solution.
 DISTINCT_TOL = 1e-6
-#: Coordinates of a target beyond this (m) are refused as out of range (no arm is that large).
-MAX_COORDINATE = 1e6
-#: Angles (pitch, roll/pitch/yaw, ``near``) beyond this (rad) are refused: 2π shifts keep them exact to 1e-10 rad.
-MAX_ANGLE = 1e6
-
-
-def _check_range(values: ArrayLike, name: str, limit: float, unit: str) -> None:
-    """``ValueError`` naming ``name`` and its values if one is beyond ±``limit`` (after the finite check)."""
-    values = np.asarray(values, dtype=float)
-    if np.abs(values).max(initial=0.0) > limit:
-        shown = f"{values.item():g}" if values.size == 1 else str(np.ravel(values).tolist())
-        raise ValueError(f"{name} = {shown} {unit} is out of range: values are limited to ±{limit:g} {unit}")
 #: Levenberg–Marquardt iterations at most, then Newton polishing steps at most.
 LM_ITERATIONS, NEWTON_STEPS = 200, 8
 
@@ -588,7 +577,7 @@ def _target(arm: Arm, target: ArrayLike) -> tuple[NDArray, NDArray | None]:
                          "3 coordinates (x,y,z in m) or a 4×4 pose")
     position = _single(position, 3)
     for axis, value in zip("xyz", position, strict=True):
-        _check_range(value, f"target {axis}", MAX_COORDINATE, "m")
+        check_range(value, f"target {axis}", key="coordinate")
     return position, rotation
 
 
@@ -683,11 +672,12 @@ def solve(
     """
     position, rotation = _target(arm, target)
     near = np.zeros(arm.n) if near is None else _single(near, arm.n, "near")
-    _check_range(near, "near", MAX_ANGLE, "(rad or m)")
+    check_range(near, "near", key="q")
     if pitch is not None and not (arm.name == "arm4r" and _analytic(arm)):
         raise ValueError(f"pitch = {pitch} applies only to arm4r (its tool pitch θ2+θ3+θ4), not to {arm.name}")
     if pitch is not None:
-        _check_range(pitch, "pitch", MAX_ANGLE, "rad")  # NaN/inf: arm4r_ik names them
+        if np.isfinite(pitch):  # NaN/inf: arm4r_ik names them as such
+            check_range(pitch, "pitch", key="angle")
     if _analytic(arm):
         candidates, tol = _closed_form(arm, position, rotation, pitch, near), SAME_SOLUTION_TOL
     else:
