@@ -48,7 +48,9 @@ def task_sigma(arm: Arm, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], N
 
 
 def _axes(arm: Arm) -> str:
-    return "all (v and ω)" if arm.n >= 6 else "translational (v)"
+    from armlab.kinematics.differential import default_axes
+
+    return {"all": "all (v and ω)", "trans": "translational (v)"}[default_axes(arm.n)]
 
 
 def add_manipulability(arm: Arm, result: Workspace) -> None:

@@ -170,7 +170,9 @@ def _cmd_fk(args: argparse.Namespace) -> int:
     qd = _rates(arm, args.qd, args.deg, "--qd")
     qdd = _rates(arm, args.qdd, args.deg, "--qdd")
     fk = arm.forward(q)
-    axes = "all" if arm.n >= 6 else "trans"
+    from armlab.kinematics.differential import default_axes
+
+    axes = default_axes(arm.n)
     sigma = float(arm.sigma_min(q, axes))
     result: dict[str, Any] = {
         "arm": arm.name,

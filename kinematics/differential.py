@@ -38,13 +38,19 @@ from armlab.kinematics.batch import as_batch, chain_blocks, cross
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["AXES", "jacobian", "manipulability", "sigma_min", "tool_motion"]
+__all__ = ["AXES", "default_axes", "jacobian", "manipulability", "sigma_min", "tool_motion"]
 
 #: Samples per block in :func:`tool_motion`: its dozen working arrays ``(n, 3, block)`` then stay small enough to be
 #: reused from the heap; at 4096 samples each call page-faults megabytes of fresh memory in (2–2.5× slower).
 MOTION_BLOCK = 1024
 #: Rows of the Jacobian each ``axes`` choice selects: all six, the translational [v] or the rotational [ω].
 AXES = {"all": slice(0, 6), "trans": slice(0, 3), "rot": slice(3, 6)}
+
+
+def default_axes(n: int) -> Literal["all", "trans"]:
+    """The rows of J that measure an n-joint arm's manipulability by default: all six when n ≥ 6 (it can
+    reach full poses), else the translational rows v (a position task)."""
+    return "all" if n >= 6 else "trans"
 
 
 def _chain(arm: Arm, q: NDArray[np.float64], size: int | None = None
@@ -138,7 +144,7 @@ def _singular_values(J: ArrayLike, axes: Literal["all", "trans", "rot"] | None) 
     if not np.isfinite(J).all():
         raise ValueError("J has NaN or infinite entries")
     if axes is None:
-        axes = "all" if J.shape[-1] >= 6 else "trans"
+        axes = default_axes(J.shape[-1])
     if axes not in AXES:
         raise ValueError(f"axes = {axes!r} is not allowed; allowed: {', '.join(AXES)} or None")
     return np.linalg.svd(J[..., AXES[axes], :], compute_uv=False)

@@ -200,7 +200,7 @@ def test_manipulability_is_yoshikawas_determinant(any_arm, rng):
         np.testing.assert_allclose(manipulability(J, axes) ** 2, np.linalg.det(gram), rtol=1e-9, atol=1e-12)
         eigen = np.linalg.eigvalsh(gram)[:, 0]  # the smallest eigenvalue of the Gram matrix = σ_min²
         np.testing.assert_allclose(sigma_min(J, axes) ** 2, np.clip(eigen, 0, None), rtol=1e-7, atol=1e-12)
-    default = "all" if arm.n >= 6 else "trans"
+    default = "all" if arm.n >= 6 else "trans"  # the documented rule, written out (not default_axes)
     np.testing.assert_array_equal(manipulability(J), manipulability(J, default))
 
 
