@@ -67,9 +67,22 @@ def _wait_for(process: subprocess.Popen, text: str, lines: list[str]) -> bool:
     for line in process.stdout:
         lines.append(line)
         if text in line:
-            threading.Thread(target=lambda: lines.extend(process.stdout), daemon=True).start()
             return True
     return False
+
+
+def _stop(process: subprocess.Popen, signum: int, lines: list[str]) -> tuple[str, float]:
+    """Send ``signum`` (:func:`_send`) while a thread keeps reading stdout into ``lines``; the process' stderr and
+    the seconds it took to end. The one thread reads stdout to its end, so no second reader races it."""
+    reader = threading.Thread(target=lambda: lines.extend(process.stdout), daemon=True)
+    reader.start()
+    _send(process, signum)
+    sent = time.monotonic()
+    process.wait(timeout=PROMPT + 60)
+    took = time.monotonic() - sent
+    err = process.stderr.read()
+    reader.join(timeout=10)
+    return err, took
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=lambda s: s.name)
@@ -82,10 +95,7 @@ def test_a_stop_signal_leaves_nothing(box, argv, text, delay, signum):
         assert _wait_for(process, text, lines), (lines, process.stderr.read())
     time.sleep(delay)
     assert process.poll() is None, "the command ended before the signal"
-    _send(process, signum)
-    sent = time.monotonic()
-    _, err = process.communicate(timeout=PROMPT + 60)
-    took = time.monotonic() - sent
+    err, took = _stop(process, signum, lines)
     assert process.returncode == 128 + signum, (process.returncode, err[-3000:])
     assert took < PROMPT
     assert "Traceback" not in err and "error" not in err, err
