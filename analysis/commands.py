@@ -102,20 +102,11 @@ def cmd_workspace(args: argparse.Namespace) -> int:
     return 0
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not value.is_integer() or value < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number ≥ 1")
-    return int(value)
-
-
 def register(subparsers: Any) -> None:
     """Add the ``workspace`` and ``sweep`` subcommands to the CLI's subparsers."""
     from armlab.analysis.sweep import EXIT_FAILED, cmd_sweep
     from armlab.analysis.workspace import DEFAULT_SAMPLES, MAX_SAMPLES, MAX_SEED, SAMPLES_PER_CELL, _short
+    from armlab.cli import positive_int
     from armlab.limits import allowed
 
     p = subparsers.add_parser(
@@ -128,7 +119,7 @@ def register(subparsers: Any) -> None:
             "workspace.json, slices.png, convergence.png, singular.png and workspace.html (a 3-D point cloud).", 100),
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
-    p.add_argument("--samples", type=_positive_int, default=DEFAULT_SAMPLES, metavar="N",
+    p.add_argument("--samples", type=positive_int, default=DEFAULT_SAMPLES, metavar="N",
                    help=f"joint-space samples, 1000 … {_short(MAX_SAMPLES)} (default {_short(DEFAULT_SAMPLES)})")
     p.add_argument("--resolution", type=float, metavar="H",
                    help=f"voxel edge in metres, {allowed('resolution')} (default: about {SAMPLES_PER_CELL} samples "
@@ -161,7 +152,7 @@ def register(subparsers: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("study", metavar="STUDY.json", help="the study file")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (a rerun resumes it)")
-    p.add_argument("--workers", type=_positive_int, metavar="N",
+    p.add_argument("--workers", type=positive_int, metavar="N",
                    help="local worker processes (default: one per core)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
                    help="an existing Dask scheduler to run on (its workers need the same armlab installed)")

@@ -4,4 +4,5 @@ import sys
 
 from armlab.cli import main
 
-sys.exit(main())
+if __name__ == "__main__":  # not when a worker process (armlab reproduce) imports the main module again
+    sys.exit(main())

@@ -34,6 +34,17 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(2)
 
 
+def positive_int(text: str) -> int:
+    """An argparse type: a whole number ≥ 1 (``"4"``, ``"4.0"``); else the one-line error argparse prints."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not value.is_integer() or value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number ≥ 1")
+    return int(value)
+
+
 def parse_floats(text: str, name: str) -> list[float]:
     """``"1,2.5,-3"`` → ``[1.0, 2.5, -3.0]``; ValueError naming the bad item (text, NaN, inf)."""
     values = []

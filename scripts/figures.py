@@ -69,6 +69,7 @@ def save(fig: Any, stem: Path) -> list[Path]:
     stem = Path(stem)
     paths = [stem.with_suffix(".png"), stem.with_suffix(".svg")]
     fig.savefig(paths[0], dpi=DPI)
+    fig.set_layout_engine("none")  # the SVG keeps the layout the PNG's drawing computed (no second layout pass)
     fig.savefig(paths[1])
     plt.close(fig)
     return paths

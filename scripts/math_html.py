@@ -25,6 +25,8 @@ LINE_CHARS = 80
 CELL_CHARS = 40
 FONT_SIZE = 11.0
 
+#: What matplotlib's SVG holds besides the drawing: its metadata (with the time it was made) and comments.
+_METADATA = re.compile(rb"\s*<metadata>.*?</metadata>|\s*<!--.*?-->", re.S)
 _MATRIX = re.compile(r"\[\\begin\{matrix\}(.*?)\\end\{matrix\}\]", re.S)  # after to_mathtext
 
 
@@ -104,7 +106,7 @@ def math_svg(mathtext: str) -> str:
             math_to_image(f"${mathtext}$", buffer, prop=FontProperties(size=FONT_SIZE), format="svg")
     except ValueError as error:
         raise ValueError(f"mathtext cannot render {mathtext!r}: {str(error).splitlines()[0]}") from None
-    svg = buffer.getvalue()
+    svg = _METADATA.sub(b"", buffer.getvalue())  # the same image whenever and wherever it is made, and smaller
     data = base64.b64encode(svg).decode()
     return f'<img class="m" alt="{html.escape(mathtext)}" src="data:image/svg+xml;base64,{data}">'
 

@@ -109,9 +109,7 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
     _check(out, "eq. (48): ⁰ω̇4 = (0, 0, q̈1) [rad/s²]", "(0, 0, q̈1)", "Drake's ⁰ω̇4",
            float(np.abs(omega_dot - sample.omega_dot[:, -1]).max()), 1e-9, f"vs Drake {where}")
     samples = 20
-    for e, printed, corrected in errata_checked(samples):
-        if e.paper != PAPER:
-            continue
+    for e, printed, corrected in errata_checked(samples, PAPER):
         out.add(Row(PAPER, f"{e.equation} (misprint), max |printed − Drake|", "printed form", "corrected form",
                     printed, differs("misprint (see the errata below)") if printed > 1e-9 else MATCHES,
                     f"the corrected form agrees with Drake to {corrected:.1e} at {samples} random configurations "

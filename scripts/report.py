@@ -29,7 +29,7 @@ import io
 import json
 import numbers
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from functools import cache
 from pathlib import Path
@@ -48,6 +48,7 @@ __all__ = [
     "markdown_table",
     "matches",
     "not_reproducible",
+    "report_math",
     "verdict_counts",
     "write_report",
 ]
@@ -297,7 +298,7 @@ class PaperOutput:
         mine = [e for e in ERRATA if e.paper == self.paper]
         checked = {}
         if any(e.evaluable for e in mine):
-            checked = {id(e): (printed, corrected) for e, printed, corrected in errata_checked(samples)}
+            checked = {id(e): (printed, corrected) for e, printed, corrected in errata_checked(samples, self.paper)}
         for e in mine:
             if id(e) in checked:
                 printed, corrected = checked[id(e)]
@@ -337,11 +338,11 @@ def load_rows(folder: Path) -> list[Row] | None:
 
 # --------------------------------------------------------------------------- errata
 @cache
-def errata_checked(samples: int) -> list[tuple[Any, float, float]]:
-    """:func:`armlab.kinematics.errata.check` once per process (it queries Drake for every paper)."""
+def errata_checked(samples: int, paper: str) -> list[tuple[Any, float, float]]:
+    """:func:`armlab.kinematics.errata.check` of ``paper``'s errata, once per process (it queries Drake)."""
     from armlab.kinematics.errata import check
 
-    return check(samples)
+    return check(samples, paper=paper)
 
 
 # --------------------------------------------------------------------------- the report
@@ -393,12 +394,19 @@ def _data_uri(path: Path) -> str:
 
 
 class _Doc:
-    """Blocks rendered both as Markdown and as HTML."""
+    """Blocks rendered both as Markdown and as HTML; ``math`` holds LaTeX already rendered (LaTeX → HTML)."""
 
-    def __init__(self, out_dir: Path) -> None:
+    def __init__(self, out_dir: Path, math: Mapping[str, str] | None = None) -> None:
         self.out_dir = out_dir
         self.md: list[str] = []
         self.html: list[str] = []
+        self.math = math or {}
+
+    def latex(self, text: str) -> str:
+        """``text`` (LaTeX) as HTML: rendered already, or now (:func:`armlab.scripts.math_html.latex_html`)."""
+        from armlab.scripts.math_html import latex_html
+
+        return self.math[text] if text in self.math else latex_html(text)
 
     def heading(self, level: int, text: str, anchor: str = "") -> None:
         self.md.append(f"{'#' * level} {text}" + (f' <a id="{anchor}"></a>' if anchor else "") + "\n")
@@ -475,9 +483,31 @@ def _rows_block(doc: _Doc, paper: str, numbered: Sequence[tuple[int, Row]]) -> N
             + "".join(f'<p class="note">{html.escape(f)}</p>' for f in footnotes))
 
 
-def _expressions_block(doc: _Doc, paper: str, text: dict[str, Any]) -> None:
-    from armlab.scripts.math_html import latex_html
+class _MathList(_Doc):
+    """A document that renders no mathematics but lists the LaTeX its blocks would render."""
 
+    def __init__(self) -> None:
+        super().__init__(Path())
+        self.pieces: list[str] = []
+
+    def latex(self, text: str) -> str:
+        self.pieces.append(text)
+        return ""
+
+
+def report_math(folder: Path) -> list[str]:
+    """The LaTeX pieces the report renders for the paper output in ``folder`` (its expressions and errata), to
+    be rendered ahead (e.g. in parallel) and handed to :func:`write_report` as ``math``."""
+    manifest = json.loads((Path(folder) / MANIFEST).read_text())
+    doc = _MathList()
+    for text in manifest["texts"]:
+        if "entries" in text:
+            _expressions_block(doc, "", text)
+    _errata_block(doc, manifest["errata"])
+    return list(dict.fromkeys(doc.pieces))
+
+
+def _expressions_block(doc: _Doc, paper: str, text: dict[str, Any]) -> None:
     doc.para(text["intro"] + f" (LaTeX source: {paper}/{text['md']})")
     md, out = [], []
     derived = [e for e in text["entries"] if not e.get("printed", True)]
@@ -485,26 +515,24 @@ def _expressions_block(doc: _Doc, paper: str, text: dict[str, Any]) -> None:
         md.append(f"**${e['label']}$** — {e['source']}\n\n$$\n{e['latex']}\n$$\n\n*{e['note']}*\n")
         symbol, _, words = e["label"].partition(", ")
         words = f" ({words})" if words else ""
-        out.append(f'<div class="expr"><div><span class="lhs">{latex_html(symbol)}{html.escape(words)}</span> — '
+        out.append(f'<div class="expr"><div><span class="lhs">{doc.latex(symbol)}{html.escape(words)}</span> — '
                    f"{html.escape(e['source'])}: <i>{html.escape(e['note'])}</i></div>"
-                   f"<div>{latex_html(e['latex'])}</div></div>")
+                   f"<div>{doc.latex(e['latex'])}</div></div>")
     doc.raw("\n".join(md), '<div class="scroll">' + "".join(out) + "</div>")
     if derived:
         intro = f"Derived beyond the paper (not printed there), in {paper}/{text['md']}: "
         doc.raw(intro + "; ".join(f"${e['label']}$ ({e['source']})" for e in derived) + ".\n",
-                f"<p>{html.escape(intro)}" + "; ".join(f"{latex_html(e['label'])} ({html.escape(e['source'])})"
+                f"<p>{html.escape(intro)}" + "; ".join(f"{doc.latex(e['label'])} ({html.escape(e['source'])})"
                                                       for e in derived) + ".</p>")
 
 
 def _errata_block(doc: _Doc, errata: Sequence[dict[str, str]]) -> None:
-    from armlab.scripts.math_html import latex_html
-
     md = "".join(f"- **{e['where']}**: {e.get('description', '')} {e['evidence']}\n  - as printed: "
                  f"${e['printed']}$\n  - corrected: ${e['corrected']}$\n" for e in errata)
     body = "".join(f'<div class="erratum"><b>{html.escape(e["where"])}</b>: {html.escape(e.get("description", ""))} '
                    f'<span class="note">{html.escape(e["evidence"])}</span><div class="pc">'
-                   f'<div><span class="tag">as printed</span>{latex_html(e["printed"])}</div>'
-                   f'<div><span class="tag">corrected</span>{latex_html(e["corrected"])}</div></div></div>'
+                   f'<div><span class="tag">as printed</span>{doc.latex(e["printed"])}</div>'
+                   f'<div><span class="tag">corrected</span>{doc.latex(e["corrected"])}</div></div></div>'
                    for e in errata)
     doc.raw(md + "\n", body)
 
@@ -624,13 +652,16 @@ def write_report(
     papers: Sequence[str],
     rows: Sequence[Row],
     elapsed: float | None = None,
+    math: Mapping[str, str] | None = None,
 ) -> Path:
     """Write ``out_dir/report.md`` and the self-contained ``out_dir/report.html`` from the rows and each
-    paper folder's manifest: a summary per paper, contents, then per paper its rows beside their figures."""
+    paper folder's manifest: a summary per paper, contents, then per paper its rows beside their figures.
+
+    ``math``: LaTeX rendered ahead (:func:`report_math` lists it; LaTeX → HTML); the rest is rendered here."""
     out_dir = Path(out_dir)
     counts = verdict_counts(rows)
     manifests = {p: json.loads((out_dir / p / MANIFEST).read_text()) for p in papers}
-    doc = _Doc(out_dir)
+    doc = _Doc(out_dir, math)
     doc.heading(1, "armlab reproduce: the papers beside armlab")
     summary = (f"{len(rows)} published numbers and claims checked: {counts[MATCHES]} match, "
                f"{counts[DIFFERS]} differ, {counts[NOT_REPRODUCIBLE]} are not reproducible from what the papers print.")

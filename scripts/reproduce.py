@@ -1,8 +1,10 @@
 """``armlab reproduce``: every paper's figures and tables regenerated, with a paper-vs-armlab report.
 
-``armlab reproduce [--paper 000|001|003|004|all] [--out DIR] [--fast]`` runs the paper scripts
-(``scripts/paper_NNN.py``, each also runnable alone) into a temporary folder beside ``DIR``,
-writes ``report.md`` and ``report.html`` there, and only then renames it into place: the
+``armlab reproduce [--paper 000|001|003|004|all] [--out DIR] [--fast] [--jobs N]`` runs the paper
+scripts (``scripts/paper_NNN.py``, each also runnable alone) into a temporary folder beside ``DIR``,
+in ``N`` worker processes (default: one per CPU; the papers are independent, and the report's
+mathematics is rendered by the workers as each paper ends), writes ``report.md`` and
+``report.html`` there, and only then renames it into place: the
 output folder is complete or untouched (:class:`~armlab.files.OutputFolder`). An existing
 ``DIR`` is replaced only if it is empty or an earlier reproduction (it holds :data:`MARKER`);
 reproducing some papers keeps the others an earlier reproduction there holds, and the report
@@ -13,10 +15,16 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import multiprocessing
+import os
+import queue as queue_module
 import shutil
+import signal
 import sys
+import threading
 import time
-from collections.abc import Callable, Sequence
+import warnings
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -29,6 +37,10 @@ __all__ = ["MARKER", "PAPERS", "ReproduceResult", "output_folder", "register", "
 PAPERS = ("000", "001", "003", "004")
 #: The file that marks a folder as an armlab reproduction (safe to replace).
 MARKER = ".armlab-reproduce"
+#: The papers in the order their scripts start: the longest first (000 takes about half of the time).
+LONGEST_FIRST = ("000", "004", "003", "001")
+#: Tasks each paper's report mathematics is split into when workers render it.
+MATH_TASKS = 4
 
 
 @dataclass(frozen=True)
@@ -70,38 +82,159 @@ def output_folder(out: str | Path) -> OutputFolder:
     return OutputFolder(Path(out).expanduser(), _is_previous, f"an earlier armlab reproduction (no {MARKER})")
 
 
+_worker_queue: Any = None  # in a worker process: where its progress lines go
+
+
+def _worker_start(queue: Any) -> None:
+    """A worker process: its progress lines go to ``queue``; Ctrl-C is the parent's to handle (it stops the pool).
+
+    tqdm's bars (the simulations') share a thread lock here, not the interprocess lock tqdm makes by default: a
+    worker ended by the pool's terminate cannot release an interprocess lock, and Python warns of it on exit.
+    """
+    global _worker_queue
+    from tqdm import tqdm
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    tqdm.set_lock(threading.RLock())
+    _worker_queue = queue
+
+
+def _job(task: Callable[..., Any], args: tuple, progress: Callable[[str], Any] | None = None) -> tuple[Any, list]:
+    """``task(*args, progress=…)``'s value and the warnings it raised (``(category, message)``, to raise again in
+    the parent); ``progress`` defaults to the worker's queue."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        value = task(*args, progress=progress or _worker_queue.put)
+    return value, [(w.category, str(w.message)) for w in caught]
+
+
+def _paper(paper: str, folder: Path, fast: bool, progress: Callable[[str], Any]) -> tuple[list[Any], list[str]]:
+    """One paper: its script, then its study beyond the paper, into ``folder``; its rows and its report's LaTeX."""
+    from armlab.scripts import beyond
+    from armlab.scripts.report import report_math
+
+    rows = _script(paper).run(folder, fast=fast, progress=progress)
+    beyond.run(paper, folder, fast=fast, progress=progress)
+    return rows, report_math(folder)
+
+
+def _math(pieces: Sequence[str], progress: Callable[[str], Any]) -> dict[str, str]:
+    """LaTeX pieces rendered as the report shows them (LaTeX → HTML)."""
+    from armlab.scripts.math_html import latex_html
+
+    return {piece: latex_html(piece) for piece in pieces}
+
+
+def default_jobs() -> int:
+    """Worker processes by default: the CPUs this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+class _Pool:
+    """``jobs`` worker processes (spawned: no state of the caller's is inherited) that run :func:`_job` tasks,
+    their progress lines passed to ``progress`` as they come; with ``jobs == 1`` the tasks run in this process.
+
+    Leaving the ``with`` block by an exception (a task's, or a stop signal) terminates the workers at once, so
+    the caller's temporary output is removed only after no worker writes into it any more.
+    """
+
+    def __init__(self, jobs: int, progress: Callable[[str], Any]) -> None:
+        self.jobs, self.progress = jobs, progress
+        self.pool: Any = None
+        self.pending: dict[Any, Any] = {}
+
+    def __enter__(self) -> _Pool:
+        if self.jobs > 1:
+            context = multiprocessing.get_context("spawn")
+            self.queue = context.Queue()
+            self.pool = context.Pool(self.jobs, initializer=_worker_start, initargs=(self.queue,))
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        if self.pool is not None:
+            if exc[0] is None:
+                self.pool.close()
+            else:
+                self.pool.terminate()
+            self.pool.join()
+
+    def submit(self, key: Any, task: Callable[..., Any], *args: Any) -> None:
+        """Start ``task(*args, progress=…)``; :meth:`done` yields ``(key, value)`` when it ends."""
+        if self.pool is None:
+            self.pending[key] = _job(task, args, self.progress)
+        else:
+            self.pending[key] = self.pool.apply_async(_job, (task, args))
+
+    def _drain(self, timeout: float) -> None:
+        try:
+            self.progress(self.queue.get(timeout=timeout))
+            while True:
+                self.progress(self.queue.get_nowait())
+        except queue_module.Empty:
+            pass
+
+    def done(self) -> Iterator[tuple[Any, Any]]:
+        """``(key, value)`` of each task as it ends (tasks submitted meanwhile included); a task's exception is
+        raised here, and the warnings it raised are raised again."""
+        while self.pending:
+            if self.pool is not None:
+                self._drain(0.05)
+            for key in [k for k, r in self.pending.items() if self.pool is None or r.ready()]:
+                result = self.pending.pop(key)
+                value, caught = result if self.pool is None else result.get()
+                if self.pool is not None:
+                    self._drain(0)  # its last lines before its value
+                for category, message in caught:
+                    warnings.warn(message, category, stacklevel=2)
+                yield key, value
+
+
 def reproduce(
-    out: Path, papers: Sequence[str] = PAPERS, fast: bool = False, progress: Callable[[str], Any] = print
+    out: Path, papers: Sequence[str] = PAPERS, fast: bool = False, progress: Callable[[str], Any] = print,
+    jobs: int | None = None,
 ) -> ReproduceResult:
     """Run the paper scripts into ``out`` (complete or nothing) and write the report; see the module doc.
 
-    Papers not in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the
-    new output, their rows read back), so reproducing one paper updates it and the report alone.
+    The papers run in ``jobs`` worker processes (default: :func:`default_jobs`), the longest first; the
+    report's mathematics is rendered by the workers too, as each paper ends. Papers not in ``papers``
+    that an earlier reproduction in ``out`` holds are kept (copied into the new output, their rows read
+    back), so reproducing one paper updates it and the report alone.
     """
     from armlab.diagrams.graphviz import require_dot
-    from armlab.scripts import beyond
     from armlab.scripts.report import load_rows, verdict_counts, write_report
 
     start = time.perf_counter()
     for paper in papers:
         select_papers(paper)
+    if jobs is not None and jobs < 1:
+        raise ValueError(f"--jobs {jobs} is not allowed; allowed: 1 or more worker processes")
     require_dot()  # the Systems diagrams need it: say so before any work
     folder = output_folder(out)
     earlier = {p: load_rows(folder.out / p) for p in PAPERS if p not in papers} if folder.out.is_dir() else {}
     kept = {paper: rows for paper, rows in earlier.items() if rows is not None}
-    with folder as tmp:
-        rows = []
-        for paper in PAPERS:
-            if paper in papers:
-                rows += _script(paper).run(tmp / paper, fast=fast, progress=progress)
-                beyond.run(paper, tmp / paper, fast=fast, progress=progress)  # design studies beyond the paper
-            elif paper in kept:
-                shutil.copytree(folder.out / paper, tmp / paper)
-                rows += kept[paper]
-                progress(f"[{paper}] kept from the earlier reproduction in {folder.out}")
+    jobs = jobs or default_jobs()
+    with folder as tmp, _Pool(jobs, progress) as pool:
+        for paper in (p for p in LONGEST_FIRST if p in papers):
+            pool.submit(paper, _paper, paper, tmp / paper, fast)
+        rows: dict[str, list[Any]] = {}
+        for paper in (p for p in PAPERS if p in kept):
+            shutil.copytree(folder.out / paper, tmp / paper)
+            rows[paper] = kept[paper]
+            progress(f"[{paper}] kept from the earlier reproduction in {folder.out}")
+        math: dict[str, str] = {}
+        tasks = MATH_TASKS if jobs > 1 else 1
+        for key, value in pool.done():
+            if key in PAPERS:  # a paper ended: its mathematics, spread over the workers
+                rows[key], pieces = value
+                for k in range(tasks):
+                    pool.submit((key, k), _math, pieces[k::tasks])
+            else:
+                math.update(value)
         (tmp / MARKER).write_text("armlab reproduce output; `armlab reproduce` may replace this folder\n")
-        write_report(tmp, [p for p in PAPERS if p in papers or p in kept], rows, time.perf_counter() - start)
-    return ReproduceResult(folder.out / "report.md", rows, verdict_counts(rows), time.perf_counter() - start)
+        shown = [p for p in PAPERS if p in rows]
+        all_rows = [row for p in shown for row in rows[p]]
+        write_report(tmp, shown, all_rows, time.perf_counter() - start, math)
+    return ReproduceResult(folder.out / "report.md", all_rows, verdict_counts(all_rows), time.perf_counter() - start)
 
 
 def summary_line(result: ReproduceResult) -> str:
@@ -112,18 +245,23 @@ def summary_line(result: ReproduceResult) -> str:
 
 
 def _cmd(args: argparse.Namespace) -> int:
-    result = reproduce(Path(args.out), select_papers(args.paper), fast=args.fast)
+    result = reproduce(Path(args.out), select_papers(args.paper), fast=args.fast, jobs=args.jobs)
     print(summary_line(result))
     return 0
 
 
 def register(subparsers: Any) -> None:
     """Add the ``reproduce`` subcommand to the ``armlab`` CLI's subparsers."""
+    from armlab.cli import positive_int
+
     p = subparsers.add_parser("reproduce", help="regenerate the papers' figures and tables, with a report")
     p.add_argument("--paper", default="all", help="000, 001, 003, 004 or all (default all); one paper is redone, "
                    "the others an earlier reproduction in --out holds are kept in the report")
     p.add_argument("--out", default="out", help="output folder (default out/)")
     p.add_argument("--fast", action="store_true", help="coarser sampling and log period (for CI)")
+    p.add_argument("--jobs", type=positive_int, default=None, metavar="N",
+                   help=f"worker processes (default: the CPUs armlab may use, here {default_jobs()}); 1 runs "
+                        "everything in this process")
     p.set_defaults(func=_cmd)
 
 

@@ -73,7 +73,7 @@ def reproduction(shared_root):
     with _locked(shared_root, "reproduction"):
         if not saved.exists():
             lines: list[str] = []
-            result = reproduce(out, fast=True, progress=lines.append)
+            result = reproduce(out, fast=True, progress=lines.append, jobs=2)  # workers, whatever the CPUs
             saved.write_bytes(pickle.dumps((result, lines)))
     result, lines = pickle.loads(saved.read_bytes())
     return out, result, lines

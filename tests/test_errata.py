@@ -150,3 +150,16 @@ def test_001_eq19_corrected_form_is_what_the_ik_module_returns(rng):
         match = np.all(np.abs(wrap_angle(solutions - sample.q[k])) < 1e-9, axis=1)
         assert match.any()
         assert abs(wrap_angle(solutions[match][0, 1] - corrected[k])) < 1e-9
+
+
+def test_one_papers_check_gives_the_numbers_of_the_whole_check():
+    """Each erratum draws its own samples, so a worker checking one paper's errata reports what a check of all does."""
+    from armlab.kinematics.errata import check
+
+    whole = {id(e): (printed, corrected) for e, printed, corrected in check(5)}
+    for paper in {e.paper for e in ERRATA}:
+        mine = check(5, paper=paper)
+        assert all(e.paper == paper for e, _, _ in mine)
+        assert {id(e): (printed, corrected) for e, printed, corrected in mine} == {
+            k: v for k, v in whole.items() if any(id(e) == k and e.paper == paper for e in ERRATA)}
+    assert len(whole) == sum(e.evaluable and e.arm is not None for e in ERRATA)

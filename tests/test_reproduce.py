@@ -446,3 +446,90 @@ def test_reproduced_replay_shows_the_arm_moving_in_chromium(run, tmp_path):
 
     out, _, _ = run
     assert_shows_arm_moving(*screenshots(out / "000" / "replay_abcd.html", (1.0, 5.0), tmp_path))
+
+
+def test_one_process_reproduces_what_the_workers_do(run, tmp_path):
+    """``jobs=1`` (everything in this process) writes the files the session's reproduction (two worker processes,
+    the report's mathematics rendered by them) wrote: the same rows, tables and manifest, the same rendered errata."""
+    out, result, _ = run
+    one = reproduce(tmp_path / "one", ("004",), fast=True, progress=lambda line: None, jobs=1)
+    assert one.rows == [row for row in result.rows if row.paper == "004"]
+    mine, theirs = tmp_path / "one" / "004", out / "004"
+    assert sorted(p.name for p in mine.iterdir()) == sorted(p.name for p in theirs.iterdir())
+    for name in ("manifest.json", "rows.csv", "table2_position_vectors.csv", "beyond_bend_angles.md"):
+        assert (mine / name).read_text() == (theirs / name).read_text(), name
+
+    def errata(folder):
+        html = (folder / "report.html").read_text()
+        section = html[html.index('id="paper-004"'):]
+        return re.findall(r'<div class="erratum">.*?</div></div></div>', section)
+
+    assert errata(tmp_path / "one") == errata(out) and len(errata(out)) == 2
+
+
+def _task_that_warns(k: int, progress) -> int:
+    import warnings
+
+    progress(f"task {k} working")
+    warnings.warn(f"task {k}: careful", UserWarning, stacklevel=1)
+    return k * k
+
+
+def _task_that_fails(k: int, progress) -> int:
+    raise ValueError(f"task {k}: bad input")
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
+    """The reproduction's pool: every task's value, each progress line (through the workers' queue), each warning
+    raised again in the caller; a task's error raised in the caller, the workers then stopped."""
+    import multiprocessing
+
+    from armlab.scripts.reproduce import _Pool
+
+    lines: list[str] = []
+    with pytest.warns(UserWarning) as caught, _Pool(jobs, lines.append) as pool:
+        for k in range(4):
+            pool.submit(k, _task_that_warns, k)
+        values = dict(pool.done())
+    assert values == {k: k * k for k in range(4)}
+    assert sorted(lines) == [f"task {k} working" for k in range(4)]
+    assert sorted(str(w.message) for w in caught) == [f"task {k}: careful" for k in range(4)]
+    with pytest.raises(ValueError, match="task 3: bad input"), _Pool(jobs, lines.append) as pool:
+        pool.submit(3, _task_that_fails, 3)
+        list(pool.done())
+    assert multiprocessing.active_children() == []
+
+
+@pytest.mark.parametrize("signum", ["SIGINT", "SIGTERM"])
+def test_a_stopped_reproduction_stops_its_workers_quietly(tmp_path, monkeypatch, capsys, signum):
+    """Ctrl-C (to the process group: the workers ignore it, the parent stops them) or SIGTERM (to the parent alone)
+    while both workers run: exit 130 / 143, nothing on stderr (no traceback, no warning of a lock a killed worker
+    held), no worker process left, no output, no temporary."""
+    import os
+    import signal
+    import subprocess
+    import time
+
+    from contract import Sandbox
+
+    box = Sandbox(tmp_path, monkeypatch, capsys)
+    process = subprocess.Popen(box.command("reproduce", "--fast", "--jobs", "2", "--out", "rep"), cwd=box.cwd,
+                               env=box.env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    seen = set()
+    for line in process.stdout:  # both workers have started a paper
+        seen.add(line[:5])
+        if {"[000]", "[004]"} <= seen:
+            break
+    number = getattr(signal, signum)
+    if number == signal.SIGINT:
+        os.killpg(process.pid, number)
+    else:
+        process.send_signal(number)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 128 + number and err == "", (process.returncode, err[-3000:])
+    end = time.monotonic() + 10
+    while box.processes() and time.monotonic() < end:
+        time.sleep(0.1)
+    assert box.processes() == [] and box.debris() == []
