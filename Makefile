@@ -53,6 +53,7 @@ bench: setup
 	$(BIN)/python scripts/bench_ik.py
 	$(BIN)/python scripts/bench_simulate.py
 	$(BIN)/python scripts/bench_analysis.py
+	$(BIN)/python scripts/bench_reproduce.py
 
 clean:
 	rm -rf $(VENV) out *.egg-info

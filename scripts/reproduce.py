@@ -41,6 +41,9 @@ MARKER = ".armlab-reproduce"
 LONGEST_FIRST = ("000", "004", "003", "001")
 #: Tasks each paper's report mathematics is split into when workers render it.
 MATH_TASKS = 4
+#: The workers' numerical libraries run one thread each: there is a worker per CPU already, and the threads of
+#: OpenBLAS (numpy's) and OpenMP wait for work spinning, costing CPU the other worker needs.
+ONE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 
 @dataclass(frozen=True)
@@ -147,7 +150,16 @@ class _Pool:
         if self.jobs > 1:
             context = multiprocessing.get_context("spawn")
             self.queue = context.Queue()
-            self.pool = context.Pool(self.jobs, initializer=_worker_start, initargs=(self.queue,))
+            saved = {name: os.environ.get(name) for name in ONE_THREAD}
+            os.environ.update(ONE_THREAD)  # the workers' environment (a spawned process copies it when it starts)
+            try:
+                self.pool = context.Pool(self.jobs, initializer=_worker_start, initargs=(self.queue,))
+            finally:
+                for name, value in saved.items():
+                    if value is None:
+                        os.environ.pop(name)
+                    else:
+                        os.environ[name] = value
         return self
 
     def __exit__(self, *exc: Any) -> None:
