@@ -376,14 +376,17 @@ def test_out_dir_checks(tmp_path):
         "file.txt", "foreign"]  # nothing written before the check
 
 
-def test_one_paper_again_keeps_the_others(run, tmp_path):
+def test_one_paper_again_keeps_the_others_and_one_process_writes_what_the_workers_do(run, tmp_path):
+    """Paper 004 again, in this process (``jobs=1``), into a copy of the session's reproduction (two worker
+    processes, the report's mathematics rendered by them): the other papers are kept, and 004's files are those the
+    workers wrote — the same rows, tables and manifest, the same rendered errata in the report."""
     import shutil
 
     out, result, _ = run
     copy = tmp_path / "out"
     shutil.copytree(out, copy)
     lines: list[str] = []
-    again = reproduce(copy, ("004",), fast=True, progress=lines.append)
+    again = reproduce(copy, ("004",), fast=True, progress=lines.append, jobs=1)
     assert sorted(p.name for p in copy.iterdir() if p.is_dir()) == list(PAPERS)
     assert [row.quantity for row in again.rows] == [row.quantity for row in result.rows]
     assert again.counts == result.counts
@@ -391,6 +394,19 @@ def test_one_paper_again_keeps_the_others(run, tmp_path):
     report = (copy / "report.md").read_text()
     assert all(f"## Paper {paper}: " in report for paper in PAPERS)
     assert (copy / "000" / "replay_abcd.html").exists()
+
+    assert [row for row in again.rows if row.paper == "004"] == [row for row in result.rows if row.paper == "004"]
+    mine, theirs = copy / "004", out / "004"
+    assert sorted(p.name for p in mine.iterdir()) == sorted(p.name for p in theirs.iterdir())
+    for name in ("manifest.json", "rows.csv", "table2_position_vectors.csv", "beyond_bend_angles.md"):
+        assert (mine / name).read_text() == (theirs / name).read_text(), name
+
+    def errata(folder):
+        html = (folder / "report.html").read_text()
+        section = html[html.index('id="paper-004"'):]
+        return re.findall(r'<div class="erratum">.*?</div></div></div>', section)
+
+    assert errata(copy) == errata(out) and len(errata(out)) == 2
 
 
 def test_a_failed_reproduction_leaves_the_previous_one(run, tmp_path, monkeypatch):
@@ -446,25 +462,6 @@ def test_reproduced_replay_shows_the_arm_moving_in_chromium(run, tmp_path):
 
     out, _, _ = run
     assert_shows_arm_moving(*screenshots(out / "000" / "replay_abcd.html", (1.0, 5.0), tmp_path))
-
-
-def test_one_process_reproduces_what_the_workers_do(run, tmp_path):
-    """``jobs=1`` (everything in this process) writes the files the session's reproduction (two worker processes,
-    the report's mathematics rendered by them) wrote: the same rows, tables and manifest, the same rendered errata."""
-    out, result, _ = run
-    one = reproduce(tmp_path / "one", ("004",), fast=True, progress=lambda line: None, jobs=1)
-    assert one.rows == [row for row in result.rows if row.paper == "004"]
-    mine, theirs = tmp_path / "one" / "004", out / "004"
-    assert sorted(p.name for p in mine.iterdir()) == sorted(p.name for p in theirs.iterdir())
-    for name in ("manifest.json", "rows.csv", "table2_position_vectors.csv", "beyond_bend_angles.md"):
-        assert (mine / name).read_text() == (theirs / name).read_text(), name
-
-    def errata(folder):
-        html = (folder / "report.html").read_text()
-        section = html[html.index('id="paper-004"'):]
-        return re.findall(r'<div class="erratum">.*?</div></div></div>', section)
-
-    assert errata(tmp_path / "one") == errata(out) and len(errata(out)) == 2
 
 
 def _task_that_warns(k: int, progress) -> int:
