@@ -149,11 +149,13 @@ class _Pool:
     def __enter__(self) -> _Pool:
         if self.jobs > 1:
             context = multiprocessing.get_context("spawn")
-            self.queue = context.Queue()
             saved = {name: os.environ.get(name) for name in ONE_THREAD}
             os.environ.update(ONE_THREAD)  # the workers' environment (a spawned process copies it when it starts)
             try:
+                self.queue = context.Queue()
                 self.pool = context.Pool(self.jobs, initializer=_worker_start, initargs=(self.queue,))
+            except (OSError, ImportError) as error:  # e.g. no /dev/shm for the queues' semaphores
+                self.progress(f"worker processes are not available here ({error}); working in this process")
             finally:
                 for name, value in saved.items():
                     if value is None:

@@ -498,6 +498,25 @@ def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
     assert multiprocessing.active_children() == []
 
 
+def test_without_worker_processes_the_tasks_run_here(monkeypatch):
+    """Where a worker pool cannot be made (no /dev/shm for its semaphores, say), the tasks run in this process."""
+    import multiprocessing
+
+    from armlab.scripts.reproduce import _Pool
+
+    class NoSemaphores:
+        def Queue(self):
+            raise OSError("[Errno 38] Function not implemented")
+
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoSemaphores())
+    lines: list[str] = []
+    with pytest.warns(UserWarning), _Pool(2, lines.append) as pool:
+        pool.submit(0, _task_that_warns, 5)
+        assert dict(pool.done()) == {0: 25}
+    assert lines == ["worker processes are not available here ([Errno 38] Function not implemented); working in "
+                     "this process", "task 5 working"]
+
+
 @pytest.mark.parametrize("signum", ["SIGINT", "SIGTERM"])
 def test_a_stopped_reproduction_stops_its_workers_quietly(tmp_path, monkeypatch, capsys, signum):
     """Ctrl-C (to the process group: the workers ignore it, the parent stops them) or SIGTERM (to the parent alone)
