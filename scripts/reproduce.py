@@ -209,10 +209,10 @@ def reproduce(
 ) -> ReproduceResult:
     """Run the paper scripts into ``out`` (complete or nothing) and write the report; see the module doc.
 
-    The papers run in ``jobs`` worker processes (default: :func:`default_jobs`), the longest first; the
-    report's mathematics is rendered by the workers too, as each paper ends. Papers not in ``papers``
-    that an earlier reproduction in ``out`` holds are kept (copied into the new output, their rows read
-    back), so reproducing one paper updates it and the report alone.
+    The papers run in ``jobs`` worker processes (default: :func:`default_jobs`; at most :data:`MATH_TASKS`),
+    the longest first; the report's mathematics is rendered by the workers too, as each paper ends.
+    Papers not in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the new
+    output, their rows read back), so reproducing one paper updates it and the report alone.
     """
     from armlab.diagrams.graphviz import require_dot
     from armlab.scripts.report import load_rows, verdict_counts, write_report
@@ -226,7 +226,7 @@ def reproduce(
     folder = output_folder(out)
     earlier = {p: load_rows(folder.out / p) for p in PAPERS if p not in papers} if folder.out.is_dir() else {}
     kept = {paper: rows for paper, rows in earlier.items() if rows is not None}
-    jobs = jobs or default_jobs()
+    jobs = min(jobs or default_jobs(), MATH_TASKS)  # more workers than tasks at a time would only wait
     with folder as tmp, _Pool(jobs, progress) as pool:
         for paper in (p for p in LONGEST_FIRST if p in papers):
             pool.submit(paper, _paper, paper, tmp / paper, fast)
