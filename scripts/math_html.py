@@ -12,10 +12,12 @@ from __future__ import annotations
 
 import base64
 import html
-import io
 import re
 from functools import cache
 from itertools import pairwise
+from typing import Any
+
+import numpy as np
 
 __all__ = ["latex_html", "math_svg", "to_mathtext"]
 
@@ -25,8 +27,9 @@ LINE_CHARS = 80
 CELL_CHARS = 40
 FONT_SIZE = 11.0
 
-#: What matplotlib's SVG holds besides the drawing: its metadata (with the time it was made) and comments.
-_METADATA = re.compile(rb"\s*<metadata>.*?</metadata>|\s*<!--.*?-->", re.S)
+#: matplotlib's path codes and the SVG path commands they become.
+_MOVE, _CLOSE = 1, 79
+_LETTER = {1: "M", 2: "L", 3: "Q", 4: "C"}
 _MATRIX = re.compile(r"\[\\begin\{matrix\}(.*?)\\end\{matrix\}\]", re.S)  # after to_mathtext
 
 
@@ -90,24 +93,63 @@ def _split_sum(text: str, width: int = LINE_CHARS) -> list[str]:
     return [line for line in lines if line]
 
 
+def _path_data(vertices: Any, codes: Any) -> str:
+    """An SVG path's ``d`` from matplotlib path ``vertices`` (N, 2) and ``codes`` (N,): a command letter where
+    the kind of segment changes (SVG repeats the last one), ``z`` closing a contour."""
+    out, previous = [], 0
+    for (x, y), code in zip(np.round(vertices, 2).tolist(), codes.tolist(), strict=True):
+        if code == _CLOSE:
+            out.append("z")
+            previous = 0
+            continue
+        if code != previous or code == _MOVE:
+            out.append(_LETTER[code])
+            previous = code
+        out.append(f"{x:g} {y:g}")
+    return " ".join(out)
+
+
+@cache
+def _glyph_path(glyph: str) -> str:
+    """The ``d`` of a glyph outline loaded by :data:`matplotlib.textpath.text_to_path` (at its font scale)."""
+
+    vertices, codes = _GLYPHS[glyph]
+    return _path_data(np.asarray(vertices, dtype=float), np.asarray(codes)) if len(codes) else ""
+
+
+#: Glyph outlines loaded so far, by matplotlib's name for them (shared by every expression of the process).
+_GLYPHS: dict[str, Any] = {}
+
+
 @cache
 def math_svg(mathtext: str) -> str:
-    """``mathtext`` (no ``$``) as an ``<img>`` holding its SVG (glyphs as paths: no fonts needed)."""
-    import matplotlib
+    """``mathtext`` (no ``$``) as an ``<img>`` holding its SVG: the glyph outlines as paths (no fonts needed).
 
-    matplotlib.use("Agg")
-    from matplotlib import rc_context
+    Laid out by matplotlib's mathtext once, at the font scale of :data:`matplotlib.textpath.text_to_path`,
+    and drawn as matplotlib's SVG backend draws text as paths (one ``<path>`` per glyph, a ``<use>`` per
+    occurrence), scaled to :data:`FONT_SIZE` pt.
+    """
     from matplotlib.font_manager import FontProperties
-    from matplotlib.mathtext import math_to_image
+    from matplotlib.textpath import text_to_path
 
-    buffer = io.BytesIO()
+    text, scale = f"${mathtext}$", FONT_SIZE / text_to_path.FONT_SCALE
+    prop = FontProperties(size=text_to_path.FONT_SCALE, math_fontfamily="dejavuserif")
     try:
-        with rc_context({"svg.fonttype": "path", "mathtext.fontset": "dejavuserif", "savefig.transparent": True}):
-            math_to_image(f"${mathtext}$", buffer, prop=FontProperties(size=FONT_SIZE), format="svg")
+        width, height, depth, _, _ = text_to_path.mathtext_parser.parse(text, text_to_path.DPI, prop)
+        glyphs, loaded, rects = text_to_path.get_glyphs_mathtext(prop, text, glyph_map=_GLYPHS or None)  # same parse
     except ValueError as error:
         raise ValueError(f"mathtext cannot render {mathtext!r}: {str(error).splitlines()[0]}") from None
-    svg = _METADATA.sub(b"", buffer.getvalue())  # the same image whenever and wherever it is made, and smaller
-    data = base64.b64encode(svg).decode()
+    _GLYPHS.update(loaded)
+    ids = {glyph: f"g{k}" for k, glyph in enumerate(dict.fromkeys(g[0] for g in glyphs))}
+    defs = "".join(f'<path id="{ids[glyph]}" d="{_glyph_path(glyph)}"/>' for glyph in ids)
+    uses = "".join(f'<use xlink:href="#{ids[glyph]}" transform="translate({x:.6g} {y:.6g}) scale({size:.6g})"/>'
+                   for glyph, x, y, size in glyphs)
+    bars = "".join(f'<path d="{_path_data(np.asarray(v, dtype=float), np.asarray(c))}"/>' for v, c in rects)
+    w, h, d = width * scale, height * scale, depth * scale
+    svg = (f'<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="{w:.6g}pt" '
+           f'height="{h:.6g}pt" viewBox="0 0 {w:.6g} {h:.6g}"><defs>{defs}</defs>'
+           f'<g transform="translate(0 {h - d:.6g}) scale({scale:.6g} {-scale:.6g})">{uses}{bars}</g></svg>')
+    data = base64.b64encode(svg.encode()).decode()
     return f'<img class="m" alt="{html.escape(mathtext)}" src="data:image/svg+xml;base64,{data}">'
 
 

@@ -43,11 +43,13 @@ __all__ = [
     "Row",
     "compare",
     "differs",
+    "embed_images",
     "errata_checked",
     "load_rows",
     "markdown_table",
     "matches",
     "not_reproducible",
+    "report_images",
     "report_math",
     "verdict_counts",
     "write_report",
@@ -394,13 +396,16 @@ def _data_uri(path: Path) -> str:
 
 
 class _Doc:
-    """Blocks rendered both as Markdown and as HTML; ``math`` holds LaTeX already rendered (LaTeX → HTML)."""
+    """Blocks rendered both as Markdown and as HTML; ``math`` holds LaTeX already rendered (LaTeX → HTML),
+    ``images`` figures already embedded (path relative to the report → data URI)."""
 
-    def __init__(self, out_dir: Path, math: Mapping[str, str] | None = None) -> None:
+    def __init__(self, out_dir: Path, math: Mapping[str, str] | None = None,
+                 images: Mapping[str, str] | None = None) -> None:
         self.out_dir = out_dir
         self.md: list[str] = []
         self.html: list[str] = []
         self.math = math or {}
+        self.images = images or {}
 
     def latex(self, text: str) -> str:
         """``text`` (LaTeX) as HTML: rendered already, or now (:func:`armlab.scripts.math_html.latex_html`)."""
@@ -435,7 +440,7 @@ class _Doc:
         self.md.append("".join(f"![{caption}]({src})\n\n" for src, caption in items))
         self.html.append('<div class="figs">' + "".join(
             f'<figure onclick="this.classList.toggle(\'big\')" title="click to enlarge or shrink">'
-            f'<img src="{_data_uri(self.out_dir / src)}" alt="{html.escape(caption)}">'
+            f'<img src="{self.images.get(src) or _data_uri(self.out_dir / src)}" alt="{html.escape(caption)}">'
             f"<figcaption>{html.escape(caption)}</figcaption></figure>" for src, caption in items) + "</div>")
 
 
@@ -505,6 +510,19 @@ def report_math(folder: Path) -> list[str]:
             _expressions_block(doc, "", text)
     _errata_block(doc, manifest["errata"])
     return list(dict.fromkeys(doc.pieces))
+
+
+def report_images(folder: Path) -> list[str]:
+    """The PNG figures the report embeds from the paper output in ``folder`` (paths relative to the report: the
+    folder's name first), to be embedded ahead with :func:`embed_images` and handed to :func:`write_report`."""
+    folder = Path(folder)
+    manifest = json.loads((folder / MANIFEST).read_text())
+    return [f"{folder.name}/{entry['png']}" for entry in manifest["schemes"] + manifest["figures"]]
+
+
+def embed_images(out_dir: Path, images: Sequence[str]) -> dict[str, str]:
+    """``{path: data URI}`` of the ``images`` (paths relative to ``out_dir``), as the report embeds them."""
+    return {src: _data_uri(Path(out_dir) / src) for src in images}
 
 
 def _expressions_block(doc: _Doc, paper: str, text: dict[str, Any]) -> None:
@@ -653,15 +671,17 @@ def write_report(
     rows: Sequence[Row],
     elapsed: float | None = None,
     math: Mapping[str, str] | None = None,
+    images: Mapping[str, str] | None = None,
 ) -> Path:
     """Write ``out_dir/report.md`` and the self-contained ``out_dir/report.html`` from the rows and each
     paper folder's manifest: a summary per paper, contents, then per paper its rows beside their figures.
 
-    ``math``: LaTeX rendered ahead (:func:`report_math` lists it; LaTeX → HTML); the rest is rendered here."""
+    ``math``: LaTeX rendered ahead (:func:`report_math` lists it; LaTeX → HTML), ``images``: figures embedded
+    ahead (:func:`report_images`, :func:`embed_images`); the rest is rendered and embedded here."""
     out_dir = Path(out_dir)
     counts = verdict_counts(rows)
     manifests = {p: json.loads((out_dir / p / MANIFEST).read_text()) for p in papers}
-    doc = _Doc(out_dir, math)
+    doc = _Doc(out_dir, math, images)
     doc.heading(1, "armlab reproduce: the papers beside armlab")
     summary = (f"{len(rows)} published numbers and claims checked: {counts[MATCHES]} match, "
                f"{counts[DIFFERS]} differ, {counts[NOT_REPRODUCIBLE]} are not reproducible from what the papers print.")

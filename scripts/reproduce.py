@@ -2,13 +2,12 @@
 
 ``armlab reproduce [--paper 000|001|003|004|all] [--out DIR] [--fast] [--jobs N]`` runs the paper
 scripts (``scripts/paper_NNN.py``, each also runnable alone) into a temporary folder beside ``DIR``,
-in ``N`` worker processes (default: one per CPU; the papers are independent, and the report's
-mathematics is rendered by the workers as each paper ends), writes ``report.md`` and
-``report.html`` there, and only then renames it into place: the
-output folder is complete or untouched (:class:`~armlab.files.OutputFolder`). An existing
-``DIR`` is replaced only if it is empty or an earlier reproduction (it holds :data:`MARKER`);
-reproducing some papers keeps the others an earlier reproduction there holds, and the report
-covers them all.
+in ``N`` worker processes (default: one per CPU; the papers are independent, and the workers
+render the report's mathematics and embed its figures as each paper ends), writes ``report.md``
+and ``report.html`` there, and only then renames it into place: the output folder is complete or
+untouched (:class:`~armlab.files.OutputFolder`). An existing ``DIR`` is replaced only if it is empty
+or an earlier reproduction (it holds :data:`MARKER`); reproducing some papers keeps the others an
+earlier reproduction there holds, and the report covers them all.
 """
 
 from __future__ import annotations
@@ -111,14 +110,16 @@ def _job(task: Callable[..., Any], args: tuple, progress: Callable[[str], Any] |
     return value, [(w.category, str(w.message)) for w in caught]
 
 
-def _paper(paper: str, folder: Path, fast: bool, progress: Callable[[str], Any]) -> tuple[list[Any], list[str]]:
-    """One paper: its script, then its study beyond the paper, into ``folder``; its rows and its report's LaTeX."""
+def _paper(paper: str, folder: Path, fast: bool, progress: Callable[[str], Any]
+           ) -> tuple[list[Any], list[str], list[str]]:
+    """One paper: its script, then its study beyond the paper, into ``folder``; its rows, and its report's LaTeX
+    and figures."""
     from armlab.scripts import beyond
-    from armlab.scripts.report import report_math
+    from armlab.scripts.report import report_images, report_math
 
     rows = _script(paper).run(folder, fast=fast, progress=progress)
     beyond.run(paper, folder, fast=fast, progress=progress)
-    return rows, report_math(folder)
+    return rows, report_math(folder), report_images(folder)
 
 
 def _math(pieces: Sequence[str], progress: Callable[[str], Any]) -> dict[str, str]:
@@ -126,6 +127,13 @@ def _math(pieces: Sequence[str], progress: Callable[[str], Any]) -> dict[str, st
     from armlab.scripts.math_html import latex_html
 
     return {piece: latex_html(piece) for piece in pieces}
+
+
+def _images(out: Path, images: Sequence[str], progress: Callable[[str], Any]) -> dict[str, str]:
+    """Figures embedded as the report embeds them (path relative to ``out`` → data URI)."""
+    from armlab.scripts.report import embed_images
+
+    return embed_images(out, images)
 
 
 def default_jobs() -> int:
@@ -210,8 +218,8 @@ def reproduce(
     """Run the paper scripts into ``out`` (complete or nothing) and write the report; see the module doc.
 
     The papers run in ``jobs`` worker processes (default: :func:`default_jobs`; at most :data:`MATH_TASKS`),
-    the longest first; the report's mathematics is rendered by the workers too, as each paper ends.
-    Papers not in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the new
+    the longest first; the workers also render the report's mathematics and embed its figures, as each paper
+    ends. Papers not in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the new
     output, their rows read back), so reproducing one paper updates it and the report alone.
     """
     from armlab.diagrams.graphviz import require_dot
@@ -236,18 +244,21 @@ def reproduce(
             rows[paper] = kept[paper]
             progress(f"[{paper}] kept from the earlier reproduction in {folder.out}")
         math: dict[str, str] = {}
+        images: dict[str, str] = {}
         tasks = MATH_TASKS if jobs > 1 else 1
         for key, value in pool.done():
-            if key in PAPERS:  # a paper ended: its mathematics, spread over the workers
-                rows[key], pieces = value
+            if key in PAPERS:  # a paper ended: its mathematics (longest first, spread over the workers), its figures
+                rows[key], pieces, pngs = value
+                pieces = sorted(pieces, key=len, reverse=True)
                 for k in range(tasks):
-                    pool.submit((key, k), _math, pieces[k::tasks])
+                    pool.submit(("math", key, k), _math, pieces[k::tasks])
+                pool.submit(("images", key), _images, tmp, pngs)
             else:
-                math.update(value)
+                (math if key[0] == "math" else images).update(value)
         (tmp / MARKER).write_text("armlab reproduce output; `armlab reproduce` may replace this folder\n")
         shown = [p for p in PAPERS if p in rows]
         all_rows = [row for p in shown for row in rows[p]]
-        write_report(tmp, shown, all_rows, time.perf_counter() - start, math)
+        write_report(tmp, shown, all_rows, time.perf_counter() - start, math, images)
     return ReproduceResult(folder.out / "report.md", all_rows, verdict_counts(all_rows), time.perf_counter() - start)
 
 
