@@ -233,6 +233,61 @@ def test_every_expression_renders_with_mathtext():
         latex_html(r"\frac{1}")
 
 
+def test_math_images_are_what_matplotlib_draws(tmp_path):
+    """Each report equation image (one mathtext parse, glyph outlines written as paths) looks as matplotlib's own
+    ``math_to_image`` draws the same mathtext: in headless Chromium, the same ink box (±1 px) and the same ink."""
+    import base64
+    import io
+    import shutil
+    import subprocess
+
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.mathtext import math_to_image
+    from PIL import Image
+
+    from armlab.scripts.math_html import FONT_SIZE, math_svg
+
+    texts = [r"\sqrt{x^{2} + y^{2}} = \frac{a_{1}}{b^{2}}", r"{}^4\overline{\omega}_4 = (0, 0, -\dot{q}_1)^T",
+             r"L_{2} \cos{(q_{1})} \cos{(q_{2})} - L_{3} \sin{(q_{2})} \sin{(q_{3})} \cos{(q_{1})}"]
+    cells = []
+    for text in texts:
+        buffer = io.BytesIO()
+        math_to_image(f"${text}$", buffer, prop=FontProperties(size=FONT_SIZE, math_fontfamily="dejavuserif"),
+                      format="svg")
+        theirs = base64.b64encode(buffer.getvalue().replace(b"fill: #ffffff", b"fill: none")).decode()
+        cells.append((math_svg(text), f'<img class="m" src="data:image/svg+xml;base64,{theirs}">'))
+    rows = "".join(f"<tr><td>{mine}</td><td>{theirs}</td></tr>" for mine, theirs in cells)
+    page = tmp_path / "math.html"  # four times enlarged (the images are vector graphics): geometry, not pixels
+    page.write_text("<!DOCTYPE html><html><body style='margin:0;background:#fff'><table style='border-spacing:0;"
+                    f"zoom:4'>{rows}</table></body></html>".replace("<td>", "<td style='width:400px;height:50px;"
+                                                                        "padding:0'>"))
+    browser = shutil.which("chromium") or shutil.which("chromium-browser")
+    assert browser, "chromium is needed (apt-get install chromium)"
+    png = tmp_path / "math.png"
+    subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                    f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={png}", "--window-size=3200,600",
+                    page.as_uri()], capture_output=True, timeout=180, check=True)
+    ink = np.asarray(Image.open(png).convert("L"), dtype=float) < 128
+
+    def near(mask):  # the pixels within one pixel of ``mask``'s ink
+        out = np.zeros_like(mask)
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                out |= np.roll(mask, (dy, dx), axis=(0, 1))
+        return out
+
+    for k, text in enumerate(texts):
+        mine, theirs = (ink[200 * k:200 * (k + 1), 1600 * column:1600 * (column + 1)] for column in range(2))
+        assert mine.sum() > 1000, text  # drawn
+        # the two images' boxes differ by rounding (< 1 pt): theirs moved by up to half a pixel at 11 pt (2 px here),
+        # every ink pixel of each is within a quarter pixel at 11 pt (1 px here) of the other's: the same glyphs, in
+        # the same places
+        agree = max(min((mine & near(moved)).sum() / mine.sum(), (moved & near(mine)).sum() / moved.sum())
+                    for dy in range(-2, 3) for dx in range(-2, 3)
+                    for moved in [np.roll(theirs, (dy, dx), axis=(0, 1))])
+        assert agree >= 0.99, (text, agree)
+
+
 def test_report_renders_in_chromium(run, tmp_path):
     """The report's top in headless Chromium: the summary table and an equation are drawn (not blank)."""
     import shutil
