@@ -17,9 +17,9 @@ from test_sweep import objectives, rows, write_study
 
 from armlab.analysis.study import evaluate, load_study
 from armlab.analysis.sweep import RESULTS, run_sweep
+from armlab.cli import main
 
 DASK = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "dask")
-ARMLAB = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "armlab")
 #: rr's workspace against its link lengths: 8 candidates of a fraction of a second each.
 STUDY = {"arm": "rr", "vary": {"L1": {"from": 0.3, "to": 0.45, "steps": 4}, "L2": {"values": [0.2, 0.3]}},
          "evaluate": ["workspace_volume", "reach", "mean_manipulability"], "samples": 200000}
@@ -34,6 +34,8 @@ class Cluster:
         self.folder = folder
         self.procs: list[subprocess.Popen] = []
         self.workers: list[subprocess.Popen] = []
+        self.names: dict[int, str] = {}  # worker pid → its --name
+        self.started = 0  # workers started so far
         self.procs.append(self._start([DASK, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                                        "--scheduler-file", str(self.file)], "scheduler.log"))
         deadline = time.monotonic() + 60
@@ -55,7 +57,24 @@ class Cluster:
                             "--host", "127.0.0.1", "--name", name], f"{name}.log")
         self.procs.append(proc)
         self.workers.append(proc)
+        self.names[proc.pid] = name
+        self.started += 1
         return proc
+
+    def replace_dead_workers(self) -> None:
+        """A new worker for each that ended, and wait until the scheduler lists exactly the live ones."""
+        from distributed import Client
+
+        for dead in [w for w in self.workers if w.poll() is not None]:
+            self.workers.remove(dead)
+            self.procs.remove(dead)
+            self.add_worker(f"w{self.started + 1}")
+        names = {self.names[w.pid] for w in self.workers}
+        deadline = time.monotonic() + 120
+        with Client(self.address, timeout="30s") as client:
+            while {w["name"] for w in client.scheduler_info(n_workers=-1)["workers"].values()} != names:
+                assert time.monotonic() < deadline, "the replaced dask worker did not join"
+                time.sleep(0.1)
 
     def wait_for_workers(self, n: int) -> None:
         from distributed import Client
@@ -78,11 +97,10 @@ class Cluster:
                 pass
 
 
-@pytest.fixture
-def cluster(tmp_path: Path) -> Iterator[Cluster]:
-    folder = tmp_path / "cluster"
-    folder.mkdir()
-    c = Cluster(folder)
+@pytest.fixture(scope="module")
+def shared_cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Cluster]:
+    """One `dask scheduler` with two `dask worker` processes for this module's tests (each start costs seconds)."""
+    c = Cluster(tmp_path_factory.mktemp("cluster"))
     try:
         c.add_worker("w1")
         c.add_worker("w2")
@@ -90,6 +108,16 @@ def cluster(tmp_path: Path) -> Iterator[Cluster]:
         yield c
     finally:
         c.close()
+
+
+@pytest.fixture
+def cluster(shared_cluster: Cluster) -> Iterator[Cluster]:
+    """The module's cluster as a fresh one would be: the scheduler and two live workers, all running (a test may kill a
+    worker: the next one finds it replaced)."""
+    c = shared_cluster
+    assert c.procs[0].poll() is None, "the dask scheduler ended"
+    c.replace_dead_workers()
+    yield c
 
 
 @pytest.fixture(scope="module")
@@ -100,10 +128,18 @@ def reference(tmp_path_factory: pytest.TempPathFactory) -> dict[int, list[float]
     return {i: [evaluate(study, values)[c] for c in COLUMNS] for i, values in enumerate(study.candidates)}
 
 
-def test_local_cluster_of_two_workers(tmp_path: Path, reference: dict[int, list[float]]) -> None:
+def armlab(capsys: pytest.CaptureFixture[str], *argv: str) -> subprocess.CompletedProcess:
+    """``armlab ARGV`` run in this process (its Dask cluster's processes are real all the same): exit code, stdout,
+    stderr."""
+    capsys.readouterr()
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return subprocess.CompletedProcess(["armlab", *argv], code, out, err)
+
+
+def test_local_cluster_of_two_workers(tmp_path: Path, capsys, reference: dict[int, list[float]]) -> None:
     out = tmp_path / "out"
-    run = subprocess.run([ARMLAB, "sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--workers", "2"],
-                         capture_output=True, text=True, timeout=600)
+    run = armlab(capsys, "sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--workers", "2")
     assert run.returncode == 0, run.stderr
     assert "8 candidates: 0 done before, 8 computed, 0 failed" in run.stdout
     assert objectives(out, COLUMNS) == reference
@@ -113,11 +149,10 @@ def test_local_cluster_of_two_workers(tmp_path: Path, reference: dict[int, list[
     assert record["runs"][0]["scheduler"] == "LocalCluster (2 workers)"
 
 
-def test_external_scheduler_gives_the_local_results(tmp_path: Path, cluster: Cluster,
+def test_external_scheduler_gives_the_local_results(tmp_path: Path, capsys, cluster: Cluster,
                                                     reference: dict[int, list[float]]) -> None:
     out = tmp_path / "out"
-    run = subprocess.run([ARMLAB, "sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--scheduler",
-                          cluster.address], capture_output=True, text=True, timeout=600)
+    run = armlab(capsys, "sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--scheduler", cluster.address)
     assert run.returncode == 0, run.stderr
     assert objectives(out, COLUMNS) == reference
     assert len({r["worker"] for r in rows(out).values()}) == 2
