@@ -31,6 +31,7 @@ import os
 import shutil
 import signal
 import stat
+import sys
 import tempfile
 import threading
 from collections.abc import Callable, Iterator, Sequence
@@ -93,6 +94,11 @@ def _importing(frame: FrameType | None) -> bool:
     return False
 
 
+def _send_again(signum: int) -> None:
+    """Send ``signum`` to this process again shortly (from a timer thread): it arrived where it cannot stop us."""
+    threading.Timer(0.05, os.kill, (os.getpid(), signum)).start()
+
+
 def _on_signal(signum: int, frame: FrameType | None) -> None:
     _STATE.received = signum
     if _STATE.held:
@@ -101,9 +107,22 @@ def _on_signal(signum: int, frame: FrameType | None) -> None:
     if _importing(frame):
         # An exception inside an extension module's initialisation (pydrake's) aborts the interpreter: the
         # signal is sent again shortly, until it arrives outside the import.
-        threading.Timer(0.05, os.kill, (os.getpid(), signum)).start()
+        _send_again(signum)
         return
     raise Interrupted(signum)
+
+
+def _unraisable_hook(previous: Callable[[Any], Any]) -> Callable[[Any], Any]:
+    """``sys.unraisablehook`` that sends a stop signal again when its :class:`Interrupted` was raised where Python
+    can only print it and go on (a weakref callback, a finalizer, a garbage collection), and else is ``previous``."""
+
+    def hook(unraisable: Any) -> None:
+        if isinstance(unraisable.exc_value, Interrupted):
+            _send_again(unraisable.exc_value.signum)
+        else:
+            previous(unraisable)
+
+    return hook
 
 
 @contextmanager
@@ -111,7 +130,8 @@ def stop_on_signals() -> Iterator[SignalState]:
     """``with stop_on_signals() as state:`` SIGINT and SIGTERM raise :class:`Interrupted` in the main thread.
 
     Yields the :class:`SignalState` (``state.received``: the signal, for the exit code 128 + signal).
-    The previous handlers are restored on leaving. Outside the main thread (where Python cannot set
+    A signal that arrives where Python cannot raise (an import, a weakref callback, a finalizer) is sent again
+    shortly. The previous handlers are restored on leaving. Outside the main thread (where Python cannot set
     handlers) it changes nothing.
     """
     if threading.current_thread() is not threading.main_thread():
@@ -119,11 +139,13 @@ def stop_on_signals() -> Iterator[SignalState]:
         return
     _STATE.received = _STATE.pending = 0
     previous = {signum: signal.signal(signum, _on_signal) for signum in STOP_SIGNALS}
+    previous_hook, sys.unraisablehook = sys.unraisablehook, _unraisable_hook(sys.unraisablehook)
     try:
         yield _STATE
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
+        sys.unraisablehook = previous_hook
 
 
 @contextmanager

@@ -155,3 +155,36 @@ def test_a_stop_signal_ends_a_sweep(box, lines, delay, signum):
         rows = [line.split(",") for line in results.read_text().splitlines()]
         assert rows and all(len(row) == len(rows[0]) for row in rows)
     assert _ended(box)
+
+
+def test_a_stop_signal_inside_a_weakref_callback_still_stops():
+    """A signal whose handler runs inside a weakref callback (garbage collection, a WeakKeyDictionary's clean-up):
+    Python only prints the Interrupted raised there and goes on, so the signal is sent again and stops the work
+    after the callback; nothing is printed."""
+    import sys
+    import weakref
+
+    from armlab.files import Interrupted, stop_on_signals
+
+    class Thing:
+        pass
+
+    def callback(_):
+        signal.raise_signal(signal.SIGINT)  # the handler runs at the callback's next instructions
+        sum(range(1000))
+
+    printed = []
+    hook, sys.unraisablehook = sys.unraisablehook, printed.append  # what Python would print
+    try:
+        with pytest.raises(Interrupted), stop_on_signals() as state:
+            thing = Thing()
+            ref = weakref.ref(thing, callback)
+            del thing  # the callback runs now
+            assert ref() is None
+            end = time.monotonic() + 5
+            while time.monotonic() < end:  # the work after the callback, stopped by the signal sent again
+                time.sleep(0.01)
+            raise AssertionError("the signal raised inside the callback was lost")
+    finally:
+        sys.unraisablehook = hook
+    assert state.received == signal.SIGINT and printed == []
