@@ -16,7 +16,6 @@ import argparse
 import importlib
 import multiprocessing
 import os
-import queue as queue_module
 import shutil
 import signal
 import sys
@@ -40,6 +39,8 @@ MARKER = ".armlab-reproduce"
 LONGEST_FIRST = ("000", "004", "003", "001")
 #: Tasks each paper's report mathematics is split into when workers render it.
 MATH_TASKS = 4
+#: Seconds between looks at the workers' progress lines and results.
+POLL = 0.02
 #: The workers' numerical libraries run one thread each: there is a worker per CPU already, and the threads of
 #: OpenBLAS (numpy's) and OpenMP wait for work spinning, costing CPU the other worker needs.
 ONE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
@@ -160,7 +161,7 @@ class _Pool:
             saved = {name: os.environ.get(name) for name in ONE_THREAD}
             os.environ.update(ONE_THREAD)  # the workers' environment (a spawned process copies it when it starts)
             try:
-                self.queue = context.Queue()
+                self.queue = context.SimpleQueue()  # a worker's put is written at once: its lines precede its value
                 self.pool = context.Pool(self.jobs, initializer=_worker_start, initargs=(self.queue,))
             except (OSError, ImportError) as error:  # e.g. no /dev/shm for the queues' semaphores
                 self.progress(f"worker processes are not available here ({error}); working in this process")
@@ -187,25 +188,24 @@ class _Pool:
         else:
             self.pending[key] = self.pool.apply_async(_job, (task, args))
 
-    def _drain(self, timeout: float) -> None:
-        try:
-            self.progress(self.queue.get(timeout=timeout))
-            while True:
-                self.progress(self.queue.get_nowait())
-        except queue_module.Empty:
-            pass
+    def _drain(self) -> None:
+        while not self.queue.empty():
+            self.progress(self.queue.get())
 
     def done(self) -> Iterator[tuple[Any, Any]]:
-        """``(key, value)`` of each task as it ends (tasks submitted meanwhile included); a task's exception is
-        raised here, and the warnings it raised are raised again."""
+        """``(key, value)`` of each task as it ends (tasks submitted meanwhile included), after the progress
+        lines it printed; a task's exception is raised here, and the warnings it raised are raised again."""
         while self.pending:
             if self.pool is not None:
-                self._drain(0.05)
-            for key in [k for k, r in self.pending.items() if self.pool is None or r.ready()]:
+                self._drain()
+            ready = [k for k, r in self.pending.items() if self.pool is None or r.ready()]
+            if not ready:
+                time.sleep(POLL)
+            for key in ready:
                 result = self.pending.pop(key)
                 value, caught = result if self.pool is None else result.get()
                 if self.pool is not None:
-                    self._drain(0)  # its last lines before its value
+                    self._drain()  # its lines, written before its value was
                 for category, message in caught:
                     warnings.warn(message, category, stacklevel=2)
                 yield key, value

@@ -562,7 +562,7 @@ def test_without_worker_processes_the_tasks_run_here(monkeypatch):
     from armlab.scripts.reproduce import _Pool
 
     class NoSemaphores:
-        def Queue(self):
+        def SimpleQueue(self):
             raise OSError("[Errno 38] Function not implemented")
 
     monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoSemaphores())
