@@ -500,6 +500,10 @@ def test_cli_single_paper_and_unwritable_out(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "cannot write in" in err[0]
     assert main(["reproduce", "--paper", "002", "--out", str(out)]) == 2
+    capsys.readouterr()
+    for jobs, why in (("0", "'0' is not a whole number ≥ 1"), ("two", "'two' is not a number")):
+        assert main(["reproduce", "--jobs", jobs, "--out", str(out)]) == 2
+        assert capsys.readouterr().err.strip().splitlines() == [f"armlab: error: argument --jobs: {why}"]
 
 
 def test_paper_script_runs_alone(tmp_path):
