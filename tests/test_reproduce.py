@@ -268,7 +268,7 @@ def test_math_images_are_what_matplotlib_draws(tmp_path):
     png = tmp_path / "math.png"
     subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
                     f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={png}", "--window-size=3200,600",
-                    page.as_uri()], capture_output=True, timeout=180, check=True)
+                    "--virtual-time-budget=2000", page.as_uri()], capture_output=True, timeout=180, check=True)
     ink = np.asarray(Image.open(png).convert("L"), dtype=float) < 128
 
     def near(mask):  # the pixels within one pixel of ``mask``'s ink
