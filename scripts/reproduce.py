@@ -221,6 +221,9 @@ def reproduce(
     the longest first; the workers also render the report's mathematics and embed its figures, as each paper
     ends. Papers not in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the new
     output, their rows read back), so reproducing one paper updates it and the report alone.
+
+    Called from a script of your own, call it under ``if __name__ == "__main__":`` (as for any
+    :mod:`multiprocessing` pool: a spawned worker imports the script again), or pass ``jobs=1``.
     """
     from armlab.diagrams.graphviz import require_dot
     from armlab.scripts.report import load_rows, verdict_counts, write_report
