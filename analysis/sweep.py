@@ -210,8 +210,8 @@ def _stderr_to(path: str) -> Iterator[None]:
 
 
 def default_workers() -> int:
-    """Local workers by default: one per core this process may use."""
-    return len(os.sched_getaffinity(0))
+    """Local workers by default: one per core this process may use (also ``armlab reproduce``'s default)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
 def run_sweep(

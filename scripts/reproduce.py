@@ -39,6 +39,8 @@ MARKER = ".armlab-reproduce"
 LONGEST_FIRST = ("000", "004", "003", "001")
 #: Tasks each paper's report mathematics is split into when workers render it.
 MATH_TASKS = 4
+#: More worker processes than this would only wait: at most four papers, then four mathematics tasks at a time.
+MAX_JOBS = 4
 #: Seconds between looks at the workers' progress lines and results.
 POLL = 0.02
 #: The workers' numerical libraries run one thread each: there is a worker per CPU already, and the threads of
@@ -137,11 +139,6 @@ def _images(out: Path, images: Sequence[str], progress: Callable[[str], Any]) ->
     return embed_images(out, images)
 
 
-def default_jobs() -> int:
-    """Worker processes by default: the CPUs this process may run on."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-
-
 class _Pool:
     """``jobs`` worker processes (spawned: no state of the caller's is inherited) that run :func:`_job` tasks,
     their progress lines passed to ``progress`` as they come; with ``jobs == 1`` the tasks run in this process.
@@ -217,14 +214,16 @@ def reproduce(
 ) -> ReproduceResult:
     """Run the paper scripts into ``out`` (complete or nothing) and write the report; see the module doc.
 
-    The papers run in ``jobs`` worker processes (default: :func:`default_jobs`; at most :data:`MATH_TASKS`),
-    the longest first; the workers also render the report's mathematics and embed its figures, as each paper
-    ends. Papers not in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the new
-    output, their rows read back), so reproducing one paper updates it and the report alone.
+    The papers run in ``jobs`` worker processes (default: one per CPU, as ``armlab sweep``'s
+    :func:`~armlab.analysis.sweep.default_workers`; at most :data:`MAX_JOBS`), the longest first; the
+    workers also render the report's mathematics and embed its figures, as each paper ends. Papers not
+    in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the new output,
+    their rows read back), so reproducing one paper updates it and the report alone.
 
     Called from a script of your own, call it under ``if __name__ == "__main__":`` (as for any
     :mod:`multiprocessing` pool: a spawned worker imports the script again), or pass ``jobs=1``.
     """
+    from armlab.analysis.sweep import default_workers
     from armlab.diagrams.graphviz import require_dot
     from armlab.scripts.report import load_rows, verdict_counts, write_report
 
@@ -237,7 +236,7 @@ def reproduce(
     folder = output_folder(out)
     earlier = {p: load_rows(folder.out / p) for p in PAPERS if p not in papers} if folder.out.is_dir() else {}
     kept = {paper: rows for paper, rows in earlier.items() if rows is not None}
-    jobs = min(jobs or default_jobs(), MATH_TASKS)  # more workers than tasks at a time would only wait
+    jobs = min(jobs or default_workers(), MAX_JOBS)
     with folder as tmp, _Pool(jobs, progress) as pool:
         for paper in (p for p in LONGEST_FIRST if p in papers):
             pool.submit(paper, _paper, paper, tmp / paper, fast)
@@ -280,6 +279,7 @@ def _cmd(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``reproduce`` subcommand to the ``armlab`` CLI's subparsers."""
+    from armlab.analysis.sweep import default_workers
     from armlab.cli import positive_int
 
     p = subparsers.add_parser("reproduce", help="regenerate the papers' figures and tables, with a report")
@@ -288,7 +288,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--out", default="out", help="output folder (default out/)")
     p.add_argument("--fast", action="store_true", help="coarser sampling and log period (for CI)")
     p.add_argument("--jobs", type=positive_int, default=None, metavar="N",
-                   help=f"worker processes (default: the CPUs armlab may use, here {default_jobs()}); 1 runs "
+                   help=f"worker processes (default: the CPUs armlab may use, here {default_workers()}); 1 runs "
                         "everything in this process")
     p.set_defaults(func=_cmd)
 

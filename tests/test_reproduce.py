@@ -238,13 +238,13 @@ def test_math_images_are_what_matplotlib_draws(tmp_path):
     ``math_to_image`` draws the same mathtext: in headless Chromium, the same ink box (±1 px) and the same ink."""
     import base64
     import io
-    import shutil
-    import subprocess
 
+    from browser import screenshot
     from matplotlib import rc_context
     from matplotlib.font_manager import FontProperties
     from matplotlib.mathtext import math_to_image
     from PIL import Image
+    from test_replay import chromium
 
     from armlab.scripts.math_html import FONT_SIZE, math_svg
 
@@ -263,12 +263,8 @@ def test_math_images_are_what_matplotlib_draws(tmp_path):
     page.write_text("<!DOCTYPE html><html><body style='margin:0;background:#fff'><table style='border-spacing:0;"
                     f"zoom:4'>{rows}</table></body></html>".replace("<td>", "<td style='width:400px;height:50px;"
                                                                         "padding:0'>"))
-    browser = shutil.which("chromium") or shutil.which("chromium-browser")
-    assert browser, "chromium is needed (apt-get install chromium)"
     png = tmp_path / "math.png"
-    subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-                    f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={png}", "--window-size=3200,600",
-                    "--virtual-time-budget=2000", page.as_uri()], capture_output=True, timeout=180, check=True)
+    screenshot(chromium(), [page], [png], (3200, 600), budget_ms=2000)
     ink = np.asarray(Image.open(png).convert("L"), dtype=float) < 128
 
     def near(mask):  # the pixels within one pixel of ``mask``'s ink
@@ -292,27 +288,20 @@ def test_math_images_are_what_matplotlib_draws(tmp_path):
 
 def test_report_renders_in_chromium(run, tmp_path):
     """The report's top in headless Chromium: the summary table and an equation are drawn (not blank)."""
-    import shutil
-    import subprocess
+    from browser import screenshot
+    from PIL import Image
+    from test_replay import chromium
 
     from armlab.scripts.math_html import latex_html
 
     out, _, _ = run
-    browser = shutil.which("chromium") or shutil.which("chromium-browser")
-    assert browser, "chromium is needed (apt-get install chromium)"
     page = tmp_path / "equation.html"
     page.write_text("<!DOCTYPE html><html><body style='margin:0;background:#fff'>"
                     + latex_html(r"{}^4\overline{\omega}_4 = (0, 0, -\dot{q}_1)^T") + "</body></html>")
-    shots = []
-    for html_file in (out / "report.html", page):
-        png = tmp_path / f"{html_file.stem}.png"
-        subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-                        f"--user-data-dir={tmp_path / ('profile-' + html_file.stem)}", f"--screenshot={png}",
-                        "--window-size=1280,900", html_file.as_uri()], capture_output=True, timeout=180, check=True)
-        from PIL import Image
-
-        shots.append(np.asarray(Image.open(png).convert("L"), dtype=float) / 255)
-    top, equation = shots
+    pages = [out / "report.html", page]
+    pngs = [tmp_path / f"{html_file.stem}.png" for html_file in pages]
+    screenshot(chromium(), pages, pngs, (1280, 900), budget_ms=2000)
+    top, equation = (np.asarray(Image.open(png).convert("L"), dtype=float) / 255 for png in pngs)
     assert (top[:300] < 0.5).mean() > 0.01  # title, summary text and table drawn
     ink = equation[:60, :400] < 0.5
     assert 0.01 < ink.mean() < 0.5 and np.ptp(np.nonzero(ink)[1]) > 80  # the equation drawn, ~100 px wide
@@ -576,37 +565,3 @@ def test_without_worker_processes_the_tasks_run_here(monkeypatch):
         assert dict(pool.done()) == {0: 25}
     assert lines == ["worker processes are not available here ([Errno 38] Function not implemented); working in "
                      "this process", "task 5 working"]
-
-
-@pytest.mark.parametrize("signum", ["SIGINT", "SIGTERM"])
-def test_a_stopped_reproduction_stops_its_workers_quietly(tmp_path, monkeypatch, capsys, signum):
-    """Ctrl-C (to the process group: the workers ignore it, the parent stops them) or SIGTERM (to the parent alone)
-    while both workers run: exit 130 / 143, nothing on stderr (no traceback, no warning of a lock a killed worker
-    held), no worker process left, no output, no temporary."""
-    import os
-    import signal
-    import subprocess
-    import time
-
-    from contract import Sandbox
-
-    box = Sandbox(tmp_path, monkeypatch, capsys)
-    process = subprocess.Popen(box.command("reproduce", "--fast", "--jobs", "2", "--out", "rep"), cwd=box.cwd,
-                               env=box.env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               start_new_session=True)
-    seen = set()
-    for line in process.stdout:  # both workers have started a paper
-        seen.add(line[:5])
-        if {"[000]", "[004]"} <= seen:
-            break
-    number = getattr(signal, signum)
-    if number == signal.SIGINT:
-        os.killpg(process.pid, number)
-    else:
-        process.send_signal(number)
-    _, err = process.communicate(timeout=60)
-    assert process.returncode == 128 + number and err == "", (process.returncode, err[-3000:])
-    end = time.monotonic() + 10
-    while box.processes() and time.monotonic() < end:
-        time.sleep(0.1)
-    assert box.processes() == [] and box.debris() == []

@@ -103,6 +103,22 @@ def test_a_stop_signal_leaves_nothing(box, argv, text, delay, signum):
     assert _ended(box)
 
 
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=lambda s: s.name)
+def test_a_stopped_reproduction_stops_its_workers_quietly(box, signum):
+    """Ctrl-C (the workers ignore it, the parent stops them) or SIGTERM (the parent alone) while both of
+    ``armlab reproduce``'s workers run a paper: nothing at all on stderr (no warning of a lock a killed worker
+    held), besides what every stop is held to."""
+    process = _start(box, "reproduce", "--fast", "--jobs", "2", "--out", "rep")
+    lines: list[str] = []
+    for paper in ("[000]", "[004]"):  # 000 starts on one worker, 004 on the other
+        assert any(paper in line for line in lines) or _wait_for(process, paper, lines), lines
+    err, took = _stop(process, signum, lines)
+    assert process.returncode == 128 + signum and err == "", (process.returncode, err[-3000:])
+    assert took < PROMPT
+    assert box.debris() == []
+    assert _ended(box)
+
+
 def _ended(box: Sandbox) -> bool:
     """No process of the sandbox is left (e.g. a Dask worker), waiting up to 10 s for them to end."""
     end = time.monotonic() + 10
