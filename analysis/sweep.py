@@ -5,7 +5,10 @@ before any work, then submits every candidate not yet in ``DIR/results.csv`` to 
 default a ``LocalCluster`` of worker processes (one thread each, on 127.0.0.1, no dashboard) started
 and closed here; with ``scheduler="tcp://HOST:PORT"`` an existing cluster (``dask scheduler`` /
 ``dask worker``: each worker needs the same armlab installed, and the files a study names — a user
-arm's ``.urdf``/``.csv``, a ``segments`` file — at the same paths). Results are appended to
+arm's ``.urdf``/``.csv``, a ``segments`` file — at the same paths; their nannies should not set Dask's
+``MALLOC_TRIM_THRESHOLD_``, which nearly doubles a workspace candidate's CPU time: a Dask config file, e.g.
+``~/.config/dask/armlab.yaml`` holding ``distributed: {nanny: {pre-spawn-environ: {MALLOC_TRIM_THRESHOLD_: null}}}``,
+does that for ``dask worker``, as :func:`run_sweep` does for its local cluster). Results are appended to
 ``results.csv`` as they arrive, one whole line per write, flushed and fsynced, so an interrupted
 sweep loses nothing already written and never leaves half a row; a rerun into the same folder
 computes only the missing candidates (``study.json`` is written when the folder is made, so a stopped sweep
@@ -176,7 +179,11 @@ def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any
         return client
     scratch = tempfile.mkdtemp(prefix="armlab-dask-")
     stack.callback(shutil.rmtree, scratch, ignore_errors=True)
-    stack.enter_context(dask.config.set({"temporary-directory": scratch}))  # the scheduler's scratch
+    # The scheduler's scratch; and the workers start without Dask's MALLOC_TRIM_THRESHOLD_: setting it turns off glibc's
+    # adaptive mmap threshold, so each large numpy array was a fresh mmap, and its page faults doubled a workspace
+    # candidate's CPU time (half of it in the kernel).
+    stack.enter_context(dask.config.set({"temporary-directory": scratch,
+                                         "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}))
     # A stop signal during the start waits until the cluster is on ``stack`` (else Dask's atexit hook meets a
     # half-started cluster). The workers write their stderr to a log in the scratch folder: Ctrl-C reaches the
     # terminal's whole process group, and each worker would print its KeyboardInterrupt's traceback; this process
@@ -278,9 +285,11 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
         bar = stack.enter_context(tqdm(total=len(todo), unit="candidate", file=sys.stderr, dynamic_ncols=True,
                                        disable=not (sys.stderr.isatty() if progress is None else progress)))
         n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
-        remote = client.scatter(study, broadcast=True)
         token = uuid.uuid4().hex[:8]  # a sweep's own keys: another sweep's results are never reused
-        futures = {client.submit(timed_evaluate, remote, candidates[i], pure=False, key=f"candidate-{i}-{token}"): i
+        # The study (a few hundred bytes: the arm is a name or a path) travels inside each task. Not scattered: a
+        # broadcast scatter's replication could meet a worker the stop signal's close had already removed, and the
+        # scheduler printed a KeyError's traceback.
+        futures = {client.submit(timed_evaluate, study, candidates[i], pure=False, key=f"candidate-{i}-{token}"): i
                    for i in todo}
         for future in as_completed(futures):
             index = futures[future]

@@ -24,6 +24,8 @@ DASK = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "dask")
 STUDY = {"arm": "rr", "vary": {"L1": {"from": 0.3, "to": 0.45, "steps": 4}, "L2": {"values": [0.2, 0.3]}},
          "evaluate": ["workspace_volume", "reach", "mean_manipulability"], "samples": 200000}
 COLUMNS = ["workspace_volume", "reach", "mean_manipulability"]
+#: The Dask config file the sweep's docstring gives for `dask worker`.
+DASK_CONFIG = "distributed: {nanny: {pre-spawn-environ: {MALLOC_TRIM_THRESHOLD_: null}}}\n"
 
 
 class Cluster:
@@ -46,9 +48,13 @@ class Cluster:
         assert self.address.startswith("tcp://127.0.0.1:")
 
     def _start(self, command: list[str], log: str) -> subprocess.Popen:
+        """``command`` with the Dask config file armlab's sweep documents for hand-started workers."""
+        config = self.folder / "dask-config"
+        config.mkdir(exist_ok=True)
+        (config / "armlab.yaml").write_text(DASK_CONFIG)
         handle = open(self.folder / log, "w")
         proc = subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT, start_new_session=True,
-                                cwd=self.folder)
+                                cwd=self.folder, env={**os.environ, "DASK_CONFIG": str(config)})
         handle.close()
         return proc
 
@@ -180,3 +186,23 @@ def test_a_killed_worker_s_tasks_are_rerun(tmp_path: Path, cluster: Cluster,
     assert done.failed == [] and done.computed == 8
     assert objectives(out, COLUMNS) == reference
     assert rows(out).keys() == reference.keys()
+
+
+def test_workers_keep_glibc_s_adaptive_malloc(cluster: Cluster) -> None:
+    """Neither the sweep's local workers nor `dask worker` started with the documented config get Dask's
+    MALLOC_TRIM_THRESHOLD_ (it turns off glibc's adaptive mmap threshold: page faults nearly doubled a workspace
+    candidate's CPU time); the rest of Dask's worker environment (one BLAS thread) stays."""
+    from contextlib import ExitStack
+
+    from distributed import Client
+
+    from armlab.analysis.sweep import _client
+
+    def environment() -> tuple[str | None, str | None]:
+        return os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OPENBLAS_NUM_THREADS")
+
+    with ExitStack() as stack:
+        local = _client(stack, 1, None)
+        assert list(local.run(environment).values()) == [(None, "1")]
+    with Client(cluster.address) as client:
+        assert list(client.run(environment).values()) == [(None, "1")] * 2
