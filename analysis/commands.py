@@ -105,9 +105,9 @@ def cmd_workspace(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``workspace`` and ``sweep`` subcommands to the CLI's subparsers."""
     from armlab.analysis.sweep import EXIT_FAILED, cmd_sweep
-    from armlab.analysis.workspace import DEFAULT_SAMPLES, MAX_SAMPLES, MAX_SEED, SAMPLES_PER_CELL, _short
+    from armlab.analysis.workspace import DEFAULT_SAMPLES, MAX_SAMPLES, MAX_SEED, SAMPLES_PER_CELL
     from armlab.cli import positive_int
-    from armlab.limits import allowed
+    from armlab.limits import allowed, whole_text
 
     p = subparsers.add_parser(
         "workspace", help="an arm's workspace: volume, reach, manipulability, singular configurations",
@@ -120,7 +120,8 @@ def register(subparsers: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
     p.add_argument("--samples", type=positive_int, default=DEFAULT_SAMPLES, metavar="N",
-                   help=f"joint-space samples, 1000 … {_short(MAX_SAMPLES)} (default {_short(DEFAULT_SAMPLES)})")
+                   help=f"joint-space samples, 1000 … {whole_text(MAX_SAMPLES)} "
+                        f"(default {whole_text(DEFAULT_SAMPLES)})")
     p.add_argument("--resolution", type=float, metavar="H",
                    help=f"voxel edge in metres, {allowed('resolution')} (default: about {SAMPLES_PER_CELL} samples "
                         "per occupied cell)")

@@ -333,21 +333,15 @@ def workspace(
     return result
 
 
-def _short(value: float) -> str:
-    """A whole number as short text: ``1e9`` if that is exact, else all its digits."""
-    from armlab.limits import _num
-
-    text = _num(float(value))
-    return text if float(text) == value else str(int(value))
-
-
 def _whole(value: Any, name: str, low: int, high: int, why: str) -> int:
     """``value`` as an int if it is a whole number in ``low … high``; else a one-line ``ValueError`` naming ``name``."""
+    from armlab.limits import whole_text
+
     whole = (isinstance(value, (int, np.integer)) and not isinstance(value, bool)) or \
         (isinstance(value, float) and value.is_integer())
     if not whole or not low <= value <= high:
-        shown = _short(value) if whole and abs(value) <= 1e308 else repr(value)[:40]
-        raise ValueError(f"{name} {shown} is not allowed: give a whole number {low} … {_short(high)} ({why})")
+        shown = whole_text(value) if whole and abs(value) <= 1e308 else repr(value)[:40]
+        raise ValueError(f"{name} {shown} is not allowed: give a whole number {low} … {whole_text(high)} ({why})")
     return int(value)
 
 

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LIMITS", "Limit", "allowed", "check_positive", "check_range"]
+__all__ = ["LIMITS", "Limit", "allowed", "check_positive", "check_range", "whole_text"]
 
 
 @dataclass(frozen=True)
@@ -56,6 +56,12 @@ def _key(name: str) -> str:
 def _num(value: float) -> str:
     """``1e+06`` → ``1e6``: a number as short text."""
     return re.sub(r"e([+-])0*(\d)", lambda m: f"e{'-' if m[1] == '-' else ''}{m[2]}", f"{value:.6g}")
+
+
+def whole_text(value: float) -> str:
+    """A whole number as short text: ``1e9`` where that is exact, else all its digits (``4294967295``)."""
+    text = _num(float(value))
+    return text if float(text) == value else str(int(value))
 
 
 def allowed(name: str) -> str:

@@ -134,10 +134,9 @@ class Run:
         ``replay.html`` (the run as a 3-D animation with its time slider and a readout of t, q — in degrees
         with ``deg`` — and τ).
         """
-        from armlab.diagrams.drives import plot_drives, write_drives_csv
+        from armlab.diagrams.drives import write_drives_csv
         from armlab.diagrams.graphviz import fig6_dot, render, require_dot
         from armlab.diagrams.output import write_log_csv, write_summary
-        from armlab.diagrams.plots import write_plots
         from armlab.diagrams.replay import replay_log
 
         require_dot()
@@ -147,8 +146,8 @@ class Run:
         (folder / "diagram.dot").write_text(log.diagram_dot)
         (folder / "diagram.svg").write_bytes(render(fig6_dot(log.diagram_dot), "svg"))
         (folder / "diagram_full.svg").write_bytes(render(log.diagram_dot, "svg"))
-        plots = write_plots(log, folder)
-        drives = [write_drives_csv(log, folder / "drives.csv"), plot_drives(log, folder / "drives.png")]
+        drives = write_drives_csv(log, folder / "drives.csv")
+        *plots, drives_png = self.plot(folder)
         replay_log(log, folder / "replay.html", deg=deg)
         return ["log.csv", "summary.json", "diagram.svg", "diagram_full.svg", "diagram.dot", *(p.name for p in plots),
-                *(p.name for p in drives), "replay.html"]
+                drives.name, drives_png.name, "replay.html"]

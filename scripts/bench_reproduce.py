@@ -55,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="runs of each, in turns (default 3; median)")
     args = parser.parse_args(argv)
-    from armlab.analysis.sweep import default_workers
+    from armlab.scripts.reproduce import default_jobs
 
     times: dict[str, list[float]] = {"default": [], "one": []}
     summaries = set()
@@ -71,7 +71,7 @@ def main(argv: list[str] | None = None) -> int:
     ratios = [b / a for a, b in zip(times["default"], times["one"], strict=True)]
     print(f"cold `armlab reproduce` (new matplotlib cache, armlab compiled again), median of {args.repeat}; "
           f"{summaries.pop()}")
-    print(f"  {default_workers()} worker processes (default): {default:6.1f} s   (goal ≤ {GOAL:g} s)   "
+    print(f"  {default_jobs()} worker processes (default): {default:6.1f} s   (goal ≤ {GOAL:g} s)   "
           f"runs: {', '.join(f'{t:.1f}' for t in times['default'])}")
     print(f"  one process (--jobs 1):      {one:6.1f} s   runs: {', '.join(f'{t:.1f}' for t in times['one'])}")
     print(f"  one process / workers: {statistics.median(ratios):.2f}× (median of the pairs)")

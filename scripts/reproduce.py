@@ -2,7 +2,7 @@
 
 ``armlab reproduce [--paper 000|001|003|004|all] [--out DIR] [--fast] [--jobs N]`` runs the paper
 scripts (``scripts/paper_NNN.py``, each also runnable alone) into a temporary folder beside ``DIR``,
-in ``N`` worker processes (default: one per CPU; the papers are independent, and the workers
+in ``N`` worker processes (default: one per CPU, at most four; the papers are independent, and the workers
 render the report's mathematics and embed its figures as each paper ends), writes ``report.md``
 and ``report.html`` there, and only then renames it into place: the output folder is complete or
 untouched (:class:`~armlab.files.OutputFolder`). An existing ``DIR`` is replaced only if it is empty
@@ -29,7 +29,7 @@ from typing import Any
 
 from armlab.files import OutputFolder
 
-__all__ = ["MARKER", "PAPERS", "ReproduceResult", "output_folder", "register", "reproduce", "run_alone"]
+__all__ = ["MARKER", "PAPERS", "ReproduceResult", "default_jobs", "output_folder", "register", "reproduce", "run_alone"]
 
 #: The papers, in report order, and their scripts (modules of :mod:`armlab.scripts`).
 PAPERS = ("000", "001", "003", "004")
@@ -85,6 +85,14 @@ def output_folder(out: str | Path) -> OutputFolder:
     earlier reproduction; the new output is built beside it and renamed into place when complete.
     """
     return OutputFolder(Path(out).expanduser(), _is_previous, f"an earlier armlab reproduction (no {MARKER})")
+
+
+def default_jobs() -> int:
+    """Worker processes by default: one per CPU armlab may use (``armlab sweep``'s
+    :func:`~armlab.analysis.sweep.default_workers`), at most :data:`MAX_JOBS`."""
+    from armlab.analysis.sweep import default_workers
+
+    return min(default_workers(), MAX_JOBS)
 
 
 _worker_queue: Any = None  # in a worker process: where its progress lines go
@@ -214,16 +222,14 @@ def reproduce(
 ) -> ReproduceResult:
     """Run the paper scripts into ``out`` (complete or nothing) and write the report; see the module doc.
 
-    The papers run in ``jobs`` worker processes (default: one per CPU, as ``armlab sweep``'s
-    :func:`~armlab.analysis.sweep.default_workers`; at most :data:`MAX_JOBS`), the longest first; the
-    workers also render the report's mathematics and embed its figures, as each paper ends. Papers not
-    in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the new output,
+    The papers run in ``jobs`` worker processes (default :func:`default_jobs`; at most :data:`MAX_JOBS`), the
+    longest first; the workers also render the report's mathematics and embed its figures, as each paper ends.
+    Papers not in ``papers`` that an earlier reproduction in ``out`` holds are kept (copied into the new output,
     their rows read back), so reproducing one paper updates it and the report alone.
 
     Called from a script of your own, call it under ``if __name__ == "__main__":`` (as for any
     :mod:`multiprocessing` pool: a spawned worker imports the script again), or pass ``jobs=1``.
     """
-    from armlab.analysis.sweep import default_workers
     from armlab.diagrams.graphviz import require_dot
     from armlab.scripts.report import load_rows, verdict_counts, write_report
 
@@ -236,7 +242,7 @@ def reproduce(
     folder = output_folder(out)
     earlier = {p: load_rows(folder.out / p) for p in PAPERS if p not in papers} if folder.out.is_dir() else {}
     kept = {paper: rows for paper, rows in earlier.items() if rows is not None}
-    jobs = min(jobs or default_workers(), MAX_JOBS)
+    jobs = min(jobs, MAX_JOBS) if jobs else default_jobs()
     with folder as tmp, _Pool(jobs, progress) as pool:
         for paper in (p for p in LONGEST_FIRST if p in papers):
             pool.submit(paper, _paper, paper, tmp / paper, fast)
@@ -279,7 +285,6 @@ def _cmd(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``reproduce`` subcommand to the ``armlab`` CLI's subparsers."""
-    from armlab.analysis.sweep import default_workers
     from armlab.cli import positive_int
 
     p = subparsers.add_parser("reproduce", help="regenerate the papers' figures and tables, with a report")
@@ -288,8 +293,8 @@ def register(subparsers: Any) -> None:
     p.add_argument("--out", default="out", help="output folder (default out/)")
     p.add_argument("--fast", action="store_true", help="coarser sampling and log period (for CI)")
     p.add_argument("--jobs", type=positive_int, default=None, metavar="N",
-                   help=f"worker processes (default: the CPUs armlab may use, here {default_workers()}); 1 runs "
-                        "everything in this process")
+                   help=f"worker processes (default: one per CPU armlab may use, at most {MAX_JOBS}: here "
+                        f"{default_jobs()}); 1 runs everything in this process")
     p.set_defaults(func=_cmd)
 
 

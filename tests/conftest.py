@@ -5,7 +5,9 @@ from __future__ import annotations
 import contextlib
 import fcntl
 import functools
+import io
 import pickle
+import subprocess
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -29,6 +31,18 @@ def arm_and_plant(name: str):
 def random_q(arm: Arm, rng: np.random.Generator, size: int) -> np.ndarray:
     """``size`` random configurations within the joint limits (unlimited joints: ±2π)."""
     return rng.uniform(*arm.limit_arrays(unlimited=2 * np.pi), size=(size, arm.n))
+
+
+def armlab_main(*argv: str) -> subprocess.CompletedProcess:
+    """``armlab ARGV`` run in this process: ``armlab.cli.main`` (what the console script and ``python -m armlab``
+    call), its exit code, stdout and stderr (the real process's start and exit: test_cli_usage.py, test_signals.py).
+    A Dask cluster's or a reproduction's worker processes are real all the same."""
+    from armlab.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(argv))
+    return subprocess.CompletedProcess(["armlab", *argv], code, out.getvalue(), err.getvalue())
 
 
 @pytest.fixture(params=ARM_NAMES)

@@ -2,28 +2,17 @@
 
 from __future__ import annotations
 
-import io
 import json
 import subprocess
 import sys
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import numpy as np
 import pytest
 from conftest import ARM_NAMES
+from conftest import armlab_main as armlab
 
-from armlab.cli import main
 from armlab.models import get_arm
-
-
-def armlab(*args: str) -> subprocess.CompletedProcess:
-    """``armlab ARGS`` in this process: ``armlab.cli.main``, which ``python -m armlab`` runs, with its exit code,
-    stdout and stderr (the real process's entry and exit status: test_cli_usage.py and the signal tests)."""
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        code = main(list(args))
-    return subprocess.CompletedProcess(["armlab", *args], code, out.getvalue(), err.getvalue())
 
 
 def test_list_names_every_arm_with_paper_and_dof():

@@ -13,11 +13,11 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from conftest import armlab_main
 from test_sweep import objectives, rows, write_study
 
 from armlab.analysis.study import evaluate, load_study
 from armlab.analysis.sweep import RESULTS, run_sweep
-from armlab.cli import main
 
 DASK = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "dask")
 #: rr's workspace against its link lengths: 8 candidates of a fraction of a second each.
@@ -134,18 +134,9 @@ def reference(tmp_path_factory: pytest.TempPathFactory) -> dict[int, list[float]
     return {i: [evaluate(study, values)[c] for c in COLUMNS] for i, values in enumerate(study.candidates)}
 
 
-def armlab(capsys: pytest.CaptureFixture[str], *argv: str) -> subprocess.CompletedProcess:
-    """``armlab ARGV`` run in this process (its Dask cluster's processes are real all the same): exit code, stdout,
-    stderr."""
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return subprocess.CompletedProcess(["armlab", *argv], code, out, err)
-
-
-def test_local_cluster_of_two_workers(tmp_path: Path, capsys, reference: dict[int, list[float]]) -> None:
+def test_local_cluster_of_two_workers(tmp_path: Path, reference: dict[int, list[float]]) -> None:
     out = tmp_path / "out"
-    run = armlab(capsys, "sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--workers", "2")
+    run = armlab_main("sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--workers", "2")
     assert run.returncode == 0, run.stderr
     assert "8 candidates: 0 done before, 8 computed, 0 failed" in run.stdout
     assert objectives(out, COLUMNS) == reference
@@ -155,10 +146,10 @@ def test_local_cluster_of_two_workers(tmp_path: Path, capsys, reference: dict[in
     assert record["runs"][0]["scheduler"] == "LocalCluster (2 workers)"
 
 
-def test_external_scheduler_gives_the_local_results(tmp_path: Path, capsys, cluster: Cluster,
+def test_external_scheduler_gives_the_local_results(tmp_path: Path, cluster: Cluster,
                                                     reference: dict[int, list[float]]) -> None:
     out = tmp_path / "out"
-    run = armlab(capsys, "sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--scheduler", cluster.address)
+    run = armlab_main("sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--scheduler", cluster.address)
     assert run.returncode == 0, run.stderr
     assert objectives(out, COLUMNS) == reference
     assert len({r["worker"] for r in rows(out).values()}) == 2

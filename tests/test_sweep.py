@@ -11,11 +11,11 @@ import time
 from pathlib import Path
 
 import pytest
+from conftest import armlab_main
 
 from armlab.analysis.study import evaluate, load_study, parse_study
 from armlab.analysis.sweep import EXIT_FAILED, RESULTS, STUDY, run_sweep
 from armlab.analysis.workspace import workspace
-from armlab.cli import main
 from armlab.models import get_arm
 
 ARMLAB = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "armlab")
@@ -70,17 +70,15 @@ def test_bad_studies_are_one_line_errors(change: dict, message: str) -> None:
     assert "\n" not in str(error.value)
 
 
-def test_bad_study_from_the_cli_does_no_work(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """``armlab sweep`` run in this process (``armlab.cli.main``: what the console script calls)."""
+def test_bad_study_from_the_cli_does_no_work(tmp_path: Path) -> None:
+    """``armlab sweep`` run in this process (:func:`conftest.armlab_main`)."""
     (tmp_path / "broken.json").write_text("{\"arm\": ")
     for study, message in ((tmp_path / "broken.json", "not valid JSON"),
                            (write_study(tmp_path, RR_LENGTHS | {"evaluate": ["x"]}), "unknown objective 'x'"),
                            (tmp_path / "missing.json", "cannot read it")):
-        capsys.readouterr()
-        returncode = main(["sweep", str(study), "--out", str(tmp_path / "out")])
-        stderr = capsys.readouterr().err
-        assert returncode == 2 and stderr.startswith("armlab: error:") and message in stderr
-        assert len(stderr.strip().splitlines()) == 1
+        run = armlab_main("sweep", str(study), "--out", str(tmp_path / "out"))
+        assert run.returncode == 2 and run.stderr.startswith("armlab: error:") and message in run.stderr
+        assert len(run.stderr.strip().splitlines()) == 1
         assert not (tmp_path / "out").exists()
 
 

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import armlab_main
 
 from armlab.analysis.singular import SINGULAR_TOL, task_sigma
 from armlab.analysis.workspace import joint_box, sample_joints, workspace, workspace_plane
-from armlab.cli import main
 from armlab.models import get_arm
 
 ARMLAB = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "armlab")
@@ -135,17 +135,9 @@ def test_bad_arguments_are_one_line_errors(kwargs: dict, message: str) -> None:
         workspace(get_arm("urm6"), **({"samples": 5000} | kwargs), jacobians=False)
 
 
-def armlab(capsys: pytest.CaptureFixture[str], *argv: str) -> subprocess.CompletedProcess:
-    """``armlab ARGV`` in this process (``armlab.cli.main``, what the console script calls): code, stdout, stderr."""
-    capsys.readouterr()
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return subprocess.CompletedProcess(["armlab", *argv], code, out, err)
-
-
-def test_cli_writes_every_file_and_prints_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_writes_every_file_and_prints_json(tmp_path: Path) -> None:
     out = tmp_path / "ws"
-    run = armlab(capsys, "workspace", "rr", "--samples", "200000", "--out", str(out), "--json")
+    run = armlab_main("workspace", "rr", "--samples", "200000", "--out", str(out), "--json")
     assert run.returncode == 0, run.stderr
     summary = json.loads(run.stdout)
     assert {"arm", "samples", "volume", "volume_unit", "reach", "bbox", "resolution"} <= set(summary)
@@ -155,7 +147,7 @@ def test_cli_writes_every_file_and_prints_json(tmp_path: Path, capsys: pytest.Ca
         ["workspace.json", "slices.png", "convergence.png", "singular.png", "workspace.html"])
     html = (out / "workspace.html").read_text()
     assert "<script" in html and 'src="http' not in html  # self-contained
-    again = armlab(capsys, "workspace", "rr", "--samples", "100000", "--out", str(out))
+    again = armlab_main("workspace", "rr", "--samples", "100000", "--out", str(out))
     assert again.returncode == 0 and "singular where joint2 = -180, 0, 180 deg" in again.stdout
 
 
