@@ -205,7 +205,7 @@ def _variable(name: str, spec: Any, known: list[str]) -> Variable:
                              "may have; give fewer steps")
         values = np.linspace(lo, hi, steps).tolist()
     if name not in _OWN_UNITS:  # an arm parameter: bounded like the numbers of an arm file
-        from armlab.models.custom import MAX_FILE_NUMBER
+        from armlab.models.arm_file import MAX_FILE_NUMBER
 
         big = next((v for v in values if abs(v * UNITS.get(unit, 1.0)) > MAX_FILE_NUMBER), None)
         if big is not None:

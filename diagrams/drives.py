@@ -10,7 +10,7 @@
   ``drives.png`` (each joint's torque–speed operating points inside its limit box, the picture an
   engineer takes to a motor catalogue).
 
-Limits come from the arm (:class:`~armlab.models.urdf.JointLimits`); a limit the arm's file does
+Limits come from the arm (:class:`~armlab.models.write_urdf.JointLimits`); a limit the arm's file does
 not give (``None``) is not checked.
 """
 

@@ -204,7 +204,7 @@ def style_scene(meshcat: Meshcat, arm: Arm, points: ArrayLike) -> NDArray[np.flo
 def reach_points(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
     """Origins of every frame of the arm (base, links, tool, named points) over the batch ``q``, shape (M, 3).
 
-    The links are drawn between these origins (:mod:`armlab.models.urdf`), so their bounding box is
+    The links are drawn between these origins (:mod:`armlab.models.write_urdf`), so their bounding box is
     the space the arm occupies.
     """
     q = np.asarray(q, dtype=float).reshape(-1, arm.n)

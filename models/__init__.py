@@ -33,11 +33,11 @@ def get_arm(name: str, **overrides: float) -> Arm:
         return ARMS[name].build(**overrides)
     path = Path(name)
     if path.suffix.lower() == ".urdf":
-        from armlab.models.custom import from_urdf
+        from armlab.models.read_urdf import from_urdf
 
         return from_urdf(path)
     if path.suffix.lower() == ".csv":
-        from armlab.models.custom import from_dh_csv
+        from armlab.models.read_dh import from_dh_csv
 
         return from_dh_csv(path)
     raise ValueError(f"unknown arm {name!r}; allowed: {', '.join(ARMS)}, or a .urdf or DH .csv file")

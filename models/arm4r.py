@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from armlab.kinematics.batch import chain_points
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, parameter_notes
-from armlab.models.urdf import Body, JointLimits, Point
+from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "001: Qin et al., Four degree of freedom manipulator's kinematics simulation analysis based on MATLAB, Table 1"
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from armlab.kinematics.locating import JointRow, LocatingTable
 from armlab.models.arm import MODELS_DIR, Arm, chosen, from_paper, parameter_notes
-from armlab.models.urdf import Body, JointLimits, Point
+from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = (
     "003: Schonstein & Panc, Kinematical modelling for R2T serial structure, Acta Technica Napocensis 2017, "

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
-from armlab.models.urdf import Body, JointLimits, Point
+from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "000: Hroncová et al., Robot trajectory planning, MM Science Journal 2022, Fig. 1, eqs. (1)-(2)"
 

@@ -19,7 +19,7 @@ from armlab.kinematics.basic_movements import T_Z1, T_Z3, T_Z4
 from armlab.kinematics.batch import ZStep, chain_points
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
-from armlab.models.urdf import Body, JointLimits, Point
+from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "000: Hroncová et al., Robot trajectory planning, MM Science Journal 2022, Figs. 11-25, eqs. (21)-(47)"
 

@@ -18,7 +18,7 @@ from armlab.kinematics.basic_movements import T_Z3, T_Z5
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.kinematics.urm import rotation_form
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
-from armlab.models.urdf import Body, JointLimits, Point
+from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "004: Ondočko et al., Position forward kinematics of 6-DOF robotic arm, eqs. (1)-(22), Tables 1-2"
 

@@ -454,7 +454,7 @@ _dh_lines = st.lists(st.lists(_cell, min_size=0, max_size=8).map(",".join), max_
                         "a,b", "", "# units: deg\ntype,a,alpha,d,theta,lower,upper"]), _dh_lines)
 def test_read_dh_csv_property(tmp_path, header, lines):
     """The models helper's DH reader: a table or a one-line ValueError naming the file."""
-    from armlab.models.custom import read_dh_csv
+    from armlab.models.read_dh import read_dh_csv
 
     path = tmp_path / "arm.csv"
     path.write_text("\n".join([header, *lines]) + "\n")

@@ -8,8 +8,9 @@ from conftest import arm_and_plant
 
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models import get_arm
-from armlab.models.custom import from_dh, from_urdf
-from armlab.models.urdf import JointLimits
+from armlab.models.read_dh import from_dh
+from armlab.models.read_urdf import from_urdf
+from armlab.models.write_urdf import JointLimits
 
 PUMA_LIKE = """# convention: standard
 type,a,alpha,d,theta,lower,upper

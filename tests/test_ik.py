@@ -34,8 +34,8 @@ from armlab.kinematics.ik import (
 )
 from armlab.kinematics.locating import rotation_about
 from armlab.models import get_arm
-from armlab.models.custom import from_dh
-from armlab.models.urdf import JointLimits
+from armlab.models.read_dh import from_dh
+from armlab.models.write_urdf import JointLimits
 
 TOL = 1e-9
 
