@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from armlab.scripts.report import MANIFEST, PaperOutput
+from armlab.scripts.paper_output import MANIFEST, PaperOutput
 
 __all__ = ["SAMPLES", "STUDIES", "rr_drive_map", "run", "urm6_bend_angles"]
 

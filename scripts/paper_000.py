@@ -18,7 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from armlab.scripts.report import MATCHES, PaperOutput, Row, compare, differs, not_reproducible
+from armlab.scripts.paper_output import PaperOutput
+from armlab.scripts.report_rows import MATCHES, Row, compare, differs, not_reproducible
 
 PAPER = "000"
 TITLE = "Hroncová et al., Robot trajectory planning (MM Science Journal, 2022)"

@@ -20,7 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from armlab.scripts.report import PaperOutput, Row, differs, matches, not_reproducible
+from armlab.scripts.paper_output import PaperOutput
+from armlab.scripts.report_rows import Row, differs, matches, not_reproducible
 
 PAPER = "001"
 TITLE = "Qin et al., Four degree of freedom manipulator's kinematics simulation analysis based on MATLAB"

@@ -20,7 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from armlab.scripts.report import MATCHES, PaperOutput, Row, differs
+from armlab.scripts.paper_output import PaperOutput
+from armlab.scripts.report_rows import MATCHES, Row, differs
 
 PAPER = "003"
 TITLE = "Schonstein & Panc, Kinematical modelling for R2T serial structure (2017)"
@@ -71,7 +72,7 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
     from armlab.kinematics.errata import drake_sample
     from armlab.kinematics.iterative import iterative_kinematics
     from armlab.kinematics.locating import orientation_angles
-    from armlab.scripts.report import errata_checked
+    from armlab.scripts.paper_output import errata_checked
 
     l = dict(arm.parameters)
     out.group("Eqs. (17)-(23), (43)-(48): the printed forms checked against Drake",

@@ -17,7 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from armlab.scripts.report import MATCHES, PaperOutput, Row, compare, differs
+from armlab.scripts.paper_output import PaperOutput
+from armlab.scripts.report_rows import MATCHES, Row, compare, differs
 
 PAPER = "004"
 TITLE = "Ondočko et al., Position forward kinematics of 6-DOF robotic arm"

@@ -1,23 +1,11 @@
-"""Rows of the paper-vs-armlab report, each paper's outputs, and the report writer (Markdown + HTML).
+"""The report writer: ``report.md`` and a self-contained ``report.html`` of the papers beside armlab.
 
-A paper script (``scripts/paper_NNN.py``) writes its figures, tables and notes through a
-:class:`PaperOutput`, which prints one progress line per item and records it in the
-folder's ``manifest.json``; :meth:`PaperOutput.group` starts a group (a figure or table of the
-paper), and the rows, figures, tables, claims, runs and replays that follow belong to it, so
-the report shows each figure beside the rows it supports. :func:`write_report` then reads
-every paper folder's manifest and writes ``report.md`` and a self-contained ``report.html``
-(figures embedded, mathematics rendered by :mod:`armlab.scripts.math_html`, no network).
-
-Every :class:`Row` compares one number (or printed expression) the paper publishes with
-the value armlab computes at run time. Its verdict is exactly one of
-
-* ``"matches"``, or ``"matches: <qualifier>"`` when the match holds only by construction or
-  for armlab's chosen parameters (:func:`matches`);
-* ``"differs: <reason>"``;
-* ``"not reproducible: <what the paper leaves out>"``.
-
-Every CSV armlab writes goes through :func:`armlab.files.csv_text`: numbers as plain decimal text (never
-the ``repr`` of a numpy scalar), so ``numpy.loadtxt`` and ``csv`` read them back.
+:func:`write_report` reads every paper folder's manifest (written by
+:class:`armlab.scripts.paper_output.PaperOutput`) and writes ``report.md`` and ``report.html``
+(figures embedded, mathematics rendered by :mod:`armlab.scripts.math_html`, no network): a summary
+per paper, contents, then per paper its rows (:class:`~armlab.scripts.report_rows.Row`) beside their
+figures. :func:`report_math`, :func:`report_images` and :func:`embed_images` let a caller render the
+mathematics and embed the figures ahead (e.g. in parallel, as each paper ends).
 """
 
 from __future__ import annotations
@@ -29,325 +17,17 @@ import io
 import json
 import numbers
 from collections import Counter
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
-from functools import cache
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from armlab.files import write_csv
+from armlab.scripts.paper_output import MANIFEST
+from armlab.scripts.report_rows import DIFFERS, MATCHES, NOT_REPRODUCIBLE, VERDICT_KINDS, Row, verdict_counts
+from armlab.scripts.value_text import DEVIATION_DIGITS, VALUE_DIGITS, markdown_table, paper_value_text, value_text
 
-__all__ = [
-    "MATCHES",
-    "PaperOutput",
-    "Row",
-    "compare",
-    "differs",
-    "embed_images",
-    "errata_checked",
-    "load_rows",
-    "markdown_table",
-    "matches",
-    "not_reproducible",
-    "report_images",
-    "report_math",
-    "verdict_counts",
-    "write_report",
-]
-
-MATCHES = "matches"
-DIFFERS = "differs"
-NOT_REPRODUCIBLE = "not reproducible"
-VERDICT_KINDS = (MATCHES, DIFFERS, NOT_REPRODUCIBLE)
-MANIFEST = "manifest.json"
-#: Significant digits: armlab's values and table cells, and deviations (paper values are shown as printed).
-VALUE_DIGITS = 7
-DEVIATION_DIGITS = 2
-#: Magnitudes below this are round-off (shown with :data:`DEVIATION_DIGITS` digits).
-ROUND_OFF = 1e-9
-
-Value = float | str | None
+__all__ = ["embed_images", "report_images", "report_math", "write_report"]
 
 
-def matches(qualifier: str = "") -> str:
-    """``"matches"``, or ``"matches: <qualifier>"`` (e.g. "by construction", "holds for the chosen lengths")."""
-    return f"{MATCHES}: {qualifier}" if qualifier else MATCHES
-
-
-def differs(reason: str) -> str:
-    """The verdict ``"differs: <reason>"``."""
-    return f"{DIFFERS}: {reason}"
-
-
-def not_reproducible(what: str) -> str:
-    """The verdict ``"not reproducible: <what the paper leaves out>"``."""
-    return f"{NOT_REPRODUCIBLE}: {what}"
-
-
-@dataclass(frozen=True)
-class Row:
-    """One published number beside armlab's value. ``deviation`` is armlab − paper (or a norm)."""
-
-    paper: str
-    quantity: str
-    paper_value: Value
-    armlab_value: Value
-    deviation: Value
-    verdict: str
-    note: str = ""
-
-    def __post_init__(self) -> None:
-        if self.verdict != MATCHES and not any(self.verdict.startswith(f"{k}: ") for k in VERDICT_KINDS):
-            raise ValueError(f"verdict {self.verdict!r} is not allowed: "
-                             "'matches', 'matches: …', 'differs: …' or 'not reproducible: …'")
-
-    @property
-    def kind(self) -> str:
-        """``"matches"``, ``"differs"`` or ``"not reproducible"``."""
-        return self.verdict.split(":", 1)[0]
-
-
-def compare(
-    paper: str,
-    quantity: str,
-    paper_value: float,
-    armlab_value: float,
-    tol: float,
-    note: str = "",
-    reason: str | None = None,
-) -> Row:
-    """A numeric row: ``"matches"`` when |armlab − paper| ≤ ``tol``, else ``"differs: <reason>"``.
-
-    ``tol`` is the resolution of the paper's printed value (half its last digit) unless
-    ``note`` says otherwise; the default reason quotes the deviation and the tolerance.
-    """
-    deviation = float(armlab_value) - float(paper_value)
-    if abs(deviation) <= tol:
-        verdict = MATCHES
-    else:
-        verdict = differs(reason or f"|deviation| {abs(deviation):.3g} exceeds the tolerance {tol:.3g}")
-    return Row(paper, quantity, float(paper_value), float(armlab_value), deviation, verdict, note)
-
-
-def verdict_counts(rows: Sequence[Row]) -> dict[str, int]:
-    """Number of rows per verdict kind (every kind present, possibly 0)."""
-    counts = Counter(row.kind for row in rows)
-    return {kind: counts.get(kind, 0) for kind in VERDICT_KINDS}
-
-
-# --------------------------------------------------------------------------- numbers as text
-def _fmt(value: Any, digits: int = VALUE_DIGITS) -> str:
-    """A value for the report: a number with ``digits`` significant digits, text as it is, ``None`` as —."""
-    if value is None:
-        return "—"
-    if isinstance(value, str):
-        return value
-    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
-        return str(int(value))
-    value = float(value) + 0.0
-    if value == 0:
-        return "0"
-    if abs(value) < ROUND_OFF:  # round-off: its digits mean nothing
-        digits = min(digits, DEVIATION_DIGITS)
-    if abs(value) < 1e-3 or abs(value) >= 1e7:
-        return f"{value:.{max(digits - 1, 0)}e}".replace("e-0", "e-").replace("e+0", "e+")
-    return f"{value:.{max(digits, len(str(int(abs(value)))))}g}"  # never fewer than the integer digits (703)
-
-
-def _paper_fmt(value: Any) -> str:
-    """A paper value as the paper prints it (up to 10 significant digits, no trailing zeros)."""
-    return _fmt(value, 10)
-
-
-def _md_cell(text: str) -> str:
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
-def markdown_table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
-    """A GitHub-flavoured Markdown table; numbers with :data:`VALUE_DIGITS` significant digits."""
-    lines = ["| " + " | ".join(_md_cell(h) for h in headers) + " |", "|" + "---|" * len(headers)]
-    for row in rows:
-        lines.append("| " + " | ".join(_md_cell(_fmt(v)) for v in row) + " |")
-    return "\n".join(lines) + "\n"
-
-
-# --------------------------------------------------------------------------- one paper's outputs
-@dataclass
-class PaperOutput:
-    """Collects one paper's rows and writes its figures, tables and notes into ``folder``.
-
-    Everything recorded after :meth:`group` belongs to that group (its ``"group"`` index in the
-    manifest; ``"row_groups"`` holds each row's).
-    """
-
-    paper: str
-    folder: Path
-    progress: Callable[[str], Any] = print
-    title: str = ""
-    rows: list[Row] = field(default_factory=list)
-    manifest: dict[str, Any] = field(
-        default_factory=lambda: {"title": "", "groups": [], "row_groups": [], "figures": [], "tables": [],
-                                 "texts": [], "claims": [], "parameters": [], "runs": [], "replays": [],
-                                 "schemes": [], "errata": []}
-    )
-
-    def __post_init__(self) -> None:
-        self.folder = Path(self.folder)
-        self.folder.mkdir(parents=True, exist_ok=True)
-        self.manifest["title"] = self.title
-
-    def _say(self, what: str, files: Sequence[str]) -> None:
-        self.progress(f"[{self.paper}] {what} → {', '.join(files)}")
-
-    def _group_index(self) -> int:
-        if not self.manifest["groups"]:
-            self.group("Other results")
-        return len(self.manifest["groups"]) - 1
-
-    def _record(self, kind: str, entry: dict[str, Any]) -> None:
-        self.manifest[kind].append({**entry, "group": self._group_index()})
-
-    def group(self, title: str, text: str = "") -> None:
-        """Start a group (one figure or table of the paper, or one claim): what follows belongs to it."""
-        self.manifest["groups"].append({"title": title, "text": text})
-
-    def add(self, *rows: Row) -> None:
-        """Append report rows (to the current group)."""
-        index = self._group_index()
-        self.rows.extend(rows)
-        self.manifest["row_groups"].extend([index] * len(rows))
-
-    def figure(self, fig: Any, stem: str, label: str, caption: str) -> None:
-        """Save a matplotlib figure as ``stem.png`` (120 dpi) and ``stem.svg`` and close it."""
-        from armlab.scripts.figures import save
-
-        files = save(fig, self.folder / stem)
-        self._record("figures", {"label": label, "caption": caption, "png": f"{stem}.png", "svg": f"{stem}.svg"})
-        self._say(label, [p.name for p in files])
-
-    def scheme(self, arm: Any, q: Any, stem: str, label: str) -> None:
-        """The arm's kinematic scheme at ``q`` (:func:`armlab.diagrams.draw.draw_arm`) as ``stem.png``."""
-        from armlab.diagrams.draw import draw_arm
-
-        draw_arm(arm, q, self.folder / f"{stem}.png")
-        self.manifest["schemes"].append({"label": label, "png": f"{stem}.png"})
-        self._say(label, [f"{stem}.png"])
-
-    def table(self, stem: str, label: str, headers: Sequence[str], rows: Sequence[Sequence[Any]],
-              note: str = "") -> None:
-        """Write a table as ``stem.csv`` (full precision, :func:`~armlab.files.csv_text`) and ``stem.md``."""
-        write_csv(self.folder / f"{stem}.csv", headers, rows)
-        text = f"# {label}\n\n" + markdown_table(headers, rows) + (f"\n{note}\n" if note else "")
-        (self.folder / f"{stem}.md").write_text(text)
-        self._record("tables", {"label": label, "csv": f"{stem}.csv", "md": f"{stem}.md", "headers": list(headers),
-                                "rows": [[_fmt(v) for v in r] for r in rows], "note": note})
-        self._say(label, [f"{stem}.csv", f"{stem}.md"])
-
-    def expressions(self, stem: str, label: str, title: str, intro: str, entries: Sequence[tuple[Any, str]],
-                    beyond: Sequence[str] = ()) -> None:
-        """Write printed expressions as ``stem.md``: per entry (a :class:`~armlab.kinematics.symbolic.LatexItem`
-        and a note whether it matches the paper's printed form) a heading, the LaTeX and the note. The
-        report renders them, except those whose labels are in ``beyond`` (derived, not printed by the
-        paper: named there, with a pointer to ``stem.md``)."""
-        lines = [f"# {title}", "", intro, ""]
-        for item, note in entries:
-            lines += [f"## ${item.label}$ — {item.source}", "", f"$$\n{item.latex}\n$$", "", f"*{note}*", ""]
-        (self.folder / f"{stem}.md").write_text("\n".join(lines))
-        self._record("texts", {"label": label, "md": f"{stem}.md", "intro": intro, "entries": [
-            {"label": item.label, "source": item.source, "latex": item.latex, "note": note,
-             "printed": item.label not in beyond} for item, note in entries]})
-        self._say(label, [f"{stem}.md"])
-
-    def simulated_run(self, log: Any, stem: str, label: str) -> None:
-        """A simulated run's Systems diagram as ``diagram_<stem>.svg`` (the Fig. 6 view,
-        :func:`armlab.diagrams.graphviz.fig6_dot`) and its 3-D replay as ``replay_<stem>.html``."""
-        from armlab.diagrams.graphviz import fig6_dot, render
-        from armlab.diagrams.replay import write_replay
-
-        svg, replay = f"diagram_{stem}.svg", f"replay_{stem}.html"
-        dot = fig6_dot(log.diagram_dot)
-        (self.folder / svg).write_bytes(render(dot, "svg"))
-        write_replay(log.arm, log.t, log.q, self.folder / replay, tool_path=log.tool[:, :3])
-        # the diagram's structure, whatever order Drake lists its connections in: the report shows each once
-        structure = hashlib.sha1("\n".join(sorted(dot.splitlines())).encode()).hexdigest()
-        self._record("runs", {"label": label, "svg": svg, "replay": replay, "structure": structure})
-        self._say(f"{label}: Systems diagram and 3-D replay", [svg, replay])
-
-    def replay(self, arm: Any, t: Any, q: Any, stem: str, label: str) -> None:
-        """A kinematic motion ``q(t)`` of ``arm`` as the 3-D replay ``replay_<stem>.html`` (no simulation)."""
-        from armlab.diagrams.replay import write_replay
-
-        name = f"replay_{stem}.html"
-        write_replay(arm, t, q, self.folder / name)
-        self._record("replays", {"label": label, "replay": name})
-        self._say(f"{label}: 3-D replay", [name])
-
-    def claim(self, title: str, text: str, headers: Sequence[str] = (), rows: Sequence[Sequence[Any]] = (),
-              figures: Sequence[str] = ()) -> None:
-        """A claim of the paper that the numbers contradict (or qualify), with evidence (``figures``: PNG names
-        of figures recorded in this paper, shown with the claim)."""
-        self._record("claims", {"title": title, "text": text, "headers": list(headers),
-                                "rows": [[_fmt(v) for v in r] for r in rows], "figures": list(figures)})
-
-    def chosen(self, name: str, value: str, why: str) -> None:
-        """A parameter armlab chose where the paper is silent."""
-        self.manifest["parameters"].append({"name": name, "value": value, "why": why})
-
-    def errata(self, samples: int = 20) -> None:
-        """Record this paper's errata (:data:`armlab.kinematics.errata.ERRATA`) with their errors against Drake."""
-        from armlab.kinematics.errata import ERRATA
-
-        mine = [e for e in ERRATA if e.paper == self.paper]
-        checked = {}
-        if any(e.evaluable for e in mine):
-            checked = {id(e): (printed, corrected) for e, printed, corrected in errata_checked(samples, self.paper)}
-        for e in mine:
-            if id(e) in checked:
-                printed, corrected = checked[id(e)]
-                evidence = (f"Against Drake at {samples} random configurations: printed form off by up to "
-                            f"{_fmt(printed, 3)}, corrected form by {_fmt(corrected, 2)}.")
-            else:
-                evidence = "Not evaluable against Drake: a printing or naming error, no quantity to compare."
-            self.manifest["errata"].append({"where": f"{e.paper} {e.equation}", "description": e.description,
-                                            "printed": e.printed_form, "corrected": e.corrected_form,
-                                            "evidence": evidence})
-
-    def chosen_parameters(self, arm: Any, keys: Sequence[str]) -> None:
-        """Record the arm parameters ``keys`` that its model file marks as chosen, with the reason given there."""
-        prefix = "chosen, not from the paper: "
-        for key in keys:
-            self.chosen(f"{arm.name} {key}", f"{arm.parameters[key]:g}", arm.notes[key].removeprefix(prefix))
-
-    def finish(self) -> list[Row]:
-        """Record the paper's errata, write ``rows.csv`` and ``manifest.json``; return the rows."""
-        self.errata()
-        write_csv(self.folder / "rows.csv", ["paper", "quantity", "paper_value", "armlab_value", "deviation",
-                                             "verdict", "note"], [list(asdict(row).values()) for row in self.rows])
-        self.manifest["rows"] = [asdict(row) for row in self.rows]
-        (self.folder / MANIFEST).write_text(json.dumps(self.manifest, indent=1, ensure_ascii=False))
-        return self.rows
-
-
-def load_rows(folder: Path) -> list[Row] | None:
-    """The report rows a paper folder's ``manifest.json`` recorded, or ``None`` if it has none."""
-    try:
-        manifest = json.loads((Path(folder) / MANIFEST).read_text())
-    except (OSError, ValueError):
-        return None
-    rows = manifest.get("rows") if isinstance(manifest, dict) else None
-    return None if rows is None else [Row(**row) for row in rows]
-
-
-# --------------------------------------------------------------------------- errata
-@cache
-def errata_checked(samples: int, paper: str) -> list[tuple[Any, float, float]]:
-    """:func:`armlab.kinematics.errata.check` of ``paper``'s errata, once per process (it queries Drake)."""
-    from armlab.kinematics.errata import check
-
-    return check(samples, paper=paper)
-
-
-# --------------------------------------------------------------------------- the report
 _CSS = """body{font-family:system-ui,sans-serif;max-width:1280px;margin:1.5em auto;padding:0 1em;color:#222;
 line-height:1.35}h1{font-size:1.6em}h2{border-bottom:2px solid #1f5fa8;padding-bottom:.15em;margin-top:1.8em}
 h3{margin:1.4em 0 .4em;color:#1f3f68}h4{margin:1em 0 .3em}
@@ -429,7 +109,8 @@ class _Doc:
 
     def table(self, headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
         self.md.append(markdown_table(headers, rows))
-        body = "".join("<tr>" + "".join(f"<td>{html.escape(_fmt(v))}</td>" for v in row) + "</tr>" for row in rows)
+        body = "".join("<tr>" + "".join(f"<td>{html.escape(value_text(v))}</td>" for v in row) + "</tr>"
+                       for row in rows)
         self.html.append("<table><thead><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in headers)
                          + f"</tr></thead><tbody>{body}</tbody></table>")
 
@@ -462,12 +143,12 @@ def _rows_block(doc: _Doc, paper: str, numbered: Sequence[tuple[int, Row]]) -> N
         return r.note
 
     def cell(value: Any, digits: int = VALUE_DIGITS, paper_value: bool = False) -> str:
-        text = _paper_fmt(value) if paper_value else _fmt(value, digits)
+        text = paper_value_text(value) if paper_value else value_text(value, digits)
         css = "n" if value is None or isinstance(value, numbers.Real) else "t"
         return f'<td class="{css}">{html.escape(text)}</td>'
 
-    md_rows = [[r.quantity + (f" — {note_of(r)}" if note_of(r) else ""), _paper_fmt(r.paper_value),
-                _fmt(r.armlab_value), _fmt(r.deviation, DEVIATION_DIGITS), r.verdict] for _, r in numbered]
+    md_rows = [[r.quantity + (f" — {note_of(r)}" if note_of(r) else ""), paper_value_text(r.paper_value),
+                value_text(r.armlab_value), value_text(r.deviation, DEVIATION_DIGITS), r.verdict] for _, r in numbered]
     body = []
     for k, r in numbered:
         kind, _, why = r.verdict.partition(": ")

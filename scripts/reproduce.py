@@ -231,7 +231,9 @@ def reproduce(
     :mod:`multiprocessing` pool: a spawned worker imports the script again), or pass ``jobs=1``.
     """
     from armlab.diagrams.graphviz import require_dot
-    from armlab.scripts.report import load_rows, verdict_counts, write_report
+    from armlab.scripts.paper_output import load_rows
+    from armlab.scripts.report import write_report
+    from armlab.scripts.report_rows import verdict_counts
 
     start = time.perf_counter()
     for paper in papers:
@@ -300,7 +302,7 @@ def register(subparsers: Any) -> None:
 
 def run_alone(paper: str, run: Callable[..., list], argv: Sequence[str] | None = None) -> int:
     """A paper script's ``main``: ``--out DIR`` (default ``out/NNN``) and ``--fast``; prints its verdict counts."""
-    from armlab.scripts.report import verdict_counts
+    from armlab.scripts.report_rows import verdict_counts
 
     parser = argparse.ArgumentParser(prog=f"paper_{paper}", description=f"Reproduce paper {paper} alone.")
     parser.add_argument("--out", default=f"out/{paper}", help=f"output folder (default out/{paper})")

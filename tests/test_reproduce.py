@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from armlab.scripts.report import MATCHES, Row, compare, matches, verdict_counts
+from armlab.scripts.report_rows import MATCHES, Row, compare, matches, verdict_counts
 from armlab.scripts.reproduce import MARKER, PAPERS, output_folder, reproduce
 
 
