@@ -9,13 +9,14 @@ PYTHON ?= $(shell for p in python3.12 $$HOME/.pyenv/versions/3.12*/bin/python3.1
 RUN_PACKAGES := graphviz:dot
 TEST_PACKAGES := $(RUN_PACKAGES) chromium:chromium
 
-.PHONY: run test setup run-deps test-deps lint bench clean
+.PHONY: run test setup run-deps test-deps lint bench clean typecheck
 
 run: setup run-deps
 	$(BIN)/armlab reproduce --out out
 
 test: setup test-deps
 	$(BIN)/ruff check .
+	$(MAKE) typecheck
 	$(BIN)/pytest -q
 
 setup: $(VENV)/.installed
@@ -57,3 +58,17 @@ bench: setup
 
 clean:
 	rm -rf $(VENV) out *.egg-info
+
+# mypy on the package. It cannot follow [tool.setuptools.package-dir] (models/ is armlab.models, ...), so it checks
+# a link tree made afresh from that mapping: build/typecheck/armlab/ holds a link to each entry of armlab/ and one
+# to each subpackage's folder. Its cache stays in build/typecheck/.mypy_cache between runs.
+TYPECHECK := build/typecheck
+typecheck: setup
+	rm -rf $(TYPECHECK)/armlab && mkdir -p $(TYPECHECK)/armlab
+	$(BIN)/python -c 'import tomllib; [print(k, v) for k, v in tomllib.load(open("pyproject.toml", "rb"))["tool"]["setuptools"]["package-dir"].items()]' | \
+	while read package folder; do \
+	  if [ "$$package" = armlab ]; then \
+	    for entry in $$folder/*; do [ "$${entry##*/}" = __pycache__ ] || ln -s $(CURDIR)/$$entry $(TYPECHECK)/armlab/; done; \
+	  else ln -s $(CURDIR)/$$folder $(TYPECHECK)/$${package//.//}; fi; \
+	done
+	cd $(TYPECHECK) && $(CURDIR)/$(BIN)/mypy --config-file $(CURDIR)/pyproject.toml -p armlab

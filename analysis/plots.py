@@ -156,13 +156,14 @@ def _slices(ws: Workspace, path: Path) -> str:
     colour = ws.manipulability if m else None
     marks = _singular_points(ws)
     labels = "xyz"
+    cuts: list[tuple[tuple[int, int], int] | None]  # per panel: (the slab's two in-plane axes, its normal)
     if ws.dim < 3:
-        axes_pairs = [(None, "the arm's plane")]
+        cuts = [None]  # the arm's own plane
         fig, axes = new_figure(f"{ws.arm}: workspace ({ws.measure} {ws.volume:.4g} {ws.volume_unit}), "
                                "manipulability", size=(6.4, 5.6))
         axes = [axes]
     else:
-        axes_pairs = [((0, 1), 2), ((0, 2), 1)]
+        cuts = [((0, 1), 2), ((0, 2), 1)]
         fig, axes = new_figure(f"{ws.arm}: workspace slices (volume {ws.volume:.4g} m³), manipulability", 1, 2,
                                size=(11.5, 5.2))
         axes = list(np.ravel(axes))
@@ -172,13 +173,14 @@ def _slices(ws: Workspace, path: Path) -> str:
         import matplotlib.colors
 
         norm = matplotlib.colors.PowerNorm(0.5, vmin=float(colour.min()), vmax=float(colour.max()))
-    for ax, (pair, normal) in zip(axes, axes_pairs, strict=True):
-        if pair is None:
+    for ax, cut in zip(axes, cuts, strict=True):
+        if cut is None:
             xy = _plane_coords(ws, pts)
             sel = np.ones(len(pts), dtype=bool)
             names = [_axis_name(b) for b in ws.basis] + ["—"] * (2 - ws.dim)
             mark_xy = _plane_coords(ws, marks) if len(marks) else marks
         else:
+            pair, normal = cut
             centre = float(np.median(pts[:, normal])) if normal == 2 else 0.0
             sel = np.abs(pts[:, normal] - centre) < slab
             xy = pts[:, list(pair)]
@@ -247,9 +249,12 @@ def _singular(ws: Workspace, path: Path) -> str:
         ax.set_xlabel(f"{loci['joint']} [{unit}]")
         ax.legend(fontsize=8)
     else:
-        fig, ax = new_figure(f"{ws.arm}: σ_min(J) over {len(ws.sigma_min)} sampled configurations "
+        sigma_min = ws.sigma_min
+        if sigma_min is None:
+            raise TypeError(f"{ws.arm}: no σ_min to plot (a workspace computed without its Jacobians)")
+        fig, ax = new_figure(f"{ws.arm}: σ_min(J) over {len(sigma_min)} sampled configurations "
                              f"({len(s.get('configurations', []))} refined singular ones listed)", size=(7.0, 4.0))
-        ax.hist(np.log10(np.maximum(ws.sigma_min, 1e-300)), bins=60)
+        ax.hist(np.log10(np.maximum(sigma_min, 1e-300)), bins=60)
         ax.set_xlabel("log10 σ_min(J)")
         ax.set_ylabel("configurations")
     ax.set_ylabel("σ_min(J)" if loci is not None else "configurations")

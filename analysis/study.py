@@ -344,13 +344,13 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
         from armlab.diagrams.drives import torque_stats
 
         stats = torque_stats(*_torques(study, arm, motion, payload))
-        found = {"peak_torque": stats["max_abs_torque"], "rms_torque": stats["rms_torque"],
+        drive = {"peak_torque": stats["max_abs_torque"], "rms_torque": stats["rms_torque"],
                  "peak_power": stats["peak_power"]}
         for e in study.evaluate:
             if e in ("peak_torque", "rms_torque"):
-                out |= {f"{e}_{i + 1}": float(v) for i, v in enumerate(found[e])}
+                out |= {f"{e}_{i + 1}": float(v) for i, v in enumerate(drive[e])}
             elif e == "peak_power":
-                out[e] = found[e]
+                out[e] = drive[e]
     return out
 
 

@@ -82,8 +82,8 @@ def limit_violations(log: SimulationLog) -> list[dict[str, Any]]:
     units = _units(log)
     out = []
     for i, (name, lim) in enumerate(zip(log.arm.joint_names, log.arm.limits, strict=True)):
-        checks: list[tuple[str, str, NDArray, float | None, float | None]] = []
-        if lim.lower is not None:
+        checks: list[tuple[str, str, NDArray, float, float]] = []
+        if lim.lower is not None and lim.upper is not None:
             checks += [("position", "reference", log.q_ref[:, i], lim.lower, lim.upper),
                        ("position", "simulated", log.q[:, i], lim.lower, lim.upper)]
         if lim.velocity is not None:

@@ -31,7 +31,7 @@ __all__ = ["PLOTS", "figures", "write_plots"]
 
 #: File names of the plots :func:`write_plots` writes.
 PLOTS = ("joints.png", "torques.png", "tool_path.png", "tool_motion.png")
-_LIMIT_STYLE = {"lw": 1.0, "ls": (0, (6, 3)), "alpha": 0.75}
+_LIMIT_STYLE: dict[str, Any] = {"lw": 1.0, "ls": (0, (6, 3)), "alpha": 0.75}
 
 
 def _title(log: SimulationLog, what: str, figure_key: str) -> str:
@@ -66,7 +66,8 @@ def limit_values(log: SimulationLog, kind: str) -> list[tuple[float, float] | No
     out: list[tuple[float, float] | None] = []
     for limits in log.arm.limits:
         if kind == "position":
-            out.append(None if limits.lower is None else (float(limits.lower), float(limits.upper)))
+            out.append(None if limits.lower is None or limits.upper is None
+                       else (float(limits.lower), float(limits.upper)))
         else:
             bound = getattr(limits, kind)
             out.append(None if bound is None else (-float(bound), float(bound)))
@@ -126,20 +127,21 @@ def _joints(log: SimulationLog) -> Any:
     reference = (log.q_ref, log.qd_ref, log.qdd_ref)
     colors = _colors()
     for order, ax in enumerate(axes[:, 0]):
+        sim = simulated[order]
         for i in range(n):
             color = colors[i % len(colors)]
             label = f"q{i + 1} [{_joint_unit(log, i, order)}]"
-            if simulated[order] is not None:
-                _by_run(ax, log, log.t, simulated[order][:, i], color=color, lw=1.6, label=label)
+            if sim is not None:
+                _by_run(ax, log, log.t, sim[:, i], color=color, lw=1.6, label=label)
                 _by_run(ax, log, log.t, reference[order][:, i], color="k", lw=0.8, ls="--",
                         label="reference" if i == 0 else None)
             else:
                 _by_run(ax, log, log.t, reference[order][:, i], color=color, lw=1.6, label=label)
         _segment_lines(ax, log)
-        if order < 2:
-            _limit_lines(ax, log, names[order], simulated[order])
+        if sim is not None:  # position and velocity (no acceleration limits)
+            _limit_lines(ax, log, names[order], sim)
         units = sorted({_joint_unit(log, i, order) for i in range(n)})
-        shown = "simulated (reference dashed)" if simulated[order] is not None else "reference"
+        shown = "simulated (reference dashed)" if sim is not None else "reference"
         ax.set_ylabel(f"joint {names[order]} [{' | '.join(units)}]")
         ax.set_title(f"{names[order]}: {shown}", loc="left", fontsize=9)
         ax.legend(ncol=min(n + 1, 4), loc="best")

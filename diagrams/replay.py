@@ -328,7 +328,8 @@ def _interpolate(t: NDArray, frame_run: NDArray, times: NDArray, run: NDArray, v
     return out
 
 
-def _check_run(arm: Arm, times: ArrayLike, q: ArrayLike, tool_path: ArrayLike | None) -> tuple[NDArray, ...]:
+def _check_run(arm: Arm, times: ArrayLike, q: ArrayLike, tool_path: ArrayLike | None
+               ) -> tuple[NDArray, NDArray, NDArray | None]:
     times = np.asarray(times, dtype=float)
     q = np.asarray(q, dtype=float)
     if times.ndim != 1 or times.size == 0:

@@ -13,7 +13,10 @@ This module imports Drake: import it only where a diagram is built.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
+from numpy.typing import NDArray
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import Frame, JacobianWrtVariable
 from pydrake.systems.framework import BasicVector, Context, LeafSystem
@@ -49,8 +52,8 @@ class ToolPointKinematics(LeafSystem):
         self.set_name(name)
 
     def _calc(self, context: Context, output: BasicVector) -> None:
-        x = self.get_input_port(0).Eval(context)
-        vdot = self.get_input_port(1).Eval(context)
+        x = cast(NDArray[np.float64], self.get_input_port(0).Eval(context))  # a vector port's value: (nq + nv,)
+        vdot = cast(NDArray[np.float64], self.get_input_port(1).Eval(context))  # (nv,)
         plant, ctx, world, origin = self._plant, self._context, self._plant.world_frame(), np.zeros(3)
         plant.SetPositionsAndVelocities(ctx, x)
         p = plant.CalcPointsPositions(ctx, self._frame, origin, world)[:, 0]

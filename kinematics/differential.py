@@ -68,7 +68,7 @@ def _chain(arm: Arm, q: NDArray[np.float64], size: int | None = None
             if (k == (0.0, 0.0, 1.0)).all():  # z_i = R_{0,i} k_i
                 z = R[:, :, 2]
             else:
-                z = sum(k[:, j, None, None] * R[:, :, j] for j in range(3) if k[:, j].any())
+                z = np.sum([k[:, j, None, None] * R[:, :, j] for j in range(3) if k[:, j].any()], axis=0)
             yield slice(start + block.start, start + block.stop), z, frames[1:n + 1, :, 3], frames[n + 1, :, 3]
 
 

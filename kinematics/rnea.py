@@ -117,9 +117,9 @@ def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray
         if velocity:
             W[3] += A[0]  # v + ω × P
         W = np.matmul(link.C.T, W)  # Cᵀ, then R_z(q)ᵀ: into frame {i}
-        c, s = cos_sin(q[i]) if link.revolute else (None, None)
-        if link.revolute:
-            turn_z(W, c, s)
+        turn = cos_sin(q[i]) if link.revolute else None  # (cos q_i, sin q_i) of a revolute joint
+        if turn is not None:
+            turn_z(W, *turn)
             w, wd = W[0], W[1]
             wd[0] += qd[i] * w[1]  # Rᵀω × q̇ ẑ = q̇ (ω_y, −ω_x, 0): (6.46)
             wd[1] -= qd[i] * w[0]
@@ -136,16 +136,16 @@ def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray
         wrench = X[1].reshape(2, 3, B) + cross(w, X[0].reshape(2, 3, B))
         wrench[0] += link.mass * W[2]  # F = m (v̇ + ω̇ × c + ω × (ω × c)): (6.48)–(6.49)
         wrench[1] += link.mc @ W[2]  # n = I_o ω̇ + ω × I_o ω + m c × v̇
-        turns.append((c, s, P))
+        turns.append((turn, P))
         wrenches.append(wrench)
     tau = np.empty((n, B))
     for i in range(n - 1, -1, -1):
         wrench = wrenches[i]
         if i < n - 1:  # link i+1's force and moment, R (f, n), in frame {i}: (6.51)–(6.52)
-            c, s, P = turns[i + 1]
+            turn, P = turns[i + 1]
             child = wrenches[i + 1]
-            if c is not None:
-                turn_z(child, c, -s)  # R_z(q)
+            if turn is not None:
+                turn_z(child, turn[0], -turn[1])  # R_z(q)
             child = np.matmul(links[i + 1].C, child)
             wrench += child
             wrench[1] += cross(P, child[0])
@@ -225,7 +225,8 @@ def _links(arm: Arm, inertias: LinkInertias) -> list[_Link]:
     turned = [np.eye(4) if step.post is None else step.post for step in arm.table.steps]
     links = []
     for i, step in enumerate(arm.table.steps):
-        C = (turned[i - 1] if i else np.eye(4)) @ step.pre  # {i}' (before its joint moves) in {i−1}'
+        pre = np.eye(4) if step.pre is None else step.pre
+        C = (turned[i - 1] if i else np.eye(4)) @ pre  # {i}' (before its joint moves) in {i−1}'
         A_T = turned[i][:3, :3]
         m, c = inertias.mass[i], A_T @ inertias.com[i]
         I_o = A_T @ inertias.inertia[i] @ A_T.T + m * (c @ c * np.eye(3) - np.outer(c, c))  # about the origin

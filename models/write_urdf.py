@@ -160,14 +160,14 @@ def _cylinder_visual(T: NDArray, radius: float, length: float, material: str) ->
             f'<material name="{material}"/></visual>')
 
 
-def _rail_visual(T_fixed: NDArray, axis: NDArray, lim: JointLimits, radius: float) -> str:
-    """A prismatic joint's guide: a bar along its axis over the stroke [lower, upper], in the parent's frame."""
+def _rail_visual(T_fixed: NDArray, axis: NDArray, lower: float, upper: float, radius: float) -> str:
+    """A prismatic joint's guide: a bar along its axis over the stroke [lower, upper] (m), in the parent's frame."""
     T = np.eye(4)
     T[:3, :3] = _z_to(axis)
-    T[:3, 3] = axis * (lim.lower + lim.upper) / 2
+    T[:3, 3] = axis * (lower + upper) / 2
     T = T_fixed @ T
     width = _f(radius * 0.8)
-    return (f'<visual>{_origin(T)}<geometry><box size="{width} {width} {_f(lim.upper - lim.lower + 2 * radius)}"/>'
+    return (f'<visual>{_origin(T)}<geometry><box size="{width} {width} {_f(upper - lower + 2 * radius)}"/>'
             '</geometry><material name="rail"/></visual>')
 
 
@@ -204,8 +204,9 @@ def urdf_text(
         seg, _, length = _segment(np.asarray(table.rows[0].k), pedestal, bodies[0].radius)
         visuals[0].append(_cylinder_visual(seg, bodies[0].radius, length, "base"))
     for i, (row, body, lim) in enumerate(zip(table.rows, bodies, limits, strict=True), start=1):
-        if row.kind == "T" and lim.lower is not None:  # the guide the slider runs on, on the parent link
-            visuals[i - 1].append(_rail_visual(row.T_fixed, np.asarray(row.k, dtype=float), lim, body.radius))
+        if row.kind == "T" and lim.lower is not None and lim.upper is not None:  # the slider's guide, on the parent
+            visuals[i - 1].append(_rail_visual(row.T_fixed, np.asarray(row.k, dtype=float), lim.lower, lim.upper,
+                                               body.radius))
     ends = [row.P for row in table.rows[1:]] + [tuple(table.tool[:3, 3])]
     out.append('  <link name="base_link">')
     out.extend(f"    {visual}" for visual in visuals[0])

@@ -20,6 +20,7 @@ import statistics
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 #: The sweep's study: 100 candidates.
 STUDY = {"arm": "urm6", "vary": {"theta2": {"from": 0, "to": 90, "steps": 10, "unit": "deg"},
@@ -64,7 +65,7 @@ def main() -> int:
     seconds, volume = volume_seconds(samples, args.repeat)
     print(f"urm6 workspace volume from {samples:.0e} samples: {seconds:.2f} s (median of {args.repeat}; goal ≤ 10 s "
           f"for 1e7), {samples / seconds / 1e6:.2f} M samples/s, volume {volume:.4f} m³")
-    study = dict(STUDY)
+    study: dict[str, Any] = dict(STUDY)
     if args.quick:
         study["vary"] = {"theta2": {"from": 0, "to": 90, "steps": 4, "unit": "deg"},
                          "theta3": {"from": 0, "to": 90, "steps": 5, "unit": "deg"}}

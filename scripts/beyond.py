@@ -46,8 +46,15 @@ def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
     samples, steps = SAMPLES[fast], ANGLE_STEPS[fast]
     nominal = Parameters()
     names = [f"theta{k}" for k in range(2, 8)]
+
+    def volume(angles_deg: dict[str, float]) -> float:
+        """The workspace volume (m³) with the bend angles ``angles_deg`` (deg), the others at Table 1's."""
+        study = _study({"arm": "urm6", "vary": {n: {"values": [v], "unit": "deg"} for n, v in angles_deg.items()},
+                        "evaluate": ["workspace_volume"], "samples": samples})
+        return evaluate(study, study.candidates[0])["workspace_volume"]
+
     curves, table, best = {}, [], {}
-    nominal_volume = None
+    nominal_volume = volume({names[0]: float(np.degrees(getattr(nominal, names[0])))})  # all at Table 1's angles
     for name in names:
         study = _study({"arm": "urm6", "vary": {name: {"from": 0, "to": 90, "steps": steps, "unit": "deg"}},
                         "evaluate": ["workspace_volume"], "samples": samples})
@@ -55,17 +62,11 @@ def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
         volumes = np.array([evaluate(study, values)["workspace_volume"] for values in study.candidates])
         curves[name] = (angles, volumes)
         table_deg = float(np.degrees(getattr(nominal, name)))
-        if nominal_volume is None:
-            nominal_volume = evaluate(_study({"arm": "urm6", "vary": {name: {"values": [table_deg], "unit": "deg"}},
-                                              "evaluate": ["workspace_volume"], "samples": samples}),
-                                      (table_deg,))["workspace_volume"]
         k = int(np.argmax(volumes))
         best[name] = float(angles[k])
         table.append([f"ϑ{name[5:]}", table_deg, float(angles[k]), float(volumes[k]),
                       float(volumes[k] / nominal_volume)])
-    combined = _study({"arm": "urm6", "vary": {name: {"values": [best[name]], "unit": "deg"} for name in names},
-                       "evaluate": ["workspace_volume"], "samples": samples})
-    combined_volume = evaluate(combined, combined.candidates[0])["workspace_volume"]
+    combined_volume = volume(best)
     table.append(["all six at their best", "", "[" + ", ".join(f"{best[n]:g}" for n in names) + "]", combined_volume,
                   combined_volume / nominal_volume])
 

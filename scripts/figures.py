@@ -9,16 +9,19 @@ from __future__ import annotations
 import textwrap
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from matplotlib.typing import RcKeyType
 
 __all__ = ["DPI", "draw_chain_3d", "new_figure", "save", "set_equal_3d", "wrap_title"]
 
 DPI = 120
 
-_STYLE = {
+_STYLE: dict[RcKeyType, Any] = {
     "font.size": 9,
     "axes.titlesize": 10,
     "figure.titlesize": 11,
@@ -42,8 +45,8 @@ def new_figure(title: str, nrows: int = 1, ncols: int = 1, size: tuple[float, fl
     import matplotlib.pyplot as plt
     from cycler import cycler
 
-    style = dict(_STYLE, **{"axes.prop_cycle": cycler(color=["#1f5fa8", "#c0392b", "#2e8b57", "#8e44ad",
-                                                                "#d68910", "#5d6d7e", "#17a2b8"])})
+    colors = ["#1f5fa8", "#c0392b", "#2e8b57", "#8e44ad", "#d68910", "#5d6d7e", "#17a2b8"]
+    style: dict[RcKeyType, Any] = {**_STYLE, "axes.prop_cycle": cycler(color=colors)}
     plt.rcParams.update(style)  # the whole process plots headless in this one style
     subplot_kw = {"projection": projection} if projection else None
     fig, axes = plt.subplots(nrows, ncols, figsize=size, squeeze=False, subplot_kw=subplot_kw, layout="constrained",

@@ -179,7 +179,7 @@ def _cartesian_arc(arm: Any, centre: np.ndarray, radius: float, t: np.ndarray, t
     numeric = arm_kinematics("rr").numeric()
     phis = np.radians([-90.0, 0.0, 90.0, 180.0, 270.0])  # A, B, C, D, A about the centre
     L1, L2 = arm.parameters["L1"], arm.parameters["L2"]
-    out = {key: [] for key in ("q", "qd", "qdd", "M")}
+    out: dict[str, list[np.ndarray]] = {key: [] for key in ("q", "qd", "qdd", "M")}
     for k in range(4):
         c = quintic_coefficients([phis[k]], [phis[k + 1]], tf)[0]
         phi, phid, phidd = (evaluate_coefficients(c, t, d) for d in range(3))
@@ -218,12 +218,12 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
               "armlab: exact inverse kinematics (law of cosines) of Table 1's points on the IK branch Table 2 uses "
               "at each end. Table 2 prints whole degrees: a value matches within half a degree.")
     names = ("θ10", "θ20", "θ1tf", "θ2tf")
-    ends = np.array([[seg.q0, seg.qf] for seg in motion.segments])  # (4, 2, 2)
+    ends = np.array([[seg.q_start, seg.q_end] for seg in motion.segments])  # (4, 2, 2)
     points = np.array([[ABCD_POINTS[label[0]], ABCD_POINTS[label[-1]]] for label in labels])
     fk_gap = float(np.abs(arm.forward(ends.reshape(-1, 2)).points["M"][:, :2] - points.reshape(-1, 2)).max())
     table2 = []
     for k, (label, seg) in enumerate(zip(labels, motion.segments, strict=True)):
-        values = _deg(np.array([seg.q0[0], seg.q0[1], seg.qf[0], seg.qf[1]]))
+        values = _deg(np.array([seg.q_start[0], seg.q_start[1], seg.q_end[0], seg.q_end[1]]))
         branches = ABCD_SEGMENTS[k]
         start_branch = "as reached" if branches[1] is None else branches[1]
         note = (f"kinematics.ik.rr_ik on IK branch {start_branch}/{branches[3]} at start/end (0: θ2 ≥ 0, "
@@ -435,7 +435,7 @@ def _rrrr(out: PaperOutput) -> None:
     motion = paper_motion(arm)  # q = ω t, ω = (7, 0.05, 0.05, 0.05) rad/s, 15 s
     t = np.linspace(0.0, motion.duration, round(motion.duration / 0.05) + 1)  # the paper's t = 0:0.05:15
     q = motion.evaluate(t)[0]
-    L = tuple(arm.parameters[k] for k in ("L1", "L2", "L3", "L4"))
+    L = (arm.parameters["L1"], arm.parameters["L2"], arm.parameters["L3"], arm.parameters["L4"])
     dh = rrrr_point_M(rrrr_dh_chain(q, L))
     yup = rrrr_point_M(rrrr_yup_chain(q, L))
     sym = arm_kinematics("rrrr").numeric().position(q)

@@ -133,7 +133,9 @@ def _fig4_claim(out: PaperOutput, arm: Any, q: np.ndarray) -> None:
     reach = arm.parameters["a2"] + arm.parameters["a3"]
     theta1 = float(np.arctan2(PAPER_TARGET[1], PAPER_TARGET[0]))
     lo, hi = arm.limit_arrays()
-    holds, outside, lengths = [], [], []
+    holds: list[str] = []
+    outside: list[str] = []
+    lengths: list[str] = []
     for a2, theta in fig4_splits(PAPER_TARGET, reach):
         split = get_arm("arm4r", a2=float(a2), a3=float(reach - a2), d2=0.0)
         joints = wrap_angle(np.array([theta1, theta, theta, theta1]))
@@ -224,14 +226,14 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("arm4r")
     motion = paper_motion(arm)  # §3: (2, 0, 0) → (1, 1, 1.4), the start's pitch, nearest solution, 2 s
-    out.scheme(arm, motion.segments[0].qf, "scheme_arm4r", "the 4R arm (cf. Figs. 1-2) at the target's IK solution, "
+    out.scheme(arm, motion.segments[0].q_end, "scheme_arm4r", "the 4R arm (cf. Figs. 1-2) at the target's IK solution, "
                "drawn from armlab's model")
     raw, solutions = _rows(out, arm, motion)
     within = [any(np.allclose(np.cos(r - s), 1.0) for s in solutions) for r in raw]
     out.table("ik_solutions", "§3 — inverse-kinematics solutions for the target (1, 1, 1.4) m (deg)",
               ["solution", "θ1", "θ2", "θ3", "θ4", "within Table 1's limits", "chosen (nearest the start)"],
               [[k + 1, *np.degrees(r).tolist(), "yes" if w else "no",
-                "yes" if np.allclose(np.cos(r - motion.segments[0].qf), 1.0) else ""]
+                "yes" if np.allclose(np.cos(r - motion.segments[0].q_end), 1.0) else ""]
                for k, (r, w) in enumerate(zip(raw, within, strict=True))],
               note="Eqs. (11), (13), (18), (19) corrected, θ4 from the pitch θ2+θ3+θ4 kept at the start's "
                    "(the paper: 'the state is the same with the original state'). Angles as solved, before wrapping "

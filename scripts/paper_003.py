@@ -93,10 +93,10 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
            float(max(np.abs(paper_R04(q) - R).max(), np.abs(paper_R04(q) - frames[:, -1, :3, :3]).max())), 1e-9,
            f"vs Drake's tool rotation and the locating matrices {where}")
     angles = orientation_angles(R)
-    for i, (name, printed) in enumerate((("α_x", "π"), ("β_y", "0"), ("γ_z", "π/2 + q1"))):
+    for i, (name, form) in enumerate((("α_x", "π"), ("β_y", "0"), ("γ_z", "π/2 + q1"))):
         gap = float(np.abs(_wrap(angles[:, i] - paper_angles(q)[:, i])).max())
         span = f"{angles[:, i].min() + 0.0:.6g} … {angles[:, i].max() + 0.0:.6g} over the samples"
-        _check(out, f"eqs. (22)-(23): {name} [rad]", printed, span, gap, 1e-9,
+        _check(out, f"eqs. (22)-(23): {name} [rad]", form, span, gap, 1e-9,
                f"R = Rz(γ) Ry(β) Rx(α) of Drake's tool rotation (kinematics.locating.orientation_angles, by the "
                f"standard two-argument arctangent: eq. (22)'s case table is an erratum, below), modulo 2π, {where}")
     v3 = paper_v3(q, qd, l)

@@ -123,6 +123,8 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     out.group("Eqs. (7) and (22): the general formulas as printed, at Table 1's configuration")
     sample = drake_sample(arm, phi[None])
     for e in (e for e in ERRATA if e.paper == PAPER):
+        if e.printed is None or e.corrected is None or e.reference is None:
+            raise ValueError(f"{PAPER} {e.equation}: this erratum cannot be evaluated (printed form only)")
         off = np.linalg.norm(e.printed(sample)[0] - e.reference(sample)[0], axis=-1) * 1e3  # p2 … p7, mm
         corrected = float(np.abs(e.corrected(sample)[0] - e.reference(sample)[0]).max()) * 1e3
         out.add(Row(PAPER, f"{e.equation} (misprint): p2…p7 as printed at Table 1's configuration, "

@@ -44,10 +44,10 @@ def main(argv: list[str] | None = None) -> int:
           + (" with the given orientation" if np.ndim(target) == 2 else ""))
     for q in solutions:
         T = arm.fk(q)
-        error = np.linalg.norm(T[:3, 3] - position)
+        miss = np.linalg.norm(T[:3, 3] - position)
         shown = np.where(arm.revolute, np.degrees(q), q)
         print(f"  q = {np.array2string(shown, precision=3, suppress_small=True)} (deg, m)   "
-              f"manipulability {float(arm.manipulability(q)):.4g}   position error {error:.1e} m")
+              f"manipulability {float(arm.manipulability(q)):.4g}   position error {miss:.1e} m")
     return 0
 
 
