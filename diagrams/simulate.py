@@ -4,7 +4,10 @@
 (:meth:`~armlab.kinematics.quintic.Motion.runs`), starts the plant at the run's reference state
 (rest, or the constant rates), integrates with Drake's error-controlled Runge–Kutta 5 (4) at
 :data:`DEFAULT_ACCURACY`, and gathers the four loggers into one :class:`SimulationLog` on the
-motion's time axis. :func:`summarize` gives the numbers of ``summary.json``.
+motion's time axis. :func:`summarize` gives the numbers of ``summary.json``. What a simulation is asked
+for — the plant's options, mode, gains, log period, sampling, accuracy, divergence tolerance — is one frozen
+:class:`SimulationOptions`, checked once when made; :func:`simulate` and ``build_diagram`` take it, and
+:func:`armlab.simulate` makes it from its keywords.
 
 Where the time goes, and why the samples come from the dense output: loggers that publish every
 1 ms make the integrator stop at every sample (2000 steps of 7 derivative evaluations for a 2 s
