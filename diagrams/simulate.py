@@ -100,7 +100,11 @@ def _gain(value: float | ArrayLike, name: str) -> Gain:
     gain_vector`), where the arm is known.
     """
     values = check_range(np.asarray(value, dtype=float), name)
-    return float(values) if values.ndim == 0 else tuple(float(v) for v in values.ravel())
+
+    def frozen(x: Any) -> Any:  # nested lists → nested tuples: a wrong shape stays for gain_vector to name
+        return tuple(frozen(v) for v in x) if isinstance(x, list) else x
+
+    return frozen(values.tolist())
 
 
 @dataclass(frozen=True)
@@ -135,7 +139,7 @@ class SimulationOptions:
             raise ValueError(f"sampling {self.sampling!r} is not allowed; allowed: {', '.join(SAMPLINGS)}")
         for name in ("kp", "kd", "ki"):
             object.__setattr__(self, name, _gain(getattr(self, name), name))
-        object.__setattr__(self, "log_period", check_log_period(self.log_period))
+        check_log_period(self.log_period)  # kept as given: the check against a motion's duration quotes it so
         object.__setattr__(self, "accuracy", float(check_range(self.accuracy, "accuracy")))
         object.__setattr__(self, "divergence_tolerance", check_tolerance(self.divergence_tolerance))
 
