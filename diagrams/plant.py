@@ -101,8 +101,6 @@ def check_payload(payload: float, name: str = "payload") -> float:
     return float(check_range(value, name))
 
 
-
-
 def check_time_step(time_step: float) -> float:
     """A plant's time step (s) as a float; ``ValueError`` unless 0 (continuous) or a positive finite period."""
     if time_step == 0:
@@ -124,6 +122,9 @@ class PlantOptions:
     a lagging arm), every joint has one actuator in joint order and the mass matrix is positive definite
     (checked; the arm needs mass data). ``geometry``: the arm's visual geometry in a ``SceneGraph``
     (only in a diagram: :func:`add_arm_plant`). ``time_step``: 0 (continuous) or a discrete period (s).
+
+    What comes next (collision geometry, drive trains with rotor inertia and gear ratio, a payload with an
+    inertia of its own) is one more field here, checked in ``__post_init__``, and one more step of the builder.
     """
 
     gravity: str | ArrayLike | None = None
