@@ -357,9 +357,10 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
 def _torques(study: Study, arm: Arm, motion: Motion, payload: float) -> tuple[np.ndarray, np.ndarray]:
     """Joint torques and rates along ``motion``: Fig. 6's simulation, or batch inverse dynamics every 1 ms."""
     if study.simulate:
-        from armlab.diagrams.simulate import simulate
+        from armlab.diagrams.plant import PlantOptions
+        from armlab.diagrams.simulate import SimulationOptions, simulate
 
-        log = simulate(arm, motion, payload=payload)
+        log = simulate(arm, motion, SimulationOptions(PlantOptions(payload=payload, ideal_drives=True)))
         return log.tau, log.qd
     from armlab.kinematics.rnea import inverse_dynamics
 

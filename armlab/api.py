@@ -112,20 +112,16 @@ def simulate(
     (gx, gy, gz) m/s²; ``mode``: ``"controller"`` (computed torque, PD gains ``kp`` 1/s², ``kd`` 1/s, ``ki``
     1/s³; defaults 100, 20, 0) or ``"inverse_dynamics"`` (open loop); ``log_period`` (s, default 0.001);
     ``accuracy``: the integrator's target accuracy (default 1e-6); ``divergence_tolerance``: the tracking
-    error (rad or m, default 0.01) past which the run counts as diverged. The arm needs mass data.
+    error (rad or m, default 0.01) past which the run counts as diverged. The arm needs mass data. The keywords
+    are checked once, as a :class:`~armlab.diagrams.simulate.SimulationOptions` (what the inner layers take).
     """
-    from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
-    from armlab.diagrams.build import DEFAULT_LOG_PERIOD
-    from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance
+    from armlab.diagrams.plant import PlantOptions
     from armlab.diagrams.run import Run
-    from armlab.diagrams.simulate import DEFAULT_ACCURACY
+    from armlab.diagrams.simulate import SimulationOptions
     from armlab.diagrams.simulate import simulate as run_diagram
 
-    tolerance = check_tolerance(DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance)
-    log = run_diagram(
-        arm, motion, gravity=gravity, payload=payload,
-        log_period=DEFAULT_LOG_PERIOD if log_period is None else log_period, mode=mode,
-        kp=DEFAULT_KP if kp is None else kp, kd=DEFAULT_KD if kd is None else kd, ki=ki,
-        accuracy=DEFAULT_ACCURACY if accuracy is None else accuracy,
-    )
-    return Run(log, tolerance)
+    given = {"kp": kp, "kd": kd, "log_period": log_period, "accuracy": accuracy,
+             "divergence_tolerance": divergence_tolerance}  # None: the option's default
+    options = SimulationOptions(PlantOptions(gravity=gravity, payload=payload, ideal_drives=True), mode=mode, ki=ki,
+                                **{name: value for name, value in given.items() if value is not None})
+    return Run(run_diagram(arm, motion, options), options.divergence_tolerance)

@@ -26,22 +26,21 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from armlab.controllers.inverse_dynamics import (
-    DEFAULT_KD,
-    DEFAULT_KP,
     add_inverse_dynamics,
     add_inverse_dynamics_controller,
     gain_vector,
 )
-from armlab.diagrams.plant import make_plant, resolve_gravity
+from armlab.diagrams.plant import add_arm_plant
 from armlab.kinematics.quintic import Motion, to_piecewise_polynomial
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.framework import Diagram
 
+    from armlab.diagrams.simulate import SimulationOptions
     from armlab.models.arm import Arm
 
 __all__ = ["DEFAULT_LOG_PERIOD", "MODES", "SAMPLINGS", "RunDiagram", "build_diagram", "check_log_period"]
@@ -86,42 +85,30 @@ class RunDiagram:
     arm: Arm
 
 
-def build_diagram(
-    arm: Arm,
-    motion: Motion,
-    gravity: str | ArrayLike | None = None,
-    payload: float = 0.0,
-    log_period: float = DEFAULT_LOG_PERIOD,
-    mode: str = "controller",
-    kp: float | ArrayLike = DEFAULT_KP,
-    kd: float | ArrayLike = DEFAULT_KD,
-    ki: float | ArrayLike = 0.0,
-    sampling: str = "dense",
-) -> RunDiagram:
+def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = None) -> RunDiagram:
     """Build Fig. 6 for ``arm`` following ``motion`` (one continuous run, see :meth:`Motion.runs`).
 
-    ``gravity``: see :func:`~armlab.diagrams.plant.resolve_gravity`; ``payload``: point mass (kg) at
-    the tool; ``log_period``: period (s) of every logger's samples; ``mode``: one of :data:`MODES`;
-    ``sampling``: one of :data:`SAMPLINGS` (see the module docstring).
+    ``options`` (default :class:`~armlab.diagrams.simulate.SimulationOptions`'): the plant's (gravity,
+    payload), ``mode`` (one of :data:`MODES`), the gains, ``log_period`` (s, the period of every logger's
+    samples; at most the motion's duration) and ``sampling`` (one of :data:`SAMPLINGS`, see the module docstring).
     """
     from pydrake.systems.framework import DiagramBuilder, TriggerType
     from pydrake.systems.primitives import Demultiplexer, LogVectorOutput, TrajectorySource
 
+    from armlab.diagrams.simulate import SimulationOptions
     from armlab.diagrams.tool_point import ToolPointKinematics
 
-    if mode not in MODES:
-        raise ValueError(f"mode {mode!r} is not allowed; allowed: {', '.join(MODES)}")
-    if sampling not in SAMPLINGS:
-        raise ValueError(f"sampling {sampling!r} is not allowed; allowed: {', '.join(SAMPLINGS)}")
+    options = SimulationOptions() if options is None else options
     if len(motion.runs()) != 1:
         raise ValueError("build_diagram takes one continuous run; split the motion with Motion.runs()")
     motion.check_limits(arm)
-    log_period = check_log_period(log_period, motion.duration)
-    g = resolve_gravity(arm, gravity)
+    log_period = check_log_period(options.log_period, motion.duration)
+    mode, sampling = options.mode, options.sampling
     n = arm.n
 
     builder = DiagramBuilder()
-    plant = builder.AddNamedSystem("MultibodyPlant", make_plant(arm, g, payload))
+    plant, _ = add_arm_plant(builder, arm, options.plant)
+    plant.set_name("MultibodyPlant")
     model = plant  # the exact model: the controller evaluates the plant itself, on a context of its own
 
     source = builder.AddNamedSystem(
@@ -129,7 +116,7 @@ def build_diagram(
     )
     split = builder.AddNamedSystem("reference_split", Demultiplexer([2 * n, n]))
     builder.Connect(source.get_output_port(), split.get_input_port())
-    gains = (gain_vector(kp, n, "kp"), gain_vector(kd, n, "kd"), gain_vector(ki, n, "ki"))
+    gains = (gain_vector(options.kp, n, "kp"), gain_vector(options.kd, n, "kd"), gain_vector(options.ki, n, "ki"))
     if mode == "controller":
         control = add_inverse_dynamics_controller(builder, plant, model, *gains)
         builder.Connect(split.get_output_port(0), control.get_input_port_desired_state())
@@ -156,5 +143,5 @@ def build_diagram(
         loggers[role] = logger
     diagram = builder.Build()
     diagram.set_name(f"{arm.name} Fig. 6 ({mode})")
-    return RunDiagram(diagram, plant, model, loggers, motion, g, float(payload), mode, log_period, sampling,
-                      gains, arm)
+    return RunDiagram(diagram, plant, model, loggers, motion, options.plant.gravity_of(arm), options.plant.payload,
+                      mode, log_period, sampling, gains, arm)

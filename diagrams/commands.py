@@ -154,6 +154,8 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     from armlab.diagrams.build import build_diagram
     from armlab.diagrams.graphviz import fig6_dot, graph_format, write_graph
     from armlab.diagrams.motions import paper_motion
+    from armlab.diagrams.plant import PlantOptions
+    from armlab.diagrams.simulate import SimulationOptions
     from armlab.models import ARMS
 
     arm = load_arm(args.arm)
@@ -161,7 +163,8 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     setup = _setup(arm, args)
     is_paper_arm = arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER
     motion = paper_motion(arm).runs()[0][1] if is_paper_arm else _hold_motion(arm)
-    run = build_diagram(arm, motion, **setup)
+    gravity, payload = setup.pop("gravity"), setup.pop("payload")
+    run = build_diagram(arm, motion, SimulationOptions(PlantOptions(gravity, payload, ideal_drives=True), **setup))
     dot = run.diagram.GetGraphvizString(max_depth=1)
     path = write_graph(dot if args.full else fig6_dot(dot), args.out)
     print(f"wrote {path}")

@@ -1,24 +1,43 @@
-"""The arm as a continuous-time Drake ``MultibodyPlant``, with gravity and an optional payload.
+"""The one builder of the arm's Drake ``MultibodyPlant``: IK, errata, simulation, replay and viewer all use it.
 
-Paper 000 simulates its RR arm in MSC Adams in a vertical plane with gravity and a basket at the
-tool (Fig. 26); paper 003's R2T robot carries a payload of about 20 kg. Here the payload is a point
-mass welded to the arm's tool frame (its centre of mass at the tool point), added before
-``Finalize`` so the plant and the controller's copy of it are the same model.
+:func:`add_arm_plant` adds the plant to a ``DiagramBuilder`` (with a ``SceneGraph`` when the options ask
+for geometry, as Drake's ``AddMultibodyPlantSceneGraph``); :func:`make_plant` gives one outside a diagram.
+Both go through the one function that parses the arm's URDF, welds its base to the world, gives every
+joint an actuator, sets gravity, adds the payload and finalizes. What a plant holds beyond the bare arm
+is said by a frozen :class:`PlantOptions`, validated when it is made:
+
+* ``gravity`` — the arm's own (rr: −y, the vertical plane of paper 000's Adams model; the others −z),
+  ``"off"``, a base axis or three numbers (:func:`resolve_gravity`);
+* ``payload`` — a point mass (kg) welded to the tool frame, its centre of mass at the tool point: paper
+  000's basket at the RR arm's tool (Fig. 26), paper 003's ~20 kg R2T payload. It is added before
+  ``Finalize``, so the simulated plant and the controller's model of it are the same model;
+* ``ideal_drives`` — the plant is driven by joint torques and simulated: effort limits off, one
+  actuator per joint in joint order, a positive-definite mass matrix (checked);
+* ``geometry`` — the arm's visual geometry registered with a ``SceneGraph`` (for Meshcat);
+* ``time_step`` — 0 (continuous, the default) or a discrete period (s).
+
+Joint order, one rule: the plant's generalized positions and velocities are in the arm's joint order
+(joint1 … jointN, what the URDF's serial chain gives), checked once here, so every caller wires
+arm-ordered vectors (q, q̇, sliders, trajectories) to the plant directly, with no index map.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
+    from pydrake.geometry import SceneGraph
     from pydrake.multibody.plant import MultibodyPlant
+    from pydrake.systems.framework import DiagramBuilder
 
     from armlab.models.arm import Arm
 
-__all__ = ["GRAVITY_NAMES", "G", "check_payload", "make_plant", "resolve_gravity"]
+__all__ = ["GRAVITY_NAMES", "G", "PlantOptions", "add_arm_plant", "check_payload", "check_time_step", "gravity_vector",
+           "make_plant", "resolve_gravity"]
 
 #: Standard gravity (m/s²), the magnitude of every arm's default gravity.
 G = 9.81
@@ -28,18 +47,24 @@ GRAVITY_NAMES = ("default", "off", "+x", "-x", "+y", "-y", "+z", "-z")
 
 
 def resolve_gravity(arm: Arm, gravity: str | ArrayLike | None = None) -> NDArray[np.float64]:
-    """The gravity vector (m/s², base frame) for ``gravity``.
+    """The gravity vector (m/s², base frame) for ``gravity`` (see :func:`gravity_vector`); ``None`` or
+    ``"default"`` → the arm's default (rr: −y, the vertical plane of paper 000's Adams model; the others: −z)."""
+    g = gravity_vector(gravity)
+    return np.asarray(arm.gravity, dtype=float) if g is None else g
 
-    ``None`` or ``"default"`` → the arm's default (rr: −y, the vertical plane of paper 000's Adams
-    model; the others: −z); ``"off"`` → zero; ``"+x"`` … ``"-z"`` → 9.81 m/s² along that base axis;
-    or three numbers (a sequence, or text ``"gx,gy,gz"``).
+
+def gravity_vector(gravity: str | ArrayLike | None) -> NDArray[np.float64] | None:
+    """The gravity vector (m/s², base frame) for ``gravity``, ``None`` for the arm's own.
+
+    ``None`` or ``"default"`` → ``None``; ``"off"`` → zero; ``"+x"`` … ``"-z"`` → 9.81 m/s² along that
+    base axis; or three numbers (a sequence, or text ``"gx,gy,gz"``). ``ValueError`` for anything else.
     """
     if gravity is None:
-        return np.asarray(arm.gravity, dtype=float)
+        return None
     if isinstance(gravity, str):
         text = gravity.strip().lower()
         if text == "default":
-            return np.asarray(arm.gravity, dtype=float)
+            return None
         if text == "off":
             return np.zeros(3)
         if text in GRAVITY_NAMES:
@@ -76,40 +101,143 @@ def check_payload(payload: float, name: str = "payload") -> float:
     return float(check_range(value, name))
 
 
-def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyPlant:
-    """A finalized continuous-time plant of ``arm`` with ``gravity`` and a ``payload`` point mass (kg) at the tool.
+def check_time_step(time_step: float) -> float:
+    """A plant's time step (s) as a float; ``ValueError`` unless 0 (continuous) or a positive finite period."""
+    if time_step == 0:
+        return 0.0
+    from armlab.limits import check_positive
 
-    The plant's generalized positions, velocities and actuators must be in the arm's joint order
-    (joint1 … jointN), which the URDF guarantees; this is checked so that a trajectory in the
-    arm's joint order can be wired to the plant's ports directly. The mass matrix must be positive
-    definite (at q = 0), or the simulation could not solve for the accelerations.
+    return check_positive(time_step, "time step", "s", "give 0 (a continuous plant) or a positive finite period")
 
-    The drives are ideal: Drake would clamp each actuator's input at the URDF's effort limit (for
-    joints with a ``<transmission>`` only); here none is clamped, so a run shows the torque its motion
-    takes, and passing a limit is reported (:func:`armlab.diagrams.drives.limit_violations`), never
-    silently turned into a lagging arm.
+
+@dataclass(frozen=True)
+class PlantOptions:
+    """What a plant of an arm holds beyond the bare arm; each field is checked once, when the options are made.
+
+    ``gravity``: ``None`` (the arm's own), ``"off"``, ``"+x"`` … ``"-z"`` or (gx, gy, gz) m/s²; kept as
+    the resolved ``(gx, gy, gz)`` tuple, or ``None`` (:func:`gravity_vector`). ``payload``: a point mass (kg)
+    at the tool point (:func:`check_payload`). ``ideal_drives``: the plant is driven by joint torques and
+    simulated: no actuator is clamped at its effort limit (a run shows the torque its motion takes, and
+    passing a limit is reported by :func:`armlab.diagrams.drives.limit_violations`, never silently turned into
+    a lagging arm), every joint has one actuator in joint order and the mass matrix is positive definite
+    (checked; the arm needs mass data). ``geometry``: the arm's visual geometry in a ``SceneGraph``
+    (only in a diagram: :func:`add_arm_plant`). ``time_step``: 0 (continuous) or a discrete period (s).
+
+    What comes next (collision geometry, drive trains with rotor inertia and gear ratio, a payload with an
+    inertia of its own) is one more field here, checked in ``__post_init__``, and one more step of the builder.
+    """
+
+    gravity: str | ArrayLike | None = None
+    payload: float = 0.0
+    ideal_drives: bool = False
+    geometry: bool = False
+    time_step: float = 0.0
+
+    def __post_init__(self) -> None:
+        g = gravity_vector(self.gravity)
+        object.__setattr__(self, "gravity", None if g is None else tuple(float(v) for v in g))
+        object.__setattr__(self, "payload", check_payload(self.payload))
+        object.__setattr__(self, "time_step", check_time_step(self.time_step))
+
+    def gravity_of(self, arm: Arm) -> NDArray[np.float64]:
+        """The gravity vector (m/s², ``(3,)``) of ``arm``'s plant: the options' own, or the arm's."""
+        return np.asarray(arm.gravity if self.gravity is None else self.gravity, dtype=float)
+
+
+def add_arm_plant(
+    builder: DiagramBuilder, arm: Arm, options: PlantOptions | None = None
+) -> tuple[MultibodyPlant, SceneGraph | None]:
+    """Add ``arm``'s finalized plant to ``builder``; ``(plant, scene_graph)``, the scene graph ``None`` unless
+    ``options.geometry`` (then both come from Drake's ``AddMultibodyPlantSceneGraph``, connected)."""
+    from pydrake.multibody.plant import AddMultibodyPlantSceneGraph, MultibodyPlant
+
+    options = PlantOptions() if options is None else options
+    if options.geometry:
+        plant, scene_graph = AddMultibodyPlantSceneGraph(builder, options.time_step)
+    else:
+        plant, scene_graph = builder.AddSystem(MultibodyPlant(options.time_step)), None
+    _build(plant, arm, options)
+    return plant, scene_graph
+
+
+def make_plant(arm: Arm, options: PlantOptions | None = None) -> MultibodyPlant:
+    """``arm``'s finalized plant outside a diagram (for queries: kinematics, inverse dynamics, energies).
+
+    ``ValueError`` for ``options.geometry``: a scene graph lives in a diagram (:func:`add_arm_plant`).
     """
     from pydrake.multibody.plant import MultibodyPlant
+
+    options = PlantOptions() if options is None else options
+    if options.geometry:
+        raise ValueError("PlantOptions(geometry=True) needs a SceneGraph in a diagram: use add_arm_plant(builder, …)")
+    plant = MultibodyPlant(options.time_step)
+    _build(plant, arm, options)
+    return plant
+
+
+def _build(plant: MultibodyPlant, arm: Arm, options: PlantOptions) -> None:
+    """Parse ``arm``'s URDF into the empty ``plant``, weld its base, add the actuators, gravity, the payload and
+    the drives of ``options``, finalize, and check the joint order (and, for ideal drives, what simulation needs)."""
     from pydrake.multibody.tree import JointActuatorIndex, RotationalInertia, SpatialInertia
 
-    arm.require_dynamics("simulate")
-    payload = check_payload(payload)
-    plant = MultibodyPlant(0.0)
-    instance = arm.add_to_plant(plant)
-    if payload > 0:
-        body = plant.AddRigidBody(
-            "payload", instance, SpatialInertia.MakeFromCentralInertia(payload, np.zeros(3), RotationalInertia(0, 0, 0))
-        )
+    if options.ideal_drives:
+        arm.require_dynamics("simulate")
+    instance = _add_model(plant, arm)
+    if options.payload > 0:
+        body = plant.AddRigidBody("payload", instance, SpatialInertia.MakeFromCentralInertia(
+            options.payload, np.zeros(3), RotationalInertia(0, 0, 0)))
         plant.WeldFrames(plant.GetFrameByName(arm.tool_name, instance), body.body_frame())
-    plant.mutable_gravity_field().set_gravity_vector(np.asarray(gravity, dtype=float))
-    for index in range(plant.num_actuators()):  # the plant holds the arm alone
-        plant.get_mutable_joint_actuator(JointActuatorIndex(index)).set_effort_limit(np.inf)
+    plant.mutable_gravity_field().set_gravity_vector(options.gravity_of(arm))
+    if options.ideal_drives:
+        for index in range(plant.num_actuators()):  # the plant holds the arm alone
+            plant.get_mutable_joint_actuator(JointActuatorIndex(index)).set_effort_limit(np.inf)
     plant.Finalize()
     order = [plant.GetJointByName(name, instance) for name in arm.joint_names]
     if [j.position_start() for j in order] != list(range(arm.n)) or [j.velocity_start() for j in order] != list(
         range(arm.n)
     ):
         raise ValueError(f"{arm.name}: the plant's joint order differs from {', '.join(arm.joint_names)}")
+    if options.ideal_drives:
+        _check_drivable(plant, arm)
+
+
+def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
+    """Parse the URDF into ``plant``, weld its root link to the world (no offset); returns the model instance.
+
+    A generated URDF is parsed from its text in memory (never through a file). A URDF file's
+    ``package://NAME/…`` paths resolve through the ``package.xml`` of its folder or of the two above
+    it (a ROS package's layout; :func:`armlab.models.read_urdf.package_roots`). A joint without a
+    ``<transmission>`` gets an actuator of its own. ``ValueError`` if Drake cannot load the URDF.
+    """
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.tree import JointActuatorIndex
+
+    parser = Parser(plant)
+    parser.SetAutoRenaming(True)
+    try:
+        if arm.urdf_file is None:
+            (instance,) = parser.AddModelsFromString(arm.urdf(), "urdf")
+        else:
+            from armlab.models.read_urdf import package_roots
+
+            for package_xml in package_roots(arm.urdf_file).values():
+                parser.package_map().AddPackageXml(str(package_xml))
+            (instance,) = parser.AddModels(file_name=str(arm.urdf_file))
+    except RuntimeError as error:
+        source = arm.urdf_file or f"{arm.name}'s generated URDF"
+        raise ValueError(f"{source}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
+    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(arm.base_link, instance))
+    actuators = (plant.get_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
+    actuated = {a.joint().name() for a in actuators if a.model_instance() == instance}
+    for name in arm.joint_names:
+        if name not in actuated:
+            plant.AddJointActuator(f"{name}_actuator", plant.GetJointByName(name, instance))
+    return instance
+
+
+def _check_drivable(plant: MultibodyPlant, arm: Arm) -> None:
+    """``ValueError`` unless every joint has one actuator, in joint order, and the mass matrix is positive definite
+    (at q = 0; else the simulation could not solve for the accelerations)."""
     if plant.num_actuators() != arm.n or not np.array_equal(plant.MakeActuationMatrix(), np.eye(arm.n)):
         raise ValueError(f"{arm.name}: every joint needs one actuator, in joint order ({', '.join(arm.joint_names)}): "
                          "declare the URDF's <transmission> elements in that order, or none")
@@ -119,4 +247,3 @@ def make_plant(arm: Arm, gravity: ArrayLike, payload: float = 0.0) -> MultibodyP
         raise ValueError(f"{arm.name}: the mass matrix is singular (joint(s) {', '.join(still) or 'together'} move "
                          "no mass or inertia): to simulate, every moving link needs an <inertial> with mass > 0 and "
                          "inertia")
-    return plant

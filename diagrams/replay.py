@@ -69,20 +69,18 @@ DEFAULT_RGBA = (0.85, 0.45, 0.12, 1.0)
 
 @dataclass
 class Scene:
-    """A built diagram of the arm's plant, scene graph and Meshcat visualizer, with a context."""
+    """A built diagram of the arm's plant (in the arm's joint order), scene graph and Meshcat visualizer, with a
+    context."""
 
     diagram: Any
     plant: Any
     visualizer: Any
     context: Any
-    position_index: NDArray[np.intp]  # arm joint k → index in the plant's position vector
 
     def show(self, q: NDArray[np.float64], time: float = 0.0) -> None:
-        """Set the arm's joints to ``q`` (arm joint order) at ``time`` and publish to Meshcat."""
+        """Set the arm's joints to ``q`` (arm joint order, the plant's) at ``time`` and publish to Meshcat."""
         self.context.SetTime(time)
-        positions = np.empty(len(self.position_index))
-        positions[self.position_index] = q
-        self.plant.SetPositions(self.plant.GetMyMutableContextFromRoot(self.context), positions)
+        self.plant.SetPositions(self.plant.GetMyMutableContextFromRoot(self.context), q)
         self.visualizer.ForcedPublish(self.visualizer.GetMyContextFromRoot(self.context))
 
 
@@ -114,19 +112,19 @@ def start_meshcat(port: int | None = 0) -> Meshcat:
 
 
 def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS, extra: Any = None) -> Scene:
-    """Plant + SceneGraph from ``arm.add_to_plant`` and a ``MeshcatVisualizer`` on ``meshcat``.
+    """The arm's plant with its geometry in a SceneGraph (:func:`~armlab.diagrams.plant.add_arm_plant`) and a
+    ``MeshcatVisualizer`` on ``meshcat``.
 
     ``extra(builder, plant)`` may add systems (e.g. joint sliders) before the diagram is built.
     Gravity is irrelevant: the plant is only posed, never simulated.
     """
     from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams
-    from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
     from pydrake.systems.framework import DiagramBuilder
 
+    from armlab.diagrams.plant import PlantOptions, add_arm_plant
+
     builder = DiagramBuilder()
-    plant, scene_graph = AddMultibodyPlantSceneGraph(builder, 0.0)
-    arm.add_to_plant(plant)
-    plant.Finalize()
+    plant, scene_graph = add_arm_plant(builder, arm, PlantOptions(geometry=True))
     visualizer = MeshcatVisualizer.AddToBuilder(
         builder, scene_graph, meshcat,
         MeshcatVisualizerParams(publish_period=publish_period, default_color=_rgba(DEFAULT_RGBA)),
@@ -134,8 +132,7 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
     if extra is not None:
         extra(builder, plant)
     diagram = builder.Build()
-    index = np.array([plant.GetJointByName(name).position_start() for name in arm.joint_names], dtype=np.intp)
-    return Scene(diagram, plant, visualizer, diagram.CreateDefaultContext(), index)
+    return Scene(diagram, plant, visualizer, diagram.CreateDefaultContext())
 
 
 def display_rotation(arm: Arm) -> NDArray[np.float64]:

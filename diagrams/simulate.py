@@ -4,7 +4,10 @@
 (:meth:`~armlab.kinematics.quintic.Motion.runs`), starts the plant at the run's reference state
 (rest, or the constant rates), integrates with Drake's error-controlled Runge–Kutta 5 (4) at
 :data:`DEFAULT_ACCURACY`, and gathers the four loggers into one :class:`SimulationLog` on the
-motion's time axis. :func:`summarize` gives the numbers of ``summary.json``.
+motion's time axis. :func:`summarize` gives the numbers of ``summary.json``. What a simulation is asked
+for — the plant's options, mode, gains, log period, sampling, accuracy, divergence tolerance — is one frozen
+:class:`SimulationOptions`, checked once when made; :func:`simulate` and ``build_diagram`` take it, and
+:func:`armlab.simulate` makes it from its keywords.
 
 Where the time goes, and why the samples come from the dense output: loggers that publish every
 1 ms make the integrator stop at every sample (2000 steps of 7 derivative evaluations for a 2 s
@@ -28,6 +31,7 @@ than :data:`MAX_STEPS`.
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -37,7 +41,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
-from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, RunDiagram, build_diagram, check_log_period
+from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, SAMPLINGS, RunDiagram, build_diagram, check_log_period
+from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance
+from armlab.diagrams.plant import PlantOptions
 from armlab.kinematics.quintic import Motion
 from armlab.limits import check_range
 
@@ -54,6 +60,7 @@ __all__ = [
     "MAX_SAMPLES",
     "MAX_STEPS",
     "SimulationLog",
+    "SimulationOptions",
     "check_work",
     "log_samples",
     "max_step",
@@ -80,6 +87,61 @@ MAX_SAMPLES = 1_000_000
 MAX_STEPS = 500_000
 #: Largest joint travel (rad or m) assumed per integrator step when estimating the steps a motion needs.
 TRAVEL_PER_STEP = 0.5
+
+
+#: A controller gain as the options keep it: one value for every joint, or one per joint.
+Gain = float | tuple[float, ...]
+
+
+def _gain(value: float | ArrayLike, name: str) -> Gain:
+    """A gain (``name``: kp, kd or ki) checked against its range (:func:`armlab.limits.check_range`), made immutable.
+
+    How many values the arm needs is checked when the diagram is built (:func:`~armlab.controllers.inverse_dynamics.
+    gain_vector`), where the arm is known.
+    """
+    values = check_range(np.asarray(value, dtype=float), name)
+
+    def frozen(x: Any) -> Any:  # nested lists → nested tuples: a wrong shape stays for gain_vector to name
+        return tuple(frozen(v) for v in x) if isinstance(x, list) else x
+
+    return frozen(values.tolist())
+
+
+@dataclass(frozen=True)
+class SimulationOptions:
+    """What a simulation of Fig. 6 is asked for, checked once when made (``ValueError`` naming the bad value).
+
+    ``plant``: the plant's options (gravity, payload; the drives ideal: a simulated plant is driven by its joint
+    torques); ``mode``: one of :data:`~armlab.diagrams.build.MODES`; ``kp`` (1/s²), ``kd`` (1/s), ``ki`` (1/s³):
+    the controller's gains, one value or one per joint; ``log_period``: the loggers' period (s); ``sampling``: one
+    of :data:`~armlab.diagrams.build.SAMPLINGS`; ``accuracy``: the integrator's target accuracy;
+    ``divergence_tolerance``: the tracking error (rad or m) past which the run has diverged
+    (:func:`armlab.diagrams.drives.divergence`). :func:`armlab.simulate` makes one from its keywords.
+    """
+
+    plant: PlantOptions = field(default_factory=functools.partial(PlantOptions, ideal_drives=True))
+    mode: str = "controller"
+    kp: Gain = DEFAULT_KP
+    kd: Gain = DEFAULT_KD
+    ki: Gain = 0.0
+    log_period: float = DEFAULT_LOG_PERIOD
+    sampling: str = "dense"
+    accuracy: float = DEFAULT_ACCURACY
+    divergence_tolerance: float = DIVERGENCE_TOLERANCE
+
+    def __post_init__(self) -> None:
+        if not self.plant.ideal_drives:
+            raise ValueError("a simulated plant is driven by its joint torques: "
+                             "give PlantOptions(ideal_drives=True, …)")
+        if self.mode not in MODES:
+            raise ValueError(f"mode {self.mode!r} is not allowed; allowed: {', '.join(MODES)}")
+        if self.sampling not in SAMPLINGS:
+            raise ValueError(f"sampling {self.sampling!r} is not allowed; allowed: {', '.join(SAMPLINGS)}")
+        for name in ("kp", "kd", "ki"):
+            object.__setattr__(self, name, _gain(getattr(self, name), name))
+        check_log_period(self.log_period)  # kept as given: the check against a motion's duration quotes it so
+        object.__setattr__(self, "accuracy", float(check_range(self.accuracy, "accuracy")))
+        object.__setattr__(self, "divergence_tolerance", check_tolerance(self.divergence_tolerance))
 
 
 @dataclass
@@ -322,20 +384,9 @@ def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY,
     return {"t": t, **made}
 
 
-def simulate(
-    arm: Arm,
-    motion: Motion,
-    gravity: str | ArrayLike | None = None,
-    payload: float = 0.0,
-    log_period: float = DEFAULT_LOG_PERIOD,
-    mode: str = "controller",
-    kp: float | ArrayLike = DEFAULT_KP,
-    kd: float | ArrayLike = DEFAULT_KD,
-    ki: float | ArrayLike = 0.0,
-    accuracy: float = DEFAULT_ACCURACY,
-    sampling: str = "dense",
-) -> SimulationLog:
-    """Simulate ``arm`` following ``motion`` through Fig. 6's diagram; see :func:`build_diagram` for the options.
+def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None) -> SimulationLog:
+    """Simulate ``arm`` following ``motion`` through Fig. 6's diagram with ``options`` (default
+    :class:`SimulationOptions`'; :func:`build_diagram` builds each run's diagram).
 
     Each run of the motion (consecutive segments that join in q and q̇) is its own simulation
     starting at its reference state; where segments do not join the robot would have to
@@ -343,10 +394,10 @@ def simulate(
     past :func:`check_work`'s limits, and during the run if the integrator needs more than
     :data:`MAX_STEPS` steps. A progress bar shows on stderr when it is a terminal.
     """
-    if mode not in MODES:
-        raise ValueError(f"mode {mode!r} is not allowed; allowed: {', '.join(MODES)}")
+    options = SimulationOptions() if options is None else options
+    mode, accuracy = options.mode, options.accuracy
     motion.check_limits(arm)
-    log_period = check_log_period(log_period, min(m.duration for _, m in motion.runs()))
+    log_period = check_log_period(options.log_period, min(m.duration for _, m in motion.runs()))
     check_work(motion, log_period, mode)
     n = arm.n
     parts: list[dict[str, Any]] = []
@@ -356,7 +407,7 @@ def simulate(
     watch = _Watch(arm.name, motion.duration, accuracy)
     with watch.bar:
         for k, (start, piece) in enumerate(motion.runs()):
-            run = build_diagram(arm, piece, gravity, payload, log_period, mode, kp, kd, ki, sampling)
+            run = build_diagram(arm, piece, options)
             if k == 0:
                 first = run.diagram
             watch.offset = start

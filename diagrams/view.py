@@ -80,12 +80,9 @@ class Viewer:
         def add_sliders(builder: Any, plant: Any) -> None:
             if deg:
                 return
-            index = [plant.GetJointByName(name).position_start() for name in arm.joint_names]
-            order = np.argsort(index)  # plant position order → arm joint order
-            holder["sliders"] = builder.AddSystem(JointSliders(
-                self.meshcat, plant, initial_value=q0[order],
-                lower_limit=np.minimum(lower, q0)[order], upper_limit=np.maximum(upper, q0)[order],
-                step=np.where(arm.revolute, 1e-3, 1e-4)[order],
+            holder["sliders"] = builder.AddSystem(JointSliders(  # the plant's positions are in joint order
+                self.meshcat, plant, initial_value=q0, lower_limit=np.minimum(lower, q0),
+                upper_limit=np.maximum(upper, q0), step=np.where(arm.revolute, 1e-3, 1e-4),
             ))
 
         self.scene = build_scene(arm, self.meshcat, extra=add_sliders)
@@ -120,7 +117,7 @@ class Viewer:
     def _read_sliders(self) -> NDArray[np.float64]:
         """The sliders' values as joint values q (rad, m), in joint order."""
         if not self.deg:
-            return np.asarray(self.sliders.get_output_port().Eval(self._sliders_context))[self.scene.position_index]
+            return np.asarray(self.sliders.get_output_port().Eval(self._sliders_context))
         values = np.array([self.meshcat.GetSliderValue(name) for name in self.slider_names])
         return np.where(self.arm.revolute, np.radians(values), values)
 

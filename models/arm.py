@@ -1,4 +1,4 @@
-"""The :class:`Arm`: one serial arm's parameters, geometry, URDF and Drake plant.
+"""The :class:`Arm`: one serial arm's parameters, geometry, URDF and Drake plant (:mod:`armlab.diagrams.plant`).
 
 An arm is described once, by its paper's parameters, as paper 003's matrix of nominal
 geometry plus bodies, limits and named points (see :mod:`armlab.models.write_urdf`). From
@@ -25,6 +25,7 @@ from armlab.models.write_urdf import Body, JointLimits, Point, link_inertials, u
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
 
+    from armlab.diagrams.plant import PlantOptions
     from armlab.kinematics.dh import DHTable
 
 __all__ = ["MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
@@ -220,52 +221,12 @@ class Arm:
         return "sha256:" + hashlib.sha256(self.urdf().encode()).hexdigest()
 
     # ----------------------------------------------------------------- Drake
-    def add_to_plant(self, plant: MultibodyPlant) -> Any:
-        """Parse the URDF into ``plant``, weld its root link to the world (no offset); returns the model instance.
+    def make_plant(self, options: PlantOptions | None = None) -> MultibodyPlant:
+        """A finalized ``MultibodyPlant`` of the arm (default: continuous, the arm's gravity, no payload), in the arm's
+        joint order: :func:`armlab.diagrams.plant.make_plant`, the one plant builder, with ``options``."""
+        from armlab.diagrams.plant import make_plant
 
-        A generated URDF is parsed from its text in memory (never through a file). A URDF file's
-        ``package://NAME/…`` paths resolve through the ``package.xml`` of its folder or of the two above
-        it (a ROS package's layout; :func:`armlab.models.custom.package_roots`). A joint without a
-        ``<transmission>`` gets an actuator of its own. ``ValueError`` if Drake cannot load the URDF.
-        """
-        from pydrake.multibody.parsing import Parser
-        from pydrake.multibody.tree import JointActuatorIndex
-
-        parser = Parser(plant)
-        parser.SetAutoRenaming(True)
-        try:
-            if self.urdf_file is None:
-                (instance,) = parser.AddModelsFromString(self.urdf(), "urdf")
-            else:
-                from armlab.models.read_urdf import package_roots
-
-                for package_xml in package_roots(self.urdf_file).values():
-                    parser.package_map().AddPackageXml(str(package_xml))
-                (instance,) = parser.AddModels(file_name=str(self.urdf_file))
-        except RuntimeError as error:
-            source = self.urdf_file or f"{self.name}'s generated URDF"
-            raise ValueError(f"{source}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
-        plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(self.base_link, instance))
-        actuators = (plant.get_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
-        actuated = {a.joint().name() for a in actuators if a.model_instance() == instance}
-        for name in self.joint_names:
-            if name not in actuated:
-                plant.AddJointActuator(f"{name}_actuator", plant.GetJointByName(name, instance))
-        return instance
-
-    def make_plant(
-        self, time_step: float = 0.0, gravity: ArrayLike | None = None
-    ) -> MultibodyPlant:
-        """A finalized continuous-time (``time_step=0``) ``MultibodyPlant`` of the arm."""
-        from pydrake.multibody.plant import MultibodyPlant
-
-        plant = MultibodyPlant(time_step)
-        self.add_to_plant(plant)
-        plant.mutable_gravity_field().set_gravity_vector(
-            np.asarray(self.gravity if gravity is None else gravity, dtype=float)
-        )
-        plant.Finalize()
-        return plant
+        return make_plant(self, options)
 
     # ------------------------------------------------- the Python API (armlab.load(...).fk(q), …)
     def fk(self, q: ArrayLike) -> NDArray[np.float64]:

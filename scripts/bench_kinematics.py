@@ -25,7 +25,6 @@ from collections.abc import Callable
 import numpy as np
 import pinocchio as pin
 
-from armlab.diagrams.plant import make_plant
 from armlab.kinematics.differential import jacobian
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.models import ARMS, get_arm
@@ -92,7 +91,7 @@ class Drake:
     def __init__(self, arm: Arm) -> None:
         from pydrake.multibody.tree import MultibodyForces
 
-        self.plant = make_plant(arm, arm.gravity)
+        self.plant = arm.make_plant()
         self.context = self.plant.CreateDefaultContext()
         self.tool, self.world = self.plant.GetFrameByName(arm.tool_name), self.plant.world_frame()
         self.forces = MultibodyForces(self.plant)

@@ -29,7 +29,7 @@ import numpy as np
 
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD
 from armlab.diagrams.motions import paper_motion
-from armlab.diagrams.plant import make_plant, resolve_gravity
+from armlab.diagrams.plant import PlantOptions
 from armlab.diagrams.simulate import DEFAULT_ACCURACY, DEFAULT_INTEGRATOR, MAX_STEP, simulate
 from armlab.kinematics.quintic import Motion
 from armlab.models import get_arm
@@ -45,7 +45,7 @@ def plant_only_seconds(arm: Arm, motion: Motion, clock: Callable[[], float] = ti
     """Wall time to integrate the bare plant (zero actuation) over ``motion``'s duration, from its start state."""
     from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
 
-    plant = make_plant(arm, resolve_gravity(arm))
+    plant = arm.make_plant(PlantOptions(ideal_drives=True))  # the plant simulate() runs
     simulator = Simulator(plant)
     context = simulator.get_mutable_context()
     plant.get_actuation_input_port().FixValue(context, np.zeros(arm.n))

@@ -208,7 +208,7 @@ def _segment_samples(motion: Any, k: int, tau: np.ndarray) -> np.ndarray:
 
 def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     from armlab.diagrams.motions import ABCD_POINTS, ABCD_SEGMENTS, abcd_motion
-    from armlab.diagrams.simulate import simulate, summarize
+    from armlab.diagrams.simulate import SimulationOptions, simulate, summarize
     from armlab.scripts.figures import new_figure
 
     motion = abcd_motion(arm, SEGMENT_TIME)
@@ -248,7 +248,7 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
     radial_arc = np.abs(np.linalg.norm(M_arc - centre, axis=-1) - radius).max(axis=1)
 
     # ---- simulation (Fig. 6 diagram) and inverse dynamics of the same reference
-    log = simulate(arm, motion, log_period=log_period)
+    log = simulate(arm, motion, SimulationOptions(log_period=log_period))
     tau_id = arm.inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref)
     id_gap = float(np.abs(tau_id - log.tau).max())
     tau_arc = np.stack([arm.inverse_dynamics(q, qd, qdd) for q, qd, qdd in zip(arc["q"], arc["qd"], arc["qdd"],
@@ -373,13 +373,14 @@ def _branch_switches(out: PaperOutput, motion: Any) -> None:
 
 def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> None:
     """Fig. 7 (torques of Fig. 3's motion) and Figs. 28-29 (the arm with its tool, vertical plane)."""
-    from armlab.diagrams.simulate import simulate
+    from armlab.diagrams.plant import PlantOptions
+    from armlab.diagrams.simulate import SimulationOptions, simulate
     from armlab.scripts.figures import new_figure
 
     out.group("§4, Fig. 7: joint torques of Fig. 3's motion",
               "Simulated through Drake's version of the paper's Fig. 6 diagram (quintic trajectory source → inverse "
               "dynamics controller → plant → scopes) with armlab's chosen masses.")
-    log = simulate(arm, motion, log_period=log_period)
+    log = simulate(arm, motion, SimulationOptions(log_period=log_period))
     out.simulated_run(log, "fig07", "Fig. 3's motion (Figs. 5, 7)")
     tau_id = arm.inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref)
     id_gap = float(np.abs(tau_id - log.tau).max())
@@ -401,7 +402,8 @@ def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> Non
     out.figure(fig, "fig07_torques", "Fig. 7", "joint torques of the quintic of §4 (armlab's chosen masses)")
 
     out.group("Figs. 26-29: the arm with its tool in the vertical plane")
-    tool_log = simulate(arm, motion, payload=TOOL_MASS, log_period=log_period)
+    tool_log = simulate(arm, motion, SimulationOptions(PlantOptions(payload=TOOL_MASS, ideal_drives=True),
+                                                     log_period=log_period))
     out.simulated_run(tool_log, "fig28", "the arm with its tool in the vertical plane (Figs. 28-29)")
     q_ref = tool_log.q_ref
     M_ref = arm.forward(q_ref).points["M"]

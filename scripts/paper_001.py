@@ -200,10 +200,10 @@ def _figures(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> None:
 
 def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> None:
     """Beyond the paper (kinematic only): §3's motion through Drake's Fig. 6 diagram, its torques and replay."""
-    from armlab.diagrams.simulate import simulate
+    from armlab.diagrams.simulate import SimulationOptions, simulate
     from armlab.scripts.figures import new_figure
 
-    log = simulate(arm, motion, log_period=log_period)
+    log = simulate(arm, motion, SimulationOptions(log_period=log_period))
     out.simulated_run(log, "motion", "§3's motion (2, 0, 0) → (1, 1, 1.4) m, as the Robotics Toolbox animates it")
     fig, ax = new_figure("Beyond paper 001 — joint torques of §3's motion (gravity −z, armlab's chosen masses)",
                          size=(7, 4.2))

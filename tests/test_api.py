@@ -75,14 +75,14 @@ def test_jacobian_and_tool_motion_equal_drake(arm_name, rng):
 def test_inverse_dynamics_equals_drake_with_gravity_and_payload(arm_name, rng):
     from pydrake.multibody.tree import MultibodyForces
 
-    from armlab.diagrams.plant import make_plant
+    from armlab.diagrams.plant import PlantOptions, make_plant
 
     arm = armlab.load(arm_name)
     q, qd, qdd = random_q(arm, rng, 6), rng.normal(size=(6, arm.n)), rng.normal(size=(6, arm.n))
     tau = arm.inverse_dynamics(q, qd, qdd, payload=1.5)
     assert tau.shape == (6, arm.n)
     np.testing.assert_allclose(arm.inverse_dynamics(q[0], qd[0], qdd[0], payload=1.5), tau[0], rtol=1e-12)
-    plant = make_plant(arm, np.asarray(arm.gravity), 1.5)
+    plant = make_plant(arm, PlantOptions(payload=1.5, ideal_drives=True))
     context = plant.CreateDefaultContext()
     forces = MultibodyForces(plant)
     for k in range(6):

@@ -18,7 +18,7 @@ from armlab.diagrams.build import build_diagram
 from armlab.diagrams.graphviz import fig6_dot, parse_drake_dot, render
 from armlab.diagrams.motions import paper_motion
 from armlab.diagrams.plots import PLOTS, figures, limit_values, write_plots
-from armlab.diagrams.simulate import simulate
+from armlab.diagrams.simulate import SimulationOptions, simulate
 from armlab.models import get_arm
 
 
@@ -39,7 +39,7 @@ def svg_ids(svg: str, kind: str) -> set[str]:
                                             ("r2t", "controller")])
 def test_fig6_draws_exactly_the_diagrams_connections(name, mode):
     arm = get_arm(name)
-    run = build_diagram(arm, paper_motion(arm).runs()[0][1], mode=mode)
+    run = build_diagram(arm, paper_motion(arm).runs()[0][1], SimulationOptions(mode=mode))
     dot = run.diagram.GetGraphvizString(max_depth=1)
     svg = render(fig6_dot(dot), "svg").decode()
     expected = connections(run.diagram)
@@ -93,7 +93,7 @@ def test_diagram_command_writes_pdf_and_the_full_graph(tmp_path):
 @functools.cache
 def rr_log():
     arm = get_arm("rr")
-    return simulate(arm, paper_motion(arm, "abcd"), log_period=0.01)
+    return simulate(arm, paper_motion(arm, "abcd"), SimulationOptions(log_period=0.01))
 
 
 def hlines(ax) -> set[tuple[float, str]]:
@@ -171,7 +171,7 @@ def test_closed_path_shows_start_and_end_and_3d_paths_are_to_scale(tmp_path):
     assert markers["end"].get_zorder() > markers["start"].get_zorder()
     plt.close("all")
     arm = get_arm("arm4r")
-    log3 = simulate(arm, paper_motion(arm), log_period=0.01)
+    log3 = simulate(arm, paper_motion(arm), SimulationOptions(log_period=0.01))
     ax3 = next(a for a in figures(log3)["tool_path.png"].axes if a.name == "3d")
     spans = [np.ptp(lim) for lim in (ax3.get_xlim3d(), ax3.get_ylim3d(), ax3.get_zlim3d())]
     box = np.asarray(ax3.get_box_aspect())

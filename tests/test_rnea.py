@@ -10,7 +10,7 @@ import pytest
 from conftest import ARM_NAMES, arm_and_plant, random_q
 from test_differential import USER_URDF
 
-from armlab.diagrams.plant import make_plant
+from armlab.diagrams.plant import PlantOptions, make_plant
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.models import get_arm
 
@@ -47,7 +47,7 @@ def _drake_inverse_dynamics(arm, gravity, payload, q, qd, qdd):
     """Drake's CalcInverseDynamics, gravity as the plant's force elements, one sample at a time."""
     from pydrake.multibody.tree import MultibodyForces
 
-    plant = make_plant(arm, gravity, payload)
+    plant = make_plant(arm, PlantOptions(tuple(gravity), payload, ideal_drives=True))
     context = plant.CreateDefaultContext()
     forces = MultibodyForces(plant)
     tau = []

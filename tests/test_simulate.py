@@ -20,12 +20,13 @@ from armlab.cli import main
 from armlab.diagrams.build import build_diagram
 from armlab.diagrams.motions import paper_motion
 from armlab.diagrams.output import RUN_OUTPUTS, csv_header
-from armlab.diagrams.plant import make_plant, resolve_gravity
+from armlab.diagrams.plant import PlantOptions, make_plant, resolve_gravity
 from armlab.diagrams.simulate import (
     DEFAULT_ACCURACY,
     DEFAULT_INTEGRATOR,
     MAX_STEP,
     SimulationLog,
+    SimulationOptions,
     log_samples,
     sample_times,
     simulate,
@@ -45,14 +46,20 @@ def run(name: str, path: str | None = None, log_period: float = 0.01, mode: str 
         gravity: str | None = None, payload: float = 0.0) -> SimulationLog:
     """A paper motion simulated once per session (coarse log by default: the tests stay fast)."""
     arm = get_arm(name)
-    return simulate(arm, paper_motion(arm, path), gravity=gravity, payload=payload, log_period=log_period, mode=mode)
+    plant = PlantOptions(gravity=gravity, payload=payload, ideal_drives=True)
+    return simulate(arm, paper_motion(arm, path), SimulationOptions(plant, log_period=log_period, mode=mode))
+
+
+def sim_plant(log: SimulationLog):
+    """The plant ``log`` was simulated with: its arm, gravity and payload, outside a diagram."""
+    return make_plant(log.arm, PlantOptions(tuple(log.gravity), log.payload, ideal_drives=True))
 
 
 def inverse_dynamics(log: SimulationLog, q, qd, qdd) -> np.ndarray:
     """Drake's CalcInverseDynamics (gravity included through the force elements), row by row."""
     from pydrake.multibody.tree import MultibodyForces
 
-    plant = make_plant(log.arm, log.gravity, log.payload)
+    plant = sim_plant(log)
     context = plant.CreateDefaultContext()
     forces = MultibodyForces(plant)
     out = []
@@ -163,7 +170,7 @@ def test_r2t_payload_adds_its_point_mass_dynamics():
     np.testing.assert_allclose(loaded.tool, base.tool, rtol=0, atol=1e-8)  # exact tracking: the same motion
     from pydrake.multibody.tree import JacobianWrtVariable
 
-    plant = make_plant(base.arm, base.gravity)
+    plant = sim_plant(base)
     context = plant.CreateDefaultContext()
     frame, world = plant.GetFrameByName(base.arm.tool_name), plant.world_frame()
     extra = []
@@ -203,7 +210,7 @@ def test_logged_torques_replayed_open_loop_reproduce_the_trajectory():
 
     log = run("rr", log_period=1e-3, mode="inverse_dynamics")
     builder = DiagramBuilder()
-    plant = builder.AddSystem(make_plant(log.arm, log.gravity))
+    plant = builder.AddSystem(sim_plant(log))
     torque = PiecewisePolynomial.CubicWithContinuousSecondDerivatives(log.t, log.tau.T, periodic_end_condition=False)
     source = builder.AddSystem(TrajectorySource(torque))
     builder.Connect(source.get_output_port(), plant.get_actuation_input_port())
@@ -224,7 +231,7 @@ def test_logged_torques_replayed_open_loop_reproduce_the_trajectory():
 def test_energy_work_of_the_torques_equals_the_change_in_energy(name, path, payload):
     """∫ τ·q̇ dt (composite Simpson over the 1 ms log) = Δ(kinetic + potential energy), Drake's energies."""
     log = run(name, path, log_period=1e-3, payload=payload)
-    plant = make_plant(log.arm, log.gravity, log.payload)
+    plant = sim_plant(log)
     context = plant.CreateDefaultContext()
     for k in range(len(log.run_starts)):
         rows = np.flatnonzero(log.run == k)
@@ -282,7 +289,8 @@ def test_log_samples_equal_the_diagram_evaluated_at_each_state(rng, name, mode):
     matter), the diagram is evaluated one sample at a time by a forced publish of its loggers.
     """
     arm = get_arm(name)
-    run = build_diagram(arm, paper_motion(arm), payload=2.0, mode=mode, ki=5.0)
+    run = build_diagram(arm, paper_motion(arm), SimulationOptions(PlantOptions(payload=2.0, ideal_drives=True),
+                                                                  mode=mode, ki=5.0))
     context = run.diagram.CreateDefaultContext()
     plant_rows, other_rows = state_rows(run, context)
     assert len(plant_rows) == 2 * arm.n and len(other_rows) == (arm.n if mode == "controller" else 0)
@@ -312,7 +320,8 @@ def test_sample_times_are_the_periodic_publish_times():
     arm = get_arm("rr")
     for tf, dt in ((0.3, 0.1), (0.7, 0.1), (1.5, 0.007)):
         motion = Motion((QuinticSegment(np.zeros(2), np.ones(2), tf),))
-        np.testing.assert_array_equal(simulate(arm, motion, log_period=dt, sampling="periodic").t, sample_times(tf, dt))
+        options = SimulationOptions(log_period=dt, sampling="periodic")
+        np.testing.assert_array_equal(simulate(arm, motion, options).t, sample_times(tf, dt))
 
 
 #: Dense-output runs against the periodic loggers (the integrator stopping at every sample): (arm, path, Δt, mode).
@@ -331,8 +340,8 @@ def test_dense_samples_equal_the_periodic_loggers(name, path, dt, mode):
     """
     arm = get_arm(name)
     motion = paper_motion(arm, path)
-    dense = simulate(arm, motion, log_period=dt, mode=mode)
-    periodic = simulate(arm, motion, log_period=dt, mode=mode, sampling="periodic")
+    dense = simulate(arm, motion, SimulationOptions(log_period=dt, mode=mode))
+    periodic = simulate(arm, motion, SimulationOptions(log_period=dt, mode=mode, sampling="periodic"))
     np.testing.assert_array_equal(dense.t, periodic.t)
     np.testing.assert_array_equal(dense.run, periodic.run)
     for key, atol in (("q_ref", 1e-12), ("qd_ref", 1e-12), ("qdd_ref", 1e-10), ("q", 1e-8), ("qd", 1e-8),
@@ -357,23 +366,26 @@ def test_a_sample_the_loggers_disagree_with_is_an_error(monkeypatch):
     monkeypatch.setattr(simulate_module, "log_samples", off_by_a_little)
     arm = get_arm("rr")
     with pytest.raises(RuntimeError, match="torque samples made from the integrator's dense output differ"):
-        simulate(arm, paper_motion(arm), log_period=0.01)
+        simulate(arm, paper_motion(arm), SimulationOptions(log_period=0.01))
 
 
 # ---------------------------------------------------------------------------------------------- diagram
 def test_dot_names_the_fig6_blocks():
     arm = get_arm("rr")
     for mode, controller in (("controller", "InverseDynamicsController"), ("inverse_dynamics", "InverseDynamics")):
-        dot = build_diagram(arm, paper_motion(arm), mode=mode).diagram.GetGraphvizString(max_depth=1)
+        dot = build_diagram(arm, paper_motion(arm), SimulationOptions(mode=mode)).diagram.GetGraphvizString(
+            max_depth=1)
         for name in ("TrajectorySource", controller, "MultibodyPlant", "ToolPoint", "log_reference", "log_state",
                      "log_torque", "log_tool"):
             assert f"name={name}" in dot, name
     with pytest.raises(ValueError, match="one continuous run"):
         build_diagram(arm, paper_motion(arm, "abcd"))
     with pytest.raises(ValueError, match="mode 'open' is not allowed"):
-        build_diagram(arm, paper_motion(arm), mode="open")
+        SimulationOptions(mode="open")
     with pytest.raises(ValueError, match="log period = 0 s"):
-        build_diagram(arm, paper_motion(arm), log_period=0)
+        SimulationOptions(log_period=0)
+    with pytest.raises(ValueError, match=r"log period = 3 s is longer than the motion \(2 s\)"):
+        build_diagram(arm, paper_motion(arm), SimulationOptions(log_period=3))
 
 
 # --------------------------------------------------------------------------------------------- the CLI
@@ -526,7 +538,7 @@ def test_summarize_single_segment_keys():
 def test_hold_motion_for_the_diagram_of_a_still_arm():
     arm = get_arm("rr")
     motion = Motion((QuinticSegment(np.zeros(2), np.zeros(2), 1.0),))
-    log = simulate(arm, motion, log_period=0.05)
+    log = simulate(arm, motion, SimulationOptions(log_period=0.05))
     np.testing.assert_allclose(log.q, 0.0, atol=1e-12)
     # holding still against gravity: τ = gravity torques, the Lagrange equations with q̇ = q̈ = 0
     np.testing.assert_allclose(log.tau, lagrange_rr(arm, log.q, 0 * log.q, 0 * log.q, log.gravity), atol=1e-9)
@@ -562,7 +574,7 @@ def test_a_run_past_the_step_budget_stops_with_a_clear_error(monkeypatch):
     assert simulate_module.check_work(motion, 1e-3) == (2001, 200)  # within the limits before it starts
     monkeypatch.setattr(simulate_module, "MAX_STEPS", 500)  # the estimate, 200, passes; at 1e-12 it takes ~1000
     with pytest.raises(ValueError, match=r"took more than 500 steps and reached only t = [01]\.\d* s of 2 s"):
-        simulate(arm, motion, accuracy=1e-12)
+        simulate(arm, motion, SimulationOptions(accuracy=1e-12))
 
 
 def _armlab(*argv: str, **kwargs) -> subprocess.Popen:
