@@ -549,19 +549,19 @@ def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
 
 
 def test_without_worker_processes_the_tasks_run_here(monkeypatch):
-    """Where a worker pool cannot be made (no /dev/shm for its semaphores, say), the tasks run in this process."""
+    """Where worker processes cannot be made (no pipes or processes left, say), the tasks run in this process."""
     import multiprocessing
 
     from armlab.scripts.reproduce import _Pool
 
-    class NoSemaphores:
-        def SimpleQueue(self):
-            raise OSError("[Errno 38] Function not implemented")
+    class NoPipes:
+        def Pipe(self):
+            raise OSError("[Errno 24] Too many open files")
 
-    monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoSemaphores())
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoPipes())
     lines: list[str] = []
     with pytest.warns(UserWarning), _Pool(2, lines.append) as pool:
         pool.submit(0, _task_that_warns, 5)
         assert dict(pool.done()) == {0: 25}
-    assert lines == ["worker processes are not available here ([Errno 38] Function not implemented); working in "
+    assert lines == ["worker processes are not available here ([Errno 24] Too many open files); working in "
                      "this process", "task 5 working"]
