@@ -549,18 +549,30 @@ def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
 
 
 def test_without_worker_processes_the_tasks_run_here(monkeypatch):
-    """Where worker processes cannot be made (no pipes or processes left, say), the tasks run in this process."""
+    """Where worker processes cannot be made (no pipes or processes left, say), the tasks run in this process; a
+    worker started before is stopped."""
     import multiprocessing
 
     from armlab.scripts.reproduce import _Pool
 
-    class NoPipes:
-        def Pipe(self):
-            raise OSError("[Errno 24] Too many open files")
+    spawn = multiprocessing.get_context("spawn")
 
-    monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoPipes())
+    class SecondPipeFails:
+        pipes = 0
+
+        def Pipe(self):
+            self.pipes += 1
+            if self.pipes == 2:
+                raise OSError("[Errno 24] Too many open files")
+            return spawn.Pipe()
+
+        def Process(self, **kwargs):
+            return spawn.Process(**kwargs)
+
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method: SecondPipeFails())
     lines: list[str] = []
     with pytest.warns(UserWarning), _Pool(2, lines.append) as pool:
+        assert multiprocessing.active_children() == []
         pool.submit(0, _task_that_warns, 5)
         assert dict(pool.done()) == {0: 25}
     assert lines == ["worker processes are not available here ([Errno 24] Too many open files); working in "
