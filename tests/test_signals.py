@@ -185,6 +185,22 @@ def test_sigterm_ends_a_reproduction_and_its_workers(box, text, delay, group):
     assert _contents(box.cwd / "rep") == earlier
 
 
+def test_ctrl_c_while_the_workers_start_prints_nothing(box):
+    """Ctrl-C (to the whole process group) as soon as the two workers exist, while they import their modules
+    (seconds): exit 130 and nothing on stderr (a worker that took its KeyboardInterrupt printed its traceback), no
+    worker left."""
+    process = _start(box, "reproduce", "--paper", "000", "--fast", "--jobs", "2", "--out", "rep")
+    end = time.monotonic() + 120
+    while len(_workers(process.pid)) < 2:
+        assert process.poll() is None and time.monotonic() < end, (process.poll(), "no workers")
+        time.sleep(0.01)
+    err, took = _stop(process, signal.SIGINT, [])
+    assert process.returncode == 130 and err == "", (process.returncode, err[-3000:])
+    assert took < PROMPT
+    assert box.debris() == []
+    assert _ended(box)
+
+
 def test_a_worker_killed_alone_ends_a_reproduction_with_an_error(box):
     """A worker killed (the kernel's out-of-memory killer, say) while the other runs paper 000: one error line
     naming it, exit 2, promptly (a multiprocessing pool waited for ever for its task), the other worker stopped,
