@@ -528,8 +528,9 @@ def _task_that_fails(k: int, progress) -> int:
 
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
-    """The reproduction's pool: every task's value, each progress line (through the workers' queue), each warning
-    raised again in the caller; a task's error raised in the caller, the workers then stopped."""
+    """The reproduction's pool: every task's value, each progress line (through the workers' pipes), each warning
+    raised again in the caller; a task's error raised in the caller (from a worker: its traceback there as the
+    cause), the workers then stopped."""
     import multiprocessing
 
     from armlab.scripts.reproduce import _Pool
@@ -542,9 +543,11 @@ def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
     assert values == {k: k * k for k in range(4)}
     assert sorted(lines) == [f"task {k} working" for k in range(4)]
     assert sorted(str(w.message) for w in caught) == [f"task {k}: careful" for k in range(4)]
-    with pytest.raises(ValueError, match="task 3: bad input"), _Pool(jobs, lines.append) as pool:
+    with pytest.raises(ValueError, match="task 3: bad input") as failed, _Pool(jobs, lines.append) as pool:
         pool.submit(3, _task_that_fails, 3)
         list(pool.done())
+    remote = 'in _task_that_fails\n    raise ValueError(f"task {k}: bad input")'
+    assert jobs == 1 or remote in str(failed.value.__cause__)
     assert multiprocessing.active_children() == []
 
 
