@@ -22,12 +22,17 @@ import sys
 import threading
 import time
 import warnings
+from collections import deque
 from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
+from multiprocessing import resource_tracker
+from multiprocessing.connection import Connection, wait
+from multiprocessing.pool import ExceptionWithTraceback, MaybeEncodingError
 from pathlib import Path
 from typing import Any
 
-from armlab.files import OutputFolder
+from armlab.files import OutputFolder, signals_held
 
 __all__ = ["MARKER", "PAPERS", "ReproduceResult", "default_jobs", "output_folder", "register", "reproduce", "run_alone"]
 
@@ -41,8 +46,6 @@ LONGEST_FIRST = ("000", "004", "003", "001")
 MATH_TASKS = 4
 #: More worker processes than this would only wait: at most four papers, then four mathematics tasks at a time.
 MAX_JOBS = 4
-#: Seconds between looks at the workers' progress lines and results.
-POLL = 0.02
 #: The workers' numerical libraries run one thread each: there is a worker per CPU already, and the threads of
 #: OpenBLAS (numpy's) and OpenMP wait for work spinning, costing CPU the other worker needs.
 ONE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
@@ -95,30 +98,47 @@ def default_jobs() -> int:
     return min(default_workers(), MAX_JOBS)
 
 
-_worker_queue: Any = None  # in a worker process: where its progress lines go
-
-
-def _worker_start(queue: Any) -> None:
-    """A worker process: its progress lines go to ``queue``; Ctrl-C is the parent's to handle (it stops the pool).
-
-    tqdm's bars (the simulations') share a thread lock here, not the interprocess lock tqdm makes by default: a
-    worker ended by the pool's terminate cannot release an interprocess lock, and Python warns of it on exit.
-    """
-    global _worker_queue
-    from tqdm import tqdm
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    tqdm.set_lock(threading.RLock())
-    _worker_queue = queue
-
-
-def _job(task: Callable[..., Any], args: tuple, progress: Callable[[str], Any] | None = None) -> tuple[Any, list]:
-    """``task(*args, progress=…)``'s value and the warnings it raised (``(category, message)``, to raise again in
-    the parent); ``progress`` defaults to the worker's queue."""
+def _job(task: Callable[..., Any], args: tuple, progress: Callable[[str], Any]) -> tuple[Any, list]:
+    """``task(*args, progress=progress)``'s value and the warnings it raised (``(category, message)``, to raise
+    again in the parent)."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        value = task(*args, progress=progress or _worker_queue.put)
+        value = task(*args, progress=progress)
     return value, [(w.category, str(w.message)) for w in caught]
+
+
+def _worker(connection: Connection) -> None:
+    """A worker process: runs each ``(task, args)`` the parent sends on ``connection`` (:func:`_job`) until the
+    parent closes it. It sends back each progress line, ``("line", text)``, then the task's end, ``("value",
+    (value, warnings))`` or ``("error", exception)``: one pipe, so a task's lines precede its end.
+
+    Ctrl-C is the parent's to handle (it stops the workers): ignored here, and blocked until then (since the
+    process started, :func:`_ctrl_c_blocked`). tqdm's bars (the simulations') share a thread lock
+    here, not the interprocess lock tqdm makes by default: a worker the parent terminates cannot release an
+    interprocess lock, and Python warns of it on exit.
+    """
+    from tqdm import tqdm
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # a Ctrl-C pending since the start is dropped
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    tqdm.set_lock(threading.RLock())
+
+    def progress(line: str) -> None:
+        connection.send(("line", line))
+
+    while True:
+        try:
+            task, args = connection.recv()
+        except EOFError:  # the parent is done
+            return
+        try:
+            end: tuple[str, Any] = ("value", _job(task, args, progress))
+        except Exception as error:  # raised again in the parent, with this traceback as its cause
+            end = ("error", ExceptionWithTraceback(error, error.__traceback__))
+        try:
+            connection.send(end)
+        except Exception as error:  # a value or an exception that pickle cannot carry
+            connection.send(("error", MaybeEncodingError(error, end[1])))
 
 
 def _paper(paper: str, folder: Path, fast: bool, progress: Callable[[str], Any]
@@ -147,73 +167,141 @@ def _images(out: Path, images: Sequence[str], progress: Callable[[str], Any]) ->
     return embed_images(out, images)
 
 
+@contextmanager
+def _ctrl_c_blocked() -> Iterator[None]:
+    """SIGINT blocked in this thread meanwhile: a process started meanwhile inherits the block, so a Ctrl-C while
+    it imports (seconds, before :func:`_worker` ignores it) raises no KeyboardInterrupt there, with its traceback;
+    here it arrives when the block ends. (Python's resource tracker starts its process the same way.)"""
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+
+
 class _Pool:
     """``jobs`` worker processes (spawned: no state of the caller's is inherited) that run :func:`_job` tasks,
     their progress lines passed to ``progress`` as they come; with ``jobs == 1`` the tasks run in this process.
 
-    Leaving the ``with`` block by an exception (a task's, or a stop signal) terminates the workers at once, so
-    the caller's temporary output is removed only after no worker writes into it any more.
+    Each worker has a pipe of its own and shares no lock with the others, so a worker that ends at any moment
+    (the process group's SIGTERM, a kill) blocks nothing: the pool sees its pipe close, and raises
+    ``ChildProcessError`` if it was not stopping anyway. Leaving the ``with`` block by an exception (a task's,
+    or a stop signal) terminates the workers at once, so the caller's temporary output is removed only after no
+    worker writes into it any more.
     """
 
     def __init__(self, jobs: int, progress: Callable[[str], Any]) -> None:
         self.jobs, self.progress = jobs, progress
-        self.pool: Any = None
-        self.pending: dict[Any, Any] = {}
+        self.workers: dict[Connection, Any] = {}  # our end of a worker's pipe → its process
+        self.idle: list[Connection] = []
+        self.running: dict[Connection, Any] = {}  # a busy worker → the key of its task
+        self.queued: deque[tuple[Any, Callable[..., Any], tuple]] = deque()  # tasks waiting for a worker
+        self.ended: dict[Any, tuple[Any, list]] = {}  # tasks ended, not yet yielded: key → (value, warnings)
 
     def __enter__(self) -> _Pool:
         if self.jobs > 1:
-            context = multiprocessing.get_context("spawn")
-            saved = {name: os.environ.get(name) for name in ONE_THREAD}
-            os.environ.update(ONE_THREAD)  # the workers' environment (a spawned process copies it when it starts)
             try:
-                self.queue = context.SimpleQueue()  # a worker's put is written at once: its lines precede its value
-                self.pool = context.Pool(self.jobs, initializer=_worker_start, initargs=(self.queue,))
-            except (OSError, ImportError) as error:  # e.g. no /dev/shm for the queues' semaphores
+                self._start()
+            except BaseException as error:
+                self._end(stop=True)
+                if not isinstance(error, OSError):
+                    raise
                 self.progress(f"worker processes are not available here ({error}); working in this process")
-            finally:
-                for name, value in saved.items():
-                    if value is None:
-                        os.environ.pop(name)
-                    else:
-                        os.environ[name] = value
         return self
 
+    def _start(self) -> None:
+        context = multiprocessing.get_context("spawn")
+        saved = {name: os.environ.get(name) for name in ONE_THREAD}
+        os.environ.update(ONE_THREAD)  # the workers' environment (a spawned process copies it when it starts)
+        try:
+            # Started before the workers (a spawned process needs it): its start ends any block of SIGINT.
+            resource_tracker.ensure_running()
+            for _ in range(self.jobs):
+                ours, theirs = context.Pipe()
+                process = context.Process(target=_worker, args=(theirs,), daemon=True)
+                with signals_held(), _ctrl_c_blocked():  # a stop signal waits until the worker is known here
+                    process.start()
+                    self.workers[ours] = process
+                    theirs.close()  # the worker's copy is the only one left: its end closes the pipe
+                self.idle.append(ours)
+        finally:
+            for name, value in saved.items():
+                if value is None:
+                    os.environ.pop(name)
+                else:
+                    os.environ[name] = value
+
     def __exit__(self, *exc: Any) -> None:
-        if self.pool is not None:
-            if exc[0] is None:
-                self.pool.close()
-            else:
-                self.pool.terminate()
-            self.pool.join()
+        self._end(stop=exc[0] is not None)
+
+    def _end(self, stop: bool) -> None:
+        """Close the pipes (an idle worker then returns) and wait for the workers; ``stop``: terminate them first
+        (those a signal to the process group has not ended already)."""
+        for connection, process in self.workers.items():
+            connection.close()
+            if stop:
+                process.terminate()
+        for process in self.workers.values():
+            process.join()
+        self.workers.clear()
+        self.idle.clear()
+        self.running.clear()
 
     def submit(self, key: Any, task: Callable[..., Any], *args: Any) -> None:
-        """Start ``task(*args, progress=…)``; :meth:`done` yields ``(key, value)`` when it ends."""
-        if self.pool is None:
-            self.pending[key] = _job(task, args, self.progress)
+        """Start ``task(*args, progress=…)`` (once a worker is free); :meth:`done` yields ``(key, value)`` when it
+        ends."""
+        if not self.workers:
+            self.ended[key] = _job(task, args, self.progress)
         else:
-            self.pending[key] = self.pool.apply_async(_job, (task, args))
+            self.queued.append((key, task, args))
+            self._dispatch()
 
-    def _drain(self) -> None:
-        while not self.queue.empty():
-            self.progress(self.queue.get())
+    def _dispatch(self) -> None:
+        """The queued tasks to the idle workers, in order."""
+        while self.idle and self.queued:
+            key, task, args = self.queued.popleft()
+            connection = self.idle.pop()
+            connection.send((task, args))
+            self.running[connection] = key
+
+    def _receive(self) -> None:
+        """Wait for the workers' next messages: progress lines passed on, ended tasks kept, a task's error raised;
+        a worker that ended is a ``ChildProcessError``."""
+        for connection in wait(list(self.workers)):
+            try:
+                kind, content = connection.recv()
+            except EOFError:
+                raise ChildProcessError(self._lost(connection)) from None
+            if kind == "line":
+                self.progress(content)
+                continue
+            key = self.running.pop(connection)
+            self.idle.append(connection)
+            if kind == "error":
+                raise content
+            self.ended[key] = content
+        self._dispatch()
+
+    def _lost(self, connection: Connection) -> str:
+        """Why the worker at ``connection``'s other end ended (its pipe closed)."""
+        process = self.workers[connection]
+        process.join()
+        code = process.exitcode
+        how = f"killed by {signal.Signals(-code).name}" if code < 0 else f"exit code {code}"
+        return f"a reproduce worker process (pid {process.pid}) ended unexpectedly ({how})"
 
     def done(self) -> Iterator[tuple[Any, Any]]:
         """``(key, value)`` of each task as it ends (tasks submitted meanwhile included), after the progress
         lines it printed; a task's exception is raised here, and the warnings it raised are raised again."""
-        while self.pending:
-            if self.pool is not None:
-                self._drain()
-            ready = [k for k, r in self.pending.items() if self.pool is None or r.ready()]
-            if not ready:
-                time.sleep(POLL)
-            for key in ready:
-                result = self.pending.pop(key)
-                value, caught = result if self.pool is None else result.get()
-                if self.pool is not None:
-                    self._drain()  # its lines, written before its value was
-                for category, message in caught:
-                    warnings.warn(message, category, stacklevel=2)
-                yield key, value
+        while self.ended or self.running:
+            if not self.ended:
+                self._receive()
+                continue
+            key = next(iter(self.ended))
+            value, caught = self.ended.pop(key)
+            for category, message in caught:
+                warnings.warn(message, category, stacklevel=2)
+            yield key, value
 
 
 def reproduce(

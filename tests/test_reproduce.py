@@ -528,8 +528,9 @@ def _task_that_fails(k: int, progress) -> int:
 
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
-    """The reproduction's pool: every task's value, each progress line (through the workers' queue), each warning
-    raised again in the caller; a task's error raised in the caller, the workers then stopped."""
+    """The reproduction's pool: every task's value, each progress line (through the workers' pipes), each warning
+    raised again in the caller; a task's error raised in the caller (from a worker: its traceback there as the
+    cause), the workers then stopped."""
     import multiprocessing
 
     from armlab.scripts.reproduce import _Pool
@@ -542,26 +543,40 @@ def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
     assert values == {k: k * k for k in range(4)}
     assert sorted(lines) == [f"task {k} working" for k in range(4)]
     assert sorted(str(w.message) for w in caught) == [f"task {k}: careful" for k in range(4)]
-    with pytest.raises(ValueError, match="task 3: bad input"), _Pool(jobs, lines.append) as pool:
+    with pytest.raises(ValueError, match="task 3: bad input") as failed, _Pool(jobs, lines.append) as pool:
         pool.submit(3, _task_that_fails, 3)
         list(pool.done())
+    remote = 'in _task_that_fails\n    raise ValueError(f"task {k}: bad input")'
+    assert jobs == 1 or remote in str(failed.value.__cause__)
     assert multiprocessing.active_children() == []
 
 
 def test_without_worker_processes_the_tasks_run_here(monkeypatch):
-    """Where a worker pool cannot be made (no /dev/shm for its semaphores, say), the tasks run in this process."""
+    """Where worker processes cannot be made (no pipes or processes left, say), the tasks run in this process; a
+    worker started before is stopped."""
     import multiprocessing
 
     from armlab.scripts.reproduce import _Pool
 
-    class NoSemaphores:
-        def SimpleQueue(self):
-            raise OSError("[Errno 38] Function not implemented")
+    spawn = multiprocessing.get_context("spawn")
 
-    monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoSemaphores())
+    class SecondPipeFails:
+        pipes = 0
+
+        def Pipe(self):
+            self.pipes += 1
+            if self.pipes == 2:
+                raise OSError("[Errno 24] Too many open files")
+            return spawn.Pipe()
+
+        def Process(self, **kwargs):
+            return spawn.Process(**kwargs)
+
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method: SecondPipeFails())
     lines: list[str] = []
     with pytest.warns(UserWarning), _Pool(2, lines.append) as pool:
+        assert multiprocessing.active_children() == []
         pool.submit(0, _task_that_warns, 5)
         assert dict(pool.done()) == {0: 25}
-    assert lines == ["worker processes are not available here ([Errno 38] Function not implemented); working in "
+    assert lines == ["worker processes are not available here ([Errno 24] Too many open files); working in "
                      "this process", "task 5 working"]

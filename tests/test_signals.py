@@ -71,12 +71,16 @@ def _wait_for(process: subprocess.Popen, text: str, lines: list[str]) -> bool:
     return False
 
 
-def _stop(process: subprocess.Popen, signum: int, lines: list[str]) -> tuple[str, float]:
-    """Send ``signum`` (:func:`_send`) while a thread keeps reading stdout into ``lines``; the process' stderr and
-    the seconds it took to end. The one thread reads stdout to its end, so no second reader races it."""
+def _stop(process: subprocess.Popen, signum: int, lines: list[str], target: int | None = None) -> tuple[str, float]:
+    """Send ``signum`` (as :func:`_send` does, or to ``target``: a process id, or minus a process group's, as for
+    ``os.kill``) while a thread keeps reading stdout into ``lines``; the process' stderr and the seconds it took to
+    end. The one thread reads stdout to its end, so no second reader races it."""
     reader = threading.Thread(target=lambda: lines.extend(process.stdout), daemon=True)
     reader.start()
-    _send(process, signum)
+    if target is None:
+        _send(process, signum)
+    else:
+        os.kill(target, signum)
     sent = time.monotonic()
     process.wait(timeout=PROMPT + 60)
     took = time.monotonic() - sent
@@ -117,6 +121,104 @@ def test_a_stopped_reproduction_stops_its_workers_quietly(box, signum):
     assert took < PROMPT
     assert box.debris() == []
     assert _ended(box)
+
+
+#: Moments of a two-worker reproduction of paper 000 (one worker runs the paper, the other waits for a task):
+#: (text of the line to wait for ("": the start), seconds after it)
+REPRODUCE_MOMENTS = [
+    ("", 2.0),  # importing, the workers starting
+    ("[000]", 0.0),  # the paper just started
+    ("[000]", 3.0),  # inside the paper
+    ("(not in the paper) → beyond_drive_map.csv", 0.0),  # the paper done: both workers render its report's LaTeX
+]
+
+
+def _earlier_reproduction(box: Sandbox) -> dict[str, str]:
+    """An earlier reproduction in ``rep`` (its marker and a report), part of the sandbox; its files' contents."""
+    from armlab.scripts.reproduce import MARKER
+
+    files = {MARKER: "armlab reproduce output\n", "report.md": "# the earlier report\n"}
+    for name, text in files.items():
+        box.write(f"rep/{name}", text)
+    return files
+
+
+def _contents(folder: Path) -> dict[str, str]:
+    return {p.name: p.read_text() for p in folder.iterdir()}
+
+
+def _workers(pid: int) -> list[int]:
+    """The live worker processes (spawned by multiprocessing) whose parent is ``pid``."""
+    found = []
+    for status in Path("/proc").glob("[0-9]*/status"):
+        try:
+            ppid = next(line for line in status.read_text().splitlines() if line.startswith("PPid:"))
+            cmdline = (status.parent / "cmdline").read_bytes()
+        except (OSError, StopIteration):  # ended meanwhile
+            continue
+        if int(ppid.split()[1]) == pid and b"spawn_main" in cmdline:
+            found.append(int(status.parent.name))
+    return found
+
+
+@pytest.mark.parametrize(("text", "delay", "group"), [
+    pytest.param(text, delay, group, id=f"to the {'group' if group else 'process'}, {text[:12] or 'start'} + {delay}")
+    for group, moments in ((True, REPRODUCE_MOMENTS), (False, REPRODUCE_MOMENTS[:3])) for text, delay in moments])
+def test_sigterm_ends_a_reproduction_and_its_workers(box, text, delay, group):
+    """SIGTERM to ``armlab reproduce``'s process group (``timeout -s TERM``, ``kill -- -PGID``: the workers die of
+    it too) or to the process alone (it stops the workers), at several moments: exit 143 promptly (it hung for
+    ever when the group's SIGTERM killed a worker waiting for a task: the pool's clean-up waited for the task
+    queue's lock the dead worker held), no temporaries, no worker left, the earlier reproduction intact."""
+    earlier = _earlier_reproduction(box)
+    process = _start(box, "reproduce", "--paper", "000", "--fast", "--jobs", "2", "--out", "rep")
+    lines: list[str] = []
+    if text:
+        assert _wait_for(process, text, lines), (lines, process.stderr.read())
+    time.sleep(delay)
+    assert process.poll() is None, "the reproduction ended before the signal"
+    err, took = _stop(process, signal.SIGTERM, lines, -process.pid if group else process.pid)
+    assert process.returncode == 143, (process.returncode, err[-3000:])
+    assert took < PROMPT
+    assert err == "", err[-3000:]
+    assert box.debris() == []
+    assert _ended(box)
+    assert _contents(box.cwd / "rep") == earlier
+
+
+def test_ctrl_c_while_the_workers_start_prints_nothing(box):
+    """Ctrl-C (to the whole process group) as soon as the two workers exist, while they import their modules
+    (seconds): exit 130 and nothing on stderr (a worker that took its KeyboardInterrupt printed its traceback), no
+    worker left."""
+    process = _start(box, "reproduce", "--paper", "000", "--fast", "--jobs", "2", "--out", "rep")
+    end = time.monotonic() + 120
+    while len(_workers(process.pid)) < 2:
+        assert process.poll() is None and time.monotonic() < end, (process.poll(), "no workers")
+        time.sleep(0.01)
+    err, took = _stop(process, signal.SIGINT, [])
+    assert process.returncode == 130 and err == "", (process.returncode, err[-3000:])
+    assert took < PROMPT
+    assert box.debris() == []
+    assert _ended(box)
+
+
+def test_a_worker_killed_alone_ends_a_reproduction_with_an_error(box):
+    """A worker killed (the kernel's out-of-memory killer, say) while the other runs paper 000: one error line
+    naming it, exit 2, promptly (a multiprocessing pool waited for ever for its task), the other worker stopped,
+    no temporaries, the earlier reproduction intact."""
+    earlier = _earlier_reproduction(box)
+    process = _start(box, "reproduce", "--paper", "000", "--fast", "--jobs", "2", "--out", "rep")
+    lines: list[str] = []
+    assert _wait_for(process, "[000]", lines), (lines, process.stderr.read())
+    workers = _workers(process.pid)
+    assert len(workers) == 2, workers
+    err, took = _stop(process, signal.SIGKILL, lines, workers[0])
+    assert process.returncode == 2, (process.returncode, err[-3000:])
+    assert err == (f"armlab: error: a reproduce worker process (pid {workers[0]}) ended unexpectedly (killed by "
+                   "SIGKILL)\n")
+    assert took < PROMPT
+    assert box.debris() == []
+    assert _ended(box)
+    assert _contents(box.cwd / "rep") == earlier
 
 
 def _ended(box: Sandbox) -> bool:
