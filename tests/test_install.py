@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 import sysconfig
@@ -107,7 +108,10 @@ def test_the_wheel_holds_the_examples_and_the_licence_and_works_outside_the_repo
     site-packages, added after the install: ``venv --system-site-packages`` from a venv's python sees the base
     interpreter's packages, not the venv's, and a ``.pth`` line does not run that folder's own ``.pth`` files,
     so the editable armlab there stays out of the way."""
-    _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "-w", str(tmp_path / "dist"), str(ROOT)],
+    source = tmp_path / "source"  # a copy: setuptools' build/ inside the repository could hold stale files
+    shutil.copytree(ROOT, source, ignore=shutil.ignore_patterns(".*", "build", "*.egg-info", "__pycache__", "out",
+                                                                "runs"))
+    _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "-w", str(tmp_path / "dist"), str(source)],
          tmp_path)
     (wheel,) = (tmp_path / "dist").glob("armlab-*.whl")
     names = set(zipfile.ZipFile(wheel).namelist())
