@@ -103,12 +103,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     """``armlab simulate``: see the module docstring. Exit 3 when the run diverged, or passed a limit with
     ``--strict-limits``."""
     import sys
+    import warnings
 
     from armlab.api import simulate
     from armlab.cli import load_arm
     from armlab.diagrams.build import check_log_period
     from armlab.diagrams.drives import check_tolerance, format_violation
-    from armlab.diagrams.graphviz import require_dot
+    from armlab.diagrams.graphviz import DotMissingWarning
     from armlab.diagrams.output import run_folder
 
     arm = load_arm(args.arm)
@@ -117,7 +118,6 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     setup = _setup(arm, args)
     log_period = check_log_period(args.dt, min(m.duration for _, m in motion.runs()))
     tolerance = check_tolerance(args.divergence_tolerance)
-    require_dot()
     with run_folder(args.out) as folder:  # made first: an unwritable or occupied --out is an error before the run
         print(f"{arm.name}: {motion.description}", flush=True)
         run = simulate(arm, motion, log_period=log_period, accuracy=args.accuracy, divergence_tolerance=tolerance,
@@ -125,13 +125,21 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         summary = run.summary
         print(f"simulated {motion.duration:g} s in {run.log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× "
               f"real time), mode {run.log.mode}, {summary['runs']['count']} run(s)", flush=True)
-        written = run.write(folder, deg=args.deg)
+        with warnings.catch_warnings(record=True) as caught:  # graphviz's dot missing: a warning line of ours
+            warnings.simplefilter("always", DotMissingWarning)
+            written = run.write(folder, deg=args.deg)
+    skipped = [str(w.message) for w in caught if w.category is DotMissingWarning]
+    for w in caught:  # any other warning goes on as it came
+        if w.category is not DotMissingWarning:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     print("max |τ|: " + ", ".join(f"τ{i + 1} = {v:.4f} {u}" for i, (v, u) in enumerate(zip(
         summary["max_abs_torque"], summary["torque_units"], strict=True)))
           + f"; peak power {summary['peak_power']:.4g} W; max tracking error "
           + ", ".join(f"{v:.3g} {u}" for v, u in zip(summary["max_tracking_error"], summary["joint_units"],
                                                       strict=True)))
     print(f"wrote {args.out}: {' '.join(written)}")
+    for message in skipped:
+        print(f"armlab: warning: {message}", file=sys.stderr)
     for violation in run.violations:
         print(f"armlab: warning: {arm.name} {format_violation(violation)}", file=sys.stderr)
     if run.diverged:

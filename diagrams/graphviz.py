@@ -12,6 +12,10 @@ Two pictures of one Drake diagram:
   the ports' names. Each edge of the Fig. 6 SVG carries the connection it draws as its ``id``
   (``"log_state.data<-MultibodyPlant.state"``), so a test can compare the picture with the
   diagram's ``connection_map()``.
+
+``dot`` is not a Python package: without it a run's pictures are skipped with a
+:class:`DotMissingWarning` (:func:`write_pictures`), and a picture asked for by name is an error
+(:func:`require_dot`).
 """
 
 from __future__ import annotations
@@ -20,24 +24,32 @@ import html
 import re
 import shutil
 import subprocess
+import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 from armlab.files import write_file
 
-__all__ = ["FORMATS", "Connection", "DrakeGraph", "fig6_dot", "parse_drake_dot", "render", "require_dot",
-           "write_graph"]
+__all__ = ["FORMATS", "Connection", "DotMissingWarning", "DrakeGraph", "fig6_dot", "parse_drake_dot", "render",
+           "require_dot", "write_graph", "write_pictures"]
 
 #: Output formats by file suffix.
 FORMATS = ("dot", "svg", "png", "pdf")
+#: How to get graphviz's ``dot`` (a system package, not a Python one; ``make run-deps`` in a clone does this).
+_INSTALL = "install graphviz (apt-get install graphviz)"
+
+
+class DotMissingWarning(UserWarning):
+    """graphviz's ``dot`` is not installed: the pictures that need it were skipped, everything else was written."""
 
 
 def require_dot() -> str:
     """Path of graphviz's ``dot``, or ``ValueError`` saying how to install it."""
     dot = shutil.which("dot")
     if dot is None:
-        raise ValueError("graphviz's 'dot' program is needed for SVG/PNG/PDF diagrams and was not found: install "
-                         "graphviz (apt-get install graphviz, or run 'make run-deps'), or write a .dot file")
+        raise ValueError(f"graphviz's 'dot' program is needed for SVG/PNG/PDF diagrams and was not found: {_INSTALL}, "
+                         "or write a .dot file")
     return dot
 
 
@@ -64,6 +76,21 @@ def graph_format(path: str | Path) -> str:
 def write_graph(dot_text: str, path: str | Path) -> Path:
     """Write ``dot_text`` to ``path`` in the format its suffix names, atomically (:func:`~armlab.files.write_file`)."""
     return write_file(path, render(dot_text, graph_format(path)))
+
+
+def write_pictures(pictures: Mapping[str, str], folder: str | Path) -> list[str]:
+    """Render each ``file name → DOT text`` of ``pictures`` into ``folder`` in the format its suffix names.
+
+    Returns the names written: all of them, or none and one :class:`DotMissingWarning` naming them and how
+    to get them when graphviz's ``dot`` is not installed (the caller's other files do not need it).
+    """
+    if shutil.which("dot") is None:
+        warnings.warn(DotMissingWarning(f"graphviz's dot is not installed: {', '.join(pictures)} skipped; {_INSTALL} "
+                                        "for them"), stacklevel=2)
+        return []
+    for name, dot_text in pictures.items():
+        (Path(folder) / name).write_bytes(render(dot_text, graph_format(name)))
+    return list(pictures)
 
 
 # --------------------------------------------------------------------------- Drake's graph, read

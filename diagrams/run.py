@@ -130,24 +130,24 @@ class Run:
         """Write every output of the run into the existing ``folder``; the names written.
 
         ``log.csv``, ``summary.json``, ``drives.csv``, ``diagram.svg`` (the Fig. 6 view), ``diagram_full.svg``
-        and ``diagram.dot`` (Drake's whole graph; graphviz's ``dot`` is needed), the plots, ``drives.png`` and
-        ``replay.html`` (the run as a 3-D animation with its time slider and a readout of t, q — in degrees
-        with ``deg`` — and τ).
+        and ``diagram.dot`` (Drake's whole graph), the plots, ``drives.png`` and ``replay.html`` (the run as a
+        3-D animation with its time slider and a readout of t, q — in degrees with ``deg`` — and τ). The two
+        SVGs need graphviz's ``dot``: without it they are skipped with a
+        :class:`~armlab.diagrams.graphviz.DotMissingWarning`, and everything else is written.
         """
         from armlab.diagrams.drives import write_drives_csv
-        from armlab.diagrams.graphviz import fig6_dot, render, require_dot
+        from armlab.diagrams.graphviz import fig6_dot, write_pictures
         from armlab.diagrams.output import write_log_csv, write_summary
         from armlab.diagrams.replay import replay_log
 
-        require_dot()
         log, folder = self.log, Path(folder)
         write_log_csv(log, folder / "log.csv")
         write_summary(self.summary, folder / "summary.json")
         (folder / "diagram.dot").write_text(log.diagram_dot)
-        (folder / "diagram.svg").write_bytes(render(fig6_dot(log.diagram_dot), "svg"))
-        (folder / "diagram_full.svg").write_bytes(render(log.diagram_dot, "svg"))
+        pictures = write_pictures({"diagram.svg": fig6_dot(log.diagram_dot), "diagram_full.svg": log.diagram_dot},
+                                  folder)
         drives = write_drives_csv(log, folder / "drives.csv")
         *plots, drives_png = self.plot(folder)
         replay_log(log, folder / "replay.html", deg=deg)
-        return ["log.csv", "summary.json", "diagram.svg", "diagram_full.svg", "diagram.dot", *(p.name for p in plots),
-                drives.name, drives_png.name, "replay.html"]
+        return ["log.csv", "summary.json", *pictures, "diagram.dot", *(p.name for p in plots), drives.name,
+                drives_png.name, "replay.html"]

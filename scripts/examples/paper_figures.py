@@ -1,6 +1,7 @@
 """The papers' figures for my own arm: paper 000's motion, torque and tool-path figures, and its drawing.
 
     python scripts/examples/paper_figures.py                      # the example arm3r.csv
+    python -m armlab.scripts.examples.paper_figures               # the same from anywhere, armlab installed
     python scripts/examples/paper_figures.py my_arm.urdf --out runs/my_arm_figures
 
 Paper 000 moves its arm by a rest-to-rest quintic (Fig. 3), plots the joint angles (Fig. 5) and the
@@ -11,7 +12,6 @@ arm: the quintic goes from q = 0 (clipped into the limits) to a third of the way
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 import numpy as np
 
@@ -20,8 +20,8 @@ import armlab
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("arm", nargs="?", default=str(Path(__file__).with_name("arm3r.csv")),
-                        help="a .urdf or DH .csv with masses (default: arm3r.csv beside this)")
+    parser.add_argument("arm", nargs="?", default="example:arm3r",
+                        help="a .urdf or DH .csv with masses, or an example (default: example:arm3r)")
     parser.add_argument("--tf", type=float, default=2.0, help="motion time, s (default 2, Fig. 3's)")
     parser.add_argument("--out", default="runs/paper_figures", help="folder for the figures")
     args = parser.parse_args(argv)

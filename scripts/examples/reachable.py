@@ -1,6 +1,7 @@
 """Is this target reachable, and how? Every inverse-kinematics branch of a tool pose, with its manipulability.
 
     python scripts/examples/reachable.py                          # urm6, a pose made from Table 1's angles
+    python -m armlab.scripts.examples.reachable                   # the same from anywhere, armlab installed
     python scripts/examples/reachable.py arm4r --position 1,1,1.4
     python scripts/examples/reachable.py my_arm.csv --position 0.5,0.2,0.6 --rpy 0,90,0
 

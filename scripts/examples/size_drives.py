@@ -1,6 +1,7 @@
 """Size the drives of my arm for this motion: peak and RMS torque, peak speed and power per joint, limits.
 
     python scripts/examples/size_drives.py                       # the example arm3r.csv, 2 kg payload
+    python -m armlab.scripts.examples.size_drives                # the same from anywhere, armlab installed
     python scripts/examples/size_drives.py my_arm.csv --payload 5 --tf 1.2 --out runs/my_arm
 
 The motion is a rest-to-rest quintic from 20 % to 80 % of every joint's range. The torques come
@@ -13,7 +14,6 @@ the usual plots and the 3-D replay.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 import numpy as np
 
@@ -22,8 +22,8 @@ import armlab
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("arm", nargs="?", default=str(Path(__file__).with_name("arm3r.csv")),
-                        help="a paper arm's name, a .urdf or a DH .csv with masses (default: arm3r.csv beside this)")
+    parser.add_argument("arm", nargs="?", default="example:arm3r",
+                        help="a paper arm's name, a .urdf or a DH .csv with masses (default: example:arm3r)")
     parser.add_argument("--payload", type=float, default=2.0, help="kg at the tool (default 2)")
     parser.add_argument("--tf", type=float, default=1.5, help="motion time, s (default 1.5)")
     parser.add_argument("--out", default="runs/size_drives", help="the run's folder (default runs/size_drives)")
