@@ -46,7 +46,7 @@ def resolve_gravity(arm: Arm, gravity: str | ArrayLike | None = None) -> NDArray
             g = np.zeros(3)
             g["xyz".index(text[1])] = G if text[0] == "+" else -G
             return g
-        from armlab.cli import parse_floats
+        from armlab.values import parse_floats
 
         try:
             values = parse_floats(gravity, "--gravity")
