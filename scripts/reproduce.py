@@ -27,7 +27,7 @@ from typing import Any
 
 from armlab.files import OutputFolder
 
-__all__ = ["MARKER", "PAPERS", "ReproduceResult", "default_jobs", "output_folder", "reproduce"]
+__all__ = ["MARKER", "PAPERS", "ReproduceResult", "default_jobs", "output_folder", "reproduce", "reproduce_alone"]
 
 #: The papers, in report order, and their scripts (modules of :mod:`armlab.scripts`).
 PAPERS = ("000", "001", "003", "004")
@@ -273,3 +273,13 @@ def summary_line(result: ReproduceResult) -> str:
     c = result.counts
     return (f"report: {result.report}  ({len(result.rows)} rows: {c['matches']} matches, {c['differs']} differs, "
             f"{c['not reproducible']} not reproducible; {result.elapsed:.1f} s)")
+
+
+def reproduce_alone(paper: str, run: Callable[..., list], out: str | Path, fast: bool = False) -> tuple[Path, list]:
+    """One paper script's ``run`` alone into ``out`` (complete or nothing, see :func:`output_folder`), marked with
+    :data:`MARKER` so that a later run may replace it; the output folder and the rows."""
+    folder = output_folder(out)
+    with folder as tmp:
+        rows = run(tmp, fast=fast)
+        (tmp / MARKER).write_text(f"armlab paper_{paper} output; it may be replaced by a later run\n")
+    return folder.out, rows

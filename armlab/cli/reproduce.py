@@ -12,11 +12,10 @@ from typing import Any
 from armlab.cli.args import positive_int
 from armlab.scripts.report import verdict_counts
 from armlab.scripts.reproduce import (
-    MARKER,
     MAX_JOBS,
     default_jobs,
-    output_folder,
     reproduce,
+    reproduce_alone,
     select_papers,
     summary_line,
 )
@@ -50,14 +49,11 @@ def run_alone(paper: str, run: Callable[..., list], argv: Sequence[str] | None =
     parser.add_argument("--fast", action="store_true", help="coarser sampling and log period")
     args = parser.parse_args(argv)
     try:
-        folder = output_folder(args.out)
-        with folder as tmp:
-            rows = run(tmp, fast=args.fast)
-            (tmp / MARKER).write_text(f"armlab paper_{paper} output; it may be replaced by a later run\n")
+        out, rows = reproduce_alone(paper, run, args.out, fast=args.fast)
     except (ValueError, OSError) as error:
         print(f"paper_{paper}: error: {error}", file=sys.stderr)
         return 2
     counts = verdict_counts(rows)
-    print(f"{folder.out}: {len(rows)} rows: {counts['matches']} matches, {counts['differs']} differs, "
+    print(f"{out}: {len(rows)} rows: {counts['matches']} matches, {counts['differs']} differs, "
           f"{counts['not reproducible']} not reproducible")
     return 0
