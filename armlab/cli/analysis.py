@@ -1,7 +1,8 @@
 """``armlab workspace`` and ``armlab sweep``: the command-line side of :mod:`armlab.analysis`.
 
 ``armlab workspace ARM [--samples N] [--resolution H] [--seed S] [--out DIR] [--json]`` measures an
-arm's workspace (:func:`armlab.analysis.workspace.workspace`) and writes, into DIR, all or nothing:
+arm's workspace (:func:`armlab.analysis.workspace.workspace`) and writes, into DIR, all or nothing
+(:mod:`armlab.analysis.output`):
 ``workspace.json``, ``slices.png``, ``convergence.png``, ``singular.png`` and ``workspace.html`` (a 3-D
 point cloud that opens in any browser). ``armlab sweep STUDY.json --out DIR`` runs a design study
 (:mod:`armlab.analysis.sweep`). Dask, Drake and matplotlib are imported only when a command runs.
@@ -16,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import armlab.analysis
+from armlab.analysis.output import workspace_folder, write_workspace
 from armlab.analysis.sweep import EXIT_FAILED, RESULTS, STUDY, run_sweep
 from armlab.analysis.workspace import (
     DEFAULT_SAMPLES,
@@ -28,27 +30,13 @@ from armlab.analysis.workspace import (
     workspace,
 )
 from armlab.cli.args import ARM_HELP, positive_int
-from armlab.files import OutputFolder
 from armlab.limits import allowed, whole_text
 from armlab.models import get_arm
 
-__all__ = ["WORKSPACE_FILES", "cmd_sweep", "cmd_workspace", "register", "workspace_folder"]
+__all__ = ["cmd_sweep", "cmd_workspace", "register"]
 
 #: The example design studies (``armlab sweep --help`` names them).
 STUDIES = Path(armlab.analysis.__file__).resolve().parent / "studies"
-#: What ``armlab workspace --out DIR`` writes (a folder holding only these may be replaced).
-WORKSPACE_FILES = ("workspace.json", "slices.png", "convergence.png", "singular.png", "workspace.html")
-
-
-def workspace_folder(out: str | Path) -> OutputFolder:
-    """The output folder of ``armlab workspace`` (:class:`~armlab.files.OutputFolder`)."""
-
-    def is_previous(folder: Path) -> bool:
-        names = {p.name for p in folder.iterdir()}
-        return "workspace.json" in names and names <= set(WORKSPACE_FILES)
-
-    return OutputFolder(Path(out).expanduser(), is_previous, "an armlab workspace folder (workspace.json and its "
-                                                            "pictures only)")
 
 
 def _format(summary: dict[str, Any]) -> list[str]:
@@ -100,14 +88,8 @@ def cmd_workspace(args: argparse.Namespace) -> int:
     ws = workspace(arm, args.samples, args.resolution, args.seed)
     summary = ws.summary()
     if folder is not None:
-        from armlab.analysis.cloud import write_point_cloud
-        from armlab.analysis.plots import workspace_figures
-
         with folder as tmp:
-            (tmp / "workspace.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n")
-            written = ["workspace.json", *workspace_figures(ws, tmp)]
-            write_point_cloud(arm, ws, tmp / "workspace.html")
-            written.append("workspace.html")
+            written = write_workspace(arm, ws, tmp)
     if args.json:
         print(json.dumps(summary, indent=2, ensure_ascii=False))
     else:
