@@ -17,7 +17,6 @@ import warnings
 from collections.abc import Sequence
 
 from armlab import __version__
-from armlab.cli import analysis, draw, kinematics, reproduce, simulate, view
 from armlab.cli.args import Parser, error_text, join_negative_values, silence, write_error
 from armlab.files import stop_on_signals
 
@@ -29,6 +28,10 @@ STDOUT_CLOSED = "standard output is closed"
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``armlab`` argument parser with every subcommand."""
+    # The command modules (and the library they load: numpy, the arms …) are imported here, not at the top, so that
+    # main's stop-signal handlers are in place first: a Ctrl-C during the start-up is handled like any other.
+    from armlab.cli import analysis, draw, kinematics, reproduce, simulate, view
+
     parser = Parser(prog="armlab", description="Serial robot arms modelled, checked and simulated with Drake.",
                     epilog="'armlab COMMAND --help' explains a command. 'armlab' alone prints this help and "
                            "exits with code 2; bad input ends with one line 'armlab: error: …' and code 2.")
