@@ -24,7 +24,6 @@ option (nothing computed); :data:`EXIT_FAILED` + k when k candidates failed (cap
 
 from __future__ import annotations
 
-import argparse
 import csv
 import io
 import json
@@ -312,12 +311,3 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
             bar.update(1)
     return {"started": started, "scheduler": scheduler or f"LocalCluster ({n_workers} workers)",
             "workers": n_workers, "computed": result.computed, "failed": result.failed}
-
-
-# ------------------------------------------------------------------------------------------------ CLI
-def cmd_sweep(args: argparse.Namespace) -> int:
-    """``armlab sweep``: see the module docstring."""
-    result = run_sweep(args.study, args.out, args.workers, args.scheduler)
-    print(f"{args.out}: {result.total} candidates: {result.done_before} done before, {result.computed} computed, "
-          f"{len(result.failed)} failed ({result.wall_time:.1f} s); wrote {RESULTS} {STUDY} {' '.join(result.plots)}")
-    return EXIT_FAILED + min(len(result.failed), 100) if result.failed else 0

@@ -22,7 +22,6 @@ front-right, above. Axes are to scale (equal).
 
 from __future__ import annotations
 
-import argparse
 import io
 from dataclasses import dataclass
 from pathlib import Path
@@ -37,7 +36,7 @@ if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
     from armlab.models.arm import Arm
 
-__all__ = ["FORMATS", "Scheme", "default_q", "draw_arm", "register", "scheme"]
+__all__ = ["FORMATS", "Scheme", "default_q", "draw_arm", "scheme"]
 
 #: Picture formats by file suffix.
 FORMATS = ("png", "svg", "pdf")
@@ -321,28 +320,3 @@ def default_q(arm: Arm) -> NDArray[np.float64]:
     if arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER:
         return np.asarray(paper_motion(arm).segments[0].q_start, dtype=float)
     return np.clip(np.zeros(arm.n), *arm.limit_arrays())
-
-
-def _cmd_draw(args: argparse.Namespace) -> int:
-    from armlab.cli import joint_values, load_arm
-
-    arm = load_arm(args.arm)
-    q = joint_values(arm, args.q, args.deg) if args.q is not None else default_q(arm)
-    path = draw_arm(arm, q, args.out)
-    print(f"wrote {path}")
-    return 0
-
-
-def register(subparsers: Any) -> None:
-    """Add the ``draw`` subcommand to the CLI's subparsers."""
-    p = subparsers.add_parser("draw", help="draw an arm's kinematic scheme (frames, joint axes, DH or locating "
-                                           "parameters) as .png, .svg or .pdf",
-                              description="Draw ARM's kinematic scheme at the joint values --q, like the papers' "
-                                          "figures: links, joint axes, frames {0}…{n} and the tool as RGB triads, "
-                                          "and the DH (a, α, d, θ) or locating (P_i, k_i) parameters.")
-    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
-    p.add_argument("--q", help="joint values v1,v2,… (rad and m; see --deg); default: a paper arm's paper motion "
-                               "start, other arms' zeros (within the limits)")
-    p.add_argument("--deg", action="store_true", help="revolute values in degrees")
-    p.add_argument("--out", required=True, metavar="FILE", help="FILE.png, FILE.svg or FILE.pdf")
-    p.set_defaults(func=_cmd_draw)

@@ -71,7 +71,7 @@ def gravity_vector(gravity: str | ArrayLike | None) -> NDArray[np.float64] | Non
             g = np.zeros(3)
             g["xyz".index(text[1])] = G if text[0] == "+" else -G
             return g
-        from armlab.cli import parse_floats
+        from armlab.values import parse_floats
 
         try:
             values = parse_floats(gravity, "--gravity")

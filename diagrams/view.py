@@ -11,7 +11,6 @@ gravity down the screen, floor grid and world axes, the camera framing everythin
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from typing import TYPE_CHECKING, Any, TextIO
@@ -26,7 +25,7 @@ if TYPE_CHECKING:
 
     from armlab.models.arm import Arm
 
-__all__ = ["PORT_TRIES", "Viewer", "open_meshcat", "register", "run_view"]
+__all__ = ["PORT_TRIES", "Viewer", "open_meshcat", "run_view"]
 
 #: How many consecutive ports ``--port P`` tries (P, P+1, …) before giving up.
 PORT_TRIES = 10
@@ -197,24 +196,3 @@ def run_view(arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None =
     finally:
         viewer.close()
     return 0
-
-
-def _cmd_view(args: argparse.Namespace) -> int:
-    from armlab.cli import joint_values, load_arm
-
-    arm = load_arm(args.arm)
-    q0 = joint_values(arm, args.q, args.deg) if args.q is not None else None
-    return run_view(arm, q0, port=args.port, deg=args.deg, duration=args.duration)
-
-
-def register(subparsers: Any) -> None:
-    """Add the ``view`` subcommand to the CLI's subparsers."""
-    p = subparsers.add_parser("view", help="3-D view of an arm with a slider per joint (Meshcat, in a browser)")
-    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
-    p.add_argument("--q", help="initial joint values v1,v2,… (rad and m; see --deg); default: zeros within limits")
-    p.add_argument("--deg", action="store_true", help="revolute values in degrees: --q, the sliders and the "
-                                                      "printed joints")
-    p.add_argument("--port", type=int, help=f"first port to try (then the next {PORT_TRIES - 1}); default: "
-                   "the first free one from 7000")
-    p.add_argument("--duration", type=float, help="stop after this many seconds (default: run until Ctrl-C)")
-    p.set_defaults(func=_cmd_view)

@@ -21,7 +21,7 @@ This module does the same in sympy, from each paper's own formulation:
   and the end effector's ω4, v4, ω̇4, v̇4 in {0} and in its own frame {4};
 * :func:`latex_table` — the expressions the papers print, as labelled LaTeX strings.
 
-This module imports sympy at import time; ``armlab/cli.py`` must import it lazily.
+This module imports sympy at import time; the CLI (``armlab/cli/``) must import it lazily (``armlab._lazy``).
 """
 
 from __future__ import annotations

@@ -560,6 +560,6 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
 
 
 if __name__ == "__main__":
-    from armlab.scripts.reproduce import run_alone
+    from armlab.cli.reproduce import run_alone
 
     raise SystemExit(run_alone(PAPER, run))

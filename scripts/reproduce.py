@@ -12,13 +12,11 @@ earlier reproduction there holds, and the report covers them all.
 
 from __future__ import annotations
 
-import argparse
 import importlib
 import multiprocessing
 import os
 import shutil
 import signal
-import sys
 import threading
 import time
 import warnings
@@ -34,7 +32,7 @@ from typing import Any
 
 from armlab.files import OutputFolder, signals_held
 
-__all__ = ["MARKER", "PAPERS", "ReproduceResult", "default_jobs", "output_folder", "register", "reproduce", "run_alone"]
+__all__ = ["MARKER", "PAPERS", "ReproduceResult", "default_jobs", "output_folder", "reproduce", "reproduce_alone"]
 
 #: The papers, in report order, and their scripts (modules of :mod:`armlab.scripts`).
 PAPERS = ("000", "001", "003", "004")
@@ -367,44 +365,11 @@ def summary_line(result: ReproduceResult) -> str:
             f"{c['not reproducible']} not reproducible; {result.elapsed:.1f} s)")
 
 
-def _cmd(args: argparse.Namespace) -> int:
-    result = reproduce(Path(args.out), select_papers(args.paper), fast=args.fast, jobs=args.jobs)
-    print(summary_line(result))
-    return 0
-
-
-def register(subparsers: Any) -> None:
-    """Add the ``reproduce`` subcommand to the ``armlab`` CLI's subparsers."""
-    from armlab.cli import positive_int
-
-    p = subparsers.add_parser("reproduce", help="regenerate the papers' figures and tables, with a report")
-    p.add_argument("--paper", default="all", help="000, 001, 003, 004 or all (default all); one paper is redone, "
-                   "the others an earlier reproduction in --out holds are kept in the report")
-    p.add_argument("--out", default="out", help="output folder (default out/)")
-    p.add_argument("--fast", action="store_true", help="coarser sampling and log period (for CI)")
-    p.add_argument("--jobs", type=positive_int, default=None, metavar="N",
-                   help=f"worker processes (default: one per CPU armlab may use, at most {MAX_JOBS}: here "
-                        f"{default_jobs()}); 1 runs everything in this process")
-    p.set_defaults(func=_cmd)
-
-
-def run_alone(paper: str, run: Callable[..., list], argv: Sequence[str] | None = None) -> int:
-    """A paper script's ``main``: ``--out DIR`` (default ``out/NNN``) and ``--fast``; prints its verdict counts."""
-    from armlab.scripts.report_rows import verdict_counts
-
-    parser = argparse.ArgumentParser(prog=f"paper_{paper}", description=f"Reproduce paper {paper} alone.")
-    parser.add_argument("--out", default=f"out/{paper}", help=f"output folder (default out/{paper})")
-    parser.add_argument("--fast", action="store_true", help="coarser sampling and log period")
-    args = parser.parse_args(argv)
-    try:
-        folder = output_folder(args.out)
-        with folder as tmp:
-            rows = run(tmp, fast=args.fast)
-            (tmp / MARKER).write_text(f"armlab paper_{paper} output; it may be replaced by a later run\n")
-    except (ValueError, OSError) as error:
-        print(f"paper_{paper}: error: {error}", file=sys.stderr)
-        return 2
-    counts = verdict_counts(rows)
-    print(f"{folder.out}: {len(rows)} rows: {counts['matches']} matches, {counts['differs']} differs, "
-          f"{counts['not reproducible']} not reproducible")
-    return 0
+def reproduce_alone(paper: str, run: Callable[..., list], out: str | Path, fast: bool = False) -> tuple[Path, list]:
+    """One paper script's ``run`` alone into ``out`` (complete or nothing, see :func:`output_folder`), marked with
+    :data:`MARKER` so that a later run may replace it; the output folder and the rows."""
+    folder = output_folder(out)
+    with folder as tmp:
+        rows = run(tmp, fast=fast)
+        (tmp / MARKER).write_text(f"armlab paper_{paper} output; it may be replaced by a later run\n")
+    return folder.out, rows

@@ -20,10 +20,10 @@ from contract import Sandbox, check
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from armlab.cli import joint_values, parse_floats
 from armlab.diagrams.motions import read_segments
 from armlab.files import MAX_INPUT_BYTES
 from armlab.models import get_arm
+from armlab.values import joint_values, parse_floats
 
 pytestmark = pytest.mark.timeout(120)
 

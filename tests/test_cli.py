@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -116,3 +117,40 @@ def test_help_does_not_import_drake():
     code = "import sys; from armlab.cli import build_parser; build_parser(); print('pydrake' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+# ---- closed streams: a file descriptor closed before armlab starts (``>&-``, ``2>&-``), subprocesses --------------
+def _with_closed(fd: int, cwd: Path, *argv: str) -> subprocess.CompletedProcess:
+    """``python -m armlab ARGV`` started with file descriptor ``fd`` closed (the shell's ``>&-`` or ``2>&-``);
+    the stream left open is captured."""
+    return subprocess.run(["sh", "-c", f'"$@" {fd}>&-', "sh", sys.executable, "-m", "armlab", *argv],
+                          capture_output=True, text=True, cwd=cwd, timeout=120)
+
+
+@pytest.mark.parametrize("argv", [("list",), ("--help",), ("fk", "rr", "--q", "9,9"),
+                                  ("simulate", "rr", "--tf", "0.5", "--out", "run")], ids=" ".join)
+def test_a_closed_stdout_is_one_line_and_exit_2_before_any_work(tmp_path, argv):
+    out = _with_closed(1, tmp_path, *argv)
+    assert (out.returncode, out.stderr) == (2, "armlab: error: standard output is closed\n")
+    assert list(tmp_path.iterdir()) == []  # simulate did not run: no run/, no temporary
+
+
+@pytest.mark.parametrize(("argv", "code"), [(("fk", "rr", "--q", "9,9"), 2), (("fk", "rr", "--q", "x"), 2),
+                                            (("fk", "rr"), 2), (("list",), 0), ((), 2)], ids=str)
+def test_a_closed_stderr_changes_no_exit_code(tmp_path, argv, code):
+    out = _with_closed(2, tmp_path, *argv)
+    assert out.returncode == code
+    assert (out.stdout != "") == (code == 0 or not argv)  # list's lines; no command: the help
+
+
+def test_a_reader_gone_before_the_first_line_ends_it_quietly():
+    """``armlab list | head -0``: stdout a pipe without a reader from the start; exit 141 like the shell's tools,
+    and nothing on stderr (no ``Exception ignored … BrokenPipeError`` from the interpreter's last flush)."""
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        out = subprocess.run([sys.executable, "-m", "armlab", "list"], stdout=write, stderr=subprocess.PIPE,
+                             text=True, timeout=120)
+    finally:
+        os.close(write)
+    assert (out.returncode, out.stderr) == (141, "")

@@ -13,12 +13,18 @@ Drake is imported only when a command runs, so ``armlab --help`` stays fast.
 from __future__ import annotations
 
 import argparse
+import sys
 import textwrap
+import warnings
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armlab.cli.args import ARM_HELP
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE
+from armlab.limits import allowed, check_range
+from armlab.models import ARMS, get_arm
+from armlab.values import joint_values, parse_floats
 
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
@@ -37,15 +43,12 @@ _MOTION_HELP = (
 def _gains(text: str | None, default: float, name: str) -> float | list[float]:
     if text is None:
         return default
-    from armlab.cli import parse_floats
-
     values = parse_floats(text, name)
     return values[0] if len(values) == 1 else values
 
 
 def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
     """The motion the options give: ``--segments``, ``--from``/``--to``, or the paper motion (``--path``, ``--tf``)."""
-    from armlab.cli import joint_values, parse_floats
     from armlab.diagrams.motions import paper_motion, quintic_motion, read_segments
 
     tf = None
@@ -84,7 +87,6 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
     runs: ``ValueError`` naming a value outside its range (:data:`armlab.limits.LIMITS`)."""
     from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
     from armlab.diagrams.plant import check_payload, resolve_gravity
-    from armlab.limits import check_range
 
     if getattr(args, "accuracy", None) is not None:
         check_range(args.accuracy, "--accuracy")
@@ -102,17 +104,13 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``armlab simulate``: see the module docstring. Exit 3 when the run diverged, or passed a limit with
     ``--strict-limits``."""
-    import sys
-    import warnings
-
     from armlab.api import simulate
-    from armlab.cli import load_arm
     from armlab.diagrams.build import check_log_period
     from armlab.diagrams.drives import check_tolerance, format_violation
     from armlab.diagrams.graphviz import DotMissingWarning
     from armlab.diagrams.output import run_folder
 
-    arm = load_arm(args.arm)
+    arm = get_arm(args.arm)
     arm.require_dynamics("armlab simulate")  # before anything is printed (the plant checks it again)
     motion = motion_from_args(arm, args)
     setup = _setup(arm, args)
@@ -158,15 +156,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 def cmd_diagram(args: argparse.Namespace) -> int:
     """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG, PNG or PDF (by the suffix of --out)."""
-    from armlab.cli import load_arm
     from armlab.diagrams.build import build_diagram
     from armlab.diagrams.graphviz import fig6_dot, graph_format, write_graph
     from armlab.diagrams.motions import paper_motion
     from armlab.diagrams.plant import PlantOptions
     from armlab.diagrams.simulate import SimulationOptions
-    from armlab.models import ARMS
 
-    arm = load_arm(args.arm)
+    arm = get_arm(args.arm)
     graph_format(args.out)
     setup = _setup(arm, args)
     is_paper_arm = arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER
@@ -180,8 +176,6 @@ def cmd_diagram(args: argparse.Namespace) -> int:
 
 
 def _diagram_options(p: argparse.ArgumentParser) -> None:
-    from armlab.limits import allowed
-
     p.add_argument("--mode", choices=("controller", "inverse_dynamics"), default="controller",
                    help="controller: computed torque with PD feedback (default); inverse_dynamics: torques from the "
                         "reference alone, open loop (SimMechanics' inverse-dynamics mode of paper 000 Fig. 6)")
@@ -199,7 +193,6 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
 def register(subparsers: Any) -> None:
     """Add the ``simulate`` and ``diagram`` subcommands to the CLI's subparsers."""
     from armlab.diagrams.motions import SEGMENTS_FILE_HELP
-    from armlab.limits import allowed
 
     p = subparsers.add_parser(
         "simulate",
@@ -214,7 +207,7 @@ def register(subparsers: Any) -> None:
         epilog=SEGMENTS_FILE_HELP,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
+    p.add_argument("arm", help=ARM_HELP)
     p.add_argument("--from", dest="q_from", metavar="Q", help="start joints q1,q2,… (rad and m; see --deg)")
     p.add_argument("--to", dest="q_to", metavar="Q", help="end joints q1,q2,…: a rest-to-rest quintic")
     p.add_argument("--tf", metavar="T", help="duration, s (--from/--to: default 2; paper motions: their own; "
@@ -240,7 +233,7 @@ def register(subparsers: Any) -> None:
                                           "000's Fig. 6 (connected ports only, signals named; --full: Drake's whole "
                                           "graph) as DOT, or SVG/PNG/PDF through graphviz's dot, chosen by the "
                                           "suffix of --out.")
-    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
+    p.add_argument("arm", help=ARM_HELP)
     _diagram_options(p)
     p.add_argument("--out", required=True, metavar="FILE", help="FILE.dot, FILE.svg, FILE.png or FILE.pdf")
     p.add_argument("--full", action="store_true", help="Drake's full graph (every port of every system) instead "

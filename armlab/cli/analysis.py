@@ -1,7 +1,8 @@
 """``armlab workspace`` and ``armlab sweep``: the command-line side of :mod:`armlab.analysis`.
 
 ``armlab workspace ARM [--samples N] [--resolution H] [--seed S] [--out DIR] [--json]`` measures an
-arm's workspace (:func:`armlab.analysis.workspace.workspace`) and writes, into DIR, all or nothing:
+arm's workspace (:func:`armlab.analysis.workspace.workspace`) and writes, into DIR, all or nothing
+(:mod:`armlab.analysis.output`):
 ``workspace.json``, ``slices.png``, ``convergence.png``, ``singular.png`` and ``workspace.html`` (a 3-D
 point cloud that opens in any browser). ``armlab sweep STUDY.json --out DIR`` runs a design study
 (:mod:`armlab.analysis.sweep`). Dask, Drake and matplotlib are imported only when a command runs.
@@ -15,22 +16,27 @@ import textwrap
 from pathlib import Path
 from typing import Any
 
-__all__ = ["WORKSPACE_FILES", "cmd_workspace", "register", "workspace_folder"]
+import armlab.analysis
+from armlab.analysis.output import workspace_folder, write_workspace
+from armlab.analysis.sweep import EXIT_FAILED, RESULTS, STUDY, run_sweep
+from armlab.analysis.workspace import (
+    DEFAULT_SAMPLES,
+    MAX_SAMPLES,
+    MAX_SEED,
+    SAMPLES_PER_CELL,
+    check_resolution,
+    check_samples,
+    check_seed,
+    workspace,
+)
+from armlab.cli.args import ARM_HELP, positive_int
+from armlab.limits import allowed, whole_text
+from armlab.models import get_arm
 
-#: What ``armlab workspace --out DIR`` writes (a folder holding only these may be replaced).
-WORKSPACE_FILES = ("workspace.json", "slices.png", "convergence.png", "singular.png", "workspace.html")
+__all__ = ["cmd_sweep", "cmd_workspace", "register"]
 
-
-def workspace_folder(out: str | Path) -> Any:
-    """The output folder of ``armlab workspace`` (:class:`~armlab.files.OutputFolder`)."""
-    from armlab.files import OutputFolder
-
-    def is_previous(folder: Path) -> bool:
-        names = {p.name for p in folder.iterdir()}
-        return "workspace.json" in names and names <= set(WORKSPACE_FILES)
-
-    return OutputFolder(Path(out).expanduser(), is_previous, "an armlab workspace folder (workspace.json and its "
-                                                            "pictures only)")
+#: The example design studies (``armlab sweep --help`` names them).
+STUDIES = Path(armlab.analysis.__file__).resolve().parent / "studies"
 
 
 def _format(summary: dict[str, Any]) -> list[str]:
@@ -73,26 +79,17 @@ def _format(summary: dict[str, Any]) -> list[str]:
 
 def cmd_workspace(args: argparse.Namespace) -> int:
     """``armlab workspace``: see the module docstring."""
-    from armlab.analysis.workspace import check_resolution, check_samples, check_seed, workspace
-    from armlab.cli import load_arm
-
     check_samples(args.samples, "--samples")
     check_seed(args.seed, "--seed")
     if args.resolution is not None:
         check_resolution(args.resolution, "--resolution")
-    arm = load_arm(args.arm)
+    arm = get_arm(args.arm)
     folder = workspace_folder(args.out) if args.out else None
     ws = workspace(arm, args.samples, args.resolution, args.seed)
     summary = ws.summary()
     if folder is not None:
-        from armlab.analysis.cloud import write_point_cloud
-        from armlab.analysis.plots import workspace_figures
-
         with folder as tmp:
-            (tmp / "workspace.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n")
-            written = ["workspace.json", *workspace_figures(ws, tmp)]
-            write_point_cloud(arm, ws, tmp / "workspace.html")
-            written.append("workspace.html")
+            written = write_workspace(arm, ws, tmp)
     if args.json:
         print(json.dumps(summary, indent=2, ensure_ascii=False))
     else:
@@ -102,13 +99,16 @@ def cmd_workspace(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """``armlab sweep``: see :mod:`armlab.analysis.sweep`."""
+    result = run_sweep(args.study, args.out, args.workers, args.scheduler)
+    print(f"{args.out}: {result.total} candidates: {result.done_before} done before, {result.computed} computed, "
+          f"{len(result.failed)} failed ({result.wall_time:.1f} s); wrote {RESULTS} {STUDY} {' '.join(result.plots)}")
+    return EXIT_FAILED + min(len(result.failed), 100) if result.failed else 0
+
+
 def register(subparsers: Any) -> None:
     """Add the ``workspace`` and ``sweep`` subcommands to the CLI's subparsers."""
-    from armlab.analysis.sweep import EXIT_FAILED, cmd_sweep
-    from armlab.analysis.workspace import DEFAULT_SAMPLES, MAX_SAMPLES, MAX_SEED, SAMPLES_PER_CELL
-    from armlab.cli import positive_int
-    from armlab.limits import allowed, whole_text
-
     p = subparsers.add_parser(
         "workspace", help="an arm's workspace: volume, reach, manipulability, singular configurations",
         description=textwrap.fill(
@@ -118,7 +118,7 @@ def register(subparsers: Any) -> None:
             "(Yoshikawa's and σ_min of the Jacobian) and the singular configurations. With --out, write "
             "workspace.json, slices.png, convergence.png, singular.png and workspace.html (a 3-D point cloud).", 100),
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("arm", help="arm name (armlab list), or a .urdf / DH .csv file")
+    p.add_argument("arm", help=ARM_HELP)
     p.add_argument("--samples", type=positive_int, default=DEFAULT_SAMPLES, metavar="N",
                    help=f"joint-space samples, 1000 … {whole_text(MAX_SAMPLES)} "
                         f"(default {whole_text(DEFAULT_SAMPLES)})")
@@ -146,7 +146,7 @@ def register(subparsers: Any) -> None:
             reach, min_manipulability, mean_manipulability, peak_torque, rms_torque, peak_power. Optional:
             samples, resolution (m), seed, payload, tf, simulate (true: paper 000's Fig. 6 simulation; false:
             batch inverse dynamics along the motion every 1 ms), segments (a motion file instead of the paper
-            motion). Example studies: {Path(__file__).resolve().parent / "studies"}/*.json.
+            motion). Example studies: {STUDIES}/*.json.
 
             exit status: 0 every candidate computed; 2 bad study or options (nothing computed);
             {EXIT_FAILED} + k when k candidates failed (k at most 100); each failure is reported on stderr."""),

@@ -1,0 +1,85 @@
+"""What every ``armlab`` command shares: the parser whose errors are one line, argparse value types, the help of
+the ARM argument, the rewriting of negative values, and the one-line error on stderr."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import sys
+from collections.abc import Sequence
+from typing import Any, NoReturn
+
+__all__ = ["ARM_HELP", "Parser", "error_text", "join_negative_values", "positive_int", "silence", "write_error"]
+
+#: The help of every command's ARM argument.
+ARM_HELP = "arm name (armlab list), or a .urdf / DH .csv file"
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr and exit code 2."""
+
+    def error(self, message: str) -> NoReturn:
+        write_error(message)
+        raise SystemExit(2)
+
+
+def positive_int(text: str) -> int:
+    """An argparse type: a whole number ≥ 1 (``"4"``, ``"4.0"``); else the one-line error argparse prints."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not value.is_integer() or value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number ≥ 1")
+    return int(value)
+
+
+_VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--target", "--rpy", "--near", "--from", "--to", "--pitch", "--gravity")
+
+
+#: An item that starts like a negative number: ``-1e-6``, ``-.5,2``, ``-inf`` (argparse knows only ``-1``, ``-0.5``).
+_NEGATIVE = re.compile(r"-(\.?\d|inf|nan)", re.IGNORECASE)
+
+
+def join_negative_values(argv: Sequence[str]) -> list[str]:
+    """``--q -1,2`` → ``--q=-1,2``, ``--gravity -y`` → ``--gravity=-y``, ``--accuracy -1e-6`` → ``--accuracy=-1e-6``:
+    argparse takes a value starting with "-" for an option. A value option takes the next item as its value
+    unless that is a long option; any long option takes a next item that starts like a negative number."""
+    out: list[str] = []
+    for item in argv:
+        previous = out[-1] if out else ""
+        takes = previous in _VALUE_OPTIONS or (previous[:2] == "--" and "=" not in previous and _NEGATIVE.match(item))
+        if takes and item[:1] == "-" and item[:2] != "--":
+            out[-1] = f"{previous}={item}"
+        else:
+            out.append(item)
+    return out
+
+
+def silence(stream: Any) -> None:
+    """Point a stream that can no longer be written (a full disk, a closed pipe) at /dev/null, so that the
+    interpreter's last flush of what it still holds succeeds (a failing one would change the exit code)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, stream.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # no file descriptor (a captured stream): nothing is left to flush
+        pass
+
+
+def write_error(message: str) -> None:
+    """``armlab: error: MESSAGE`` as one line on stderr (line breaks in MESSAGE become spaces); dropped if stderr
+    cannot be written (the exit code still says 2)."""
+    try:
+        sys.stderr.write(f"armlab: error: {' '.join(message.splitlines())}\n")
+        sys.stderr.flush()
+    except OSError:
+        silence(sys.stderr)
+
+
+def error_text(error: Exception) -> str:
+    """The error's text; for an operating-system error its reason and file, without the errno."""
+    if isinstance(error, OSError) and error.strerror:
+        return f"{error.filename}: {error.strerror}" if error.filename else error.strerror
+    return str(error)

@@ -1,0 +1,36 @@
+"""``armlab draw ARM``: the arm's kinematic scheme (:func:`armlab.diagrams.draw.draw_arm`) into a picture file."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from armlab.cli.args import ARM_HELP
+from armlab.diagrams.draw import default_q, draw_arm
+from armlab.models import get_arm
+from armlab.values import joint_values
+
+__all__ = ["register"]
+
+
+def _cmd_draw(args: argparse.Namespace) -> int:
+    arm = get_arm(args.arm)
+    q = joint_values(arm, args.q, args.deg) if args.q is not None else default_q(arm)
+    path = draw_arm(arm, q, args.out)
+    print(f"wrote {path}")
+    return 0
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``draw`` subcommand to the CLI's subparsers."""
+    p = subparsers.add_parser("draw", help="draw an arm's kinematic scheme (frames, joint axes, DH or locating "
+                                           "parameters) as .png, .svg or .pdf",
+                              description="Draw ARM's kinematic scheme at the joint values --q, like the papers' "
+                                          "figures: links, joint axes, frames {0}…{n} and the tool as RGB triads, "
+                                          "and the DH (a, α, d, θ) or locating (P_i, k_i) parameters.")
+    p.add_argument("arm", help=ARM_HELP)
+    p.add_argument("--q", help="joint values v1,v2,… (rad and m; see --deg); default: a paper arm's paper motion "
+                               "start, other arms' zeros (within the limits)")
+    p.add_argument("--deg", action="store_true", help="revolute values in degrees")
+    p.add_argument("--out", required=True, metavar="FILE", help="FILE.png, FILE.svg or FILE.pdf")
+    p.set_defaults(func=_cmd_draw)

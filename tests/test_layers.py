@@ -1,0 +1,154 @@
+"""The layers of armlab: the command line (``armlab.cli``) sits on the library, never under it.
+
+Every module of every package that pyproject.toml installs is read (ast, not imported: importing would load
+Drake), and each of its imports, at module level or inside a function alike, is checked: outside ``armlab.cli``
+nothing imports ``armlab.cli`` or ``argparse``. Two kinds of code are programs, not library, and are allowed
+their own command lines: a module's ``if __name__ == "__main__":`` block (a paper script run alone takes its
+options from :func:`armlab.cli.reproduce.run_alone`) and the developer benchmarks ``scripts/bench_*.py``
+(``make bench`` runs them as scripts; no module imports them, checked). And the CLI package's own module-level
+imports pull none of the heavy libraries armlab imports lazily (:data:`armlab._lazy.LAZY_IMPORTS`), so that
+``armlab --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib.util
+import pkgutil
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from armlab._lazy import LAZY_IMPORTS
+
+ROOT = Path(__file__).resolve().parents[1]
+CLI = "armlab.cli"
+#: What only the CLI may import.
+CLI_ONLY = (CLI, "argparse")
+
+
+def _packages() -> list[str]:
+    return tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]
+
+
+def _modules() -> dict[str, Path]:
+    """Every module of the installed packages: dotted name → source file (found without importing the modules)."""
+    modules = {}
+    for package in _packages():
+        spec = importlib.util.find_spec(package)
+        assert spec is not None and spec.submodule_search_locations, package
+        modules[package] = Path(spec.origin)
+        for info in pkgutil.iter_modules(spec.submodule_search_locations):
+            if not info.ispkg:
+                modules[f"{package}.{info.name}"] = Path(info.module_finder.path) / f"{info.name}.py"
+    return modules
+
+
+def _is_main_block(node: ast.AST) -> bool:
+    """``if __name__ == "__main__":``."""
+    return (isinstance(node, ast.If) and isinstance(node.test, ast.Compare)
+            and isinstance(node.test.left, ast.Name) and node.test.left.id == "__name__"
+            and any(isinstance(c, ast.Constant) and c.value == "__main__" for c in node.test.comparators))
+
+
+def imports(source: str, module: str, module_level_only: bool = False) -> list[tuple[int, str]]:
+    """(line, imported module) of each import in ``source`` (the module ``module``), outside its ``__main__``
+    block; ``from a import b`` counts as importing ``a.b`` too (``b`` may be a module); relative imports are
+    resolved against ``module``. ``module_level_only``: not those inside functions (those run when called)."""
+    found: list[tuple[int, str]] = []
+
+    def visit(node: ast.AST) -> None:
+        for child in ast.iter_child_nodes(node):
+            if _is_main_block(child):
+                continue
+            if module_level_only and isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda):
+                continue
+            if isinstance(child, ast.Import):
+                found.extend((child.lineno, alias.name) for alias in child.names)
+            elif isinstance(child, ast.ImportFrom):
+                base = child.module or ""
+                if child.level:
+                    parent = module.rsplit(".", child.level)[0]
+                    base = f"{parent}.{base}" if base else parent
+                found.append((child.lineno, base))
+                found.extend((child.lineno, f"{base}.{alias.name}") for alias in child.names)
+            visit(child)
+
+    visit(ast.parse(source))
+    return found
+
+
+def _names(target: str, imported: str) -> bool:
+    return imported == target or imported.startswith(target + ".")
+
+
+def _is_cli(module: str) -> bool:
+    return _names(CLI, module)
+
+
+def _is_program(module: str) -> bool:
+    return module.rsplit(".", 1)[-1].startswith("bench_")
+
+
+def test_modules_are_found():
+    """The walk sees the whole package (the test below would pass on an empty one)."""
+    modules = _modules()
+    for name in ("armlab.api", "armlab.cli", "armlab.cli.args", "armlab.models.arm", "armlab.diagrams.plant",
+                 "armlab.analysis.sweep", "armlab.scripts.reproduce", "armlab.scripts.bench_ik"):
+        assert name in modules and modules[name].is_file(), name
+    assert len(modules) > 60
+
+
+def test_only_the_cli_imports_the_cli_and_argparse():
+    """No module outside ``armlab.cli`` imports ``armlab.cli`` or ``argparse``, at any depth of its code (a
+    benchmark program may use argparse, never the CLI)."""
+    bad = []
+    for module, path in _modules().items():
+        if _is_cli(module):
+            continue
+        forbidden = (CLI,) if _is_program(module) else CLI_ONLY
+        bad += [f"{path.relative_to(ROOT)}:{line}: {module} imports {name}"
+                for line, name in imports(path.read_text(), module) if any(_names(f, name) for f in forbidden)]
+    assert not bad, "library modules import the command line:\n" + "\n".join(bad)
+
+
+def test_no_module_imports_a_program():
+    """The benchmarks allowed argparse above are programs only: no module imports one."""
+    modules = _modules()
+    programs = [m for m in modules if _is_program(m)]
+    assert programs
+    bad = [f"{module} imports {name}" for module, path in modules.items()
+           for _, name in imports(path.read_text(), module) if name in programs]
+    assert not bad
+
+
+@pytest.mark.parametrize(("source", "caught"), [
+    ("import argparse", ["argparse"]),
+    ("def f():\n    from armlab.cli import main", ["armlab.cli", "armlab.cli.main"]),
+    ("from armlab import cli", ["armlab", "armlab.cli"]),
+    ("from . import cli", ["armlab", "armlab.cli"]),
+    ("class A:\n    def f(self):\n        import armlab.cli.args", ["armlab.cli.args"]),
+    ("if __name__ == '__main__':\n    from armlab.cli.reproduce import run_alone", []),
+])
+def test_imports_sees_every_import(source, caught):
+    """The walk finds an import wherever it stands (and skips only a ``__main__`` block)."""
+    assert [name for _, name in imports(source, "armlab.limits")] == caught
+
+
+def test_cli_module_level_imports_pull_no_lazy_library():
+    """Importing every module of the CLI package and building the parser (what ``armlab --help`` does) loads
+    none of :data:`armlab._lazy.LAZY_IMPORTS` (in a fresh interpreter: this one has them loaded)."""
+    cli = sorted(m for m in _modules() if _is_cli(m))
+    assert len(cli) >= 8
+    code = (f"import sys\nfor m in {cli!r}: __import__(m)\n"
+            "import armlab.cli; armlab.cli.build_parser()\n"
+            f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({LAZY_IMPORTS!r})))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120)
+    assert out.stdout.strip() == "[]", out.stdout
+    static = [f"{module}: {name}" for module in cli for _, name in imports(_modules()[module].read_text(), module,
+                                                                           module_level_only=True)
+              if any(_names(lazy, name) for lazy in LAZY_IMPORTS)]
+    assert not static
