@@ -5,7 +5,8 @@ Drake), and each of its imports, at module level or inside a function alike, is 
 nothing imports ``armlab.cli`` or ``argparse``. Two kinds of code are programs, not library, and are allowed
 their own command lines: a module's ``if __name__ == "__main__":`` block (a paper script run alone takes its
 options from :func:`armlab.cli.reproduce.run_alone`) and the developer benchmarks ``scripts/bench_*.py``
-(``make bench`` runs them as scripts; no module imports them, checked). And the CLI package's own module-level
+(``make bench`` runs them as scripts) and the example scripts ``armlab.scripts.examples.*`` (no module imports
+either, checked). And the CLI package's own module-level
 imports pull none of the heavy libraries armlab imports lazily (:data:`armlab._lazy.LAZY_IMPORTS`), so that
 ``armlab --help`` stays fast.
 """
@@ -40,6 +41,8 @@ def _modules() -> dict[str, Path]:
     for package in _packages():
         spec = importlib.util.find_spec(package)
         assert spec is not None and spec.submodule_search_locations, package
+        if spec.origin is None:  # a data-only package (e.g. armlab.analysis.studies): no code to read
+            continue
         modules[package] = Path(spec.origin)
         for info in pkgutil.iter_modules(spec.submodule_search_locations):
             if not info.ispkg:
@@ -90,7 +93,9 @@ def _is_cli(module: str) -> bool:
 
 
 def _is_program(module: str) -> bool:
-    return module.rsplit(".", 1)[-1].startswith("bench_")
+    """A developer benchmark (``scripts/bench_*.py``) or an example script for users
+    (``armlab.scripts.examples.*``, run as ``python -m``): programs with command lines of their own."""
+    return module.rsplit(".", 1)[-1].startswith("bench_") or module.startswith("armlab.scripts.examples.")
 
 
 def test_modules_are_found():
