@@ -154,13 +154,11 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     from armlab.diagrams.build import build_diagram
     from armlab.diagrams.graphviz import fig6_dot, graph_format, write_graph
     from armlab.diagrams.motions import paper_motion
-    from armlab.models import ARMS
 
     arm = load_arm(args.arm)
     graph_format(args.out)
     setup = _setup(arm, args)
-    is_paper_arm = arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER
-    motion = paper_motion(arm).runs()[0][1] if is_paper_arm else _hold_motion(arm)
+    motion = paper_motion(arm).runs()[0][1] if arm.motion is not None else _hold_motion(arm)
     run = build_diagram(arm, motion, **setup)
     dot = run.diagram.GetGraphvizString(max_depth=1)
     path = write_graph(dot if args.full else fig6_dot(dot), args.out)
