@@ -3,12 +3,14 @@
 ``get_arm(name)`` returns an :class:`~armlab.models.arm.Arm` for a paper arm's name
 (see ``ARMS``), a URDF file path or a DH table file (``.csv``).
 
-The paper arms are found, not listed: every module of this package with ``build`` and ``PAPER``
-is one, named after its module (``rr.py`` builds ``rr``), and ``ARMS`` holds them in the order of
-their ``PAPER`` citations (the paper's number first: paper 000's Fig. 1 arm rr before its
-Figs. 11-25 arm rrrr, then arm4r, r2t, urm6). So a new paper arm is its module and its URDF, nothing
-else. An arm module outside this package (a plug-in, the tests' own arm) calls :func:`register`
-when it is imported; it follows the package's arms.
+The paper arms are found, not listed: every module of this package with its URDF beside it,
+``build``, ``PAPER`` and ``Parameters`` is one, named after its module (``rr.py`` builds ``rr``,
+committed as ``rr.urdf``), and ``ARMS`` holds them in the order of their ``PAPER`` citations (the
+paper's number first: paper 000's Fig. 1 arm rr before its Figs. 11-25 arm rrrr, then arm4r, r2t,
+urm6). So a new paper arm is its module and its URDF, nothing else; what only it has (closed-form
+IK, paper motion, scheme) are fields its ``build`` sets (:mod:`armlab.models.extras`). An arm module
+outside this package (a plug-in, the tests' own arm) calls :func:`register` when it is imported; it
+follows the package's arms.
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ from types import ModuleType
 
 import numpy as np
 
-from armlab.models.arm import Arm
+from armlab.models.arm import MODELS_DIR, Arm
 
 __all__ = ["ARMS", "Arm", "get_arm", "paper_arms", "register"]
 
@@ -32,8 +34,13 @@ def _is_arm_module(module: ModuleType) -> bool:
 
 
 def _package_arms() -> dict[str, ModuleType]:
-    """This package's arm modules by name (the module's), in the order of their ``PAPER`` citations."""
-    modules = (importlib.import_module(f"{__name__}.{info.name}") for info in pkgutil.iter_modules(__path__))
+    """This package's arm modules by name (the module's), in the order of their ``PAPER`` citations.
+
+    Only a module with its committed URDF beside it (``rr.py`` and ``rr.urdf``) is imported to be checked, so
+    the helpers (``custom``, ``urdf``, …) stay unimported until used.
+    """
+    names = (info.name for info in pkgutil.iter_modules(__path__) if (MODELS_DIR / f"{info.name}.urdf").is_file())
+    modules = (importlib.import_module(f"{__name__}.{name}") for name in names)
     found = sorted((module for module in modules if _is_arm_module(module)), key=lambda module: module.PAPER)
     return {module.__name__.rpartition(".")[2]: module for module in found}
 
