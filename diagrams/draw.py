@@ -40,9 +40,6 @@ __all__ = ["FORMATS", "Scheme", "default_q", "draw_arm", "scheme"]
 
 #: Picture formats by file suffix.
 FORMATS = ("png", "svg", "pdf")
-#: The papers' figures of each paper arm's scheme (for the title).
-PAPER_FIGURES = {"rr": "000 Fig. 1", "rrrr": "000 Figs. 11-13, 20", "arm4r": "001 Figs. 1-2",
-                 "r2t": "003 Figs. 1-2", "urm6": "004 Figs. 1-3"}
 _AXIS_COLORS = ("#d62728", "#2ca02c", "#1f5fa8")  # x, y, z
 _LINK = "#4d5656"
 
@@ -66,22 +63,15 @@ class Scheme:
 
 
 def _dh_table(arm: Arm) -> DHTable | None:
-    """The arm's DH table, if it has one: a paper arm's module ``dh_table`` or a user's DH table.
+    """The arm's DH table, if it has one: a paper arm's own (``arm.scheme.dh``) or a user's DH table.
 
     A user's DH arm keeps its rows as parameters a1, alpha1, d1, theta1, …; the convention is the
     one (standard or modified) whose chain ends at the arm's tool frame.
     """
-    from dataclasses import fields
-
     from armlab.kinematics.dh import DHRow, DHTable
-    from armlab.models import ARMS
 
-    module = ARMS.get(arm.name)
-    if module is not None and arm.paper == module.PAPER:
-        if not hasattr(module, "dh_table"):
-            return None
-        known = {f.name for f in fields(module.Parameters)}
-        return module.dh_table(module.Parameters(**{k: v for k, v in arm.parameters.items() if k in known}))
+    if arm.scheme is not None:
+        return arm.scheme.dh
     keys = [f"{key}{i + 1}" for i in range(arm.n) for key in ("a", "alpha", "d", "theta")]
     if set(arm.parameters) != set(keys):
         return None
@@ -245,7 +235,7 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     q = arm.check_q(q, "q")
     s = scheme(arm, q)
     qtext = ", ".join(f"{np.degrees(v):.4g}°" if r else f"{v:.4g} m" for v, r in zip(q, arm.revolute, strict=True))
-    figure = PAPER_FIGURES.get(arm.name) if arm.name in PAPER_FIGURES and "user" not in arm.paper else None
+    figure = arm.scheme.figure if arm.scheme is not None else None
     title = f"{arm.name}: kinematic scheme at q = ({qtext})" + (f" — cf. paper {figure}" if figure else "")
     fig, axes = new_figure(title, ncols=2, size=(10.5, 6.5), projection="3d", width_ratios=(3.0, 1.2))
     ax, panel = axes[0]
@@ -312,11 +302,8 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
 
 
 def default_q(arm: Arm) -> NDArray[np.float64]:
-    """The pose drawn without ``--q``: a paper arm's paper motion start (e.g. rr at (−38°, 98°), paper 000
-    Fig. 3), any other arm's zeros moved into its limits."""
-    from armlab.diagrams.motions import paper_motion
-    from armlab.models import ARMS
-
-    if arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER:
-        return np.asarray(paper_motion(arm).segments[0].q_start, dtype=float)
+    """The pose drawn without ``--q``: a paper arm's own (``arm.scheme.q``: its paper motion's start, e.g. rr
+    at (−38°, 98°), paper 000 Fig. 3), any other arm's zeros moved into its limits."""
+    if arm.scheme is not None:
+        return arm.scheme.q(arm)
     return np.clip(np.zeros(arm.n), *arm.limit_arrays())

@@ -1,21 +1,8 @@
 """The motions ``armlab simulate`` runs: each paper's own, a quintic between two configurations, or a file.
 
-Paper motions (:func:`paper_motion`):
-
-* ``rr`` — paper 000 Fig. 3/5/7: θ1 −38° → 62°, θ2 98° → 68°, rest to rest in t_f = 2 s (the t_f
-  that reproduces the paper's coefficients a1 … b3).
-* ``rr``, path ``abcd`` — paper 000 Figs. 8–10: A → B → C → D → A through the points of Table 1,
-  each segment a rest-to-rest quintic between the exact inverse-kinematics angles on the branch
-  Table 2 uses at each end (Table 2 rounds 73.7398° to 74°). The paper gives no segment time:
-  2 s each is chosen (Fig. 3's t_f). Table 2 leaves C and A on another branch than it reaches
-  them on, and D at θ2 = −180° after reaching it at +180° (the same pose, but the joint would
-  have to unwind), so the motion is three runs: A–B–C, C–D, D–A (see :meth:`Motion.runs`).
-* ``rrrr`` — paper 000 Figs. 18–19: constant rates ω = (7, 0.05, 0.05, 0.05) rad/s from q = 0
-  for 15 s.
-* ``arm4r`` — paper 001 §3: from (2, 0, 0) to (1, 1, 1.4) in 2 s, the tool pitch kept at the
-  start's ("the state is the same with the original state"), both ends by the paper's inverse
-  kinematics, the solution nearest the start (the paper's rule).
-* ``r2t``, ``urm6`` — their papers are kinematic only; a demo motion each (documented below).
+Paper motions (:func:`paper_motion`) are the arms' own: each paper arm's module gives its arm its
+paper motion and named paths (``Arm.motion``, ``Arm.paths``; e.g. :func:`armlab.models.rr.fig3_motion`,
+path ``abcd`` :func:`armlab.models.rr.abcd_motion`, :func:`armlab.models.arm4r.section3_motion`).
 
 Segment files (:func:`read_segments`) are JSON, see :data:`SEGMENTS_FILE_HELP`.
 """
@@ -37,26 +24,12 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = [
-    "ABCD_POINTS",
-    "ABCD_SEGMENTS",
-    "PATHS",
     "SEGMENTS_FILE_HELP",
-    "abcd_motion",
     "paper_motion",
     "point_to_joints",
     "quintic_motion",
     "read_segments",
 ]
-
-#: Paper 000, Table 1: the points A, B, C, D (m).
-ABCD_POINTS: dict[str, tuple[float, float]] = {"A": (0.4, -0.3), "B": (0.7, 0.0), "C": (0.4, 0.3), "D": (0.1, 0.0)}
-#: Paper 000, Table 2's segments as (start point, its IK branch, end point, its IK branch); branch 0 has
-#: θ2 ≥ 0, branch 1 θ2 ≤ 0 (:func:`armlab.kinematics.ik.rr_ik`). ``None``: start where the previous ends.
-ABCD_SEGMENTS: tuple[tuple[str, int | None, str, int], ...] = (
-    ("A", 0, "B", 0), ("B", None, "C", 1), ("C", 0, "D", 0), ("D", 1, "A", 1)
-)
-#: Named multi-segment paths (``--path``), by arm.
-PATHS: dict[str, tuple[str, ...]] = {"rr": ("abcd",)}
 
 SEGMENTS_FILE_HELP = """\
 A segments file is JSON: {"deg": false, "segments": [SEGMENT, ...]}. Each SEGMENT has "tf" (s) and
@@ -84,106 +57,35 @@ def point_to_joints(
     pitch: float | None = None,
     near: ArrayLike | None = None,
 ) -> NDArray[np.float64]:
-    """Joint values reaching ``point``: rr's IK ``branch`` (0: θ2 ≥ 0, 1: θ2 ≤ 0) if given, else the
-    solution of :func:`armlab.kinematics.ik.solve` nearest ``near`` (arm4r: with tool ``pitch``)."""
-    from armlab.kinematics.ik import fit_limits, planar_target, rr_ik, solve
+    """Joint values reaching ``point``: the closed form's IK ``branch`` if given (rr: 0 θ2 ≥ 0, 1 θ2 ≤ 0;
+    :func:`armlab.kinematics.ik.solve_branch`), else the solution of :func:`armlab.kinematics.ik.solve`
+    nearest ``near`` (arm4r: with tool ``pitch``)."""
+    from armlab.kinematics.ik import solve, solve_branch
 
     if branch is None:
         return solve(arm, point, pitch=pitch, near=near)[0]
-    if arm.name != "rr" or branch not in (0, 1):
-        raise ValueError(f"IK branch {branch!r} is not allowed: branches are 0 (θ2 ≥ 0) and 1 (θ2 ≤ 0) of the rr arm; "
-                         "for other arms give no branch (the solution nearest the previous joints is taken)")
-    p = planar_target(point)
-    q = rr_ik(p, arm.parameters["L1"], arm.parameters["L2"])[branch]
-    fitted, violations = fit_limits(arm, q, near=q)
-    if violations[0] is not None:
-        raise ValueError(f"point {p.tolist()} on IK branch {branch} is outside {arm.name}'s joint limits")
-    return fitted[0]
-
-
-def abcd_motion(arm: Arm, tf: float = 2.0) -> Motion:
-    """Paper 000's A → B → C → D → A (Tables 1–2, Figs. 8–10), ``tf`` seconds per segment."""
-    tf = check_duration(tf)
-    segments: list[Segment] = []
-    for start, start_branch, end, end_branch in ABCD_SEGMENTS:
-        q0 = segments[-1].q_end if start_branch is None else point_to_joints(arm, ABCD_POINTS[start], start_branch)
-        qf = point_to_joints(arm, ABCD_POINTS[end], end_branch)
-        segments.append(QuinticSegment(q0, qf, tf, f"{start}-{end}"))
-    motion = Motion(
-        tuple(segments),
-        f"paper 000 Figs. 8-10: A-B-C-D-A through Table 1's points, Table 2's IK branches, {tf:g} s per segment",
-        {"joints": "000 Fig. 9", "torques": "000 Fig. 10", "path": "000 Fig. 8"},
-    )
-    motion.check_limits(arm)
-    return motion
-
-
-def _demo_r2t(arm: Arm, tf: float) -> Motion:
-    lo, hi = arm.limit_arrays()
-    q0 = np.array([-np.pi / 4, lo[1] + 0.2 * (hi[1] - lo[1]), lo[2] + 0.1 * (hi[2] - lo[2])])
-    qf = np.array([np.pi / 4, lo[1] + 0.8 * (hi[1] - lo[1]), lo[2] + 0.9 * (hi[2] - lo[2])])
-    return Motion((QuinticSegment(q0, qf, tf, "transfer"),),
-                  f"demo (paper 003 has no motion): a part transfer, the column turning -45° → +45° while the "
-                  f"carriage rises from 20 % to 80 % of its stroke and the arm extends from 10 % to 90 % of its "
-                  f"stroke, rest to rest in {tf:g} s")
-
-
-def _demo_urm6(arm: Arm, tf: float) -> Motion:
-    from armlab.models.urm6 import TABLE1_PHI_DEG
-
-    return Motion((QuinticSegment(np.zeros(arm.n), np.radians(TABLE1_PHI_DEG), tf, "home-Table1"),),
-                  f"demo (paper 004 is kinematic only): from φ = 0 to Table 1's φ1…φ6 = "
-                  f"{', '.join(f'{v:g}' for v in TABLE1_PHI_DEG)}°, rest to rest in {tf:g} s")
+    return solve_branch(arm, point, branch)
 
 
 def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> Motion:
-    """The motion ``armlab simulate ARM`` runs without motion options (see the module docstring).
+    """The motion ``armlab simulate ARM`` runs without motion options: the arm's own (``arm.motion``).
 
-    ``path`` names a multi-segment path (rr: ``"abcd"``); ``tf`` overrides the duration (per
-    segment for a path; the whole run for rrrr's constant rates).
+    ``path`` names a multi-segment path of the arm's (``arm.paths``; rr: ``"abcd"``); ``tf`` overrides
+    the duration (per segment for a path; the whole run for rrrr's constant rates). ``ValueError`` for an
+    arm without a paper motion (a user's) or a path it does not have.
     """
-    from armlab.models import ARMS
-
     if tf is not None:
         tf = check_duration(tf)
-    if arm.name not in ARMS or arm.paper != ARMS[arm.name].PAPER:
+    if arm.motion is None:
         raise ValueError(f"{arm.name} has no paper motion; give --from and --to (and --tf), or --segments")
-    if path is not None:
-        if path not in PATHS.get(arm.name, ()):
-            allowed = ", ".join(f"{a}: {', '.join(p)}" for a, p in PATHS.items())
-            raise ValueError(f"path {path!r} is not available for {arm.name}; paths: {allowed}")
-        return abcd_motion(arm, 2.0 if tf is None else tf)
-    if arm.name == "rr":
-        tf = 2.0 if tf is None else tf
-        motion = Motion(
-            (QuinticSegment(np.radians([-38.0, 98.0]), np.radians([62.0, 68.0]), tf, "Fig3"),),
-            f"paper 000 Figs. 3, 5, 7: θ1 -38° → 62°, θ2 98° → 68°, rest to rest in {tf:g} s",
-            {"joints": "000 Fig. 5", "torques": "000 Fig. 7", "path": "000 Fig. 3"},
-        )
-    elif arm.name == "rrrr":
-        tf = 15.0 if tf is None else tf
-        motion = Motion(
-            (ConstantRate(np.zeros(4), np.array([7.0, 0.05, 0.05, 0.05]), tf, "constant-rate"),),
-            f"paper 000 Figs. 18-19: q = ω t, ω = (7, 0.05, 0.05, 0.05) rad/s, for {tf:g} s",
-            {"path": "000 Figs. 18-19"},
-        )
-    elif arm.name == "arm4r":
-        tf = 2.0 if tf is None else tf
-        q0 = point_to_joints(arm, (2.0, 0.0, 0.0), pitch=0.0)
-        pitch = float(q0[1] + q0[2] + q0[3])
-        qf = point_to_joints(arm, (1.0, 1.0, 1.4), pitch=pitch, near=q0)
-        motion = Motion(
-            (QuinticSegment(q0, qf, tf, "(2,0,0)-(1,1,1.4)"),),
-            f"paper 001 §3: tool from (2, 0, 0) to (1, 1, 1.4) m with the start's pitch, IK solution nearest "
-            f"the start, rest to rest in {tf:g} s",
-            {"joints": "001 Figs. 4-6", "path": "001 Fig. 7"},
-        )
-    elif arm.name == "r2t":
-        motion = _demo_r2t(arm, 3.0 if tf is None else tf)
-    else:
-        motion = _demo_urm6(arm, 4.0 if tf is None else tf)
-    motion.check_limits(arm)
-    return motion
+    if path is None:
+        return arm.motion(arm, tf)
+    if path not in arm.paths:
+        from armlab.models import paper_arms
+
+        allowed = ", ".join(f"{other.name}: {', '.join(other.paths)}" for other in paper_arms() if other.paths)
+        raise ValueError(f"path {path!r} is not available for {arm.name}; paths: {allowed}")
+    return arm.paths[path](arm, tf)
 
 
 def _numbers(raw: Any, name: str) -> NDArray[np.float64]:

@@ -69,16 +69,17 @@ def drake_sample(arm: Arm, q: ArrayLike, qd: ArrayLike | None = None, qdd: Array
     """Query Drake at each configuration of the batch ``q`` (N, n) with rates ``qd`` and ``qdd`` (default 0)."""
     from pydrake.multibody.tree import JacobianWrtVariable
 
-    from armlab.kinematics.ik import drake_arm
-
     q = np.atleast_2d(as_batch(q, arm.n, "q"))
     qd = np.broadcast_to(np.zeros(arm.n) if qd is None else as_batch(qd, arm.n, "qd"), q.shape)
     qdd = np.broadcast_to(np.zeros(arm.n) if qdd is None else as_batch(qdd, arm.n, "qdd"), q.shape)
-    plant, tool, index = drake_arm(arm)
+    plant = arm.make_plant()
     context = plant.CreateDefaultContext()
     world = plant.world_frame()
-    vindex = np.array([plant.GetJointByName(name).velocity_start() for name in arm.joint_names])
-    frames = [plant.GetBodyByName(f"link{i}").body_frame() for i in range(1, arm.n + 1)] + [tool]
+    joints = [plant.GetJointByName(name) for name in arm.joint_names]  # the arm's joint order in the plant's q, v
+    index = np.array([joint.position_start() for joint in joints])
+    vindex = np.array([joint.velocity_start() for joint in joints])
+    frames = [plant.GetBodyByName(f"link{i}").body_frame() for i in range(1, arm.n + 1)] + [
+        plant.GetFrameByName(arm.tool_name)]
     N, F = q.shape[0], len(frames)
     pose = np.empty((N, F, 4, 4))
     V, A = np.empty((N, F, 6)), np.empty((N, F, 6))
@@ -719,7 +720,7 @@ ERRATA: tuple[Erratum, ...] = (
     Erratum(
         "001", "eq. (19)",
         "Printed 'θ1 = θ23 − θ3'; θ2 = θ23 − θ3 is meant (θ23 = θ2 + θ3, eq. 18). Read with θ1 in place of θ3, "
-        "θ2 = θ23 − θ1. armlab.kinematics.ik.arm4r_ik implements the corrected form.",
+        "θ2 = θ23 − θ1. armlab.kinematics.ik_closed_form.arm4r_ik implements the corrected form.",
         r"\theta_1 = \theta_{23} - \theta_3 \quad(\text{read as } \theta_2 = \theta_{23} - \theta_1)",
         r"\theta_2 = \theta_{23} - \theta_3",
         arm="arm4r", overrides=_ARM4R_OFFSET, printed=_001_theta2(True), corrected=_001_theta2(False),

@@ -3,10 +3,21 @@
 ``get_arm(name)`` returns an :class:`~armlab.models.arm.Arm` for a paper arm's name
 (see ``ARMS``), an example arm shipped with armlab (``example:arm3r``, see :func:`examples`),
 a URDF file path or a DH table file (``.csv``).
+
+The paper arms are found, not listed: every module of this package with its URDF beside it,
+``build``, ``PAPER`` and ``Parameters`` is one, named after its module (``rr.py`` builds ``rr``,
+committed as ``rr.urdf``), and ``ARMS`` holds them in the order of their ``PAPER`` citations (the
+paper's number first: paper 000's Fig. 1 arm rr before its Figs. 11-25 arm rrrr, then arm4r, r2t,
+urm6). So a new paper arm is its module and its URDF, nothing else; what only it has (closed-form
+IK, paper motion, scheme) are fields its ``build`` sets (:mod:`armlab.models.extras`). An arm module
+outside this package (a plug-in, the tests' own arm) calls :func:`register` when it is imported; it
+follows the package's arms.
 """
 
 from __future__ import annotations
 
+import importlib
+import pkgutil
 from dataclasses import fields
 from importlib.resources import files
 from pathlib import Path
@@ -14,13 +25,48 @@ from types import ModuleType
 
 import numpy as np
 
-from armlab.models import arm4r, r2t, rr, rrrr, urm6
-from armlab.models.arm import Arm
+from armlab.models.arm import MODELS_DIR, Arm
 
-__all__ = ["ARMS", "EXAMPLE", "Arm", "examples", "get_arm"]
+__all__ = ["ARMS", "EXAMPLE", "Arm", "examples", "get_arm", "paper_arms", "register"]
+
+
+def _is_arm_module(module: ModuleType) -> bool:
+    """An arm module: ``build(**overrides)``, ``PAPER`` (its citation) and ``Parameters`` (a dataclass)."""
+    return all(hasattr(module, name) for name in ("build", "PAPER", "Parameters"))
+
+
+def _package_arms() -> dict[str, ModuleType]:
+    """This package's arm modules by name (the module's), in the order of their ``PAPER`` citations.
+
+    Only a module with its committed URDF beside it (``rr.py`` and ``rr.urdf``) is imported to be checked, so
+    the helpers (``custom``, ``urdf``, …) stay unimported until used.
+    """
+    names = (info.name for info in pkgutil.iter_modules(__path__) if (MODELS_DIR / f"{info.name}.urdf").is_file())
+    modules = (importlib.import_module(f"{__name__}.{name}") for name in names)
+    found = sorted((module for module in modules if _is_arm_module(module)), key=lambda module: module.PAPER)
+    return {module.__name__.rpartition(".")[2]: module for module in found}
+
 
 #: Paper arms by name: their modules (each with ``Parameters``, ``build(**overrides)``, ``PAPER``).
-ARMS: dict[str, ModuleType] = {"rr": rr, "rrrr": rrrr, "arm4r": arm4r, "r2t": r2t, "urm6": urm6}
+ARMS: dict[str, ModuleType] = _package_arms()
+
+
+def register(module: ModuleType) -> None:
+    """Add the arm module ``module`` (``build``, ``PAPER``, ``Parameters``) to :data:`ARMS` under its module's
+    name, after the arms there; ``ValueError`` if it is not an arm module or its name is taken."""
+    name = module.__name__.rpartition(".")[2]
+    if not _is_arm_module(module):
+        raise ValueError(f"module {module.__name__} is not an arm module: it needs build, PAPER and Parameters")
+    if name in ARMS and ARMS[name] is not module:
+        raise ValueError(f"arm {name!r} is registered already (by {ARMS[name].__name__})")
+    ARMS[name] = module
+
+
+def paper_arms() -> list[Arm]:
+    """Every paper arm of :data:`ARMS`, built with its default parameters, in order."""
+    return [module.build() for module in ARMS.values()]
+
+
 #: The prefix of an example arm's name: ``example:arm3r`` is ``arm3r.csv`` of :func:`examples`.
 EXAMPLE = "example:"
 

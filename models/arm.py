@@ -27,6 +27,7 @@ if TYPE_CHECKING:
 
     from armlab.diagrams.plant import PlantOptions
     from armlab.kinematics.dh import DHTable
+    from armlab.models.extras import ClosedForm, MotionFn, PaperScheme
 
 __all__ = ["MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
 
@@ -87,6 +88,15 @@ class Arm:
     link_names: tuple[str, ...] = ()
     #: The DH table the arm was made from (a user's DH ``.csv``), else ``None``.
     dh: DHTable | None = None
+    # What only a paper arm has, from its module (:mod:`armlab.models.extras`); a user's arm has none.
+    #: Its paper's closed-form inverse kinematics; ``None``: solved numerically (:func:`armlab.kinematics.ik.solve`).
+    closed_form: ClosedForm | None = None
+    #: Its paper motion, what ``armlab simulate ARM`` runs (:func:`armlab.diagrams.motions.paper_motion`).
+    motion: MotionFn | None = None
+    #: Its named multi-segment paths (``--path``; rr: ``"abcd"``).
+    paths: Mapping[str, MotionFn] = field(default_factory=dict)
+    #: What ``armlab draw`` shows of it beyond the model: the paper figure, the DH table, the default pose.
+    scheme: PaperScheme | None = None
 
     def require_dynamics(self, what: str) -> None:
         """``ValueError`` (saying how to add mass data) unless the arm has mass data; ``what`` needs it."""

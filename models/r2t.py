@@ -10,6 +10,11 @@ locating-matrix algorithm (:mod:`armlab.kinematics.locating`) and the iterative 
 
 No dimensions are printed; the robot is 0.5 × 0.3 × 1.15 m, 140 kg, payload about 20 kg.
 l1 … l5, the strokes and the masses below are chosen to fit that envelope.
+
+The arm's extras (:mod:`armlab.models.extras`): the closed-form inverse kinematics of the tool
+position p4 (:func:`armlab.kinematics.ik_closed_form.r2t_ik`, two branches); a demo motion
+(:func:`transfer_motion`, ``armlab simulate r2t``: the paper is kinematic only), and the scheme of
+Figs. 1–2, drawn with its locating table at the demo's start.
 """
 
 from __future__ import annotations
@@ -18,8 +23,11 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from armlab.kinematics.ik_closed_form import r2t_ik
 from armlab.kinematics.locating import JointRow, LocatingTable
+from armlab.kinematics.quintic import Motion, QuinticSegment, check_duration
 from armlab.models.arm import MODELS_DIR, Arm, chosen, from_paper, parameter_notes
+from armlab.models.extras import ClosedForm, PaperScheme, motion_start
 from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = (
@@ -58,6 +66,22 @@ def locating_table(p: Parameters) -> LocatingTable:
     )
 
 
+def transfer_motion(arm: Arm, tf: float | None = None) -> Motion:
+    """A demo (paper 003 has no motion): a part transfer, the column turning −45° → +45° while the carriage rises
+    from 20 % to 80 % of its stroke and the arm extends from 10 % to 90 % of its stroke, rest to rest in ``tf`` s
+    (default 3 s)."""
+    tf = 3.0 if tf is None else check_duration(tf)
+    lo, hi = arm.limit_arrays()
+    q0 = np.array([-np.pi / 4, lo[1] + 0.2 * (hi[1] - lo[1]), lo[2] + 0.1 * (hi[2] - lo[2])])
+    qf = np.array([np.pi / 4, lo[1] + 0.8 * (hi[1] - lo[1]), lo[2] + 0.9 * (hi[2] - lo[2])])
+    motion = Motion((QuinticSegment(q0, qf, tf, "transfer"),),
+                    f"demo (paper 003 has no motion): a part transfer, the column turning -45° → +45° while the "
+                    f"carriage rises from 20 % to 80 % of its stroke and the arm extends from 10 % to 90 % of its "
+                    f"stroke, rest to rest in {tf:g} s")
+    motion.check_limits(arm)
+    return motion
+
+
 def build(**overrides: float) -> Arm:
     """The R2T robot; keyword arguments override :class:`Parameters` by name."""
     p = Parameters(**overrides)
@@ -77,4 +101,8 @@ def build(**overrides: float) -> Arm:
         tool_name="P4",
         gravity=(0.0, 0.0, -9.81),
         urdf_file=MODELS_DIR / "r2t.urdf" if not overrides else None,
+        closed_form=ClosedForm(lambda position, rotation, near: r2t_ik(position, p.l1, p.l2, p.l3, p.l4, p.l5),
+                               ("u = q3 + l4 ≥ 0 (arm pointing out)", "u ≤ 0")),
+        motion=transfer_motion,
+        scheme=PaperScheme("003 Figs. 1-2", motion_start),
     )

@@ -6,6 +6,10 @@ basic-movement matrices, eqs. (21)–(34) (see :mod:`armlab.kinematics.basic_mov
 ``r_0M = T01 T12 T23 T34 r_4M``. The URDF's base frame is the DH base frame {0} (z up).
 
 Lengths L1 … L4 are the values of Figs. 18–19 and 24–25. The paper gives no masses.
+
+The arm's paper motion (:func:`constant_rate_motion`, ``armlab simulate rrrr``) is that of
+Figs. 18–19: constant rates ω = (7, 0.05, 0.05, 0.05) rad/s from q = 0 for 15 s; its scheme is
+Figs. 11–13 and 20, drawn with Table 3's DH table. It has no closed form here (solved numerically).
 """
 
 from __future__ import annotations
@@ -18,7 +22,9 @@ from numpy.typing import NDArray
 from armlab.kinematics.basic_movements import T_Z1, T_Z3, T_Z4
 from armlab.kinematics.batch import ZStep, chain_points
 from armlab.kinematics.dh import DHRow, DHTable
+from armlab.kinematics.quintic import ConstantRate, Motion, check_duration
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
+from armlab.models.extras import PaperScheme, motion_start
 from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "000: Hroncová et al., Robot trajectory planning, MM Science Journal 2022, Figs. 11-25, eqs. (21)-(47)"
@@ -64,6 +70,18 @@ def dh_table(p: Parameters) -> DHTable:
     )
 
 
+def constant_rate_motion(arm: Arm, tf: float | None = None) -> Motion:
+    """Paper 000 Figs. 18–19: q = ω t, ω = (7, 0.05, 0.05, 0.05) rad/s, for ``tf`` s (default 15 s)."""
+    tf = 15.0 if tf is None else check_duration(tf)
+    motion = Motion(
+        (ConstantRate(np.zeros(4), np.array([7.0, 0.05, 0.05, 0.05]), tf, "constant-rate"),),
+        f"paper 000 Figs. 18-19: q = ω t, ω = (7, 0.05, 0.05, 0.05) rad/s, for {tf:g} s",
+        {"path": "000 Figs. 18-19"},
+    )
+    motion.check_limits(arm)
+    return motion
+
+
 def build(**overrides: float) -> Arm:
     """The RRRR arm; keyword arguments override :class:`Parameters` by name."""
     p = Parameters(**overrides)
@@ -85,4 +103,6 @@ def build(**overrides: float) -> Arm:
         gravity=(0.0, 0.0, -9.81),
         forward_fn=lambda q: forward(q, p),
         urdf_file=MODELS_DIR / "rrrr.urdf" if not overrides else None,
+        motion=constant_rate_motion,
+        scheme=PaperScheme("000 Figs. 11-13, 20", motion_start, dh_table(p)),
     )

@@ -5,6 +5,10 @@ Segments r1 … r7 lie along their module's z axis; joints φ1 … φ6 turn abou
 limit; bends θ2 … θ7 about y are fixed structural parameters. The paper's own
 formulation is :mod:`armlab.kinematics.urm`. Table 1: |r| = 300, 250, 200, 150, 100,
 50, 25 mm; θ2 … θ7 = 15, 30, 45, 60, 75, 90°. The paper gives no masses.
+
+The arm's extras (:mod:`armlab.models.extras`): a demo motion (:func:`table1_motion`, ``armlab
+simulate urm6``: the paper is kinematic only) and the scheme of Figs. 1–3, drawn with its locating
+table at φ = 0. It has no closed form here (solved numerically).
 """
 
 from __future__ import annotations
@@ -16,8 +20,10 @@ from numpy.typing import NDArray
 
 from armlab.kinematics.basic_movements import T_Z3, T_Z5
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
+from armlab.kinematics.quintic import Motion, QuinticSegment, check_duration
 from armlab.kinematics.urm import rotation_form
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
+from armlab.models.extras import PaperScheme, motion_start
 from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "004: Ondočko et al., Position forward kinematics of 6-DOF robotic arm, eqs. (1)-(22), Tables 1-2"
@@ -73,6 +79,16 @@ def locating_table(p: Parameters) -> LocatingTable:
     return LocatingTable(tuple(rows), tool=tool)
 
 
+def table1_motion(arm: Arm, tf: float | None = None) -> Motion:
+    """A demo (paper 004 is kinematic only): from φ = 0 to Table 1's φ1 … φ6, rest to rest in ``tf`` s (default 4 s)."""
+    tf = 4.0 if tf is None else check_duration(tf)
+    motion = Motion((QuinticSegment(np.zeros(arm.n), np.radians(TABLE1_PHI_DEG), tf, "home-Table1"),),
+                    f"demo (paper 004 is kinematic only): from φ = 0 to Table 1's φ1…φ6 = "
+                    f"{', '.join(f'{v:g}' for v in TABLE1_PHI_DEG)}°, rest to rest in {tf:g} s")
+    motion.check_limits(arm)
+    return motion
+
+
 def build(**overrides: float) -> Arm:
     """The URM arm; keyword arguments override :class:`Parameters` by name."""
     p = Parameters(**overrides)
@@ -94,4 +110,6 @@ def build(**overrides: float) -> Arm:
         gravity=(0.0, 0.0, -9.81),
         forward_fn=lambda q: forward(q, p),
         urdf_file=MODELS_DIR / "urm6.urdf" if not overrides else None,
+        motion=table1_motion,
+        scheme=PaperScheme("004 Figs. 1-3", motion_start),
     )

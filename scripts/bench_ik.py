@@ -16,12 +16,16 @@ from __future__ import annotations
 
 import argparse
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armlab.kinematics.ik import SEEDS, drake_arm, solve
+from armlab.kinematics.ik import SEEDS, solve
 from armlab.models import get_arm
 from armlab.models.arm import Arm
+
+if TYPE_CHECKING:
+    from pydrake.multibody.plant import MultibodyPlant
 
 #: Drake's solutions closer than this (rad, modulo 2π) are one solution: its IK meets 1e-9 only to about 1e-2 rad.
 DRAKE_CLUSTER = 0.03
@@ -33,13 +37,15 @@ def _angular_distance(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.abs((d + np.pi) % (2 * np.pi) - np.pi).max(axis=-1)
 
 
-def drake_solutions(arm: Arm, target: np.ndarray, starts: np.ndarray) -> np.ndarray:
-    """Every solution Drake's ``InverseKinematics`` reports as a success from ``starts``, ``(k, n)``."""
+def drake_solutions(plant: MultibodyPlant, arm: Arm, target: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """Every solution Drake's ``InverseKinematics`` on ``plant`` (``arm.make_plant()``) reports as a success from
+    ``starts``, ``(k, n)``."""
     from pydrake.math import RotationMatrix
     from pydrake.multibody.inverse_kinematics import InverseKinematics
     from pydrake.solvers import Solve
 
-    plant, tool, index = drake_arm(arm)
+    tool = plant.GetFrameByName(arm.tool_name)
+    index = np.array([plant.GetJointByName(name).position_start() for name in arm.joint_names])  # q_plant[index]
     ik = InverseKinematics(plant)
     ik.AddPositionConstraint(tool, np.zeros(3), plant.world_frame(), target[:3, 3] - 1e-9, target[:3, 3] + 1e-9)
     ik.AddOrientationConstraint(plant.world_frame(), RotationMatrix(target[:3, :3]), tool, RotationMatrix(), 1e-9)
@@ -71,7 +77,7 @@ def main(argv: list[str] | None = None) -> int:
     arm = get_arm(args.arm)
     rng = np.random.default_rng(0)
     lower, upper = arm.limit_arrays(unlimited=np.pi)
-    drake_arm(arm)  # the plant is built once, outside the timings
+    plant = arm.make_plant()  # built once, outside the timings
     ours_s, drake_s = [], []
     print(f"{arm.name}: {args.poses} random poses; armlab {SEEDS} starts in one batch, Drake "
           f"{args.drake_starts} starts one at a time")
@@ -82,7 +88,7 @@ def main(argv: list[str] | None = None) -> int:
         ours = np.array(solve(arm, target, all_solutions=True))
         ours_s.append(time.perf_counter() - start)
         start = time.perf_counter()
-        drake = drake_solutions(arm, target, rng.uniform(lower, upper, size=(args.drake_starts, arm.n)))
+        drake = drake_solutions(plant, arm, target, rng.uniform(lower, upper, size=(args.drake_starts, arm.n)))
         drake_s.append(time.perf_counter() - start)
         has_q = bool(_angular_distance(q[None], ours).min() < 1e-6)
         missing = int((_angular_distance(drake, ours).min(axis=1) > DRAKE_CLUSTER).sum()) if len(drake) else 0

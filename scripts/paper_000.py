@@ -172,7 +172,7 @@ def _cartesian_arc(arm: Any, centre: np.ndarray, radius: float, t: np.ndarray, t
     Returns q, q̇, q̈ (segments, samples, 2) and M. q̇ = J⁺ ṗ and q̈ = J⁺ (p̈ − J̇q̇) with J from the
     symbolic kinematics' velocity (J̇q̇ = acceleration at q̈ = 0).
     """
-    from armlab.kinematics.ik import rr_ik
+    from armlab.kinematics.ik_closed_form import rr_ik
     from armlab.kinematics.quintic import evaluate_coefficients, quintic_coefficients
     from armlab.kinematics.symbolic import arm_kinematics
 
@@ -207,8 +207,8 @@ def _segment_samples(motion: Any, k: int, tau: np.ndarray) -> np.ndarray:
 
 
 def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
-    from armlab.diagrams.motions import ABCD_POINTS, ABCD_SEGMENTS, abcd_motion
     from armlab.diagrams.simulate import SimulationOptions, simulate, summarize
+    from armlab.models.rr import ABCD_POINTS, ABCD_SEGMENTS, abcd_motion
     from armlab.scripts.figures import new_figure
 
     motion = abcd_motion(arm, SEGMENT_TIME)
@@ -226,7 +226,7 @@ def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
         values = _deg(np.array([seg.q_start[0], seg.q_start[1], seg.q_end[0], seg.q_end[1]]))
         branches = ABCD_SEGMENTS[k]
         start_branch = "as reached" if branches[1] is None else branches[1]
-        note = (f"kinematics.ik.rr_ik on IK branch {start_branch}/{branches[3]} at start/end (0: θ2 ≥ 0, "
+        note = (f"kinematics.ik_closed_form.rr_ik on IK branch {start_branch}/{branches[3]} at start/end (0: θ2 ≥ 0, "
                 f"1: θ2 ≤ 0), the branch Table 2 uses; forward kinematics of armlab's angles reproduces Table 1's "
                 f"points to {fk_gap:.1e} m; tolerance {TABLE2_TOL_DEG:g}° (whole degrees printed)")
         for name, paper_value, value in zip(names, PAPER_TABLE2_DEG[label], values, strict=True):

@@ -79,7 +79,8 @@ def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.
     from dataclasses import replace
 
     from armlab.kinematics.errata import drake_sample
-    from armlab.kinematics.ik import arm4r_ik, solve
+    from armlab.kinematics.ik import solve
+    from armlab.kinematics.ik_closed_form import arm4r_ik
     from armlab.models.arm4r import Parameters, dh_table
 
     p = arm.parameters
@@ -118,7 +119,8 @@ def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.
                 "reachable", f"{len(solutions)} of {raw.shape[0]} IK solutions within Table 1's limits", miss,
                 (matches("holds for the chosen lengths a2 = a3 = 1 m") if solutions and miss <= 1e-9
                  else differs("no solution within the limits reaches it")),
-                "eqs. (9)-(21) as corrected (kinematics.ik.arm4r_ik) with the start's pitch; tolerance 1e-9 m"))
+                "eqs. (9)-(21) as corrected (kinematics.ik_closed_form.arm4r_ik) with the start's pitch; "
+                "tolerance 1e-9 m"))
     return raw, solutions
 
 

@@ -137,8 +137,8 @@ def test_003_atan2_table_misses_the_case_eq23_uses():
 
 
 def test_001_eq19_corrected_form_is_what_the_ik_module_returns(rng):
-    """armlab.kinematics.ik.arm4r_ik implements θ2 = θ23 − θ3; one of its branches is the sampled q."""
-    from armlab.kinematics.ik import arm4r_ik
+    """armlab.kinematics.ik_closed_form.arm4r_ik implements θ2 = θ23 − θ3; one of its branches is the sampled q."""
+    from armlab.kinematics.ik_closed_form import arm4r_ik
 
     erratum = next(e for e in ERRATA if (e.paper, e.equation) == ("001", "eq. (19)"))
     sample = _sample(erratum, 11)

@@ -1,4 +1,5 @@
-"""Inverse kinematics (armlab.kinematics.ik), checked by forward kinematics two ways.
+"""Inverse kinematics (armlab.kinematics.ik, its closed forms and numerical solver), checked by forward kinematics
+two ways.
 
 Every solution is put back through the paper's forward kinematics (``arm.forward``) and
 through Drake's ``CalcRelativeTransform`` on the arm's URDF plant; both must return the
@@ -21,17 +22,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from armlab.kinematics.dh import DHRow, DHTable
-from armlab.kinematics.ik import (
-    arm4r_ik,
-    fit_limits,
-    numeric_ik,
-    pose,
-    r2t_ik,
-    rotation_log,
-    rr_ik,
-    solve,
-    target_pose,
-)
+from armlab.kinematics.ik import solve, target_pose
+from armlab.kinematics.ik_closed_form import arm4r_ik, r2t_ik, rr_ik
+from armlab.kinematics.ik_numeric import numeric_ik
+from armlab.kinematics.ik_target import fit_limits, pose, rotation_log
 from armlab.kinematics.locating import rotation_about
 from armlab.models import get_arm
 from armlab.models.read_dh import from_dh
@@ -103,7 +97,7 @@ def test_fk_of_ik_returns_100_random_targets(name: str, rng: np.random.Generator
         target, pitch = ik_request(arm, q)
         solutions = solve(arm, target, pitch=pitch, all_solutions=True)
         assert_reaches(arm, solutions, target)
-        if name in ("rr", "arm4r", "r2t"):  # closed form: the configuration we started from is among them
+        if arm.closed_form is not None:  # rr, arm4r, r2t: the configuration we started from is among them
             assert any(same_modulo_2pi(arm, s, q) for s in solutions), f"{q} not among {solutions}"
 
 
@@ -729,3 +723,23 @@ def test_far_near_is_a_range_error_and_a_wrapped_near_counts_modulo_2pi() -> Non
     shifted = solve(arm, target, near=q + 2 * np.pi * np.array([3, -1, 0, 2, 0, -5]), all_solutions=True)
     np.testing.assert_allclose(shifted, solve(arm, target, near=q, all_solutions=True), rtol=0, atol=1e-12)
     assert same_modulo_2pi(arm, shifted[0], q)
+
+
+def test_solutions_tied_in_distance_are_in_lexicographic_order_whatever_the_round_off() -> None:
+    """arm4r's (1, 1, 1.4): its two elbows with θ1 = 45° are equally far from q = 0 (to round-off, which differs
+    between machines). Ties within ORDER_TOL go by q in lexicographic order (θ2 = −50.4° first), and moving
+    ``near`` by 1e-12 in any joint, which breaks the tie either way by far more than an ulp, keeps that order."""
+    from armlab.kinematics.ik import ORDER_TOL
+
+    arm = get_arm("arm4r")
+    first = np.array(solve(arm, [1.0, 1.0, 1.4], all_solutions=True))
+    distance = np.linalg.norm(first, axis=-1)
+    assert abs(distance[0] - distance[1]) <= ORDER_TOL and first[0, 0] == first[1, 0]  # a tie, the same θ1
+    assert first[0, 1] < first[1, 1]
+    np.testing.assert_allclose(np.degrees(first[:2, 1]), [-50.449793, -38.971452], atol=1e-6)  # the README's order
+    for joint in range(arm.n):
+        for step in (-1e-12, 1e-12):
+            near = np.zeros(arm.n)
+            near[joint] = step
+            again = np.array(solve(arm, [1.0, 1.0, 1.4], near=near, all_solutions=True))
+            np.testing.assert_array_equal(again, first)  # exact: the same closed form of the same target

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import ARM_NAMES, random_q
 
-from armlab.diagrams.motions import ABCD_POINTS, paper_motion, point_to_joints, read_segments
+from armlab.diagrams.motions import paper_motion, point_to_joints, read_segments
 from armlab.kinematics.quintic import (
     ConstantRate,
     Motion,
@@ -18,6 +18,7 @@ from armlab.kinematics.quintic import (
     to_piecewise_polynomial,
 )
 from armlab.models import get_arm
+from armlab.models.rr import ABCD_POINTS
 
 
 def test_paper_000_coefficients_to_4_decimals():

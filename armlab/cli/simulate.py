@@ -23,7 +23,7 @@ import numpy as np
 from armlab.cli.args import ARM_HELP
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE
 from armlab.limits import allowed, check_range
-from armlab.models import ARMS, get_arm
+from armlab.models import get_arm
 from armlab.values import joint_values, parse_floats
 
 if TYPE_CHECKING:
@@ -165,8 +165,7 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     arm = get_arm(args.arm)
     graph_format(args.out)
     setup = _setup(arm, args)
-    is_paper_arm = arm.name in ARMS and arm.paper == ARMS[arm.name].PAPER
-    motion = paper_motion(arm).runs()[0][1] if is_paper_arm else _hold_motion(arm)
+    motion = paper_motion(arm).runs()[0][1] if arm.motion is not None else _hold_motion(arm)
     gravity, payload = setup.pop("gravity"), setup.pop("payload")
     run = build_diagram(arm, motion, SimulationOptions(PlantOptions(gravity, payload, ideal_drives=True), **setup))
     dot = run.diagram.GetGraphvizString(max_depth=1)

@@ -6,8 +6,9 @@
     python scripts/examples/reachable.py my_arm.csv --position 0.5,0.2,0.6 --rpy 0,90,0
 
 A target is a position (x, y, z in m) or a pose (position and roll, pitch, yaw in degrees,
-R = Rz(yaw)·Ry(pitch)·Rx(roll)). Each solution is checked by forward kinematics; an unreachable
-target prints how close the arm can come.
+R = Rz(yaw)·Ry(pitch)·Rx(roll)); without one, the tool pose where a paper arm's paper motion ends
+(urm6's demo ends at Table 1's angles), any other arm's at q = 0. Each solution is checked by forward
+kinematics; an unreachable target prints how close the arm can come.
 """
 
 from __future__ import annotations
@@ -17,21 +18,20 @@ import argparse
 import numpy as np
 
 import armlab
-from armlab.kinematics.ik import pose
+from armlab.kinematics.ik_target import pose
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("arm", nargs="?", default="urm6", help="a paper arm's name, a .urdf or a DH .csv")
-    parser.add_argument("--position", help="x,y,z in m (default: the tool position at Table 1's angles, urm6)")
+    parser.add_argument("--position", help="x,y,z in m (default: the tool pose where a paper arm's paper motion "
+                        "ends, urm6: at Table 1's angles; other arms: at q = 0)")
     parser.add_argument("--rpy", help="roll,pitch,yaw of the tool in degrees: a full pose")
     args = parser.parse_args(argv)
 
     arm = armlab.load(args.arm)
     if args.position is None:
-        from armlab.models.urm6 import TABLE1_PHI_DEG
-
-        target = arm.fk(np.radians(TABLE1_PHI_DEG)) if arm.name == "urm6" else arm.fk(np.zeros(arm.n))
+        target = arm.fk(np.zeros(arm.n) if arm.motion is None else arm.motion(arm, None).segments[-1].q_end)
     else:
         position = np.array([float(v) for v in args.position.split(",")])
         target = position if args.rpy is None else pose(position, np.radians([float(v) for v in args.rpy.split(",")]))

@@ -1,0 +1,180 @@
+"""What an inverse-kinematics answer is checked against: its target, its tool pose error, the joint limits.
+
+* :func:`pose` makes a 4×4 pose target from a position and roll, pitch, yaw; :func:`check_pose`
+  checks one (homogeneous, a proper rotation).
+* :func:`pose_error` is the tool pose error of joint values by the arm's own forward kinematics,
+  [target − p(q); log(R* R(q)ᵀ)], with :func:`rotation_log` the orientation error's rotation vector;
+  a solution must meet :data:`POSITION_TOL` and :data:`ORIENTATION_TOL`.
+* :func:`fit_limits` fits solutions into the joint limits by 2π shifts;
+  :func:`outside_limits_message` says which joint cannot be fitted.
+
+Used by the closed forms (:mod:`armlab.kinematics.ik_closed_form`), the numerical solver
+(:mod:`armlab.kinematics.ik_numeric`) and the dispatcher (:mod:`armlab.kinematics.ik`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
+from armlab.kinematics.batch import as_batch
+from armlab.kinematics.locating import homogeneous, orientation_angles
+from armlab.limits import check_range
+
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
+
+__all__ = [
+    "ORIENTATION_TOL",
+    "POSITION_TOL",
+    "check_pose",
+    "fit_limits",
+    "fmt",
+    "outside_limits_message",
+    "pose",
+    "pose_error",
+    "rotation_log",
+    "single",
+    "target_text",
+]
+
+#: Forward kinematics of a returned solution must hit the target to this distance (m).
+POSITION_TOL = 1e-9
+#: A returned solution's tool orientation must match a pose target to this angle (rad).
+ORIENTATION_TOL = 1e-9
+
+
+def fmt(v: ArrayLike) -> str:
+    """Values as "(x, y, …)", 6 significant digits."""
+    return "(" + ", ".join(f"{x:.6g}" for x in np.ravel(v)) + ")"
+
+
+def single(position: ArrayLike, n: int, name: str = "target") -> NDArray[np.float64]:
+    """``position`` as one point ``(n,)``; ``ValueError`` (naming ``name``) for a batch, a wrong count or NaN/inf."""
+    p = as_batch(position, n, name)
+    if p.ndim != 1:
+        raise ValueError(f"{name} has shape {p.shape}; expected one point of {n} coordinates")
+    return p
+
+
+def pose(position: ArrayLike, rpy: ArrayLike) -> NDArray[np.float64]:
+    """The 4×4 pose with origin ``position`` (m, (3,)) and rotation R = Rz(y)·Ry(p)·Rx(r), ``rpy`` = (r, p, y) in rad.
+
+    The URDF convention: roll about x, then pitch about y, then yaw about z, all about the fixed axes.
+    """
+    values = np.asarray(rpy, dtype=float)
+    if values.shape != (3,) or not np.all(np.isfinite(values)):
+        raise ValueError(f"rpy {np.ravel(values).tolist()} must be 3 finite angles (roll, pitch, yaw)")
+    check_range(values, "rpy", key="angle")
+    r, p, y = values
+    return homogeneous((T_Z6(y) @ T_Z5(p) @ T_Z4(r))[:3, :3], single(position, 3, "position"))
+
+
+def rotation_log(R: ArrayLike) -> NDArray[np.float64]:
+    """The rotation vector ω = θ·u (rad) with exp([ω]×) = R, |ω| ≤ π, shape ``(..., 3)`` for ``(..., 3, 3)``.
+
+    With v = vee(R − Rᵀ)/2 = sin θ·u and cos θ = (tr R − 1)/2, θ = atan2(|v|, cos θ). For
+    cos θ ≥ 0, ω = (θ / sin θ)·v; beyond π/2 (where v loses accuracy) u is read from
+    R + Rᵀ = 2 cos θ·I + 2 (1 − cos θ) u uᵀ, its column of largest diagonal, signed like v.
+    Accurate to round-off for every angle, including θ → 0 and θ → π.
+    """
+    R = np.asarray(R, dtype=float)
+    v = 0.5 * np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], -1)
+    s = np.linalg.norm(v, axis=-1)
+    c = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
+    theta = np.arctan2(s, c)
+    regular = np.where(s > 0, theta / np.where(s > 0, s, 1.0), 1.0)[..., None] * v  # θ/sin θ → 1 as θ → 0
+    obtuse = np.where(c < 0, c, -1.0)[..., None, None]  # only used where cos θ < 0, so 1 − cos θ ≥ 1
+    M = (R + np.swapaxes(R, -1, -2) - 2.0 * obtuse * np.eye(3)) / (2.0 * (1.0 - obtuse))  # u uᵀ there
+    k = np.argmax(np.diagonal(M, axis1=-2, axis2=-1), axis=-1)
+    column = np.take_along_axis(M, k[..., None, None], axis=-1)[..., 0]
+    u = column / np.sqrt(np.take_along_axis(np.diagonal(M, axis1=-2, axis2=-1), k[..., None], axis=-1))
+    u = np.where((np.sum(u * v, axis=-1) < 0)[..., None], -u, u)
+    return np.where((c < 0)[..., None], theta[..., None] * u, regular)
+
+
+def pose_error(arm: Arm, position: NDArray, rotation: NDArray | None, q: NDArray) -> NDArray[np.float64]:
+    """Tool pose error ``(..., 3)`` or ``(..., 6)`` by the arm's own FK: [target − p(q); log(R* R(q)ᵀ)], world frame."""
+    T = arm.forward(q).tool
+    error = position - T[..., :3, 3]
+    if rotation is None:
+        return error
+    return np.concatenate([error, rotation_log(rotation @ np.swapaxes(T[..., :3, :3], -1, -2))], axis=-1)
+
+
+def check_pose(T: NDArray) -> tuple[NDArray, NDArray]:
+    """(position, rotation) of a 4×4 pose; ``ValueError`` unless homogeneous with a proper rotation (to 1e-9)."""
+    single(T.ravel(), 16, "target")
+    R = T[:3, :3]
+    if np.abs(T[3] - [0.0, 0.0, 0.0, 1.0]).max() > 0:
+        raise ValueError(f"target pose's last row {T[3].tolist()} must be [0, 0, 0, 1]")
+    deviation = np.abs(R.T @ R - np.eye(3)).max()
+    if deviation > 1e-9:
+        raise ValueError(f"target pose's rotation {R.tolist()} is not orthonormal (|RᵀR − I| = {deviation:.3g} "
+                         "> 1e-9): give it to full precision")
+    if np.linalg.det(R) < 0:
+        raise ValueError(f"target pose's rotation {R.tolist()} has determinant −1 (a reflection); a rotation has +1")
+    return T[:3, 3], R
+
+
+def target_text(position: NDArray, rotation: NDArray | None) -> str:
+    """``target (x, y, z)``, or for a pose ``target pose (x, y, z) m, rpy (r, p, y) rad``."""
+    if rotation is None:
+        return f"target {fmt(position)}"
+    return f"target pose {fmt(position)} m, rpy {fmt(orientation_angles(rotation) + 0.0)} rad"  # + 0.0: no −0
+
+
+def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[NDArray, list[tuple | None]]:
+    """Fit solutions ``(k, n)`` into ``arm``'s joint limits by 2π shifts of revolute angles.
+
+    A limited revolute angle becomes the q + 2πm within [lower, upper] nearest ``near``
+    (ties keep the smaller shift); an unlimited one is wrapped to (−π, π]; a prismatic value
+    is left as is. Values within round-off (1e-12) of a limit are clipped onto it.
+
+    Returns the fitted array and, per solution, ``None`` if it is within limits or else
+    ``(joint index, value, lower, upper)`` of its first joint that cannot be fitted.
+    """
+    q = np.array(q, dtype=float, ndmin=2)
+    near = np.zeros(arm.n) if near is None else np.asarray(near, dtype=float)
+    ok = np.ones(q.shape[:-1], dtype=bool)
+    first: list[tuple | None] = [None] * q.shape[0]
+    two_pi = 2 * np.pi
+    for i, (lim, revolute) in enumerate(zip(arm.limits, arm.revolute, strict=True)):
+        values = q[:, i]
+        if lim.lower is None:
+            if revolute:
+                wrapped = values - two_pi * np.ceil((values - np.pi) / two_pi)  # (−π, π] up to round-off:
+                q[:, i] = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi,
+                                                                               wrapped))  # exactly
+            continue
+        lo, hi = lim.lower - 1e-12, lim.upper + 1e-12
+        if revolute:
+            m_lo, m_hi = np.ceil((lo - values) / two_pi), np.floor((hi - values) / two_pi)
+            m = np.clip(np.round((near[i] - values) / two_pi), m_lo, m_hi)
+            fits = m_lo <= m_hi
+            shifted = values + two_pi * np.where(fits, m, 0.0)
+        else:
+            fits = (values >= lo) & (values <= hi)
+            shifted = values
+        q[:, i] = np.where(fits, np.clip(shifted, lim.lower, lim.upper), values)
+        for k in np.flatnonzero(~fits & ok):
+            first[k] = (i, float(values[k]), lim.lower, lim.upper)
+        ok &= fits
+    return q, first
+
+
+def outside_limits_message(arm: Arm, target: str, violations: list[tuple | None]) -> str:
+    """"``target`` is reachable by ARM only outside its joint limits: …", naming each joint that
+    :func:`fit_limits` could not fit (its ``violations``)."""
+    parts = []
+    for i, value, lo, hi in (v for v in violations if v is not None):
+        if arm.revolute[i]:
+            parts.append(f"{arm.joint_names[i]} = {np.degrees(value):.6g}° outside [{np.degrees(lo):.6g}°, "
+                         f"{np.degrees(hi):.6g}°] even after 2π shifts")
+        else:
+            parts.append(f"{arm.joint_names[i]} = {value:.6g} m outside [{lo:.6g}, {hi:.6g}] m")
+    return (f"{target} is reachable by {arm.name} only outside its joint limits: "
+            + "; ".join(dict.fromkeys(parts)))
