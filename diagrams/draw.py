@@ -75,8 +75,9 @@ def _dh_table(arm: Arm) -> DHTable | None:
     keys = [f"{key}{i + 1}" for i in range(arm.n) for key in ("a", "alpha", "d", "theta")]
     if set(arm.parameters) != set(keys):
         return None
-    rows = tuple(DHRow(*(arm.parameters[f"{key}{i + 1}"] for key in ("a", "alpha", "d", "theta")),
-                       arm.table.rows[i].kind) for i in range(arm.n))
+    p = arm.parameters
+    rows = tuple(DHRow(p[f"a{i}"], p[f"alpha{i}"], p[f"d{i}"], p[f"theta{i}"], row.kind)
+                 for i, row in enumerate(arm.table.rows, start=1))
     q = np.random.default_rng(0).uniform(-1.0, 1.0, size=(4, arm.n))
     for convention in ("standard", "modified"):
         table = DHTable(rows, convention)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 from collections.abc import Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,7 +45,9 @@ With "deg": true, revolute joint values and rates are in degrees (prismatic ones
 
 def quintic_motion(arm: Arm, q0: ArrayLike, qf: ArrayLike, tf: float, description: str = "") -> Motion:
     """One rest-to-rest quintic of ``arm`` from ``q0`` to ``qf`` in ``tf`` s, both ends checked against the limits."""
-    motion = Motion((QuinticSegment(q0, qf, tf),), description or "rest-to-rest quintic")
+    # the segment checks and converts q0, qf (its messages name a bad value): its fields are arrays once made
+    start, end = cast(NDArray[np.float64], q0), cast(NDArray[np.float64], qf)
+    motion = Motion((QuinticSegment(start, end, tf),), description or "rest-to-rest quintic")
     motion.check_limits(arm)
     return motion
 
@@ -161,7 +163,7 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
             raise ValueError(f"{where}: give exactly one of \"to\", \"to_point\" or \"rate\"")
         json_number(spec["tf"], f"{where} tf")  # a JSON number: not "2", true or null
         tf = check_duration(spec["tf"], f"{where} tf")
-        if rate is not None:
+        if qf is None:  # then "rate" is given (checked above)
             segments.append(ConstantRate(q0, _values(arm, rate, deg, f"{where} rate"), tf, label))
         else:
             segments.append(QuinticSegment(q0, qf, tf, label))

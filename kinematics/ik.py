@@ -40,6 +40,7 @@ from armlab.limits import check_range
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
+    from armlab.models.extras import ClosedForm
 
 __all__ = ["ORDER_TOL", "SEEDS", "solve", "solve_branch", "target_pose"]
 
@@ -79,7 +80,7 @@ def target_pose(arm: Arm, position: ArrayLike, rpy: ArrayLike) -> NDArray[np.flo
     return pose(_target(arm, position)[0], rpy)
 
 
-def _closed_form(arm: Arm, position: NDArray, rotation: NDArray | None, options: dict[str, float],
+def _closed_form(arm: Arm, form: ClosedForm, position: NDArray, rotation: NDArray | None, options: dict[str, float],
                  near: NDArray) -> NDArray[np.float64]:
     """Every branch of the arm's closed form reaching ``position`` (and ``rotation``), shape ``(k, n)``.
 
@@ -87,7 +88,7 @@ def _closed_form(arm: Arm, position: NDArray, rotation: NDArray | None, options:
     ``options`` (arm4r: the pitch); for a pose, the branches are kept whose tool orientation (by
     ``arm.forward``) matches the target's to 1e-9 rad.
     """
-    candidates = arm.closed_form.solve(position, rotation, near, **options)
+    candidates = form.solve(position, rotation, near, **options)
     if rotation is None:
         return candidates
     miss = np.linalg.norm(pose_error(arm, position, rotation, candidates)[:, 3:], axis=-1)
@@ -127,7 +128,8 @@ def solve_branch(arm: Arm, point: ArrayLike, branch: int) -> NDArray[np.float64]
                             if other.closed_form is not None and other.closed_form.selectable)
         raise ValueError(f"IK branch {branch!r} is not allowed: branches are {choices}; for other arms give no "
                          "branch (the solution nearest the previous joints is taken)")
-    own = np.asarray(point, dtype=float) if form.coordinates is None else form.coordinates(point)
+    own = np.asarray(point, dtype=float)
+    own = own if form.coordinates is None else form.coordinates(own)
     q = form.solve(np.append(own, np.zeros(3 - own.size)), None, np.zeros(arm.n))[branch]
     fitted, violations = fit_limits(arm, q, near=q)
     if violations[0] is not None:
@@ -210,7 +212,7 @@ def solve(
     if pitch is not None and np.isfinite(pitch):  # NaN/inf: the closed form names them as such
         check_range(pitch, "pitch", key="angle")
     if arm.closed_form is not None:
-        candidates, tol = _closed_form(arm, position, rotation, options, near), SAME_SOLUTION_TOL
+        candidates, tol = _closed_form(arm, arm.closed_form, position, rotation, options, near), SAME_SOLUTION_TOL
     else:
         candidates, tol = numeric_ik(arm, position, rotation, q0=near, seeds=seeds), DISTINCT_TOL
     fitted, violations = fit_limits(arm, candidates, near)

@@ -144,7 +144,7 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
     two_pi = 2 * np.pi
     for i, (lim, revolute) in enumerate(zip(arm.limits, arm.revolute, strict=True)):
         values = q[:, i]
-        if lim.lower is None:
+        if lim.lower is None or lim.upper is None:  # unlimited (a URDF limits both or neither)
             if revolute:
                 wrapped = values - two_pi * np.ceil((values - np.pi) / two_pi)  # (−π, π] up to round-off:
                 q[:, i] = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi,

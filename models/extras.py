@@ -69,5 +69,7 @@ class PaperScheme:
 
 def motion_start(arm: Arm) -> NDArray[np.float64]:
     """The start (n,) of ``arm``'s paper motion: the pose a paper arm is drawn at (e.g. rr at (−38°, 98°), paper
-    000 Fig. 3)."""
+    000 Fig. 3). ``ValueError`` for an arm without a paper motion."""
+    if arm.motion is None:
+        raise ValueError(f"{arm.name} has no paper motion")
     return np.asarray(arm.motion(arm, None).segments[0].q_start, dtype=float)
