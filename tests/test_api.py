@@ -6,27 +6,13 @@ import json
 
 import numpy as np
 import pytest
-from conftest import arm_and_plant, random_q
+from helpers import arm_and_plant, data, random_q
 
 import armlab
 from armlab.cli import main
 from armlab.diagrams.plots import PLOTS
 
-TWO_LINK_URDF = """<?xml version="1.0"?>
-<robot name="two_link">
-  <link name="base"/>
-  <link name="upper"><inertial><origin xyz="0.25 0 0"/><mass value="3"/>
-    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.0625" iyz="0" izz="0.0625"/></inertial></link>
-  <link name="fore"><inertial><origin xyz="0.2 0 0"/><mass value="2"/>
-    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.027" iyz="0" izz="0.027"/></inertial></link>
-  <link name="tool"/>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/>
-    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="50" velocity="3"/></joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.5 0 0"/>
-    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="50" velocity="3"/></joint>
-  <joint name="tool_weld" type="fixed"><parent link="fore"/><child link="tool"/><origin xyz="0.4 0 0"/></joint>
-</robot>
-"""
+TWO_LINK_URDF = data("two_link.urdf")
 
 
 def test_load_names_files_and_errors(tmp_path):

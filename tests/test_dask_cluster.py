@@ -13,8 +13,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import armlab_main
-from test_sweep import objectives, rows, write_study
+from helpers import armlab_main, objectives, rows, write_study
 
 from armlab.analysis.study import evaluate, load_study
 from armlab.analysis.sweep import RESULTS, run_sweep

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import arm_and_plant, random_q
+from helpers import arm_and_plant, random_q
 
 from armlab.kinematics.iterative import iterative_kinematics
 

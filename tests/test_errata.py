@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from conftest import arm_and_plant, random_q
+from helpers import arm_and_plant, random_q
 
 from armlab.kinematics import symbolic as sym
 from armlab.kinematics.errata import ERRATA, Erratum, drake_sample, wrap_angle

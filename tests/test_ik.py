@@ -16,7 +16,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import ARM_NAMES, arm_and_plant, random_q
+from helpers import ARM_NAMES, arm_and_plant, random_q
 from hypothesis import given, settings
 from hypothesis import strategies as st
 

@@ -6,7 +6,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
-from conftest import arm_and_plant
+from helpers import arm_and_plant
 
 from armlab.models import ARMS, get_arm
 

@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import ARM_NAMES, random_q
+from helpers import ARM_NAMES, random_q
 
 from armlab.diagrams.motions import ABCD_POINTS, paper_motion, point_to_joints, read_segments
 from armlab.kinematics.quintic import (

@@ -244,7 +244,7 @@ def test_math_images_are_what_matplotlib_draws(tmp_path):
     from matplotlib.font_manager import FontProperties
     from matplotlib.mathtext import math_to_image
     from PIL import Image
-    from test_replay import chromium
+    from replay_pictures import chromium
 
     from armlab.scripts.math_html import FONT_SIZE, math_svg
 
@@ -290,7 +290,7 @@ def test_report_renders_in_chromium(run, tmp_path):
     """The report's top in headless Chromium: the summary table and an equation are drawn (not blank)."""
     from browser import screenshot
     from PIL import Image
-    from test_replay import chromium
+    from replay_pictures import chromium
 
     from armlab.scripts.math_html import latex_html
 
@@ -508,7 +508,7 @@ def test_paper_script_runs_alone(tmp_path):
 
 def test_reproduced_replay_shows_the_arm_moving_in_chromium(run, tmp_path):
     """The A-B-C-D-A run's replay (three simulated runs, one file) as a person sees it."""
-    from test_replay import assert_shows_arm_moving, screenshots
+    from replay_pictures import assert_shows_arm_moving, screenshots
 
     out, _, _ = run
     assert_shows_arm_moving(*screenshots(out / "000" / "replay_abcd.html", (1.0, 5.0), tmp_path))

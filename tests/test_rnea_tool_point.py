@@ -5,8 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import random_q
-from test_rnea import dynamic_arm  # noqa: F401 (the fixture)
+from helpers import random_q
 
 from armlab.kinematics.batch import BLOCK
 from armlab.kinematics.differential import tool_motion
@@ -14,7 +13,7 @@ from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_p
 
 
 @pytest.mark.parametrize(("gravity", "payload"), [(None, 0.0), ("off", 0.0), ((1.0, -4.0, -9.0), 2.5)])
-def test_tool_point_equals_tool_motion_and_the_torques_inverse_dynamics(dynamic_arm, rng, gravity, payload):  # noqa: F811
+def test_tool_point_equals_tool_motion_and_the_torques_inverse_dynamics(dynamic_arm, rng, gravity, payload):
     """[p v a] from the outward recursion = forward kinematics and tool_motion's [v], [a]; τ = inverse_dynamics.
 
     More samples than one block, so that the blocks are stitched together too.

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import json
 import os
 import signal
@@ -11,7 +10,7 @@ import time
 from pathlib import Path
 
 import pytest
-from conftest import armlab_main
+from helpers import armlab_main, objectives, rows, write_study
 
 from armlab.analysis.study import evaluate, load_study, parse_study
 from armlab.analysis.sweep import EXIT_FAILED, RESULTS, STUDY, run_sweep
@@ -22,21 +21,6 @@ ARMLAB = str(Path(__file__).resolve().parents[1] / ".venv" / "bin" / "armlab")
 RR_LENGTHS = {"arm": "rr",
               "vary": {"L2": {"from": 0.2, "to": 0.3, "steps": 2}, "L1": {"values": [30, 40], "unit": "cm"}},
               "evaluate": ["workspace_volume", "reach"], "samples": 20000}
-
-
-def write_study(folder: Path, study: dict, name: str = "study.json") -> Path:
-    path = folder / name
-    path.write_text(json.dumps(study))
-    return path
-
-
-def rows(folder: Path) -> dict[int, dict[str, str]]:
-    with open(folder / RESULTS, newline="") as handle:
-        return {int(r["candidate"]): r for r in csv.DictReader(handle)}
-
-
-def objectives(folder: Path, columns: list[str]) -> dict[int, list[float]]:
-    return {i: [float(r[c]) for c in columns] for i, r in rows(folder).items()}
 
 
 @pytest.mark.parametrize(("change", "message"), [

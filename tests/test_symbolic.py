@@ -7,7 +7,7 @@ import functools
 import numpy as np
 import pytest
 import sympy as sp
-from conftest import arm_and_plant, random_q
+from helpers import arm_and_plant, random_q
 
 from armlab.kinematics import basic_movements
 from armlab.kinematics import symbolic as sym

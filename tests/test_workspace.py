@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import armlab_main
+from helpers import armlab_main
 
 from armlab.analysis.singular import SINGULAR_TOL, task_sigma
 from armlab.analysis.workspace import joint_box, sample_joints, workspace, workspace_plane
