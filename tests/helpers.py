@@ -30,7 +30,7 @@ EPS = np.finfo(float).eps
 #: code on the same input, so equal in practice to the last digit; a different CPU's vectorised numpy paths may
 #: round a few ulps apart (≈ 1e-15 relative each), which 1e-12 relative / absolute covers many times over while
 #: staying far tighter than any number the tests check (1e-9 and looser).
-WORKER_RTOL = WORKER_ATOL = 1e-12
+RECOMPUTED_RTOL = RECOMPUTED_ATOL = 1e-12
 _NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|[-+]?\b(?:nan|inf)\b")
 
 
@@ -97,7 +97,8 @@ def assert_rounding_close(actual: ArrayLike, desired: ArrayLike, ulps: float) ->
     np.testing.assert_allclose(actual, desired, rtol=0, atol=ulps * EPS * max(scale, np.finfo(float).tiny))
 
 
-def assert_same_numbers(actual, desired, rtol: float = WORKER_RTOL, atol: float = WORKER_ATOL, where: str = "") -> None:
+def assert_same_numbers(actual, desired, rtol: float = RECOMPUTED_RTOL, atol: float = RECOMPUTED_ATOL,
+                        where: str = "") -> None:
     """Two structures of the same shape (dicts, lists, tuples, dataclasses, strings, numbers; JSON, CSV rows)
     equal: keys, text and integers exactly, floats within ``rtol`` / ``atol``, NaN only where NaN.
 
@@ -165,7 +166,7 @@ def objectives(folder: Path, columns: list[str]) -> dict[int, list[float]]:
 
 def assert_same_objectives(actual: dict[int, list[float]], desired: dict[int, list[float]]) -> None:
     """Sweep results (candidate → objective values) computed in worker processes equal those computed here: the
-    same candidates exactly, the values up to :data:`WORKER_RTOL` (another process's rounding)."""
+    same candidates exactly, the values up to :data:`RECOMPUTED_RTOL` (another process's rounding)."""
     assert sorted(actual) == sorted(desired)
     for i in desired:
-        np.testing.assert_allclose(actual[i], desired[i], rtol=WORKER_RTOL, atol=0, err_msg=f"candidate {i}")
+        np.testing.assert_allclose(actual[i], desired[i], rtol=RECOMPUTED_RTOL, atol=0, err_msg=f"candidate {i}")

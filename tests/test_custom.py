@@ -344,7 +344,7 @@ def test_link_name_with_a_quote_loads(tmp_path):
     path = tmp_path / "quote.urdf"
     path.write_text(two_link_urdf().replace('"fore"', "\"fo're\""))
     arm = get_arm(str(path))
-    assert arm.link_names == ("upper", "fo're") and arm.links()[1]["mass"] == 0.5
+    assert arm.link_names == ("upper", "fo're") and arm.links()[1]["mass"] == 0.5  # exact: the URDF's mass="0.5"
 
 
 _H = "type,a,alpha,d,theta,lower,upper"

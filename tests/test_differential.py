@@ -161,6 +161,7 @@ def test_manipulability_is_yoshikawas_determinant(any_arm, rng):
         eigen = np.linalg.eigvalsh(gram)[:, 0]  # the smallest eigenvalue of the Gram matrix = σ_min²
         np.testing.assert_allclose(sigma_min(J, axes) ** 2, np.clip(eigen, 0, None), rtol=1e-7, atol=1e-12)
     default = "all" if arm.n >= 6 else "trans"  # the documented rule, written out (not default_axes)
+    # exact: the default is the same axes: same code, same input
     np.testing.assert_array_equal(manipulability(J), manipulability(J, default))
 
 

@@ -135,14 +135,14 @@ def test_viewer_serves_the_page_and_its_sliders_move_the_tool():
         with urllib.request.urlopen(viewer.url, timeout=10) as response:
             assert response.status == 200 and b"meshcat" in response.read().lower()
         assert re.fullmatch(r"http://localhost:\d+", viewer.url)
-        assert viewer.step() and np.array_equal(viewer.q, q0)
+        assert viewer.step() and np.array_equal(viewer.q, q0)  # exact: the viewer keeps q0 as given
         np.testing.assert_allclose(viewer.tool_position(), arm.forward(q0).tool[:3, 3], atol=1e-9)
         assert not viewer.step()  # sliders untouched: nothing to redraw
         viewer.meshcat.SetSliderValue("joint2", -1.2)
         assert viewer.step()
         q1 = np.array([0.3123456789, -1.2, 0.9, 0.2])
         np.testing.assert_allclose(viewer.q, q1, atol=1e-3)  # joint 1 now as the slider has it (its step)
-        assert viewer.q[1] == -1.2
+        assert viewer.q[1] == -1.2  # exact: the slider value set
         np.testing.assert_allclose(viewer.tool_position(), arm.forward(viewer.q).tool[:3, 3], atol=1e-9)
         assert len(viewer.trail) == 2
     finally:
@@ -228,6 +228,7 @@ def test_a_branch_switch_pauses_with_a_banner_and_never_interpolates(tmp_path):
     path = write_replay(arm, times, q, tmp_path / "j.html", run=np.array([0, 0, 1, 1]))
     data = json.loads(re.search(r"const D = (\{.*?\});\n", path.read_text()).group(1))
     (join,) = data["joins"]
+    # exact: the time given, through repr and JSON
     assert join["t"] == 1.0 and join["to"] - join["from"] >= JOIN_PAUSE - 0.05
     frames = np.array(data["q"])
     # Every frame is a pose of one run or the other, never a blend of the two across the join.
@@ -254,7 +255,7 @@ def test_view_deg_shows_degree_sliders_that_move_the_arm():
     viewer = Viewer(arm, q0, deg=True)
     try:
         assert viewer.slider_names == ["joint1 [deg]", "joint2 [m]", "joint3 [m]"]
-        assert viewer.step() and np.array_equal(viewer.q, q0)
+        assert viewer.step() and np.array_equal(viewer.q, q0)  # exact: the viewer keeps q0 as given
         assert viewer.meshcat.GetSliderValue("joint1 [deg]") == pytest.approx(np.degrees(0.5), abs=0.05)
         viewer.meshcat.SetSliderValue("joint1 [deg]", -60.0)
         viewer.meshcat.SetSliderValue("joint3 [m]", 0.25)

@@ -8,6 +8,7 @@ import re
 
 import numpy as np
 import pytest
+from helpers import assert_same_file_contents, assert_same_numbers
 
 from armlab.scripts.report import MATCHES, Row, compare, matches, verdict_counts
 from armlab.scripts.reproduce import MARKER, PAPERS, output_folder, reproduce
@@ -441,18 +442,20 @@ def test_one_paper_again_keeps_the_others_and_one_process_writes_what_the_worker
     assert all(f"## Paper {paper}: " in report for paper in PAPERS)
     assert (copy / "000" / "replay_abcd.html").exists()
 
-    assert [row for row in again.rows if row.paper == "004"] == [row for row in result.rows if row.paper == "004"]
+    assert_same_numbers([row for row in again.rows if row.paper == "004"],
+                        [row for row in result.rows if row.paper == "004"])
     mine, theirs = copy / "004", out / "004"
     assert sorted(p.name for p in mine.iterdir()) == sorted(p.name for p in theirs.iterdir())
     for name in ("manifest.json", "rows.csv", "table2_position_vectors.csv", "beyond_bend_angles.md"):
-        assert (mine / name).read_text() == (theirs / name).read_text(), name
+        assert_same_file_contents(mine / name, theirs / name)  # the workers' numbers, up to another process's rounding
 
     def errata(folder):
         html = (folder / "report.html").read_text()
         section = html[html.index('id="paper-004"'):]
         return re.findall(r'<div class="erratum">.*?</div></div></div>', section)
 
-    assert errata(copy) == errata(out) and len(errata(out)) == 2
+    assert len(errata(out)) == 2
+    assert_same_numbers(errata(copy), errata(out))  # rendered by the workers: any coordinates up to rounding
 
 
 def test_a_failed_reproduction_leaves_the_previous_one(run, tmp_path, monkeypatch):

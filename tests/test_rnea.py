@@ -78,6 +78,7 @@ def test_the_arms_inverse_dynamics_is_the_batch_rnea(rng):
     arm, _, _ = arm_and_plant("rrrr")
     q = random_q(arm, rng, 20)
     qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape)
+    # exact: the method calls this function
     np.testing.assert_array_equal(arm.inverse_dynamics(q, qd, qdd, payload=0.5),
                                   inverse_dynamics(arm, q, qd, qdd, payload=0.5))
 
