@@ -108,3 +108,30 @@ def private_tmp(tmp_path, monkeypatch):
     monkeypatch.setattr(tempfile, "tempdir", str(folder))
     monkeypatch.setenv("TMPDIR", str(folder))
     return folder
+
+
+#: What a test does, found in its own source (a test function's body): a marker for each (pyproject's markers).
+#: `make check` leaves these out; `make test` (CI) runs everything.
+KINDS = {
+    "browser": ("screenshots(", "chromium("),  # headless Chromium (tests/browser.py)
+    "cluster": ("workers=2", '"--workers", "2"', "--scheduler", "LocalCluster"),  # Dask clusters
+    "process": ("subprocess.", "Popen", "sys.executable", "ARMLAB", ".run(", "reproduction", "jobs=2"),  # processes
+}
+#: Whole modules of one kind.
+MODULE_KINDS = {"test_dask_cluster.py": ("cluster", "process"), "test_signals.py": ("process",),
+                "test_cli_usage.py": ("process",), "test_readme.py": ("process",)}
+
+
+def pytest_collection_modifyitems(items) -> None:
+    """Mark each test ``browser``, ``cluster`` or ``process`` by what its source (or its module) does; a test that
+    uses the session's reproduction (worker processes) is ``process``."""
+    import inspect
+
+    for item in items:
+        function = getattr(item, "function", None)
+        source = inspect.getsource(function) if function is not None else ""
+        source += " ".join(getattr(item, "fixturenames", ()))
+        kinds = set(MODULE_KINDS.get(item.path.name, ()))
+        kinds |= {kind for kind, needles in KINDS.items() if any(n in source for n in needles)}
+        for kind in sorted(kinds):
+            item.add_marker(kind)

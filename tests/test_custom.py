@@ -71,6 +71,7 @@ def armlab_cli(*argv: str) -> int:
     return main(list(argv))
 
 
+@pytest.mark.slow  # over 2 s: a long simulation; test_simulate.py checks the same numbers
 def test_user_urdf_without_transmissions_simulates(tmp_path, capsys):
     """Every joint gets an actuator; the run tracks and its torques are Drake's inverse dynamics."""
     path = tmp_path / "two.urdf"
