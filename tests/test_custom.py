@@ -71,7 +71,6 @@ def armlab_cli(*argv: str) -> int:
     return main(list(argv))
 
 
-@pytest.mark.slow  # over 2 s: a long simulation; test_simulate.py checks the same numbers
 def test_user_urdf_without_transmissions_simulates(tmp_path, capsys):
     """Every joint gets an actuator; the run tracks and its torques are Drake's inverse dynamics."""
     path = tmp_path / "two.urdf"
@@ -96,6 +95,7 @@ def test_user_urdf_that_cannot_be_simulated_says_why(tmp_path, capsys):
     assert not (tmp_path / "run").exists()
 
 
+@pytest.mark.slow  # a simulate run with its replay, for the mesh paths (no number of its own)
 def test_user_urdf_meshes_from_its_ros_package(tmp_path, capsys):
     """package://NAME/… resolves through the package.xml above the URDF (a ROS package); an unknown
     package is a one-line error, not a traceback."""

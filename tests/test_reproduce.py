@@ -217,6 +217,7 @@ def test_report_html_is_self_contained_with_a_linked_summary(run):
     assert html.count('class="math"') >= 60 and "begin{matrix}" not in html
 
 
+@pytest.mark.slow  # renders every expression of the report (pictures, no number)
 def test_every_expression_renders_with_mathtext():
     """Every erratum's printed and corrected form and every symbolic expression becomes SVG images (no raw LaTeX)."""
     from armlab.kinematics.errata import ERRATA

@@ -391,6 +391,7 @@ def cli(*argv: str) -> int:
         return int(error.code)
 
 
+@pytest.mark.slow  # a whole simulate run's files; the numbers in them are checked by the tests above
 def test_simulate_writes_the_whole_run(tmp_path, capsys):
     out = tmp_path / "runs" / "rr"
     assert cli("simulate", "rr", "--path", "abcd", "--dt", "0.01", "--out", str(out)) == 0
