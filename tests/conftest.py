@@ -114,8 +114,10 @@ def private_tmp(tmp_path, monkeypatch):
 #: `make check` leaves these out; `make test` (CI) runs everything.
 KINDS = {
     "browser": ("screenshots(", "chromium("),  # headless Chromium (tests/browser.py)
-    "cluster": ("workers=2", '"--workers", "2"', "--scheduler", "LocalCluster"),  # Dask clusters
-    "process": ("subprocess.", "Popen", "sys.executable", "ARMLAB", ".run(", "reproduction", "jobs=2"),  # processes
+    # Dask clusters: every sweep runs on one (a LocalCluster of worker processes unless --scheduler is given)
+    "cluster": ("run_sweep(", '"sweep"', "--scheduler", "LocalCluster"),
+    # armlab or Python processes, the reproduction's worker processes (reproduce's default jobs, _Pool)
+    "process": ("subprocess.", "Popen", "sys.executable", "ARMLAB", ".run(", "reproduction", "reproduce", "_Pool("),
 }
 #: Whole modules of one kind.
 MODULE_KINDS = {"test_dask_cluster.py": ("cluster", "process"), "test_signals.py": ("process",),
