@@ -9,7 +9,7 @@ PYTHON ?= $(shell for p in python3.12 $$HOME/.pyenv/versions/3.12*/bin/python3.1
 RUN_PACKAGES := graphviz:dot
 TEST_PACKAGES := $(RUN_PACKAGES) chromium:chromium
 
-.PHONY: run test setup run-deps test-deps lint bench clean typecheck
+.PHONY: run test check setup run-deps test-deps lint bench clean typecheck
 
 run: setup run-deps
 	$(BIN)/armlab reproduce --out out
@@ -18,6 +18,11 @@ test: setup test-deps
 	$(BIN)/ruff check .
 	$(MAKE) typecheck
 	$(BIN)/pytest -q
+
+# the quick subset while working: the numbers, the API, the bad inputs (no slow, browser, cluster or process tests)
+check: setup
+	$(BIN)/ruff check .
+	$(BIN)/pytest -q -m "not slow and not browser and not cluster and not process"
 
 setup: $(VENV)/.installed
 

@@ -1,48 +1,21 @@
-"""Shared fixtures: the paper arms, their Drake plants, random in-limit configurations."""
+"""Shared fixtures (the helpers test modules import are in helpers.py): each paper arm, a seeded generator, the
+session's shared outputs, the arms with masses, a private TMPDIR."""
 
 from __future__ import annotations
 
 import contextlib
 import fcntl
 import functools
-import io
 import pickle
-import subprocess
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import ARM_NAMES, arm_and_plant, data
 
-from armlab.models import ARMS, get_arm
-from armlab.models.arm import Arm
-
-ARM_NAMES = list(ARMS)
-
-
-@functools.cache
-def arm_and_plant(name: str):
-    """(arm, plant, context) for a paper arm with default parameters, built once per session."""
-    arm = get_arm(name)
-    plant = arm.make_plant()
-    return arm, plant, plant.CreateDefaultContext()
-
-
-def random_q(arm: Arm, rng: np.random.Generator, size: int) -> np.ndarray:
-    """``size`` random configurations within the joint limits (unlimited joints: ±2π)."""
-    return rng.uniform(*arm.limit_arrays(unlimited=2 * np.pi), size=(size, arm.n))
-
-
-def armlab_main(*argv: str) -> subprocess.CompletedProcess:
-    """``armlab ARGV`` run in this process: ``armlab.cli.main`` (what the console script and ``python -m armlab``
-    call), its exit code, stdout and stderr (the real process's start and exit: test_cli_usage.py, test_signals.py).
-    A Dask cluster's or a reproduction's worker processes are real all the same."""
-    from armlab.cli import main
-
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(list(argv))
-    return subprocess.CompletedProcess(["armlab", *argv], code, out.getvalue(), err.getvalue())
+from armlab.models import get_arm
 
 
 @pytest.fixture(params=ARM_NAMES)
@@ -108,3 +81,59 @@ def simulated(shared_root):
         return out
 
     return run
+
+
+@functools.cache
+def _dynamic_user_arm(kind: str, folder: str):
+    """The user arm with masses ``kind`` ("dh": tests/data/dh_with_masses.csv, a standard-convention DH table with a
+    prismatic joint, off-axis centres and products of inertia; "urdf": tests/data/oblique.urdf), from ``folder``."""
+    path = Path(folder) / ("oblique.urdf" if kind == "urdf" else "dh_masses.csv")
+    path.write_text(data("oblique.urdf" if kind == "urdf" else "dh_with_masses.csv"))
+    return get_arm(str(path))
+
+
+@pytest.fixture(params=ARM_NAMES + ["dh", "urdf"])
+def dynamic_arm(request, tmp_path_factory):
+    """Each paper arm, a DH arm with masses and a user URDF arm with several welded bodies."""
+    if request.param in ARM_NAMES:
+        return arm_and_plant(request.param)[0]
+    return _dynamic_user_arm(request.param, str(tmp_path_factory.getbasetemp()))
+
+
+@pytest.fixture
+def private_tmp(tmp_path, monkeypatch):
+    """A private TMPDIR for this process (``tempfile.gettempdir()`` returns it)."""
+    folder = tmp_path / "tmp"
+    folder.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(folder))
+    monkeypatch.setenv("TMPDIR", str(folder))
+    return folder
+
+
+#: What a test does, found in its own source (a test function's body): a marker for each (pyproject's markers).
+#: `make check` leaves these out; `make test` (CI) runs everything.
+KINDS = {
+    "browser": ("screenshots(", "chromium("),  # headless Chromium (tests/browser.py)
+    # Dask clusters: every sweep runs on one (a LocalCluster of worker processes unless --scheduler is given)
+    "cluster": ("run_sweep(", '"sweep"', "--scheduler", "LocalCluster"),
+    # armlab or Python processes, the reproduction's worker processes (reproduce's default jobs, _Pool)
+    "process": ("subprocess.", "Popen", "sys.executable", "ARMLAB", ".run(", "reproduction", "reproduce", "_Pool("),
+}
+#: Whole modules of one kind.
+MODULE_KINDS = {"test_dask_cluster.py": ("cluster", "process"), "test_signals.py": ("process",),
+                "test_cli_usage.py": ("process",), "test_readme.py": ("process",)}
+
+
+def pytest_collection_modifyitems(items) -> None:
+    """Mark each test ``browser``, ``cluster`` or ``process`` by what its source (or its module) does; a test that
+    uses the session's reproduction (worker processes) is ``process``."""
+    import inspect
+
+    for item in items:
+        function = getattr(item, "function", None)
+        source = inspect.getsource(function) if function is not None else ""
+        source += " ".join(getattr(item, "fixturenames", ()))
+        kinds = set(MODULE_KINDS.get(item.path.name, ()))
+        kinds |= {kind for kind, needles in KINDS.items() if any(n in source for n in needles)}
+        for kind in sorted(kinds):
+            item.add_marker(kind)

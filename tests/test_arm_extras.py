@@ -14,7 +14,7 @@ import types
 
 import numpy as np
 import pytest
-from conftest import armlab_main
+from helpers import armlab_main
 
 import armlab
 from armlab.diagrams.draw import default_q, draw_arm, scheme

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ARM_NAMES
-from conftest import armlab_main as armlab
+from helpers import ARM_NAMES
+from helpers import armlab_main as armlab
 
 from armlab.models import get_arm
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import arm_and_plant
+from helpers import arm_and_plant, data, two_link_urdf
 
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models import get_arm
@@ -12,13 +12,7 @@ from armlab.models.read_dh import from_dh
 from armlab.models.read_urdf import from_urdf
 from armlab.models.write_urdf import JointLimits
 
-PUMA_LIKE = """# convention: standard
-type,a,alpha,d,theta,lower,upper
-R,0,1.5707963267948966,0.3,0,-3,3
-R,0.4,0,0,0,,
-T,0,0,0.1,0,0,0.5
-R,0.1,-1.5707963267948966,0,0.2,-2,2
-"""
+PUMA_LIKE = data("puma_like_dh.csv")
 
 
 def _drake_tool(arm, q):
@@ -72,26 +66,6 @@ def test_files_that_are_not_text(tmp_path):
             get_arm(str(tmp_path / name))
 
 
-def two_link_urdf(mass2: float = 0.5, mesh: str | None = None) -> str:
-    """A planar two-link arm as users write them: no <transmission>, optionally a mesh on link 2."""
-    visual = f'<visual><geometry><mesh filename="{mesh}"/></geometry></visual>' if mesh else ""
-    inertial = ("" if mass2 == 0 else f'<inertial><origin xyz="0.15 0 0"/><mass value="{mass2}"/>'
-                '<inertia ixx="1e-4" ixy="0" ixz="0" iyy="4e-3" iyz="0" izz="4e-3"/></inertial>')
-    return f"""<robot name="two">
-  <link name="base"/>
-  <link name="upper"><inertial><origin xyz="0.2 0 0"/><mass value="1"/>
-    <inertia ixx="1e-4" ixy="0" ixz="0" iyy="1.4e-2" iyz="0" izz="1.4e-2"/></inertial></link>
-  <link name="fore">{inertial}{visual}</link>
-  <link name="hand"/>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
-    <limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/>
-    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
-  <joint name="wrist" type="fixed"><parent link="fore"/><child link="hand"/><origin xyz="0.3 0 0"/></joint>
-</robot>
-"""
-
-
 def armlab_cli(*argv: str) -> int:
     from armlab.cli import main
 
@@ -122,6 +96,7 @@ def test_user_urdf_that_cannot_be_simulated_says_why(tmp_path, capsys):
     assert not (tmp_path / "run").exists()
 
 
+@pytest.mark.slow  # a simulate run with its replay, for the mesh paths (no number of its own)
 def test_user_urdf_meshes_from_its_ros_package(tmp_path, capsys):
     """package://NAME/… resolves through the package.xml above the URDF (a ROS package); an unknown
     package is a one-line error, not a traceback."""
@@ -371,7 +346,7 @@ def test_link_name_with_a_quote_loads(tmp_path):
     path = tmp_path / "quote.urdf"
     path.write_text(two_link_urdf().replace('"fore"', "\"fo're\""))
     arm = get_arm(str(path))
-    assert arm.link_names == ("upper", "fo're") and arm.links()[1]["mass"] == 0.5
+    assert arm.link_names == ("upper", "fo're") and arm.links()[1]["mass"] == 0.5  # exact: the URDF's mass="0.5"
 
 
 _H = "type,a,alpha,d,theta,lower,upper"

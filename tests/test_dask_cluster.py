@@ -13,8 +13,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import armlab_main
-from test_sweep import objectives, rows, write_study
+from helpers import armlab_main, assert_same_objectives, objectives, rows, write_study
 
 from armlab.analysis.study import evaluate, load_study
 from armlab.analysis.sweep import RESULTS, run_sweep
@@ -139,7 +138,7 @@ def test_local_cluster_of_two_workers(tmp_path: Path, reference: dict[int, list[
     run = armlab_main("sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--workers", "2")
     assert run.returncode == 0, run.stderr
     assert "8 candidates: 0 done before, 8 computed, 0 failed" in run.stdout
-    assert objectives(out, COLUMNS) == reference
+    assert_same_objectives(objectives(out, COLUMNS), reference)
     workers = {r["worker"] for r in rows(out).values()}
     assert len(workers) == 2 and all(w.startswith("tcp://127.0.0.1:") for w in workers)
     record = json.loads((out / "study.json").read_text())
@@ -151,7 +150,7 @@ def test_external_scheduler_gives_the_local_results(tmp_path: Path, cluster: Clu
     out = tmp_path / "out"
     run = armlab_main("sweep", str(write_study(tmp_path, STUDY)), "--out", str(out), "--scheduler", cluster.address)
     assert run.returncode == 0, run.stderr
-    assert objectives(out, COLUMNS) == reference
+    assert_same_objectives(objectives(out, COLUMNS), reference)
     assert len({r["worker"] for r in rows(out).values()}) == 2
     assert json.loads((out / "study.json").read_text())["runs"][0]["scheduler"] == cluster.address
     assert all(proc.poll() is None for proc in cluster.procs)  # armlab leaves the user's cluster running
@@ -175,7 +174,7 @@ def test_a_killed_worker_s_tasks_are_rerun(tmp_path: Path, cluster: Cluster,
     assert not thread.is_alive()
     done = result["done"]
     assert done.failed == [] and done.computed == 8
-    assert objectives(out, COLUMNS) == reference
+    assert_same_objectives(objectives(out, COLUMNS), reference)
     assert rows(out).keys() == reference.keys()
 
 

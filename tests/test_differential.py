@@ -7,7 +7,7 @@ import functools
 
 import numpy as np
 import pytest
-from conftest import ARM_NAMES, arm_and_plant, random_q
+from helpers import ARM_NAMES, arm_and_plant, data, random_q
 
 from armlab.kinematics.differential import jacobian, manipulability, sigma_min, tool_motion
 from armlab.kinematics.iterative import iterative_kinematics
@@ -16,51 +16,11 @@ from armlab.models import get_arm
 SAMPLES = 200
 
 #: A user DH table: standard convention, a prismatic joint, twists and offsets.
-DH_TABLE = """# convention: {convention}
-type,a,alpha,d,theta,lower,upper
-R,0.05,1.5707963267948966,0.3,0,-3,3
-R,0.4,0,0.02,0.3,-3,3
-T,0,-0.7,0.1,0,0,0.5
-R,0.1,-1.5707963267948966,0,0.2,-2,2
-R,0,1.2,0.15,0,-3,3
-"""
+DH_TABLE = data("dh_prismatic_twists.csv")
 
 #: A user URDF: joint axes along x, y, −z and oblique, a prismatic joint on an oblique axis,
 #: fixed joints between the moving ones and a fixed tool link two welds past the last joint.
-USER_URDF = """<?xml version="1.0"?>
-<robot name="oblique">
-  <link name="base"/>
-  <link name="l1"><inertial><mass value="2.0"/><origin xyz="0.01 0.02 0.1" rpy="0.1 0 0"/>
-    <inertia ixx="0.02" ixy="0.001" ixz="0" iyy="0.03" iyz="0.002" izz="0.025"/></inertial></link>
-  <link name="l1b"><inertial><mass value="0.5"/><origin xyz="0.05 0 0"/>
-    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.002"/></inertial></link>
-  <link name="l2"><inertial><mass value="1.5"/><origin xyz="0.2 0 0.01"/>
-    <inertia ixx="0.005" ixy="0" ixz="0.0005" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
-  <link name="l3"><inertial><mass value="1.0"/><origin xyz="0 0.05 0.1" rpy="0 0.3 0.2"/>
-    <inertia ixx="0.004" ixy="0" ixz="0" iyy="0.003" iyz="0" izz="0.002"/></inertial></link>
-  <link name="l4"><inertial><mass value="0.7"/><origin xyz="0.03 0 0.05"/>
-    <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.001"/></inertial></link>
-  <link name="flange"><inertial><mass value="0.3"/><origin xyz="0 0 0.02"/>
-    <inertia ixx="0.0005" ixy="0" ixz="0" iyy="0.0005" iyz="0" izz="0.0003"/></inertial></link>
-  <link name="tool"/>
-  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
-    <origin xyz="0 0 0.2" rpy="0 0 0.3"/><axis xyz="0 0 -1"/>
-    <limit lower="-3" upper="3" effort="50" velocity="3"/></joint>
-  <joint name="weld1" type="fixed"><parent link="l1"/><child link="l1b"/><origin xyz="0 0 0.3" rpy="0.2 0 0"/></joint>
-  <joint name="j2" type="revolute"><parent link="l1b"/><child link="l2"/>
-    <origin xyz="0.05 0 0.05" rpy="0 0.4 0"/><axis xyz="0 1 0"/>
-    <limit lower="-3" upper="3" effort="50" velocity="3"/></joint>
-  <joint name="j3" type="prismatic"><parent link="l2"/><child link="l3"/>
-    <origin xyz="0.4 0 0" rpy="0.1 0.2 0.3"/><axis xyz="0.6 0 0.8"/>
-    <limit lower="0" upper="0.3" effort="200" velocity="1"/></joint>
-  <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/>
-    <origin xyz="0 0.1 0.2"/><axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="20" velocity="3"/></joint>
-  <joint name="weld2" type="fixed"><parent link="l4"/><child link="flange"/>
-    <origin xyz="0 0 0.1" rpy="0 0.5 0"/></joint>
-  <joint name="weld3" type="fixed"><parent link="flange"/><child link="tool"/>
-    <origin xyz="0.02 0 0.05" rpy="0.3 0 0"/></joint>
-</robot>
-"""
+USER_URDF = data("oblique.urdf")
 
 
 @functools.cache
@@ -73,7 +33,7 @@ def _user_arm(kind: str, folder: str):
         path.write_text(USER_URDF)
     else:
         path = Path(folder) / f"dh_{kind}.csv"
-        path.write_text(DH_TABLE.format(convention=kind))
+        path.write_text(DH_TABLE.replace("# convention: standard", f"# convention: {kind}"))
     arm = get_arm(str(path))
     plant = arm.make_plant()
     return arm, plant, plant.CreateDefaultContext()
@@ -201,6 +161,7 @@ def test_manipulability_is_yoshikawas_determinant(any_arm, rng):
         eigen = np.linalg.eigvalsh(gram)[:, 0]  # the smallest eigenvalue of the Gram matrix = σ_min²
         np.testing.assert_allclose(sigma_min(J, axes) ** 2, np.clip(eigen, 0, None), rtol=1e-7, atol=1e-12)
     default = "all" if arm.n >= 6 else "trans"  # the documented rule, written out (not default_axes)
+    # exact: the default is the same axes: same code, same input
     np.testing.assert_array_equal(manipulability(J), manipulability(J, default))
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import ARM_NAMES, arm_and_plant, random_q
+from helpers import ARM_NAMES, arm_and_plant, random_q
 from matplotlib.image import imread
 
 from armlab.diagrams.draw import _view, default_q, draw_arm, scheme

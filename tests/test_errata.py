@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from conftest import arm_and_plant, random_q
+from helpers import arm_and_plant, random_q
 
 from armlab.kinematics import symbolic as sym
 from armlab.kinematics.errata import ERRATA, Erratum, drake_sample, wrap_angle
@@ -41,7 +41,7 @@ def test_printed_disagrees_with_drake_corrected_agrees(erratum):
         assert wrong.mean() >= 0.9, f"printed form agrees with Drake at {np.count_nonzero(~wrong)} of {N} samples"
     else:  # wrong exactly where the misprint shows, and that is a good part of the samples
         affected = erratum.affects(sample)
-        np.testing.assert_array_equal(wrong, affected)
+        np.testing.assert_array_equal(wrong, affected)  # exact: boolean masks
         assert 0.2 <= affected.mean() <= 0.8
     printed_error, corrected_error = erratum.errors(sample)
     assert corrected_error < TOL < 1e-3 < printed_error

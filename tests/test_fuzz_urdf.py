@@ -21,7 +21,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_security import private_tmp  # noqa: F401 (the fixture: a private TMPDIR)
 
 from armlab.cli import main
 from armlab.models import get_arm

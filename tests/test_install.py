@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import armlab_main
+from helpers import armlab_main
 
 import armlab
 from armlab.diagrams.graphviz import DotMissingWarning

@@ -68,6 +68,7 @@ OUTPUT_FOLDERS = [
 ]
 
 
+@pytest.mark.slow  # three simulate runs, for the output folder's replacement (no number)
 def test_replacing_a_run_keeps_only_the_new_one(box):
     check(box.main(*SHORT, "--out", "run"), 0, "wrote run")
     check(box.main("simulate", "rr", "--tf", "0.3", "--dt", "0.01", "--out", "run"), 0, "wrote run")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from conftest import arm_and_plant
+from helpers import arm_and_plant
 
 from armlab.kinematics.basic_movements import DH_TO_YUP, rrrr_dh_chain, rrrr_point_M, rrrr_yup_chain
 from armlab.kinematics.locating import orientation_angles

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ARM_NAMES
+from helpers import ARM_NAMES
 
 from armlab.diagrams.plant import PlantOptions, add_arm_plant, make_plant
 from armlab.diagrams.simulate import SimulationOptions

@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import ARM_NAMES, random_q
+from helpers import ARM_NAMES, random_q
 
 from armlab.diagrams.motions import paper_motion, point_to_joints, read_segments
 from armlab.kinematics.quintic import (
@@ -25,10 +25,11 @@ def test_paper_000_coefficients_to_4_decimals():
     """§3: a1 = 0.3272, a2 = −1.6362, a3 = 2.1817, b1 = −0.0982, b2 = 0.4909, b3 = −0.6545 (paper values)."""
     paper = np.array([[0.3272, -1.6362, 2.1817], [-0.0982, 0.4909, -0.6545]])
     c = quintic_coefficients(np.radians([-38.0, 98.0]), np.radians([62.0, 68.0]), 2.0)
-    np.testing.assert_array_equal(np.round(c[:, :3], 4), paper)
+    np.testing.assert_array_equal(np.round(c[:, :3], 4), paper)  # exact: rounded to the paper's 4 decimals
     np.testing.assert_allclose(c[:, 3:5], 0.0, atol=1e-15)  # a4 = a5 = b4 = b5 = 0
     np.testing.assert_allclose(c[:, 5], np.radians([-38.0, 98.0]), rtol=0, atol=1e-15)  # a6 = θ(0)
     # and the same numbers through the paper motion armlab simulate runs for rr
+    # exact: as above
     np.testing.assert_array_equal(np.round(paper_motion(get_arm("rr")).coefficients()[0, :, :3], 4), paper)
 
 
@@ -70,7 +71,7 @@ def test_piecewise_polynomial_equals_the_closed_form():
     """Drake's PiecewisePolynomial reproduces q, q̇, q̈ of every segment exactly (1e-12)."""
     motion = _mixed_motion()
     pp = to_piecewise_polynomial(motion)
-    np.testing.assert_array_equal(pp.get_segment_times(), motion.breaks)
+    np.testing.assert_array_equal(pp.get_segment_times(), motion.breaks)  # exact: the breaks handed to Drake
     t = np.concatenate([np.linspace(0, motion.duration, 777), motion.breaks])
     closed = motion.evaluate(t)
     for d in range(3):
@@ -80,12 +81,13 @@ def test_piecewise_polynomial_equals_the_closed_form():
 
 def test_constant_rate_is_q0_plus_omega_t():
     seg = ConstantRate(np.array([0.1, 0.2]), np.array([7.0, 0.05]), 15.0)
+    # exact: the rate and start as given
     np.testing.assert_array_equal(seg.coefficients(), [[0, 0, 0, 0, 7.0, 0.1], [0, 0, 0, 0, 0.05, 0.2]])
     t = np.linspace(0, 15, 31)
     q, qd, qdd = Motion((seg,)).evaluate(t)
     np.testing.assert_allclose(q, seg.q0 + np.outer(t, seg.omega), atol=1e-12)
     np.testing.assert_allclose(qd, np.broadcast_to(seg.omega, qd.shape), atol=1e-15)
-    np.testing.assert_array_equal(qdd, 0.0)
+    np.testing.assert_array_equal(qdd, 0.0)  # exact: a line's second derivative
     np.testing.assert_allclose(seg.q_end, [105.1, 0.95])
 
 
@@ -120,7 +122,7 @@ def test_abcd_runs_split_where_the_joints_jump():
     motion = paper_motion(get_arm("rr"), "abcd")
     assert motion.joins() == [True, False, False]  # C and A are left on the other branch, D at θ2 = −180° not +180°
     runs = motion.runs()
-    assert [start for start, _ in runs] == [0.0, 4.0, 6.0]
+    assert [start for start, _ in runs] == [0.0, 4.0, 6.0]  # exact: sums of integer-valued durations
     assert [m.labels for _, m in runs] == [["A-B", "B-C"], ["C-D"], ["D-A"]]
 
 
@@ -140,7 +142,7 @@ def test_arm4r_motion_goes_from_2_0_0_to_1_1_1p4():
     """Paper 001 §3: the tool from (2, 0, 0) to (1, 1, 1.4) m in 2 s, pitch kept."""
     arm = get_arm("arm4r")
     seg = paper_motion(arm).segments[0]
-    assert seg.tf == 2.0
+    assert seg.tf == 2.0  # exact: the paper's 2 s
     np.testing.assert_allclose(arm.forward(seg.q0).tool[:3, 3], [2, 0, 0], atol=1e-12)
     np.testing.assert_allclose(arm.forward(seg.qf).tool[:3, 3], [1, 1, 1.4], atol=1e-9)
     assert abs(seg.q0[1:].sum() - seg.qf[1:].sum()) < 1e-12  # the same pitch θ2 + θ3 + θ4
@@ -186,7 +188,7 @@ def test_segments_file(tmp_path, rng):
     s = motion.segments
     assert [type(x).__name__ for x in s] == ["QuinticSegment", "QuinticSegment", "QuinticSegment", "ConstantRate"]
     np.testing.assert_allclose(s[0].q0, np.radians([-38, 98]))
-    np.testing.assert_array_equal(s[1].q0, s[0].qf)
+    np.testing.assert_array_equal(s[1].q0, s[0].qf)  # exact: a segment starts where the last ended
     np.testing.assert_allclose(s[1].qf, [2 * np.arctan2(0.3, 0.4), -np.pi / 2], atol=1e-12)
     np.testing.assert_allclose(s[2].q0, [0.0, np.pi / 2], atol=1e-12)
     np.testing.assert_allclose(s[3].omega, np.radians([10, -20]))

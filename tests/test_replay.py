@@ -14,101 +14,17 @@ import argparse
 import io
 import json
 import re
-import shutil
 import socket
 import urllib.request
-from pathlib import Path
 
 import numpy as np
 import pytest
-from browser import BrowserError, screenshot
-from conftest import ARM_NAMES
-from matplotlib.image import imread
+from helpers import ARM_NAMES, data
+from replay_pictures import assert_shows_arm_moving, image, screenshots, solid
 
-from armlab.diagrams.replay import BAR_HEIGHT, JOIN_PAUSE, MAX_FPS, MAX_FRAMES, display_rotation, write_replay
+from armlab.diagrams.replay import JOIN_PAUSE, MAX_FPS, MAX_FRAMES, display_rotation, write_replay
 from armlab.diagrams.view import Viewer, open_meshcat, register, run_view
 from armlab.models import get_arm
-
-WINDOW = (1000, 800)
-#: Seek the replay's animation to a playback time once the page has loaded it (test-only script).
-SEEK_SCRIPT = """<script>
-(function armlabSeek() {{
-  const animator = viewer.animator;
-  if (animator.actions.length === 0) {{ setTimeout(armlabSeek, 10); return; }}
-  animator.pause(); animator.seek({time}); viewer.set_dirty();
-}})();
-</script>
-"""
-
-
-def chromium() -> str:
-    for name in ("chromium", "chromium-browser", "google-chrome"):
-        if path := shutil.which(name):
-            return path
-    pytest.fail("headless Chromium is needed to check the replay: apt-get install -y chromium (make test does it)")
-
-
-def screenshots(html: Path, times: tuple[float, ...], tmp: Path) -> list[Path]:
-    """Screenshots of ``html`` opened from disk, with playback sought to each of ``times`` (the pages at once).
-
-    Each page is what ``chromium --headless --screenshot --window-size=1000,800 --virtual-time-budget=3000`` shows,
-    taken by this test process's one Chromium (tests/browser.py: a browser context per page instead of a
-    Chromium started per page; the same pixels, a second of CPU less per page)."""
-    text = html.read_text()
-    end = text.rfind("</body>")
-    pages, pngs = [], []
-    for k, t in enumerate(times):
-        page = tmp / f"{html.stem}-at-{k}.html"
-        page.write_text(text[:end] + SEEK_SCRIPT.format(time=repr(float(t))) + text[end:] if end >= 0 else text)
-        pages.append(page)
-        pngs.append(tmp / f"{html.stem}-at-{k}.png")
-    try:
-        screenshot(chromium(), pages, pngs, WINDOW, budget_ms=3000, timeout=90)
-    except BrowserError as error:
-        raise AssertionError(f"chromium failed to screenshot {html.name}: {error}") from error
-    for png in pngs:
-        assert png.exists(), f"chromium wrote no {png.name}"
-    return pngs
-
-
-def image(png: Path) -> np.ndarray:
-    """RGB in 0 … 1 of the 3-D view: below Meshcat's "Open Controls" bar (the top 24 rows are cropped) and
-    above the replay's control bar (its :data:`BAR_HEIGHT` rows, whose readout changes with time)."""
-    return imread(png)[24:-BAR_HEIGHT, :, :3]
-
-
-def solid(mask: np.ndarray) -> np.ndarray:
-    """``mask`` eroded twice (3×3): one- or two-pixel lines — the tool path, anti-aliasing — vanish,
-    bodies drawn several pixels thick remain."""
-    for _ in range(2):
-        inner = np.zeros_like(mask)
-        inner[1:-1, 1:-1] = np.logical_and.reduce(
-            [mask[1 + i : mask.shape[0] - 1 + i, 1 + j : mask.shape[1] - 1 + j] for i in (-1, 0, 1) for j in (-1, 0, 1)]
-        )
-        mask = inner
-    return mask
-
-
-def assert_shows_arm_moving(png_a: Path, png_b: Path) -> None:
-    """Both screenshots show the arm, large, on the replay's white background, and the arm is in
-    a different pose in each."""
-    for png in (png_a, png_b):
-        drawn = np.abs(image(png) - 1.0).max(axis=-1) > 0.1
-        assert drawn.mean() < 0.7, f"{png.name}: {drawn.mean():.0%} of the image is not the replay's white background"
-        bodies = solid(drawn)
-        assert bodies.mean() > 0.004, f"{png.name}: only {bodies.mean():.2%} of the image shows solid bodies drawn"
-        rows, cols = np.nonzero(bodies)
-        extent = max(np.ptp(cols) / bodies.shape[1], np.ptp(rows) / bodies.shape[0])
-        assert extent > 0.2, f"{png.name}: the arm spans only {extent:.0%} of the view"
-    # In the arm's region (the bounding box of the solid bodies drawn at either time), the bodies moved:
-    # pixels that show a body at one time and not at the other.
-    bodies_a, bodies_b = (solid(np.abs(image(png) - 1.0).max(axis=-1) > 0.1) for png in (png_a, png_b))
-    rows, cols = np.nonzero(bodies_a | bodies_b)
-    region = (slice(rows.min(), rows.max() + 1), slice(cols.min(), cols.max() + 1))
-    changed = solid(np.abs(image(png_a) - image(png_b)).max(axis=-1) > 0.1)[region]
-    moved = changed.sum() / bodies_a.size
-    assert moved > 0.002, f"the two playback times look the same ({moved:.3%} of the image differs in the arm's region)"
-    assert (bodies_a ^ bodies_b)[region].sum() > 0.5 * changed.sum(), "what changed is not where the arm is drawn"
 
 
 def sweep(arm, times: np.ndarray) -> np.ndarray:
@@ -219,14 +135,14 @@ def test_viewer_serves_the_page_and_its_sliders_move_the_tool():
         with urllib.request.urlopen(viewer.url, timeout=10) as response:
             assert response.status == 200 and b"meshcat" in response.read().lower()
         assert re.fullmatch(r"http://localhost:\d+", viewer.url)
-        assert viewer.step() and np.array_equal(viewer.q, q0)
+        assert viewer.step() and np.array_equal(viewer.q, q0)  # exact: the viewer keeps q0 as given
         np.testing.assert_allclose(viewer.tool_position(), arm.forward(q0).tool[:3, 3], atol=1e-9)
         assert not viewer.step()  # sliders untouched: nothing to redraw
         viewer.meshcat.SetSliderValue("joint2", -1.2)
         assert viewer.step()
         q1 = np.array([0.3123456789, -1.2, 0.9, 0.2])
         np.testing.assert_allclose(viewer.q, q1, atol=1e-3)  # joint 1 now as the slider has it (its step)
-        assert viewer.q[1] == -1.2
+        assert viewer.q[1] == -1.2  # exact: the slider value set
         np.testing.assert_allclose(viewer.tool_position(), arm.forward(viewer.q).tool[:3, 3], atol=1e-9)
         assert len(viewer.trail) == 2
     finally:
@@ -312,6 +228,7 @@ def test_a_branch_switch_pauses_with_a_banner_and_never_interpolates(tmp_path):
     path = write_replay(arm, times, q, tmp_path / "j.html", run=np.array([0, 0, 1, 1]))
     data = json.loads(re.search(r"const D = (\{.*?\});\n", path.read_text()).group(1))
     (join,) = data["joins"]
+    # exact: the time given, through repr and JSON
     assert join["t"] == 1.0 and join["to"] - join["from"] >= JOIN_PAUSE - 0.05
     frames = np.array(data["q"])
     # Every frame is a pose of one run or the other, never a blend of the two across the join.
@@ -338,7 +255,7 @@ def test_view_deg_shows_degree_sliders_that_move_the_arm():
     viewer = Viewer(arm, q0, deg=True)
     try:
         assert viewer.slider_names == ["joint1 [deg]", "joint2 [m]", "joint3 [m]"]
-        assert viewer.step() and np.array_equal(viewer.q, q0)
+        assert viewer.step() and np.array_equal(viewer.q, q0)  # exact: the viewer keeps q0 as given
         assert viewer.meshcat.GetSliderValue("joint1 [deg]") == pytest.approx(np.degrees(0.5), abs=0.05)
         viewer.meshcat.SetSliderValue("joint1 [deg]", -60.0)
         viewer.meshcat.SetSliderValue("joint3 [m]", 0.25)
@@ -352,18 +269,7 @@ def test_view_deg_shows_degree_sliders_that_move_the_arm():
     assert "q = +28.6479 deg  +0.1000 m  +0.2000 m" in out.getvalue()
 
 
-BARE_URDF = """<robot name="bare">
-  <link name="base"/>
-  <link name="upper"><visual><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.05 0.05"/></geometry></visual></link>
-  <link name="fore"><visual><origin xyz="0.15 0 0"/><geometry><box size="0.3 0.04 0.04"/></geometry></visual></link>
-  <link name="hand"/>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 1 0"/>
-    <limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/>
-    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
-  <joint name="wrist" type="fixed"><parent link="fore"/><child link="hand"/><origin xyz="0.3 0 0"/></joint>
-</robot>
-"""
+BARE_URDF = data("bare.urdf")
 
 
 def test_a_urdf_without_materials_is_coloured_and_a_payload_is_drawn(tmp_path):

@@ -3,44 +3,15 @@ Lagrange equations."""
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 import pytest
-from conftest import ARM_NAMES, arm_and_plant, random_q
-from test_differential import USER_URDF
+from helpers import arm_and_plant, random_q
 
 from armlab.diagrams.plant import PlantOptions, make_plant
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.models import get_arm
 
 SAMPLES = 100
-
-#: A user DH table with masses (standard convention, a prismatic joint, off-axis centres, products of inertia).
-DH_WITH_MASSES = """# convention: standard
-type,a,alpha,d,theta,lower,upper,mass,cx,cy,cz,Ixx,Iyy,Izz,Ixy,Ixz,Iyz
-R,0.05,1.5707963267948966,0.3,0,-3,3,3.0,0,-0.1,0.02,0.02,0.015,0.02,0.001,0,0
-R,0.4,0,0.02,0.3,-3,3,2.0,-0.2,0.01,0,0.004,0.03,0.03,0,0.0005,0
-T,0,-0.7,0.1,0,0,0.5,1.2,0,0.02,-0.1,0.01,0.01,0.004,0,0,0.0002
-R,0.1,-1.5707963267948966,0,0.2,-2,2,0.8,-0.05,0,0.01,0.001,0.002,0.002,0,0,0
-"""
-
-
-@functools.cache
-def _user_arm(kind: str, folder: str):
-    from pathlib import Path
-
-    path = Path(folder) / ("oblique.urdf" if kind == "urdf" else "dh_masses.csv")
-    path.write_text(USER_URDF if kind == "urdf" else DH_WITH_MASSES)
-    return get_arm(str(path))
-
-
-@pytest.fixture(params=ARM_NAMES + ["dh", "urdf"])
-def dynamic_arm(request, tmp_path_factory):
-    """Each paper arm, a DH arm with masses and a user URDF arm with several welded bodies."""
-    if request.param in ARM_NAMES:
-        return arm_and_plant(request.param)[0]
-    return _user_arm(request.param, str(tmp_path_factory.getbasetemp()))
 
 
 def _drake_inverse_dynamics(arm, gravity, payload, q, qd, qdd):
@@ -107,6 +78,7 @@ def test_the_arms_inverse_dynamics_is_the_batch_rnea(rng):
     arm, _, _ = arm_and_plant("rrrr")
     q = random_q(arm, rng, 20)
     qd, qdd = rng.normal(size=q.shape), rng.normal(size=q.shape)
+    # exact: the method calls this function
     np.testing.assert_array_equal(arm.inverse_dynamics(q, qd, qdd, payload=0.5),
                                   inverse_dynamics(arm, q, qd, qdd, payload=0.5))
 

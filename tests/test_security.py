@@ -16,21 +16,16 @@ import os
 import re
 import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import pytest
-from test_custom import two_link_urdf
+from helpers import data, two_link_urdf
 
 from armlab.cli import main
 from armlab.models import get_arm
 
-TABLE = """# convention: standard
-type,a,alpha,d,theta,lower,upper,mass,cx
-R,0.5,0,0,0,-3,3,1.0,-0.25
-R,0.4,0,0,0,-3,3,0.5,-0.2
-"""
+TABLE = data("two_link_masses_dh.csv")
 _SIMULATE = ["simulate", "--from", "0,0", "--to", "0.5,0.5", "--tf", "0.3"]
 HOSTILE = TABLE.replace("R,0.4,", "R,0.6,")  # the same arm with a longer forearm: tool at 1.1 m, not 0.9 m
 
@@ -39,16 +34,6 @@ def _old_cache_names(text: str, name: str) -> tuple[str, str]:
     """The names the old ``Arm.urdf_path`` used for a generated URDF: the file and its temporary."""
     digest = hashlib.sha1(text.encode()).hexdigest()[:12]
     return f"{name}-{digest}.urdf", f"{name}-{digest}.{digest}.tmp"
-
-
-@pytest.fixture
-def private_tmp(tmp_path, monkeypatch):
-    """A private TMPDIR for this process (``tempfile.gettempdir()`` returns it)."""
-    folder = tmp_path / "tmp"
-    folder.mkdir()
-    monkeypatch.setattr(tempfile, "tempdir", str(folder))
-    monkeypatch.setenv("TMPDIR", str(folder))
-    return folder
 
 
 def _arm_file(tmp_path: Path) -> Path:

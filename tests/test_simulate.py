@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import assert_rounding_close
 
 from armlab.cli import main
 from armlab.diagrams.build import build_diagram
@@ -75,7 +76,7 @@ def inverse_dynamics(log: SimulationLog, q, qd, qdd) -> np.ndarray:
 @pytest.mark.parametrize(("name", "path"), PAPER_MOTIONS, ids=IDS)
 def test_tracking_error_with_the_exact_model(name, path):
     log = run(name, path)
-    assert log.t[0] == 0.0 and abs(log.t[-1] - log.motion.duration) < 1e-12
+    assert log.t[0] == 0.0 and abs(log.t[-1] - log.motion.duration) < 1e-12  # exact: the start time
     q_ref, qd_ref, qdd_ref = log.motion.evaluate(log.t)
     # the logged reference is the trajectory (except at run joins, where the log holds both runs' ends)
     inside = np.ones(log.t.shape, dtype=bool)
@@ -144,7 +145,7 @@ def test_rr_torques_equal_the_lagrange_equations(path):
 def test_rr_gravity_along_the_joint_axes_leaves_pure_inertial_torques():
     """Gravity ±z (along rr's joint axes) does no work: torques equal gravity off, as Table 3's pairs suggest."""
     off = run("rr", "abcd", gravity="off")
-    np.testing.assert_array_equal(off.gravity, [0, 0, 0])
+    np.testing.assert_array_equal(off.gravity, [0, 0, 0])  # exact: gravity off
     for g in ("+z", "-z"):
         np.testing.assert_allclose(run("rr", "abcd", gravity=g).tau, off.tau, rtol=0, atol=1e-6)
     np.testing.assert_allclose(off.tau, lagrange_rr(off.arm, off.q_ref, off.qd_ref, off.qdd_ref, off.gravity),
@@ -154,11 +155,12 @@ def test_rr_gravity_along_the_joint_axes_leaves_pure_inertial_torques():
 
 def test_gravity_settings():
     rr = get_arm("rr")
-    np.testing.assert_array_equal(resolve_gravity(rr), [0, -9.81, 0])
-    np.testing.assert_array_equal(resolve_gravity(rr, "default"), [0, -9.81, 0])
+    np.testing.assert_array_equal(resolve_gravity(rr), [0, -9.81, 0])  # exact: the arm's gravity constant
+    np.testing.assert_array_equal(resolve_gravity(rr, "default"), [0, -9.81, 0])  # exact: the arm's gravity constant
+    # exact: the arm's gravity constant
     np.testing.assert_array_equal(resolve_gravity(get_arm("r2t"), None), [0, 0, -9.81])
-    np.testing.assert_array_equal(resolve_gravity(rr, "+x"), [9.81, 0, 0])
-    np.testing.assert_array_equal(resolve_gravity(rr, "1,2,-3.5"), [1, 2, -3.5])
+    np.testing.assert_array_equal(resolve_gravity(rr, "+x"), [9.81, 0, 0])  # exact: 9.81 along +x
+    np.testing.assert_array_equal(resolve_gravity(rr, "1,2,-3.5"), [1, 2, -3.5])  # exact: parsed from the text
     for bad in ("up", "1,2", "1,nan,2", [1, 2]):
         with pytest.raises(ValueError, match="gravity"):
             resolve_gravity(rr, bad)
@@ -264,7 +266,7 @@ def test_rr_tool_point_matches_the_papers_equations():
     np.testing.assert_allclose(log.tool[:, :2], p, rtol=0, atol=1e-12)
     np.testing.assert_allclose(log.tool[:, 3:5], v, rtol=0, atol=1e-12)
     np.testing.assert_allclose(log.tool[:, 6:8], a, rtol=0, atol=1e-6)  # v̇ of the plant = q̈_ref to tracking accuracy
-    np.testing.assert_array_equal(log.tool[:, [2, 5, 8]], 0.0)
+    np.testing.assert_array_equal(log.tool[:, [2, 5, 8]], 0.0)  # exact: rr's z
 
 
 @pytest.mark.parametrize("name", ["rrrr", "arm4r", "r2t", "urm6"])
@@ -306,22 +308,25 @@ def test_log_samples_equal_the_diagram_evaluated_at_each_state(rng, name, mode):
     made = log_samples(run, t, x, plant_rows, other_rows)
     for role, logger in run.loggers.items():
         log = logger.FindLog(context)
-        np.testing.assert_array_equal(log.sample_times(), t)
+        np.testing.assert_array_equal(log.sample_times(), t)  # exact: the times this test set
         own = log.data().T
         np.testing.assert_allclose(made[role], own, rtol=0, atol=1e-9 * max(1.0, np.max(np.abs(own))), err_msg=role)
 
 
 def test_sample_times_are_the_periodic_publish_times():
     """k·Δt up to the end, and the end itself when Δt does not divide it (as Drake's periodic events and the end)."""
-    np.testing.assert_array_equal(sample_times(2.0, 1e-3), np.arange(2001) * 1e-3)
+    np.testing.assert_array_equal(sample_times(2.0, 1e-3), np.arange(2001) * 1e-3)  # exact: k·Δt, one product each
     t = sample_times(1.5, 0.007)
-    assert t.size == 216 and t[-2] == 214 * 0.007 and t[-1] == 1.5
+    assert t.size == 216 and t[-2] == 214 * 0.007 and t[-1] == 1.5  # exact: k·Δt, and the end as given
+    # exact: 0·0.1, 1·0.1, 2·0.1 and the end
     np.testing.assert_array_equal(sample_times(0.3, 0.1), [0.0, 0.1, 0.2, 0.3])  # 3·0.1 > 0.3: the end instead
     arm = get_arm("rr")
     for tf, dt in ((0.3, 0.1), (0.7, 0.1), (1.5, 0.007)):
         motion = Motion((QuinticSegment(np.zeros(2), np.ones(2), tf),))
+        # Drake's periodic event times (k·period, in C++) against numpy's: one correctly rounded product each, so
+        # equal in practice; 4 ulps of the end time for another evaluation order in another Drake or CPU
         options = SimulationOptions(log_period=dt, sampling="periodic")
-        np.testing.assert_array_equal(simulate(arm, motion, options).t, sample_times(tf, dt))
+        assert_rounding_close(simulate(arm, motion, options).t, sample_times(tf, dt), 4)
 
 
 #: Dense-output runs against the periodic loggers (the integrator stopping at every sample): (arm, path, Δt, mode).
@@ -335,14 +340,15 @@ PERIODIC = [("rr", None, 1e-3, "controller"), ("rr", "abcd", 3e-3, "controller")
 def test_dense_samples_equal_the_periodic_loggers(name, path, dt, mode):
     """The samples made from the dense output after the run equal what loggers publishing every Δt record.
 
-    Same times exactly, the reference to round-off; the state within 1e-8 (both runs are error-controlled to
-    1e-6 and track to ~1e-9), torques and the tool point within 1e-6 of their size.
+    Same times (to 4 ulps: Drake's and numpy's k·Δt), the reference to round-off; the state within 1e-8 (both runs
+    are error-controlled to 1e-6 and track to ~1e-9), torques and the tool point within 1e-6 of their size.
     """
     arm = get_arm(name)
     motion = paper_motion(arm, path)
     dense = simulate(arm, motion, SimulationOptions(log_period=dt, mode=mode))
     periodic = simulate(arm, motion, SimulationOptions(log_period=dt, mode=mode, sampling="periodic"))
-    np.testing.assert_array_equal(dense.t, periodic.t)
+    assert_rounding_close(dense.t, periodic.t, ulps=4)  # numpy's sample times against Drake's: as above
+    # exact: run indices are integers
     np.testing.assert_array_equal(dense.run, periodic.run)
     for key, atol in (("q_ref", 1e-12), ("qd_ref", 1e-12), ("qdd_ref", 1e-10), ("q", 1e-8), ("qd", 1e-8),
                       ("tau", 1e-6), ("tool", 1e-6)):
@@ -397,6 +403,7 @@ def cli(*argv: str) -> int:
         return int(error.code)
 
 
+@pytest.mark.slow  # a whole simulate run's files; the numbers in them are checked by the tests above
 def test_simulate_writes_the_whole_run(tmp_path, capsys):
     out = tmp_path / "runs" / "rr"
     assert cli("simulate", "rr", "--path", "abcd", "--dt", "0.01", "--out", str(out)) == 0
@@ -427,7 +434,7 @@ def test_simulate_writes_the_whole_run(tmp_path, capsys):
     assert "wrote" in captured.out and captured.err == ""  # stderr not a terminal: no progress bar
     # running again replaces the previous run
     assert cli("simulate", "rr", "--dt", "0.01", "--out", str(out)) == 0
-    assert json.loads((out / "summary.json").read_text())["duration"] == 2.0
+    assert json.loads((out / "summary.json").read_text())["duration"] == 2.0  # exact: --tf 2
 
 
 @pytest.mark.parametrize("name", ["rrrr", "arm4r", "r2t", "urm6"])
@@ -444,13 +451,16 @@ def test_simulate_motion_options(tmp_path):
     cli("simulate", "r2t", "--from", "0,0.1,0.1", "--to", "90,0.2,0.0", "--deg", "--tf", "1.5", "--payload", "20",
         "--gravity", "off", "--mode", "inverse_dynamics", "--dt", "0.007", "--out", str(out))
     summary = json.loads((out / "summary.json").read_text())
+    # exact: the options given
     assert summary["duration"] == 1.5 and summary["payload_kg"] == 20 and summary["gravity"] == [0, 0, 0]
+    # exact: the open loop's constant
     assert summary["mode"] == "inverse_dynamics" and summary["integrator"]["max_step"] == 0.002  # open loop: 2 ms
     np.testing.assert_allclose(summary["segments"][0]["q_end"], [np.pi / 2, 0.2, 0.0])
     table = np.loadtxt(out / "log.csv", delimiter=",", skiprows=1)
+    # exact: the end time given
     assert table.shape[0] == 216 and table[-2, 0] == pytest.approx(1.498) and table[-1, 0] == 1.5  # 7 ms, and the end
     cli("simulate", "r2t", "--gravity", "-x", "--tf", "1", "--dt", "0.01", "--out", str(out))  # -x: not an option
-    assert json.loads((out / "summary.json").read_text())["gravity"] == [-9.81, 0, 0]
+    assert json.loads((out / "summary.json").read_text())["gravity"] == [-9.81, 0, 0]  # exact: -x gravity
 
 
 @pytest.mark.parametrize(("argv", "message"), [

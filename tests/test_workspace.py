@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import armlab_main
+from helpers import armlab_main
 
 from armlab.analysis.singular import SINGULAR_TOL, task_sigma
 from armlab.analysis.workspace import joint_box, sample_joints, workspace, workspace_plane
@@ -20,8 +20,8 @@ RR_AREA = np.pi * (0.7**2 - 0.1**2)  # annulus L1 ± L2 of paper 000's RR arm
 
 def test_unlimited_revolute_joints_cover_a_full_turn() -> None:
     lower, upper = joint_box(get_arm("urm6"))
-    np.testing.assert_array_equal(lower, -np.pi)
-    np.testing.assert_array_equal(upper, np.pi)
+    np.testing.assert_array_equal(lower, -np.pi)  # exact: ±π for an unlimited joint
+    np.testing.assert_array_equal(upper, np.pi)  # exact: as above
     lower, upper = joint_box(get_arm("rr"))  # limits ±3π/2 (models/rr.py)
     np.testing.assert_allclose(upper, 1.5 * np.pi)
 
@@ -29,6 +29,7 @@ def test_unlimited_revolute_joints_cover_a_full_turn() -> None:
 def test_rr_area_is_the_annulus() -> None:
     ws = workspace(get_arm("rr"), 2_000_000, jacobians=False)
     assert ws.dim == 2 and ws.volume_unit == "m²"
+    # exact: coordinate axes chosen
     np.testing.assert_array_equal(ws.basis, np.eye(3)[:2])  # the plane z = 0, spanned by x and y
     assert abs(ws.volume - RR_AREA) < 0.01 * RR_AREA
     assert abs(ws.reach - 0.7) < 1e-6
@@ -59,7 +60,7 @@ def test_limited_2r_area_against_integration() -> None:
 def test_volume_converges_as_samples_grow() -> None:
     ws = workspace(get_arm("rr"), 2_000_000, jacobians=False)
     n, v = np.array(ws.convergence["samples"]), np.array(ws.convergence["volume_vs_samples"])
-    assert n[-1] == 2_000_000 and np.all(np.diff(n) > 0) and v[-1] == ws.volume
+    assert n[-1] == 2_000_000 and np.all(np.diff(n) > 0) and v[-1] == ws.volume  # exact: the same number, stored twice
     errors = np.abs(v - RR_AREA) / RR_AREA
     assert np.all(np.diff(errors) < 0)  # every doubling of the samples comes closer
     assert errors[-1] < 0.002 and errors[0] > 0.5
@@ -182,5 +183,6 @@ def test_a_curved_surface_has_no_volume(tmp_path: Path) -> None:
     (tmp_path / "arm.csv").write_text("# units: deg\ntype,a,alpha,d,theta,lower,upper\nR,0.5,90,0,0,-90,90\n"
                                       "R,0.3,0,0,0,,\n")
     ws = workspace(get_arm(str(tmp_path / "arm.csv")), 50_000, jacobians=False)
+    # exact: a surface's volume is set to 0
     assert ws.dim == 3 and ws.motions == 2 and ws.volume == 0.0 and "curved surface" in ws.summary()["note"]
     assert ws.volume_voxels > 0  # the shell of voxels the surface crosses

@@ -1,0 +1,172 @@
+"""Helpers the test modules share (test modules never import each other; conftest.py holds only fixtures).
+
+The paper arms and their Drake plants, random configurations, the CLI run in this process, the files under
+tests/data/, and comparisons of numbers that reach a test by two different paths (a batch and a single call,
+another process, a file written by a worker): equal up to rounding, with the tolerance stated.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import functools
+import io
+import json
+import re
+import subprocess
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from armlab.models import ARMS, get_arm
+from armlab.models.arm import Arm
+
+ARM_NAMES = list(ARMS)
+#: tests/data/: the test URDFs and DH tables, named for what they are.
+DATA = Path(__file__).resolve().parent / "data"
+EPS = np.finfo(float).eps
+#: Numbers that another process (a reproduction's or a sweep's worker) wrote and this one recomputed: the same
+#: code on the same input, so equal in practice to the last digit; a different CPU's vectorised numpy paths may
+#: round a few ulps apart (≈ 1e-15 relative each), which 1e-12 relative / absolute covers many times over while
+#: staying far tighter than any number the tests check (1e-9 and looser).
+RECOMPUTED_RTOL = RECOMPUTED_ATOL = 1e-12
+_NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|[-+]?\b(?:nan|inf)\b")
+
+
+@functools.cache
+def arm_and_plant(name: str):
+    """(arm, plant, context) for a paper arm with default parameters, built once per session."""
+    arm = get_arm(name)
+    plant = arm.make_plant()
+    return arm, plant, plant.CreateDefaultContext()
+
+
+def random_q(arm: Arm, rng: np.random.Generator, size: int) -> np.ndarray:
+    """``size`` random configurations within the joint limits (unlimited joints: ±2π)."""
+    return rng.uniform(*arm.limit_arrays(unlimited=2 * np.pi), size=(size, arm.n))
+
+
+def armlab_main(*argv: str) -> subprocess.CompletedProcess:
+    """``armlab ARGV`` run in this process: ``armlab.cli.main`` (what the console script and ``python -m armlab``
+    call), its exit code, stdout and stderr (the real process's start and exit: test_cli_usage.py, test_signals.py).
+    A Dask cluster's or a reproduction's worker processes are real all the same."""
+    from armlab.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(argv))
+    return subprocess.CompletedProcess(["armlab", *argv], code, out.getvalue(), err.getvalue())
+
+
+def data(name: str) -> str:
+    """The text of ``tests/data/NAME`` (a test URDF or DH table)."""
+    return (DATA / name).read_text()
+
+
+def two_link_urdf(mass2: float = 0.5, mesh: str | None = None) -> str:
+    """A planar two-link arm as users write them: no <transmission>, optionally a mesh on link 2."""
+    visual = f'<visual><geometry><mesh filename="{mesh}"/></geometry></visual>' if mesh else ""
+    inertial = ("" if mass2 == 0 else f'<inertial><origin xyz="0.15 0 0"/><mass value="{mass2}"/>'
+                '<inertia ixx="1e-4" ixy="0" ixz="0" iyy="4e-3" iyz="0" izz="4e-3"/></inertial>')
+    return f"""<robot name="two">
+  <link name="base"/>
+  <link name="upper"><inertial><origin xyz="0.2 0 0"/><mass value="1"/>
+    <inertia ixx="1e-4" ixy="0" ixz="0" iyy="1.4e-2" iyz="0" izz="1.4e-2"/></inertial></link>
+  <link name="fore">{inertial}{visual}</link>
+  <link name="hand"/>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <joint name="wrist" type="fixed"><parent link="fore"/><child link="hand"/><origin xyz="0.3 0 0"/></joint>
+</robot>
+"""
+
+
+def assert_rounding_close(actual: ArrayLike, desired: ArrayLike, ulps: float) -> None:
+    """``actual`` = ``desired`` up to ``ulps`` units in the last place of ``desired``'s largest magnitude.
+
+    For the same numbers computed by two code paths that round differently (a batch and a single call go through
+    differently vectorised numpy loops; SIMD and fused multiply-adds differ between CPUs). Absolute, scaled by the
+    largest entry: the rounding of a sum or product is relative to its largest terms, so an entry near zero carries
+    the rounding of its neighbours' size, not its own. NaN must be NaN in both.
+    """
+    desired = np.asarray(desired, dtype=float)
+    scale = float(np.nanmax(np.abs(desired), initial=0.0))
+    np.testing.assert_allclose(actual, desired, rtol=0, atol=ulps * EPS * max(scale, np.finfo(float).tiny))
+
+
+def assert_same_numbers(actual, desired, rtol: float = RECOMPUTED_RTOL, atol: float = RECOMPUTED_ATOL,
+                        where: str = "") -> None:
+    """Two structures of the same shape (dicts, lists, tuples, dataclasses, strings, numbers; JSON, CSV rows)
+    equal: keys, text and integers exactly, floats within ``rtol`` / ``atol``, NaN only where NaN.
+
+    Strings are compared as text with numbers in it: the text between the numbers exactly, the numbers (decimal
+    notation as written by ``repr`` or a format) within the tolerance.
+    """
+    if hasattr(desired, "__dataclass_fields__"):
+        assert type(actual) is type(desired), f"{where}: {type(actual).__name__} is not {type(desired).__name__}"
+        for name in desired.__dataclass_fields__:
+            assert_same_numbers(getattr(actual, name), getattr(desired, name), rtol, atol, f"{where}.{name}")
+    elif isinstance(desired, dict):
+        assert isinstance(actual, dict) and actual.keys() == desired.keys(), f"{where}: keys {actual} ≠ {desired}"
+        for key in desired:
+            assert_same_numbers(actual[key], desired[key], rtol, atol, f"{where}[{key!r}]")
+    elif isinstance(desired, list | tuple):
+        assert isinstance(actual, list | tuple) and len(actual) == len(desired), f"{where}: {actual} ≠ {desired}"
+        for k, (a, d) in enumerate(zip(actual, desired, strict=True)):
+            assert_same_numbers(a, d, rtol, atol, f"{where}[{k}]")
+    elif isinstance(desired, str):
+        assert isinstance(actual, str), f"{where}: {actual!r} is not text"
+        assert _NUMBER.split(actual) == _NUMBER.split(desired), f"{where}: the text differs:\n{actual}\n{desired}"
+        found, expected = _NUMBER.findall(actual), _NUMBER.findall(desired)
+        assert len(found) == len(expected), f"{where}: {len(found)} numbers, not {len(expected)}"
+        np.testing.assert_allclose(np.array(found, float), np.array(expected, float), rtol=rtol, atol=atol,
+                                   err_msg=where)
+    elif isinstance(desired, bool | int | np.integer) or desired is None:
+        assert actual == desired and type(actual) is type(desired), f"{where}: {actual!r} ≠ {desired!r}"
+    else:
+        assert isinstance(actual, float | np.floating | np.ndarray), f"{where}: {actual!r} is not a number"
+        np.testing.assert_allclose(actual, desired, rtol=rtol, atol=atol, err_msg=where)
+
+
+def assert_same_file_contents(actual: Path, desired: Path) -> None:
+    """Two output files with the same contents up to rounding (:func:`assert_same_numbers`): JSON parsed, CSV read
+    as rows of cells, any other text as text with numbers in it."""
+    if desired.suffix == ".json":
+        a, d = (json.loads(p.read_text()) for p in (actual, desired))
+    elif desired.suffix == ".csv":
+        a, d = (list(csv.reader(io.StringIO(p.read_text()))) for p in (actual, desired))
+    else:
+        a, d = actual.read_text(), desired.read_text()
+    assert_same_numbers(a, d, where=desired.name)
+
+
+# ----------------------------------------------------------------------------------- design studies (sweeps)
+def write_study(folder: Path, study: dict, name: str = "study.json") -> Path:
+    """``study`` written as ``FOLDER/NAME`` (JSON)."""
+    path = folder / name
+    path.write_text(json.dumps(study))
+    return path
+
+
+def rows(folder: Path) -> dict[int, dict[str, str]]:
+    """A sweep's results.csv: candidate index → its row (column → cell text)."""
+    from armlab.analysis.sweep import RESULTS
+
+    with open(folder / RESULTS, newline="") as handle:
+        return {int(r["candidate"]): r for r in csv.DictReader(handle)}
+
+
+def objectives(folder: Path, columns: list[str]) -> dict[int, list[float]]:
+    """A sweep's results.csv: candidate index → the values of ``columns``."""
+    return {i: [float(r[c]) for c in columns] for i, r in rows(folder).items()}
+
+
+def assert_same_objectives(actual: dict[int, list[float]], desired: dict[int, list[float]]) -> None:
+    """Sweep results (candidate → objective values) computed in worker processes equal those computed here: the
+    same candidates exactly, the values up to :data:`RECOMPUTED_RTOL` (another process's rounding)."""
+    assert sorted(actual) == sorted(desired)
+    for i in desired:
+        np.testing.assert_allclose(actual[i], desired[i], rtol=RECOMPUTED_RTOL, atol=0, err_msg=f"candidate {i}")
