@@ -46,6 +46,7 @@ def test_a_sixth_arm_registers_itself_and_is_listed_after_them(arm1r):
     assert [line.split()[0] for line in lines] == ["rr", "rrrr", "arm4r", "r2t", "urm6", "arm1r"]
     assert lines[-1].startswith("arm1r  1 DOF  R      paper test: a one-joint arm")
     arm = armlab.load("arm1r", L=0.7)
+    # exact: the module's own constants, copied
     assert arm.name == "arm1r" and arm.parameters["L"] == 0.7
     with pytest.raises(ValueError, match="arm1r: unknown parameter 'L9'; allowed: L, m"):
         armlab.load("arm1r", L9=1.0)
@@ -77,10 +78,12 @@ def test_the_sixth_arms_paper_motion_and_scheme(arm1r, tmp_path):
     arm = armlab.load("arm1r")
     motion = armlab.paper_motion(arm)
     assert motion.description == "test: a quarter turn in 1 s"
+    # exact: the module's own numbers, copied
     np.testing.assert_array_equal(motion.segments[0].q_start, [-np.pi / 4])  # the module's own numbers, copied
     assert armlab.paper_motion(arm, tf=2.0).description == "test: a quarter turn in 2 s"
     with pytest.raises(ValueError, match=r"path 'abcd' is not available for arm1r; paths: rr: abcd"):
         armlab.paper_motion(arm, "abcd")
+    # exact: the module's drawn pose, copied
     np.testing.assert_array_equal(default_q(arm), [np.pi / 4])  # the module's drawn pose
     drawn = scheme(arm, default_q(arm))
     assert drawn.table_title.startswith("standard DH") and drawn.table == ["1: 0.5 m, 0°, 0 m, q1"]

@@ -120,6 +120,7 @@ def test_the_wheel_holds_the_examples_and_the_licence_and_works_outside_the_repo
             "armlab/analysis/studies/urm6_theta3_theta5.json", "armlab/models/urm6.urdf"} <= names
     licence = [n for n in names if n.endswith(".dist-info/licenses/LICENSE")]
     assert len(licence) == 1
+    # exact: the licence text, not numbers
     assert zipfile.ZipFile(wheel).read(licence[0]).decode() == (ROOT / "LICENSE").read_text()
     assert {n.split("/")[0] for n in names} == {"armlab", wheel.name.split("-py3")[0] + ".dist-info"}
 

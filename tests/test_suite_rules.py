@@ -29,12 +29,54 @@ PARSED = "exact by construction: a number parsed from the same decimal text as t
 ROUNDED = "np.round(x, k) is an integer over 10ᵏ, correctly rounded like the decimal literal: exact on any CPU"
 ZERO = "exact by construction: every term is a product with an exact zero (a planar arm's out-of-plane part)"
 IEEE = "one correctly rounded IEEE operation on the same operands: the same bits on any CPU"
+TEXT = "text, not numbers: equal or not on any CPU"
 DETERMINISM = "determinism: the same code on the same input in the same process"
 BOOLEAN = "booleans or integers, not floats"
 ZERO_RIM = "exact by construction: the closed form's values on the rims (what the test checks: 0 and ±π exactly)"
 
 #: (file, the comparison's first line of code, without its comment) → why it may be exact.
 ALLOWED: dict[tuple[str, str], str] = {
+    ('test_arm_extras.py', 'assert arm.name == "arm1r" and arm.parameters["L"] == 0.7'):
+        BY_CONSTRUCTION,
+    ('test_arm_extras.py', 'np.testing.assert_array_equal(default_q(arm), [np.pi / 4])'):
+        BY_CONSTRUCTION,
+    ('test_arm_extras.py', 'np.testing.assert_array_equal(motion.segments[0].q_start, [-np.pi / 4])'):
+        BY_CONSTRUCTION,
+    ('test_ik.py', 'np.testing.assert_array_equal(again, first)'):
+        DETERMINISM,
+    ('test_install.py', 'assert zipfile.ZipFile(wheel).read(licence[0]).decode() == (ROOT / "LICENSE").read_text()'):
+        TEXT,
+    ('test_install.py', 'np.testing.assert_array_equal(by_name.fk(q), by_path.fk(q))'):
+        DETERMINISM,
+    ('test_plant.py', 'assert PlantOptions("+x").gravity == (9.81, 0.0, 0.0)'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'assert PlantOptions("1,2,-3.5").gravity == (1.0, 2.0, -3.5)'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'assert PlantOptions("off").gravity == (0.0, 0.0, 0.0)'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'assert PlantOptions(payload=2).payload == 2.0'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'assert arm.make_plant().time_step() == 0.0'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'assert options.kp == (100.0, 50.0) and options.kd == 20.0 and options.plant.ideal_drives'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'assert plant.time_step() == 1e-3 and plant.num_discrete_state_groups() == 1'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'np.testing.assert_array_equal(PlantOptions().gravity_of(rr), [0, -9.81, 0])'):
+        BY_CONSTRUCTION,
+    ('test_plant.py',
+     'np.testing.assert_array_equal(body.default_rotational_inertia().CopyToFullMatrix3(), np.zeros((3, 3)))'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'np.testing.assert_array_equal(efforts, expected)'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'np.testing.assert_array_equal(in_order.MakeActuationMatrix(), np.eye(2))'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'np.testing.assert_array_equal(plant.MakeActuationMatrix(), np.eye(2))'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'np.testing.assert_array_equal(plant.gravity_field().gravity_vector(), [9.81, 0, 0])'):
+        BY_CONSTRUCTION,
+    ('test_plant.py', 'np.testing.assert_array_equal(plant.gravity_field().gravity_vector(), arm.gravity)'):
+        BY_CONSTRUCTION,
     ('test_api.py', 'assert armlab.load("urm6", theta3=0.5).parameters["theta3"] == 0.5'): PARSED,
     ('test_api.py', 'assert motion.duration == 3.0 and motion.joins() == [True]'): IEEE,
     ('test_custom.py', 'assert arm.link_names == ("upper", "fo\'re") and arm.links()[1]["mass"] == 0.5'): PARSED,
