@@ -121,9 +121,9 @@ class SimulationOptions:
 
     plant: PlantOptions = field(default_factory=functools.partial(PlantOptions, ideal_drives=True))
     mode: str = "controller"
-    kp: Gain = DEFAULT_KP
-    kd: Gain = DEFAULT_KD
-    ki: Gain = 0.0
+    kp: ArrayLike = DEFAULT_KP  # the gains as given; each kept as a Gain once checked (_gain)
+    kd: ArrayLike = DEFAULT_KD
+    ki: ArrayLike = 0.0
     log_period: float = DEFAULT_LOG_PERIOD
     sampling: str = "dense"
     accuracy: float = DEFAULT_ACCURACY
