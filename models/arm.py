@@ -275,7 +275,9 @@ class Arm:
 
         return check_range(as_batch(qd, self.n, "qd"), "qd"), check_range(as_batch(qdd, self.n, "qdd"), "qdd")
 
-    def manipulability(self, q: ArrayLike, axes: Literal["all", "trans", "rot"] | None = None) -> NDArray[np.float64] | float:
+    def manipulability(
+        self, q: ArrayLike, axes: Literal["all", "trans", "rot"] | None = None,
+    ) -> NDArray[np.float64] | float:
         """Yoshikawa's manipulability √det(J Jᵀ) of the tool: the product of the singular values of J's rows ``axes``.
 
         ``axes``: ``"trans"`` (rows v), ``"rot"`` (ω) or ``"all"``; default ``"all"`` for n ≥ 6, else ``"trans"``.
@@ -285,7 +287,9 @@ class Arm:
 
         return manipulability(self.jacobian(q), axes)
 
-    def sigma_min(self, q: ArrayLike, axes: Literal["all", "trans", "rot"] | None = None) -> NDArray[np.float64] | float:
+    def sigma_min(
+        self, q: ArrayLike, axes: Literal["all", "trans", "rot"] | None = None,
+    ) -> NDArray[np.float64] | float:
         """The smallest singular value of the tool Jacobian's rows ``axes`` (see :meth:`manipulability`)."""
         from armlab.kinematics.differential import sigma_min
 

@@ -107,7 +107,7 @@ def _job(task: Callable[..., Any], args: tuple, progress: Callable[[str], Any]) 
     return value, [(w.category, str(w.message)) for w in caught]
 
 
-class RemoteTraceback(Exception):
+class WorkerTracebackError(Exception):
     """A worker's traceback (its text): the cause of the worker's error raised again in the parent."""
 
 
@@ -290,7 +290,7 @@ class _Pool:
             self.idle.append(connection)
             if kind == "error":
                 error, remote = content
-                error.__cause__ = RemoteTraceback(remote)
+                error.__cause__ = WorkerTracebackError(remote)
                 raise error
             self.ended[key] = content
         self._dispatch()
