@@ -17,7 +17,7 @@ throughout. Every function raises ``ValueError`` with a one-line message naming 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -62,7 +62,8 @@ def through(arm: Arm, waypoints: ArrayLike, tf: float | Sequence[float]) -> Moti
     points = np.asarray(waypoints, dtype=float)
     if points.ndim != 2 or points.shape[0] < 2:
         raise ValueError(f"waypoints have shape {points.shape}; give at least two rows of {arm.n} joint values")
-    durations = np.broadcast_to(np.asarray(tf, dtype=float), (points.shape[0] - 1,)) if np.ndim(tf) == 0 else tf
+    durations = (list(tf) if isinstance(tf, Iterable) and np.ndim(tf) != 0
+                 else np.broadcast_to(np.asarray(tf, dtype=float), (points.shape[0] - 1,)))
     if len(durations) != points.shape[0] - 1:
         raise ValueError(f"tf has {len(durations)} values; {points.shape[0] - 1} segments need one each (or one tf)")
     segments = tuple(QuinticSegment(a, b, check_duration(t), f"{k + 1}")
@@ -74,7 +75,9 @@ def through(arm: Arm, waypoints: ArrayLike, tf: float | Sequence[float]) -> Moti
 
 def constant_rate(arm: Arm, q0: ArrayLike, rate: ArrayLike, tf: float) -> Motion:
     """Constant joint rates: q = q0 + ω t for ``tf`` s (paper 000's RRRR run, Figs. 18–19); ``rate`` in rad/s or m/s."""
-    motion = Motion((ConstantRate(q0, rate, check_duration(tf), "constant-rate"),), "constant joint rates")
+    # as ConstantRate reads them (its fields are the arrays it makes of them)
+    start, omega = np.asarray(q0, dtype=float), np.asarray(rate, dtype=float)
+    motion = Motion((ConstantRate(start, omega, check_duration(tf), "constant-rate"),), "constant joint rates")
     motion.check_limits(arm)
     return motion
 
@@ -117,11 +120,20 @@ def simulate(
     """
     from armlab.diagrams.plant import PlantOptions
     from armlab.diagrams.run import Run
-    from armlab.diagrams.simulate import SimulationOptions
+    from armlab.diagrams.simulate import (
+        DEFAULT_ACCURACY,
+        DEFAULT_KD,
+        DEFAULT_KP,
+        DEFAULT_LOG_PERIOD,
+        DIVERGENCE_TOLERANCE,
+        SimulationOptions,
+    )
     from armlab.diagrams.simulate import simulate as run_diagram
 
-    given = {"kp": kp, "kd": kd, "log_period": log_period, "accuracy": accuracy,
-             "divergence_tolerance": divergence_tolerance}  # None: the option's default
-    options = SimulationOptions(PlantOptions(gravity=gravity, payload=payload, ideal_drives=True), mode=mode, ki=ki,
-                                **{name: value for name, value in given.items() if value is not None})
+    options = SimulationOptions(  # None: the option's default
+        PlantOptions(gravity=gravity, payload=payload, ideal_drives=True), mode=mode,
+        kp=DEFAULT_KP if kp is None else kp, kd=DEFAULT_KD if kd is None else kd, ki=ki,
+        log_period=DEFAULT_LOG_PERIOD if log_period is None else log_period,
+        accuracy=DEFAULT_ACCURACY if accuracy is None else accuracy,
+        divergence_tolerance=DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance)
     return Run(run_diagram(arm, motion, options), options.divergence_tolerance)

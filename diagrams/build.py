@@ -118,15 +118,15 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     builder.Connect(source.get_output_port(), split.get_input_port())
     gains = (gain_vector(options.kp, n, "kp"), gain_vector(options.kd, n, "kd"), gain_vector(options.ki, n, "ki"))
     if mode == "controller":
-        control = add_inverse_dynamics_controller(builder, plant, model, *gains)
-        builder.Connect(split.get_output_port(0), control.get_input_port_desired_state())
-        builder.Connect(split.get_output_port(1), control.get_input_port_desired_acceleration())
-        torque_port = control.get_output_port_control()
+        controller = add_inverse_dynamics_controller(builder, plant, model, *gains)
+        builder.Connect(split.get_output_port(0), controller.get_input_port_desired_state())
+        builder.Connect(split.get_output_port(1), controller.get_input_port_desired_acceleration())
+        torque_port = controller.get_output_port_control()
     else:
-        control = add_inverse_dynamics(builder, plant, model)
-        builder.Connect(split.get_output_port(0), control.get_input_port_estimated_state())
-        builder.Connect(split.get_output_port(1), control.get_input_port_desired_acceleration())
-        torque_port = control.get_output_port_generalized_force()
+        inverse = add_inverse_dynamics(builder, plant, model)
+        builder.Connect(split.get_output_port(0), inverse.get_input_port_estimated_state())
+        builder.Connect(split.get_output_port(1), inverse.get_input_port_desired_acceleration())
+        torque_port = inverse.get_output_port_generalized_force()
 
     tool = builder.AddSystem(ToolPointKinematics(plant, plant.GetFrameByName(arm.tool_name)))
     builder.Connect(plant.get_state_output_port(), tool.get_input_port(0))

@@ -125,6 +125,7 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
 
     builder = DiagramBuilder()
     plant, scene_graph = add_arm_plant(builder, arm, PlantOptions(geometry=True))
+    assert scene_graph is not None, "add_arm_plant makes a scene graph for PlantOptions(geometry=True)"
     visualizer = MeshcatVisualizer.AddToBuilder(
         builder, scene_graph, meshcat,
         MeshcatVisualizerParams(publish_period=publish_period, default_color=_rgba(DEFAULT_RGBA)),

@@ -121,9 +121,9 @@ class SimulationOptions:
 
     plant: PlantOptions = field(default_factory=functools.partial(PlantOptions, ideal_drives=True))
     mode: str = "controller"
-    kp: Gain = DEFAULT_KP
-    kd: Gain = DEFAULT_KD
-    ki: Gain = 0.0
+    kp: ArrayLike = DEFAULT_KP  # the gains as given; each kept as a Gain once checked (_gain)
+    kd: ArrayLike = DEFAULT_KD
+    ki: ArrayLike = 0.0
     log_period: float = DEFAULT_LOG_PERIOD
     sampling: str = "dense"
     accuracy: float = DEFAULT_ACCURACY
@@ -205,7 +205,7 @@ def sample_times(duration: float, period: float) -> NDArray[np.float64]:
     Exactly the times periodic publish events happen at in Drake (k·period, offset 0) and the end
     sample :func:`run_simulator` adds when the period does not divide the duration.
     """
-    t = np.arange(_sample_count(duration, period)) * period
+    t = np.arange(_sample_count(duration, period), dtype=np.float64) * period
     t = t[t <= duration]
     return t if t[-1] >= duration - 1e-9 * period else np.append(t, duration)
 
@@ -378,7 +378,7 @@ def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY,
             run.diagram.ForcedPublish(context)  # the period does not divide the duration: log the end too
         return _logged(run, context)
     t = sample_times(motion.duration, run.log_period)
-    made = log_samples(run, t, integrator.StopDenseIntegration().vector_values(t).T, *rows)
+    made = log_samples(run, t, integrator.StopDenseIntegration().vector_values(t.tolist()).T, *rows)
     run.diagram.ForcedPublish(context)  # the loggers' one sample: the diagram's own outputs at the end
     _check_end(run, _logged(run, context), made)
     return {"t": t, **made}
@@ -401,7 +401,7 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
     check_work(motion, log_period, mode)
     n = arm.n
     parts: list[dict[str, Any]] = []
-    first: Diagram | None = None
+    diagrams: list[Diagram] = []  # the first run's diagram, kept for the log
     wall = 0.0
     first_segment = 0
     watch = _Watch(arm.name, motion.duration, accuracy)
@@ -409,10 +409,10 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
         for k, (start, piece) in enumerate(motion.runs()):
             run = build_diagram(arm, piece, options)
             if k == 0:
-                first = run.diagram
+                diagrams.append(run.diagram)
             watch.offset = start
             began = time.perf_counter()
-            data = run_simulator(run, accuracy, watch)
+            data: dict[str, NDArray] = run_simulator(run, accuracy, watch)
             wall += time.perf_counter() - began
             data["run"] = np.full(data["t"].shape, k)
             data["segment"] = first_segment + piece.segment_index(data["t"])
@@ -430,7 +430,7 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
         accuracy=accuracy, t=cat("t"), run=cat("run"), segment=cat("segment"),
         q_ref=reference[:, :n], qd_ref=reference[:, n:2 * n], qdd_ref=reference[:, 2 * n:],
         q=state[:, :n], qd=state[:, n:], tau=cat("torque"), tool=cat("tool"),
-        run_starts=[start for start, _ in motion.runs()], wall_time=wall, diagram=first,
+        run_starts=[start for start, _ in motion.runs()], wall_time=wall, diagram=diagrams[0],
     )
 
 

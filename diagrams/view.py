@@ -86,7 +86,7 @@ class Viewer:
 
         self.scene = build_scene(arm, self.meshcat, extra=add_sliders)
         self.sliders = holder.get("sliders")
-        self._sliders_context = None if deg else self.sliders.GetMyContextFromRoot(self.scene.context)
+        self._sliders_context = None if self.sliders is None else self.sliders.GetMyContextFromRoot(self.scene.context)
         if deg:
             scale = np.where(arm.revolute, 180 / np.pi, 1.0)
             for name, r, lo, hi, value in zip(self.slider_names, arm.revolute, np.minimum(lower, q0) * scale,
@@ -115,7 +115,7 @@ class Viewer:
 
     def _read_sliders(self) -> NDArray[np.float64]:
         """The sliders' values as joint values q (rad, m), in joint order."""
-        if not self.deg:
+        if self.sliders is not None:  # radians: Drake's JointSliders (None with deg)
             return np.asarray(self.sliders.get_output_port().Eval(self._sliders_context))
         values = np.array([self.meshcat.GetSliderValue(name) for name in self.slider_names])
         return np.where(self.arm.revolute, np.radians(values), values)

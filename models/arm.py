@@ -13,7 +13,7 @@ import hashlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -145,7 +145,7 @@ class Arm:
 
         q = as_batch(q, self.n, name)
         for i, (row, lim) in enumerate(zip(self.table.rows, self.limits, strict=True)):
-            if lim.lower is None:
+            if lim.lower is None or lim.upper is None:  # an unlimited revolute joint has neither
                 continue
             values = q[..., i]
             bad = (values < lim.lower - 1e-12) | (values > lim.upper + 1e-12)
@@ -285,7 +285,9 @@ class Arm:
 
         return check_range(as_batch(qd, self.n, "qd"), "qd"), check_range(as_batch(qdd, self.n, "qdd"), "qdd")
 
-    def manipulability(self, q: ArrayLike, axes: str | None = None) -> NDArray[np.float64] | float:
+    def manipulability(
+        self, q: ArrayLike, axes: Literal["all", "trans", "rot"] | None = None,
+    ) -> NDArray[np.float64] | float:
         """Yoshikawa's manipulability √det(J Jᵀ) of the tool: the product of the singular values of J's rows ``axes``.
 
         ``axes``: ``"trans"`` (rows v), ``"rot"`` (ω) or ``"all"``; default ``"all"`` for n ≥ 6, else ``"trans"``.
@@ -295,7 +297,9 @@ class Arm:
 
         return manipulability(self.jacobian(q), axes)
 
-    def sigma_min(self, q: ArrayLike, axes: str | None = None) -> NDArray[np.float64] | float:
+    def sigma_min(
+        self, q: ArrayLike, axes: Literal["all", "trans", "rot"] | None = None,
+    ) -> NDArray[np.float64] | float:
         """The smallest singular value of the tool Jacobian's rows ``axes`` (see :meth:`manipulability`)."""
         from armlab.kinematics.differential import sigma_min
 

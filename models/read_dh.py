@@ -24,6 +24,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal, TypeGuard
 
 import numpy as np
 from numpy.typing import NDArray
@@ -41,6 +42,7 @@ _COM_COLUMNS = ("cx", "cy", "cz")
 _INERTIA_COLUMNS = ("Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz")
 _OPTIONAL_COLUMNS = ("mass", *_COM_COLUMNS, *_INERTIA_COLUMNS, "effort", "velocity")
 _DIRECTIVES = {"convention": ("standard", "modified"), "units": ("rad", "deg")}
+_KINDS: tuple[Literal["R", "T"], ...] = ("R", "T")
 
 
 @dataclass(frozen=True)
@@ -96,6 +98,11 @@ def _columns(path: Path, fieldnames: Sequence[str] | None) -> list[str]:
     return list(_DH_COLUMNS) + extra
 
 
+def _is_kind(text: str) -> TypeGuard[Literal["R", "T"]]:
+    """Is ``text`` a joint type of the table (R revolute, T prismatic)?"""
+    return text in _KINDS
+
+
 def _angle(value: float, deg: bool, what: str) -> float:
     """``value`` in radians; in a radian table, a value that can only be degrees is an error."""
     if deg:
@@ -139,7 +146,7 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
         record = {k: v.strip() for k, v in zip(columns, values, strict=True)}
         where = f"{path}: row {number}"
         kind = record["type"].upper()
-        if kind not in ("R", "T"):
+        if not _is_kind(kind):
             raise ValueError(f"{where}: type {record['type']!r} is not allowed (R or T)")
         a, alpha, d, theta = (file_number(record[k], f"{where}: {k}") for k in ("a", "alpha", "d", "theta"))
         rows.append(DHRow(a, _angle(alpha, deg, f"{where}: alpha"), d, _angle(theta, deg, f"{where}: theta"), kind))
@@ -162,7 +169,8 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
             inertials.append(_dh_inertial(record, where))
     if not rows:
         raise ValueError(f"{path}: the DH table has no rows")
-    table = DHTable(tuple(rows), settings.get("convention", "standard"))
+    # _header_comments let only "standard" or "modified" through; absent is standard
+    table = DHTable(tuple(rows), "modified" if settings.get("convention") == "modified" else "standard")
     return table, limits, inertials if "mass" in columns else None
 
 
@@ -192,7 +200,8 @@ def from_dh(
     """
     locating = table.locating_table()
     n = table.n
-    has_dynamics = inertials is not None and any(body.mass > 0 for body in inertials)
+    inertials = inertials or ()  # None: a kinematic arm
+    has_dynamics = any(body.mass > 0 for body in inertials)
     bodies = tuple(Body(0.0, 0.03) for _ in range(n))
     if has_dynamics:
         if len(inertials) != n:
@@ -225,7 +234,8 @@ def _moved(body: DHInertial, X: NDArray) -> Body:
     R = X[:3, :3]
     com = R @ np.asarray(body.com) + X[:3, 3]
     inertia = R @ np.asarray(body.inertia) @ R.T
-    return Body(body.mass, 0.03, com=tuple(map(float, com)), inertia=tuple(map(tuple, inertia.tolist())))
+    return Body(body.mass, 0.03, com=(float(com[0]), float(com[1]), float(com[2])),
+                inertia=tuple(map(tuple, inertia.tolist())))
 
 
 def from_dh_csv(path: str | Path) -> Arm:

@@ -13,6 +13,7 @@ and mesh files (and the files a mesh pulls in) outside the URDF's folder or its 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -90,25 +91,39 @@ def _named(path: Path, elements: list[ET.Element], what: str) -> dict[str, ET.El
     return out
 
 
-def _tree(path: Path, links: dict[str, ET.Element], joints: dict[str, ET.Element]) -> tuple[str, dict]:
+@dataclass(frozen=True)
+class _Joint:
+    """A ``<joint>`` element checked by :func:`_tree`: its name, type and the link it moves."""
+
+    element: ET.Element
+    name: str
+    kind: str
+    child: str
+
+
+def _tree(path: Path, links: dict[str, ET.Element],
+          joints: dict[str, ET.Element]) -> tuple[str, dict[str, list[_Joint]]]:
     """The root link and each link's child joints; a URDF whose joints are not one tree is an error."""
-    children: dict[str, list[ET.Element]] = {name: [] for name in links}
+    children: dict[str, list[_Joint]] = {name: [] for name in links}
     parent_of: dict[str, str] = {}
     for name, joint in joints.items():
         kind = joint.get("type")
         if kind not in _JOINT_TYPES:
             raise ValueError(f"{path}: joint {name!r} has type {kind!r}; allowed: {', '.join(_JOINT_TYPES)}")
-        if joint.find("mimic") is not None:
-            raise ValueError(f"{path}: joint {name!r} mimics joint {joint.find('mimic').get('joint')!r}: mimic "
+        mimic = joint.find("mimic")
+        if mimic is not None:
+            raise ValueError(f"{path}: joint {name!r} mimics joint {mimic.get('joint')!r}: mimic "
                              "joints are not supported (each joint of an armlab arm moves independently)")
         parent, child = joint.find("parent"), joint.find("child")
-        if parent is None or child is None or parent.get("link") not in links or child.get("link") not in links:
+        parent_link = None if parent is None else parent.get("link")
+        child_link = None if child is None else child.get("link")
+        if parent_link is None or child_link is None or parent_link not in links or child_link not in links:
             raise ValueError(f"{path}: joint {name!r} needs a <parent> and <child> naming links")
-        if child.get("link") in parent_of:
-            raise ValueError(f"{path}: link {child.get('link')!r} is the child of joints "
-                             f"{parent_of[child.get('link')]!r} and {name!r}: a URDF's joints form a tree")
-        parent_of[child.get("link")] = name
-        children[parent.get("link")].append(joint)
+        if child_link in parent_of:
+            raise ValueError(f"{path}: link {child_link!r} is the child of joints "
+                             f"{parent_of[child_link]!r} and {name!r}: a URDF's joints form a tree")
+        parent_of[child_link] = name
+        children[parent_link].append(_Joint(joint, name, kind, child_link))
     roots = [name for name in links if name not in parent_of]
     if len(roots) != 1:
         if not roots:
@@ -116,9 +131,9 @@ def _tree(path: Path, links: dict[str, ET.Element], joints: dict[str, ET.Element
         raise ValueError(f"{path}: a serial arm has one root link, found {roots}")
     reached, stack = {roots[0]}, [roots[0]]
     while stack:
-        for joint in children[stack.pop()]:
-            reached.add(joint.find("child").get("link"))
-            stack.append(joint.find("child").get("link"))
+        for below in children[stack.pop()]:
+            reached.add(below.child)
+            stack.append(below.child)
     if len(reached) != len(links):
         cycle = sorted(set(links) - reached)
         raise ValueError(f"{path}: the joints form a cycle through link(s) {', '.join(map(repr, cycle[:5]))}, "
@@ -126,16 +141,16 @@ def _tree(path: Path, links: dict[str, ET.Element], joints: dict[str, ET.Element
     return roots[0], children
 
 
-def _moving_below(root: str, children: dict[str, list[ET.Element]]) -> dict[str, bool]:
+def _moving_below(root: str, children: dict[str, list[_Joint]]) -> dict[str, bool]:
     """For each link: does a movable joint lie below it (iteratively: chains may be long)?"""
     order, stack = [], [root]
     while stack:
         link = stack.pop()
         order.append(link)
-        stack.extend(j.find("child").get("link") for j in children[link])
+        stack.extend(j.child for j in children[link])
     below: dict[str, bool] = {}
     for link in reversed(order):
-        below[link] = any(j.get("type") != "fixed" or below[j.find("child").get("link")] for j in children[link])
+        below[link] = any(j.kind != "fixed" or below[j.child] for j in children[link])
     return below
 
 
@@ -160,7 +175,7 @@ def _link_inertial(path: Path, link: ET.Element) -> tuple[float, NDArray, NDArra
     return mass, X[:3, 3], X[:3, :3] @ inertia @ X[:3, :3].T
 
 
-def _rigid_body(path: Path, links: dict[str, ET.Element], children: dict, link: str) -> Body:
+def _rigid_body(path: Path, links: dict[str, ET.Element], children: dict[str, list[_Joint]], link: str) -> Body:
     """The mass properties of ``link`` and every link welded to it by fixed joints, in ``link``'s frame."""
     parts, stack = [], [(link, np.eye(4))]
     while stack:
@@ -168,14 +183,15 @@ def _rigid_body(path: Path, links: dict[str, ET.Element], children: dict, link: 
         mass, com, inertia = _link_inertial(path, links[name])
         if mass > 0:
             parts.append((mass, X[:3, :3] @ com + X[:3, 3], X[:3, :3] @ inertia @ X[:3, :3].T))
-        stack.extend((j.find("child").get("link"), X @ _pose(j, f"{path}: joint {j.get('name')!r}"))
-                     for j in children[name] if j.get("type") == "fixed")
+        stack.extend((j.child, X @ _pose(j.element, f"{path}: joint {j.name!r}"))
+                     for j in children[name] if j.kind == "fixed")
     if not parts:
         return Body(0.0, 0.03)
     mass = sum(m for m, _, _ in parts)
     com = sum(m * c for m, c, _ in parts) / mass
     inertia = sum(I + m * ((c - com) @ (c - com) * np.eye(3) - np.outer(c - com, c - com)) for m, c, I in parts)
-    return Body(mass, 0.03, com=tuple(map(float, com)), inertia=tuple(map(tuple, inertia.tolist())))
+    return Body(mass, 0.03, com=(float(com[0]), float(com[1]), float(com[2])),
+                inertia=tuple(map(tuple, inertia.tolist())))
 
 
 def _joint_limits(path: Path, joint: ET.Element) -> JointLimits:
@@ -213,11 +229,12 @@ def from_urdf(path: str | Path) -> Arm:
     moving_below = _moving_below(base, children)
     check_meshes(path, root, package_roots(path))
 
-    rows, limits, bodies, names, points = [], [], [], [], []
+    rows: list[JointRow] = []
+    limits, bodies, names, points = [], [], [], []
     carried = np.eye(4)
     link = base
     while children[link]:
-        moving = [j for j in children[link] if j.get("type") != "fixed" or moving_below[j.find("child").get("link")]]
+        moving = [j for j in children[link] if j.kind != "fixed" or moving_below[j.child]]
         if len(moving) > 1:
             raise ValueError(
                 f"{path}: link {link!r} branches into {len(moving)} moving chains; armlab takes serial arms"
@@ -225,21 +242,22 @@ def from_urdf(path: str | Path) -> Arm:
         # side branches of fixed joints are named points; past the last joint the first is the tool
         joint, *side = moving or children[link]
         for other in side + [j for j in children[link] if j not in moving and j is not joint]:
-            T = carried @ _pose(other, f"{path}: joint {other.get('name')!r}")
-            points.append(Point(other.find("child").get("link"), len(rows), tuple(T[:3, 3])))
-        name, kind = joint.get("name"), joint.get("type")
-        T = carried @ _pose(joint, f"{path}: joint {name!r}")
-        link = joint.find("child").get("link")
+            T = carried @ _pose(other.element, f"{path}: joint {other.name!r}")
+            points.append(Point(other.child, len(rows), tuple(T[:3, 3])))
+        name, kind = joint.name, joint.kind
+        T = carried @ _pose(joint.element, f"{path}: joint {name!r}")
+        link = joint.child
         if kind == "fixed":
             carried = T
             continue
-        axis = _vector(joint.find("axis").get("xyz") if joint.find("axis") is not None else None,
+        axis_element = joint.element.find("axis")
+        axis = _vector(axis_element.get("xyz") if axis_element is not None else None,
                        f"{path}: joint {name!r} axis", "1 0 0")
         if np.linalg.norm(axis) < 1e-12:
             raise ValueError(f"{path}: joint {name!r} has a zero axis")
         rows.append(JointRow(name, "T" if kind == "prismatic" else "R", tuple(T[:3, 3]),
                              tuple(axis / np.linalg.norm(axis)), tuple(map(tuple, T[:3, :3]))))
-        limits.append(_joint_limits(path, joint))
+        limits.append(_joint_limits(path, joint.element))
         bodies.append(_rigid_body(path, links, children, link))
         names.append(link)
         carried = np.eye(4)

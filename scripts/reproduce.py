@@ -19,6 +19,7 @@ import shutil
 import signal
 import threading
 import time
+import traceback
 import warnings
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
@@ -26,7 +27,6 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing import resource_tracker
 from multiprocessing.connection import Connection, wait
-from multiprocessing.pool import ExceptionWithTraceback, MaybeEncodingError
 from pathlib import Path
 from typing import Any
 
@@ -105,10 +105,20 @@ def _job(task: Callable[..., Any], args: tuple, progress: Callable[[str], Any]) 
     return value, [(w.category, str(w.message)) for w in caught]
 
 
+class WorkerTracebackError(Exception):
+    """A worker's traceback (its text): the cause of the worker's error raised again in the parent."""
+
+
+def _error_end(error: Exception) -> tuple[str, tuple[Exception, str]]:
+    """A task's end for an error: ``("error", (error, its traceback in the worker))``."""
+    return "error", (error, '\n"""\n' + "".join(traceback.format_exception(error)) + '"""')
+
+
 def _worker(connection: Connection) -> None:
     """A worker process: runs each ``(task, args)`` the parent sends on ``connection`` (:func:`_job`) until the
     parent closes it. It sends back each progress line, ``("line", text)``, then the task's end, ``("value",
-    (value, warnings))`` or ``("error", exception)``: one pipe, so a task's lines precede its end.
+    (value, warnings))`` or ``("error", (exception, traceback))`` (:func:`_error_end`): one pipe, so a task's
+    lines precede its end.
 
     Ctrl-C is the parent's to handle (it stops the workers): ignored here, and blocked until then (since the
     process started, :func:`_ctrl_c_blocked`). tqdm's bars (the simulations') share a thread lock
@@ -132,11 +142,11 @@ def _worker(connection: Connection) -> None:
         try:
             end: tuple[str, Any] = ("value", _job(task, args, progress))
         except Exception as error:  # raised again in the parent, with this traceback as its cause
-            end = ("error", ExceptionWithTraceback(error, error.__traceback__))
+            end = _error_end(error)
         try:
             connection.send(end)
         except Exception as error:  # a value or an exception that pickle cannot carry
-            connection.send(("error", MaybeEncodingError(error, end[1])))
+            connection.send(_error_end(RuntimeError(f"Error sending result: '{end[1]!r}'. Reason: '{error!r}'")))
 
 
 def _paper(paper: str, folder: Path, fast: bool, progress: Callable[[str], Any]
@@ -265,7 +275,8 @@ class _Pool:
     def _receive(self) -> None:
         """Wait for the workers' next messages: progress lines passed on, ended tasks kept, a task's error raised;
         a worker that ended is a ``ChildProcessError``."""
-        for connection in wait(list(self.workers)):
+        ready = wait(list(self.workers))
+        for connection in [c for c in self.workers if c in ready]:  # wait gives back the objects it was given
             try:
                 kind, content = connection.recv()
             except EOFError:
@@ -276,7 +287,9 @@ class _Pool:
             key = self.running.pop(connection)
             self.idle.append(connection)
             if kind == "error":
-                raise content
+                error, remote = content
+                error.__cause__ = WorkerTracebackError(remote)
+                raise error
             self.ended[key] = content
         self._dispatch()
 
