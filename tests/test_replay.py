@@ -22,8 +22,9 @@ import pytest
 from helpers import ARM_NAMES, data
 from replay_pictures import assert_shows_arm_moving, image, screenshots, solid
 
+from armlab.cli.view import register
 from armlab.diagrams.replay import JOIN_PAUSE, MAX_FPS, MAX_FRAMES, display_rotation, write_replay
-from armlab.diagrams.view import Viewer, open_meshcat, register, run_view
+from armlab.diagrams.view import Viewer, open_meshcat, run_view
 from armlab.models import get_arm
 
 
