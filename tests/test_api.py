@@ -117,6 +117,7 @@ def test_motions_through_waypoints_and_constant_rate():
     np.testing.assert_allclose(rate.evaluate([2.0])[0], [[2, 0.2, 0.2, 0.2]])
 
 
+@pytest.mark.slow
 def test_simulate_returns_a_run_whose_torques_are_the_inverse_dynamics(tmp_path):
     arm = armlab.load("rr")
     run = armlab.simulate(arm, armlab.quintic(arm, [0.0, 0.5], [1.0, 1.0], 1.0), payload=0.5)
@@ -147,6 +148,7 @@ def test_kinematic_arm_refuses_torques(tmp_path):
         armlab.simulate(arm, armlab.quintic(arm, [0, 0], [1, 1], 1.0))
 
 
+@pytest.mark.slow
 def test_limit_violations_warn_and_strict_limits_exit_3(tmp_path, capsys):
     """A two-link URDF with a 10 kg payload in 0.3 s needs far more than its 50 N·m and 3 rad/s."""
     path = tmp_path / "two_link.urdf"
@@ -164,6 +166,7 @@ def test_limit_violations_warn_and_strict_limits_exit_3(tmp_path, capsys):
     assert "limit violation(s) (--strict-limits)" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_open_loop_run_that_leaves_the_reference_is_diverged(tmp_path, capsys):
     """rrrr's 15 s constant-rate run in open-loop inverse dynamics drifts away (tracking error of radians)."""
     code = main(["simulate", "rrrr", "--mode", "inverse_dynamics", "--out", str(tmp_path / "r")])

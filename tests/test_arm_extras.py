@@ -74,6 +74,7 @@ def test_the_sixth_arms_closed_form_is_used(arm1r, monkeypatch, rng):
             arm.ik(arm.fk([0.3])[:3, 3], pitch=0.2)
 
 
+@pytest.mark.slow
 def test_the_sixth_arms_paper_motion_and_scheme(arm1r, tmp_path):
     arm = armlab.load("arm1r")
     motion = armlab.paper_motion(arm)

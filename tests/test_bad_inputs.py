@@ -430,6 +430,7 @@ _segment = st.fixed_dictionaries({}, optional={
 })
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.one_of(_json, st.fixed_dictionaries({"segments": st.lists(_segment, max_size=3)},
                                               optional={"deg": _json})))
@@ -449,6 +450,7 @@ _cell = st.one_of(st.sampled_from(["", "R", "T", "r", "0", "0.5", "-1", "90", "1
 _dh_lines = st.lists(st.lists(_cell, min_size=0, max_size=8).map(",".join), max_size=6)
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.sampled_from(["type,a,alpha,d,theta,lower,upper", "type,a,alpha,d,theta,lower,upper,mass",
                         "a,b", "", "# units: deg\ntype,a,alpha,d,theta,lower,upper"]), _dh_lines)
@@ -488,6 +490,7 @@ _study = _near_valid_study | st.fixed_dictionaries(
 )
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(_study)
 def test_load_study_property(tmp_path, data):

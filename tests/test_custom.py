@@ -72,6 +72,7 @@ def armlab_cli(*argv: str) -> int:
     return main(list(argv))
 
 
+@pytest.mark.slow
 def test_user_urdf_without_transmissions_simulates(tmp_path, capsys):
     """Every joint gets an actuator; the run tracks and its torques are Drake's inverse dynamics."""
     path = tmp_path / "two.urdf"
@@ -469,6 +470,7 @@ def test_malformed_files(tmp_path, name, text, message):
         get_arm(str(path))
 
 
+@pytest.mark.slow
 def test_a_long_fixed_chain_needs_no_recursion(tmp_path):
     """10,000 fixed joints after the last joint (the tool at their end) load without a RecursionError."""
     names = " ".join(["a", "b"] + [f"f{i}" for i in range(10_000)])

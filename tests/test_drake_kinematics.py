@@ -51,6 +51,7 @@ def _drake_motion(plant, ctx, bodies, q, qd, qdd):
     return rows
 
 
+@pytest.mark.slow
 def test_iterative_algorithm_matches_drake_per_link(arm_name, rng):
     """Paper 003 eqs. (24)–(31) for every link and the tool, in {0} and in the link's own frame."""
     arm, plant, ctx = arm_and_plant(arm_name)

@@ -63,6 +63,7 @@ def test_dh_arms_show_the_dh_table_and_locating_arms_theirs():
     assert "R: 15° about (0, 1, 0)" in urm6.table[1]  # the module's fixed bend θ2
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("convention", ["standard", "modified"])
 def test_a_users_dh_table_is_drawn_in_its_own_convention(tmp_path, convention):
     csv = tmp_path / "my_arm.csv"
@@ -86,6 +87,7 @@ def test_planar_arm_is_seen_face_on_and_a_spatial_one_obliquely():
     assert 10 < elevation < 60
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ARM_NAMES)
 def test_draw_writes_a_picture_of_every_paper_arm(tmp_path, name):
     arm = get_arm(name)
@@ -100,6 +102,7 @@ def test_draw_writes_a_picture_of_every_paper_arm(tmp_path, name):
     assert [p.name for p in tmp_path.iterdir()] == [f"{name}.png"]
 
 
+@pytest.mark.slow
 def test_draw_command_and_its_errors(tmp_path):
     from armlab.cli import main
 

@@ -104,6 +104,7 @@ def test_fk_of_ik_returns_100_random_targets(name: str, rng: np.random.Generator
             assert any(same_modulo_2pi(arm, s, q) for s in solutions), f"{q} not among {solutions}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ARM_NAMES)
 def test_best_solution_is_nearest_to_near(name: str, rng: np.random.Generator) -> None:
     arm = get_arm(name)
@@ -130,6 +131,7 @@ def in_limit_q(draw: st.DrawFn, name: str) -> np.ndarray:
     return np.array(values)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ARM_NAMES)
 @settings(max_examples=25, deadline=None)
 @given(data=st.data())
@@ -438,6 +440,7 @@ def puma560(limited: bool = False):
     return from_dh(table, [JointLimits(None, None, 10.0, 1.0)] * 6, name="puma560")
 
 
+@pytest.mark.slow
 def test_puma560_all_eight_branches(rng: np.random.Generator) -> None:
     """A 6R arm with a spherical wrist: 4 arm branches (shoulder, elbow) × 2 wrist flips for generic poses.
 
@@ -458,6 +461,7 @@ def test_puma560_all_eight_branches(rng: np.random.Generator) -> None:
         assert same_modulo_2pi(arm, nearest, q)
 
 
+@pytest.mark.slow
 def test_puma560_within_its_joint_limits(rng: np.random.Generator) -> None:
     """With the Robotics Toolbox's limits the solver returns exactly those of the 8 branches that fit the limits
     (by fit_limits, 2π shifts allowed): the search within the limits loses none of them."""
@@ -503,6 +507,7 @@ def rotation_rpy(R: np.ndarray) -> np.ndarray:
     return RollPitchYaw(RotationMatrix(R)).vector()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ARM_NAMES)
 def test_full_pose_of_random_configurations(name: str, rng: np.random.Generator) -> None:
     """Every paper arm, full-pose targets from FK of random configurations: all solutions reach the pose, and the
@@ -515,6 +520,7 @@ def test_full_pose_of_random_configurations(name: str, rng: np.random.Generator)
         assert any(same_modulo_2pi(arm, s, q) for s in solutions), f"{q} not among {solutions}"
 
 
+@pytest.mark.slow
 def test_urm6_full_pose_branches_are_distinct(rng: np.random.Generator) -> None:
     arm = get_arm("urm6")
     for q in random_q(arm, rng, 5):
@@ -585,6 +591,7 @@ def shoulder_arm():
     return from_dh(table, [JointLimits(None, None, 10.0, 1.0)] * 3, name="shoulder3")
 
 
+@pytest.mark.slow
 def test_three_dof_dh_arm_both_elbow_branches(rng: np.random.Generator) -> None:
     """Four branches: elbow flip (θ2 + θ3, −θ3 for equal links) and reaching over (θ1 + π, π − θ2, −θ3) of each."""
     arm = shoulder_arm()
@@ -687,6 +694,7 @@ def test_cli_help_says_what_all_means_for_a_numerical_arm() -> None:
     assert "R = Rz(yaw)·Ry(pitch)·Rx(roll) as in URDF" in text
 
 
+@pytest.mark.slow
 def test_urm6_every_solution_drakes_ik_finds_is_among_ours(rng: np.random.Generator) -> None:
     """Drake's InverseKinematics (position and orientation constraints on the tool frame, SNOPT/IPOPT) from 64
     random starts: each solution it reports lies within Drake's own accuracy (a few mrad) of one of ours, and our

@@ -60,6 +60,7 @@ def test_an_unknown_example_is_a_one_line_error_naming_the_examples():
 
 
 # --------------------------------------------------------------------------- without graphviz's dot
+@pytest.mark.slow
 def test_simulate_without_dot_writes_all_but_the_svgs_with_one_warning(tmp_path, monkeypatch, no_dot):
     monkeypatch.chdir(tmp_path)
     out = armlab_main("simulate", "example:arm3r", "--from", "0,0,0", "--to", "10,10,10", "--deg", "--tf", "0.2",
@@ -72,6 +73,7 @@ def test_simulate_without_dot_writes_all_but_the_svgs_with_one_warning(tmp_path,
     assert "digraph" in (tmp_path / "runs" / "arm3r" / "diagram.dot").read_text()
 
 
+@pytest.mark.slow
 def test_run_save_without_dot_warns_once_and_writes_the_rest(tmp_path, no_dot):
     arm = armlab.load("example:arm3r")
     run = armlab.simulate(arm, armlab.quintic(arm, np.zeros(3), np.radians([10.0, 10.0, 10.0]), tf=0.2))

@@ -120,6 +120,7 @@ def test_only_the_cli_imports_the_cli_and_argparse():
     assert not bad, "library modules import the command line:\n" + "\n".join(bad)
 
 
+@pytest.mark.slow
 def test_no_module_imports_a_program():
     """The benchmarks allowed argparse above are programs only: no module imports one."""
     modules = _modules()

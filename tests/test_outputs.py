@@ -89,6 +89,7 @@ OUTPUT_FILES = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("setup", "argv", "code", "fragment", "outputs"), OUTPUT_FOLDERS + OUTPUT_FILES,
                          ids=lambda v: " ".join(v)[:50] if isinstance(v, tuple) else getattr(v, "__name__", None))
 def test_outputs(box, setup, argv, code, fragment, outputs):

@@ -125,6 +125,7 @@ def shown_limits(ax, log, kind: str, values: np.ndarray) -> list[str]:
     return out
 
 
+@pytest.mark.slow
 def test_plots_show_every_known_limit_drawn_or_noted_off_the_scale():
     import matplotlib.pyplot as plt
 
@@ -160,6 +161,7 @@ def test_plots_show_every_known_limit_drawn_or_noted_off_the_scale():
     plt.close("all")
 
 
+@pytest.mark.slow
 def test_closed_path_shows_start_and_end_and_3d_paths_are_to_scale(tmp_path):
     import matplotlib.pyplot as plt
 
@@ -180,6 +182,7 @@ def test_closed_path_shows_start_and_end_and_3d_paths_are_to_scale(tmp_path):
     assert [p.name for p in write_plots(log, tmp_path)] == list(PLOTS)
 
 
+@pytest.mark.slow
 def test_a_tool_standing_still_plots_without_warnings(tmp_path):
     """A hold (zero-extent tool path, constant curves) used to warn 'identical low and high ylims'."""
     import warnings

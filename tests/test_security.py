@@ -49,6 +49,7 @@ def _plant_tool(arm, q) -> np.ndarray:
     return plant.CalcRelativeTransform(ctx, plant.world_frame(), plant.GetFrameByName(arm.tool_name)).translation()
 
 
+@pytest.mark.slow
 def test_tampering_a_planted_urdf_is_never_loaded(tmp_path, private_tmp, capsys):
     path = _arm_file(tmp_path)
     arm = get_arm(str(path))
@@ -69,6 +70,7 @@ def test_tampering_a_planted_urdf_is_never_loaded(tmp_path, private_tmp, capsys)
     assert sorted(p.name for p in cache.iterdir()) == sorted(_old_cache_names(arm.urdf(), arm.name))
 
 
+@pytest.mark.slow
 def test_symlink_no_write_through_a_planted_link(tmp_path, private_tmp, capsys):
     path = _arm_file(tmp_path)
     arm = get_arm(str(path))
@@ -85,6 +87,7 @@ def test_symlink_no_write_through_a_planted_link(tmp_path, private_tmp, capsys):
     assert victim.read_text() == "root's file\n"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("blocker", ["read-only folder", "a file"])
 def test_denial_a_foreign_cache_folder_breaks_nothing(tmp_path, private_tmp, capsys, blocker):
     path = _arm_file(tmp_path)
@@ -162,6 +165,7 @@ def _simulate(urdf: Path, out: Path) -> int:
     return main(["simulate", str(urdf), "--from", "0,0", "--to", "1,1", "--dt", "0.05", "--out", str(out)])
 
 
+@pytest.mark.slow
 def test_a_replay_embeds_a_glb_buffer_inside_the_folder(robot, capsys):
     """The control: a mesh inside the URDF's folder is embedded in replay.html (so the check below can see it)."""
     (robot / "tri.gltf").write_text(_gltf("inside.bin"))

@@ -73,6 +73,7 @@ def inverse_dynamics(log: SimulationLog, q, qd, qdd) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------------- the closed loop
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "path"), PAPER_MOTIONS, ids=IDS)
 def test_tracking_error_with_the_exact_model(name, path):
     log = run(name, path)
@@ -142,6 +143,7 @@ def test_rr_torques_equal_the_lagrange_equations(path):
                                rtol=0, atol=1e-6)
 
 
+@pytest.mark.slow
 def test_rr_gravity_along_the_joint_axes_leaves_pure_inertial_torques():
     """Gravity ±z (along rr's joint axes) does no work: torques equal gravity off, as Table 3's pairs suggest."""
     off = run("rr", "abcd", gravity="off")
@@ -188,6 +190,7 @@ def test_r2t_payload_adds_its_point_mass_dynamics():
 OPEN_LOOP = [("rr", None), ("rr", "abcd"), ("arm4r", None), ("r2t", None)]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "path"), OPEN_LOOP, ids=[f"{a}-{p}" if p else a for a, p in OPEN_LOOP])
 def test_pure_inverse_dynamics_mode_agrees_with_the_controller(name, path):
     """SimMechanics' inverse-dynamics mode (torques from the reference alone, open loop) gives the controller's
@@ -269,6 +272,7 @@ def test_rr_tool_point_matches_the_papers_equations():
     np.testing.assert_array_equal(log.tool[:, [2, 5, 8]], 0.0)  # exact: rr's z
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["rrrr", "arm4r", "r2t", "urm6"])
 def test_tool_point_matches_forward_kinematics_and_finite_differences(name):
     log = run(name, log_period=1e-3) if name != "rrrr" else run(name)
@@ -335,6 +339,7 @@ PERIODIC = [("rr", None, 1e-3, "controller"), ("rr", "abcd", 3e-3, "controller")
             ("rr", None, 3e-3, "inverse_dynamics"), ("r2t", None, 7e-3, "inverse_dynamics")]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "path", "dt", "mode"), PERIODIC,
                          ids=[f"{a}-{p or ''}-{dt:g}-{m}" for a, p, dt, m in PERIODIC])
 def test_dense_samples_equal_the_periodic_loggers(name, path, dt, mode):
@@ -437,6 +442,7 @@ def test_simulate_writes_the_whole_run(tmp_path, capsys):
     assert json.loads((out / "summary.json").read_text())["duration"] == 2.0  # exact: --tf 2
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["rrrr", "arm4r", "r2t", "urm6"])
 def test_simulate_every_arm(simulated, name):
     extra = ("--tf", "2") if name == "rrrr" else ()  # the paper's 15 s run, shortened
@@ -446,6 +452,7 @@ def test_simulate_every_arm(simulated, name):
     assert {p.name for p in out.iterdir()} == set(RUN_OUTPUTS)
 
 
+@pytest.mark.slow
 def test_simulate_motion_options(tmp_path):
     out = tmp_path / "run"
     cli("simulate", "r2t", "--from", "0,0.1,0.1", "--to", "90,0.2,0.0", "--deg", "--tf", "1.5", "--payload", "20",

@@ -197,6 +197,7 @@ def exact_comparisons(path: Path) -> list[tuple[int, str, bool]]:
     return sorted((line, code, commented) for (line, code), commented in found.items())
 
 
+@pytest.mark.slow
 def test_every_exact_comparison_is_allowed_and_commented() -> None:
     seen, problems = set(), []
     for path in sorted(TESTS.glob("*.py")):

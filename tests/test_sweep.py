@@ -172,6 +172,7 @@ def test_a_failing_candidate_is_reported_and_the_rest_go_on(tmp_path: Path) -> N
     assert "1 failed" in run.stdout
 
 
+@pytest.mark.slow
 def test_shipped_studies_are_valid() -> None:
     folder = Path(__file__).resolve().parents[1] / "analysis" / "studies"
     studies = {p.name: load_study(p) for p in sorted(folder.glob("*.json"))}

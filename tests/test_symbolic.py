@@ -44,6 +44,7 @@ def drake_end_point(name: str, seed: int) -> tuple[np.ndarray, ...]:
     return q, qd, qdd, X, v, a
 
 
+@pytest.mark.slow
 def test_position_rotation_velocity_acceleration_match_numeric_modules_and_drake(arm_name):
     arm, _, _ = arm_and_plant(arm_name)
     q, qd, qdd, X, v, a = drake_end_point(arm_name, 1)
@@ -155,6 +156,7 @@ def test_paper_000_printed_components(form, printed):
         assert sp.expand(paper - getattr(symbolic, key)) == 0, key
 
 
+@pytest.mark.slow
 def test_end_point_kinematics_is_the_time_derivative(rng):
     """Paper 000's constant-rate run q_i = ω_i t: d/dt r(ω t) equals v with q̇ = ω, and again for a."""
     dh = sym.rrrr_dh()
@@ -227,6 +229,7 @@ def test_r2t_end_effector_motion_matches_iterative_algorithm_and_drake():
             np.testing.assert_allclose(value, drake, atol=TOL, rtol=0, err_msg=key)
 
 
+@pytest.mark.slow
 def test_latex_table_labels_and_sources():
     items = sym.latex_table(include_accelerations=False)
     sources = {item.source for item in items}

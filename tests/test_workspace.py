@@ -26,6 +26,7 @@ def test_unlimited_revolute_joints_cover_a_full_turn() -> None:
     np.testing.assert_allclose(upper, 1.5 * np.pi)
 
 
+@pytest.mark.slow
 def test_rr_area_is_the_annulus() -> None:
     ws = workspace(get_arm("rr"), 2_000_000, jacobians=False)
     assert ws.dim == 2 and ws.volume_unit == "m²"
@@ -49,6 +50,7 @@ def limited_2r_area(L1: float, L2: float) -> float:
     return float(np.trapezoid(r * (np.pi + 2 * beta), r))
 
 
+@pytest.mark.slow
 def test_limited_2r_area_against_integration() -> None:
     arm = get_arm("rr", theta_max=np.pi / 2)
     ws = workspace(arm, 2_000_000, jacobians=False)
@@ -57,6 +59,7 @@ def test_limited_2r_area_against_integration() -> None:
     assert ws.volume < 0.6 * RR_AREA  # the limits matter
 
 
+@pytest.mark.slow
 def test_volume_converges_as_samples_grow() -> None:
     ws = workspace(get_arm("rr"), 2_000_000, jacobians=False)
     n, v = np.array(ws.convergence["samples"]), np.array(ws.convergence["volume_vs_samples"])
@@ -77,6 +80,7 @@ def test_same_seed_same_volume_and_seed_matters() -> None:
     assert a.volume == b.volume and a.volume != c.volume
 
 
+@pytest.mark.slow
 def test_rr_singular_loci_are_det_j_zero() -> None:
     arm = get_arm("rr")
     ws = workspace(arm, 100_000)
@@ -95,6 +99,7 @@ def test_limited_2r_singular_only_stretched() -> None:
     np.testing.assert_allclose(ws.singular["loci"]["values"], [0.0], atol=1e-9)
 
 
+@pytest.mark.slow
 def test_listed_singular_configurations_are_singular() -> None:
     arm = get_arm("urm6")
     ws = workspace(arm, 100_000)
@@ -105,6 +110,7 @@ def test_listed_singular_configurations_are_singular() -> None:
     assert np.median(ws.sigma_min) > 1e3 * SINGULAR_TOL  # a typical configuration is not singular
 
 
+@pytest.mark.slow
 def test_r2t_has_no_singularity_within_its_limits() -> None:
     ws = workspace(get_arm("r2t"), 50_000)
     assert ws.singular["loci"]["values"] == []
@@ -136,6 +142,7 @@ def test_bad_arguments_are_one_line_errors(kwargs: dict, message: str) -> None:
         workspace(get_arm("urm6"), **({"samples": 5000} | kwargs), jacobians=False)
 
 
+@pytest.mark.slow
 def test_cli_writes_every_file_and_prints_json(tmp_path: Path) -> None:
     out = tmp_path / "ws"
     run = armlab_main("workspace", "rr", "--samples", "200000", "--out", str(out), "--json")
