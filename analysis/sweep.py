@@ -27,6 +27,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import logging
 import os
 import shutil
 import sys
@@ -36,9 +37,12 @@ import uuid
 from collections.abc import Iterator
 from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from armlab.analysis.plots import write_plots
+from armlab.analysis.study import load_study, timed_evaluate
 from armlab.files import csv_cell, signals_held, write_file
 
 if TYPE_CHECKING:
@@ -67,8 +71,6 @@ class SweepResult:
 
 def versions() -> dict[str, str]:
     """Versions of the software a sweep ran on."""
-    from importlib.metadata import PackageNotFoundError, version
-
     out = {"python": sys.version.split()[0]}
     for name in ("armlab", "drake", "numpy", "dask", "distributed"):
         try:
@@ -164,8 +166,6 @@ def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any
     """A Dask client of the cluster at ``scheduler``, or of a new ``LocalCluster`` whose scheduler and workers keep
     their scratch files in a private temporary folder (made by ``mkdtemp``, mode 0700, not the shared
     ``$TMPDIR/dask-scratch-space``); ``stack`` closes them and removes the folder on every exit path."""
-    import logging
-
     import dask
     from distributed import Client, LocalCluster
 
@@ -234,9 +234,6 @@ def run_sweep(
     ``progress``: a progress bar on stderr (default: when stderr is a terminal); ``report(line)``
     receives the one-line report of each failed candidate (default: stderr).
     """
-    from armlab.analysis.plots import write_plots
-    from armlab.analysis.study import load_study
-
     began = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ValueError(f"--workers {workers}: give a whole number ≥ 1")
@@ -273,8 +270,6 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
     """Submit ``todo`` to the cluster and append each result as it arrives; the run's record."""
     from distributed import as_completed
     from tqdm import tqdm
-
-    from armlab.analysis.study import timed_evaluate
 
     started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     with ExitStack() as stack:

@@ -5,4 +5,4 @@ not need them stay fast. tests/test_layers.py checks that the CLI package's modu
 """
 
 #: Top-level package names, imported lazily (inside the functions that need them).
-LAZY_IMPORTS = ("pydrake", "matplotlib", "sympy", "distributed", "dask")
+LAZY_IMPORTS = ("pydrake", "matplotlib", "mpl_toolkits", "cycler", "sympy", "distributed", "dask", "tqdm", "PIL")

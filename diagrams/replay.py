@@ -14,6 +14,7 @@ reads out t, q and τ; a motion of several runs (a branch switch) pauses at each
 
 from __future__ import annotations
 
+import json
 import logging
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -24,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.diagrams.plant import PlantOptions, add_arm_plant
 from armlab.files import write_file
 
 if TYPE_CHECKING:
@@ -120,8 +122,6 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
     """
     from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams
     from pydrake.systems.framework import DiagramBuilder
-
-    from armlab.diagrams.plant import PlantOptions, add_arm_plant
 
     builder = DiagramBuilder()
     plant, scene_graph = add_arm_plant(builder, arm, PlantOptions(geometry=True))
@@ -452,8 +452,6 @@ def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray,
 
 def _controls(data: dict[str, Any]) -> str:
     """The page's control bar, readout and join banner (HTML, CSS and a script driving ``viewer.animator``)."""
-    import json
-
     sizes = _CONTROLS.replace("BAR_PX", str(BAR_HEIGHT)).replace("BANNER_PX", str(BAR_HEIGHT + 12))
     return sizes.replace("/*DATA*/null", json.dumps(data, ensure_ascii=False))
 

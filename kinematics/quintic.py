@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.polynomial.polynomial import polyder, polyval
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
@@ -274,8 +275,6 @@ class Motion:
         rule (numpy's ``polyval``), as Drake's ``PiecewisePolynomial`` evaluates them. ``orders``: how many
         of q, q̇, q̈ to return (1 to 3).
         """
-        from numpy.polynomial.polynomial import polyder, polyval
-
         t = np.atleast_1d(np.asarray(t, dtype=float))
         out = tuple(np.empty((t.size, self.n)) for _ in range(orders))
         index = self.segment_index(t)

@@ -21,7 +21,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.cli.args import ARM_HELP
-from armlab.diagrams.drives import DIVERGENCE_TOLERANCE
+from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
+from armlab.diagrams.build import build_diagram, check_log_period
+from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
+from armlab.diagrams.graphviz import DotMissingWarning, fig6_dot, graph_format, write_graph
+from armlab.diagrams.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
+from armlab.diagrams.output import run_folder
+from armlab.diagrams.plant import PlantOptions, check_payload, resolve_gravity
+from armlab.diagrams.simulate import SimulationOptions
+from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.limits import allowed, check_range
 from armlab.models import get_arm
 from armlab.values import joint_values, parse_floats
@@ -49,8 +57,6 @@ def _gains(text: str | None, default: float, name: str) -> float | list[float]:
 
 def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
     """The motion the options give: ``--segments``, ``--from``/``--to``, or the paper motion (``--path``, ``--tf``)."""
-    from armlab.diagrams.motions import paper_motion, quintic_motion, read_segments
-
     tf = None
     if args.tf is not None:
         values = parse_floats(args.tf, "--tf") if isinstance(args.tf, str) else [args.tf]
@@ -76,8 +82,6 @@ def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
 
 def _hold_motion(arm: Arm) -> Motion:
     """Standing still for 1 s at q = 0 (clipped into the limits): a trajectory for drawing a user arm's diagram."""
-    from armlab.kinematics.quintic import Motion, QuinticSegment
-
     q = np.clip(np.zeros(arm.n), *arm.limit_arrays())
     return Motion((QuinticSegment(q, q, 1.0, "hold"),), "standing still")
 
@@ -85,9 +89,6 @@ def _hold_motion(arm: Arm) -> Motion:
 def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
     """The diagram options shared by both commands (and simulate's ``--accuracy``), checked before anything
     runs: ``ValueError`` naming a value outside its range (:data:`armlab.limits.LIMITS`)."""
-    from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
-    from armlab.diagrams.plant import check_payload, resolve_gravity
-
     if getattr(args, "accuracy", None) is not None:
         check_range(args.accuracy, "--accuracy")
     setup = {
@@ -104,11 +105,8 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``armlab simulate``: see the module docstring. Exit 3 when the run diverged, or passed a limit with
     ``--strict-limits``."""
+    # lazy: the CLI's start (build_parser) loads neither armlab.api nor the run it builds on (tests/test_api.py)
     from armlab.api import simulate
-    from armlab.diagrams.build import check_log_period
-    from armlab.diagrams.drives import check_tolerance, format_violation
-    from armlab.diagrams.graphviz import DotMissingWarning
-    from armlab.diagrams.output import run_folder
 
     arm = get_arm(args.arm)
     arm.require_dynamics("armlab simulate")  # before anything is printed (the plant checks it again)
@@ -156,12 +154,6 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 def cmd_diagram(args: argparse.Namespace) -> int:
     """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG, PNG or PDF (by the suffix of --out)."""
-    from armlab.diagrams.build import build_diagram
-    from armlab.diagrams.graphviz import fig6_dot, graph_format, write_graph
-    from armlab.diagrams.motions import paper_motion
-    from armlab.diagrams.plant import PlantOptions
-    from armlab.diagrams.simulate import SimulationOptions
-
     arm = get_arm(args.arm)
     graph_format(args.out)
     setup = _setup(arm, args)
@@ -191,8 +183,6 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
 
 def register(subparsers: Any) -> None:
     """Add the ``simulate`` and ``diagram`` subcommands to the CLI's subparsers."""
-    from armlab.diagrams.motions import SEGMENTS_FILE_HELP
-
     p = subparsers.add_parser(
         "simulate",
         help="simulate a motion through paper 000's Fig. 6 diagram; write log, summary, plots, diagram",
