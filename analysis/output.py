@@ -12,8 +12,6 @@ import json
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from armlab.analysis.cloud import write_point_cloud
-from armlab.analysis.plots import workspace_figures
 from armlab.files import OutputFolder
 
 if TYPE_CHECKING:
@@ -41,6 +39,10 @@ def write_workspace(arm: Arm, ws: Workspace, folder: Path) -> list[str]:
     """:data:`WORKSPACE_FILES` of ``arm``'s workspace ``ws`` into ``folder``: ``workspace.json`` (its summary), the
     pictures (:func:`~armlab.analysis.plots.workspace_figures`) and ``workspace.html`` (the 3-D point cloud,
     :func:`~armlab.analysis.cloud.write_point_cloud`); the names written."""
+    # lazy: armlab --help loads armlab.analysis.output but not this (start-up time)
+    from armlab.analysis.cloud import write_point_cloud
+    from armlab.analysis.plots import workspace_figures
+
     (folder / "workspace.json").write_text(json.dumps(ws.summary(), indent=2, ensure_ascii=False) + "\n")
     written = ["workspace.json", *workspace_figures(ws, folder)]
     write_point_cloud(arm, ws, folder / "workspace.html")

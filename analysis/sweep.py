@@ -41,8 +41,6 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from armlab.analysis.plots import write_plots
-from armlab.analysis.study import load_study, timed_evaluate
 from armlab.files import csv_cell, signals_held, write_file
 
 if TYPE_CHECKING:
@@ -234,6 +232,10 @@ def run_sweep(
     ``progress``: a progress bar on stderr (default: when stderr is a terminal); ``report(line)``
     receives the one-line report of each failed candidate (default: stderr).
     """
+    # lazy: armlab --help loads armlab.analysis.sweep but not this (start-up time)
+    from armlab.analysis.plots import write_plots
+    from armlab.analysis.study import load_study
+
     began = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ValueError(f"--workers {workers}: give a whole number ≥ 1")
@@ -270,6 +272,9 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
     """Submit ``todo`` to the cluster and append each result as it arrives; the run's record."""
     from distributed import as_completed
     from tqdm import tqdm
+
+    # lazy: armlab --help loads armlab.analysis.sweep but not this (start-up time)
+    from armlab.analysis.study import timed_evaluate
 
     started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     with ExitStack() as stack:

@@ -32,7 +32,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.files import write_file
 from armlab.kinematics.dh import DHRow, DHTable
-from armlab.scripts.figures import DPI, new_figure, set_equal_3d
 
 if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
@@ -226,6 +225,9 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     The format follows the suffix (``.png``, ``.svg``, ``.pdf``); the file is written completely or
     not at all. ``ValueError`` for a bad suffix or q (count, limits).
     """
+    # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
+    from armlab.scripts.figures import DPI, new_figure, set_equal_3d
+
     path = Path(path)
     fmt = path.suffix.lower().lstrip(".")
     if fmt not in FORMATS:

@@ -24,7 +24,6 @@ from numpy.typing import NDArray
 
 from armlab.files import write_csv
 from armlab.limits import check_positive
-from armlab.scripts.figures import DPI, new_figure
 
 if TYPE_CHECKING:
     from armlab.diagrams.simulate import SimulationLog
@@ -164,6 +163,9 @@ def write_drives_csv(log: SimulationLog, path: str | Path) -> Path:
 
 def plot_drives(log: SimulationLog, path: str | Path) -> Path:
     """``drives.png``: each joint's torque against its speed along the run, inside its effort/speed limit box."""
+    # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
+    from armlab.scripts.figures import DPI, new_figure
+
     rows = drive_table(log)
     n = log.arm.n
     cols = min(n, 3)

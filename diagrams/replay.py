@@ -25,7 +25,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.diagrams.plant import PlantOptions, add_arm_plant
 from armlab.files import write_file
 
 if TYPE_CHECKING:
@@ -122,6 +121,9 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
     """
     from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams
     from pydrake.systems.framework import DiagramBuilder
+
+    # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
+    from armlab.diagrams.plant import PlantOptions, add_arm_plant
 
     builder = DiagramBuilder()
     plant, scene_graph = add_arm_plant(builder, arm, PlantOptions(geometry=True))

@@ -26,8 +26,6 @@ from types import ModuleType
 import numpy as np
 
 from armlab.models.arm import MODELS_DIR, Arm
-from armlab.models.read_dh import from_dh_csv
-from armlab.models.read_urdf import from_urdf
 
 __all__ = ["ARMS", "EXAMPLE", "Arm", "examples", "get_arm", "paper_arms", "register"]
 
@@ -97,8 +95,14 @@ def get_arm(name: str, **overrides: float) -> Arm:
             raise ValueError(f"unknown example arm {name!r}; allowed: {_names(shipped)}")
         path = shipped[name.removeprefix(EXAMPLE)]
     if path.suffix.lower() == ".urdf":
+        # lazy: armlab --help loads armlab.models but not this (start-up time)
+        from armlab.models.read_urdf import from_urdf
+
         return from_urdf(path)
     if path.suffix.lower() == ".csv":
+        # lazy: armlab --help loads armlab.models but not this (start-up time)
+        from armlab.models.read_dh import from_dh_csv
+
         return from_dh_csv(path)
     raise ValueError(f"unknown arm {name!r}; allowed: {', '.join(ARMS)}, an example ({_names(examples())}), or a "
                      ".urdf or DH .csv file")

@@ -233,7 +233,7 @@ class Arm:
     def make_plant(self, options: PlantOptions | None = None) -> MultibodyPlant:
         """A finalized ``MultibodyPlant`` of the arm (default: continuous, the arm's gravity, no payload), in the arm's
         joint order: :func:`armlab.diagrams.plant.make_plant`, the one plant builder, with ``options``."""
-        # lazy: armlab.diagrams sits above armlab.models and imports it
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.diagrams.plant import make_plant
 
         return make_plant(self, options)
@@ -277,7 +277,7 @@ class Arm:
         ``gravity``: ``None`` (the arm's), ``"off"``, ``"-z"`` …, or (gx, gy, gz) m/s²; ``payload``: a point mass
         (kg) at the tool point. The arm needs mass data (``has_dynamics``).
         """
-        # lazy: armlab.kinematics sits above armlab.models and imports it
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.kinematics.rnea import inverse_dynamics
 
         return inverse_dynamics(self, self.check_q(q), *self._rates(qd, qdd), gravity=gravity, payload=payload)

@@ -190,8 +190,11 @@ def _lazy_modules(modules: dict[str, Path]) -> set[str]:
 
 
 def _marked_lazy(lines: list[str], line: int) -> bool:
-    """The comment block right above line ``line`` (1-based) says ``# lazy: <reason>``."""
+    """The comment block right above line ``line`` (1-based), or above the group of imports it ends, says
+    ``# lazy: <reason>``."""
     above = line - 2
+    while above >= 0 and lines[above].strip().startswith(("from ", "import ")):  # the group's other imports
+        above -= 1
     while above >= 0 and lines[above].strip().startswith("#"):
         if lines[above].strip().startswith("# lazy:"):
             return True
@@ -234,6 +237,9 @@ def test_imports_are_at_module_level():
     ("def f():\n    # lazy: a cycle\n    import json", 0),
     ("def f():\n    # lazy: a cycle, told on\n    # two lines\n    import json", 0),
     ("def f():\n    # a comment, no reason\n    import json", 1),
+    ("def f():\n    # lazy: a group\n    import json\n    import os", 0),
+    ("def f():\n    # lazy: a cycle\n    import json\n\n    import os", 1),
+    ("def f():\n    # lazy: a cycle\n    x = 1\n    import os", 1),
     ("import json", 0),
 ])
 def test_function_level_violations_are_caught(tmp_path, source, bad):

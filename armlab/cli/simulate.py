@@ -21,14 +21,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.cli.args import ARM_HELP
-from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
-from armlab.diagrams.build import build_diagram, check_log_period
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
-from armlab.diagrams.graphviz import DotMissingWarning, fig6_dot, graph_format, write_graph
 from armlab.diagrams.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
-from armlab.diagrams.output import run_folder
-from armlab.diagrams.plant import PlantOptions, check_payload, resolve_gravity
-from armlab.diagrams.simulate import SimulationOptions
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.limits import allowed, check_range
 from armlab.models import get_arm
@@ -89,6 +83,10 @@ def _hold_motion(arm: Arm) -> Motion:
 def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
     """The diagram options shared by both commands (and simulate's ``--accuracy``), checked before anything
     runs: ``ValueError`` naming a value outside its range (:data:`armlab.limits.LIMITS`)."""
+    # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
+    from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
+    from armlab.diagrams.plant import check_payload, resolve_gravity
+
     if getattr(args, "accuracy", None) is not None:
         check_range(args.accuracy, "--accuracy")
     setup = {
@@ -105,8 +103,11 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``armlab simulate``: see the module docstring. Exit 3 when the run diverged, or passed a limit with
     ``--strict-limits``."""
-    # lazy: the CLI's start (build_parser) loads neither armlab.api nor the run it builds on (tests/test_api.py)
+    # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.api import simulate
+    from armlab.diagrams.build import check_log_period
+    from armlab.diagrams.graphviz import DotMissingWarning
+    from armlab.diagrams.output import run_folder
 
     arm = get_arm(args.arm)
     arm.require_dynamics("armlab simulate")  # before anything is printed (the plant checks it again)
@@ -154,6 +155,12 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 def cmd_diagram(args: argparse.Namespace) -> int:
     """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG, PNG or PDF (by the suffix of --out)."""
+    # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
+    from armlab.diagrams.build import build_diagram
+    from armlab.diagrams.graphviz import fig6_dot, graph_format, write_graph
+    from armlab.diagrams.plant import PlantOptions
+    from armlab.diagrams.simulate import SimulationOptions
+
     arm = get_arm(args.arm)
     graph_format(args.out)
     setup = _setup(arm, args)
