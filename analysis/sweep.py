@@ -37,7 +37,6 @@ import uuid
 from collections.abc import Iterator
 from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -69,6 +68,9 @@ class SweepResult:
 
 def versions() -> dict[str, str]:
     """Versions of the software a sweep ran on."""
+    # lazy: armlab --help loads this module but not importlib.metadata (start-up time)
+    from importlib.metadata import PackageNotFoundError, version
+
     out = {"python": sys.version.split()[0]}
     for name in ("armlab", "drake", "numpy", "dask", "distributed"):
         try:

@@ -23,7 +23,6 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.polynomial.polynomial import polyder, polyval
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
@@ -275,6 +274,9 @@ class Motion:
         rule (numpy's ``polyval``), as Drake's ``PiecewisePolynomial`` evaluates them. ``orders``: how many
         of q, q̇, q̈ to return (1 to 3).
         """
+        # lazy: armlab --help loads this module but not numpy.polynomial (start-up time)
+        from numpy.polynomial.polynomial import polyder, polyval
+
         t = np.atleast_1d(np.asarray(t, dtype=float))
         out = tuple(np.empty((t.size, self.n)) for _ in range(orders))
         index = self.segment_index(t)
