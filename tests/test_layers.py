@@ -8,7 +8,9 @@ options from :func:`armlab.cli.reproduce.run_alone`) and the developer benchmark
 (``make bench`` runs them as scripts) and the example scripts ``armlab.scripts.examples.*`` (no module imports
 either, checked). And the CLI package's own module-level
 imports pull none of the heavy libraries armlab imports lazily (:data:`armlab._lazy.LAZY_IMPORTS`), so that
-``armlab --help`` stays fast.
+``armlab --help`` stays fast. Every other import sits at its module's top, where readers and tools see the module
+graph: inside a function only a lazy library, a module that imports one at module level, or an import whose comment
+says ``# lazy: <reason>``.
 """
 
 from __future__ import annotations
