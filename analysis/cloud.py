@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armlab.diagrams.replay import SCENE, build_scene, frame_camera, start_meshcat, style_scene
 from armlab.files import write_file
 
 if TYPE_CHECKING:
@@ -27,8 +28,6 @@ def write_point_cloud(arm: Arm, ws: Workspace, path: Path) -> Path:
     import matplotlib
     from pydrake.geometry import Rgba
     from pydrake.perception import BaseField, Fields, PointCloud
-
-    from armlab.diagrams.replay import SCENE, build_scene, frame_camera, start_meshcat, style_scene
 
     pts = ws.points if ws.manipulability is None else ws.points[: len(ws.manipulability)]
     if ws.manipulability is None:

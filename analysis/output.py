@@ -39,6 +39,7 @@ def write_workspace(arm: Arm, ws: Workspace, folder: Path) -> list[str]:
     """:data:`WORKSPACE_FILES` of ``arm``'s workspace ``ws`` into ``folder``: ``workspace.json`` (its summary), the
     pictures (:func:`~armlab.analysis.plots.workspace_figures`) and ``workspace.html`` (the 3-D point cloud,
     :func:`~armlab.analysis.cloud.write_point_cloud`); the names written."""
+    # lazy: armlab --help loads armlab.analysis.output but not this (start-up time)
     from armlab.analysis.cloud import write_point_cloud
     from armlab.analysis.plots import workspace_figures
 

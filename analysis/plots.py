@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.files import write_file
+from armlab.scripts.figures import DPI, new_figure
 
 if TYPE_CHECKING:
     from armlab.analysis.study import Study
@@ -28,8 +29,6 @@ __all__ = ["save_png", "workspace_figures", "write_plots"]
 def save_png(fig: Any, path: Path) -> str:
     """Save ``fig`` as a PNG at ``path`` atomically (:func:`~armlab.files.write_file`), close it; its name."""
     import matplotlib.pyplot as plt
-
-    from armlab.scripts.figures import DPI
 
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=DPI)
@@ -54,8 +53,6 @@ def write_plots(study: Study, rows: dict[int, list[str]], out: Path) -> list[str
     Per objective: ``OBJECTIVE.png``, a panel per varied parameter (a row per joint for per-joint
     objectives), and with exactly two varied parameters ``OBJECTIVE_map.png``, a heat map per column.
     """
-    from armlab.scripts.figures import new_figure
-
     if not rows:
         return []
     columns, units = study.columns, study.units()
@@ -99,8 +96,6 @@ def _curves(ax: Any, table: np.ndarray, columns: list[str], params: list[str], u
 
 def _heat_maps(study: Study, table: np.ndarray, objective: str, cols: Sequence[str], params: Sequence[str],
                units: dict[str, str], out: Path) -> str:
-    from armlab.scripts.figures import new_figure
-
     columns = study.columns
     xs, ys = (np.array(v.values) for v in study.vary)
     fig, axes = new_figure(f"{study.arm}: {objective} over {params[0]} and {params[1]}", 1, len(cols),
@@ -149,8 +144,6 @@ def workspace_figures(ws: Workspace, out: Path) -> list[str]:
 def _slices(ws: Workspace, path: Path) -> str:
     """Tool points coloured by manipulability: the plane of a planar arm, else slabs through the base
     (x–y at the points' median height, x–z at y = 0), the singular configurations' tool points marked."""
-    from armlab.scripts.figures import new_figure
-
     m = len(ws.manipulability) if ws.manipulability is not None else 0
     pts = ws.points[:m] if m else ws.points
     colour = ws.manipulability if m else None
@@ -214,8 +207,6 @@ def _singular_points(ws: Workspace) -> np.ndarray:
 
 
 def _convergence(ws: Workspace, path: Path) -> str:
-    from armlab.scripts.figures import new_figure
-
     c = ws.convergence
     fig, axes = new_figure(f"{ws.arm}: convergence of the workspace {ws.measure}", 1, 2, size=(10.0, 4.0))
     ax1, ax2 = np.ravel(axes)
@@ -233,8 +224,6 @@ def _convergence(ws: Workspace, path: Path) -> str:
 
 def _singular(ws: Workspace, path: Path) -> str:
     """σ_min against the one joint it depends on, zeros marked; else its distribution over the samples."""
-    from armlab.scripts.figures import new_figure
-
     s = ws.singular
     loci = s.get("loci")
     if loci is not None:

@@ -24,6 +24,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.analysis.workspace import joint_box, tool_positions
+from armlab.kinematics.differential import default_axes, jacobian, manipulability, sigma_min
+
 if TYPE_CHECKING:
     from armlab.analysis.workspace import Workspace
     from armlab.models.arm import Arm
@@ -41,15 +44,11 @@ _GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
 
 def task_sigma(arm: Arm, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Yoshikawa's manipulability and σ_min of the batch ``q`` (..., n), each ``(...)``."""
-    from armlab.kinematics.differential import jacobian, manipulability, sigma_min
-
     J = jacobian(arm, q)
     return manipulability(J), sigma_min(J)
 
 
 def _axes(arm: Arm) -> str:
-    from armlab.kinematics.differential import default_axes
-
     return {"all": "all (v and ω)", "trans": "translational (v)"}[default_axes(arm.n)]
 
 
@@ -84,8 +83,6 @@ def _golden(f: Any, lo: NDArray, hi: NDArray, iterations: int = 80) -> NDArray:
 
 def _depends_on(arm: Arm, q: NDArray, sigma: NDArray, rng: np.random.Generator) -> list[int]:
     """The joints σ_min changes with (redrawn one at a time over 200 configurations)."""
-    from armlab.analysis.workspace import joint_box
-
     lower, upper = joint_box(arm)
     q, sigma = q[:200], sigma[:200]
     scale = max(float(np.max(sigma)), 1e-300)
@@ -106,8 +103,6 @@ def singular_configurations(arm: Arm, q: NDArray[np.float64], sigma: NDArray[np.
     ``loci`` lists, for a single joint, its singular values (rad); ``configurations`` lists refined
     singular configurations (rad or m) with their σ_min.
     """
-    from armlab.analysis.workspace import joint_box, tool_positions
-
     rng = np.random.default_rng(seed)
     depends = _depends_on(arm, q, sigma, rng)
     out: dict[str, Any] = {"rows": _axes(arm), "depends_on": [arm.joint_names[j] for j in depends],

@@ -1,7 +1,6 @@
 """Design studies: the study file, its candidates, and what one candidate evaluates to.
 
 A study is a JSON object::
-
     {"arm": "urm6",
      "vary": {"theta3": {"from": 0, "to": 90, "steps": 7, "unit": "deg"},
               "theta5": {"values": [30, 60, 90], "unit": "deg"}},
@@ -26,14 +25,35 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import os
+import socket
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.files import json_number
+from armlab.analysis.singular import JACOBIAN_SAMPLES, task_sigma
+from armlab.analysis.workspace import (
+    DEFAULT_SAMPLES,
+    check_resolution,
+    check_samples,
+    check_seed,
+    sample_joints,
+    tool_positions,
+    workspace,
+    workspace_plane,
+)
+from armlab.diagrams.drives import torque_stats
+from armlab.diagrams.motions import paper_motion, read_segments
+from armlab.diagrams.plant import PlantOptions, check_payload
+from armlab.diagrams.simulate import DEFAULT_LOG_PERIOD, SimulationOptions, check_work, simulate
+from armlab.files import json_number, read_json
+from armlab.kinematics.rnea import inverse_dynamics
+from armlab.limits import check_range
+from armlab.models import ARMS, get_arm
+from armlab.models.arm_file import MAX_FILE_NUMBER
 
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
@@ -156,8 +176,6 @@ class Study:
 # --------------------------------------------------------------------------------------------- parsing
 def load_study(path: str | Path) -> Study:
     """Read and check a study file (:func:`parse_study`); ``ValueError`` with one line naming the problem."""
-    from armlab.files import read_json
-
     path = Path(path)
     data = read_json(path, "study")
     try:
@@ -205,7 +223,6 @@ def _variable(name: str, spec: Any, known: list[str]) -> Variable:
                              "may have; give fewer steps")
         values = np.linspace(lo, hi, steps).tolist()
     if name not in _OWN_UNITS:  # an arm parameter: bounded like the numbers of an arm file
-        from armlab.models.arm_file import MAX_FILE_NUMBER
 
         big = next((v for v in values if abs(v * UNITS.get(unit, 1.0)) > MAX_FILE_NUMBER), None)
         if big is not None:
@@ -220,19 +237,6 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     Every candidate's arm (and, for torque objectives, its motion) is built here, so a value the arm
     does not allow is found before anything runs. ``base``: the folder file names are relative to.
     """
-    from dataclasses import fields
-
-    from armlab.analysis.workspace import (
-        DEFAULT_SAMPLES,
-        check_resolution,
-        check_samples,
-        check_seed,
-        sample_joints,
-        tool_positions,
-        workspace_plane,
-    )
-    from armlab.models import ARMS, get_arm
-
     if not isinstance(data, dict):
         raise ValueError("a study must be a JSON object with \"arm\", \"vary\" and \"evaluate\"")
     extra = [k for k in data if k not in _KEYS]
@@ -307,12 +311,6 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
 # ------------------------------------------------------------------------------------------ evaluation
 def build(study: Study, values: tuple[float, ...]) -> tuple[Arm, Motion | None, float]:
     """The candidate's arm, its motion (``None`` without torque objectives) and payload; ``ValueError`` if bad."""
-    from armlab.diagrams.motions import paper_motion, read_segments
-    from armlab.diagrams.plant import check_payload
-    from armlab.diagrams.simulate import DEFAULT_LOG_PERIOD, check_work
-    from armlab.limits import check_range
-    from armlab.models import get_arm
-
     overrides, payload, tf = study.settings(values)
     arm = get_arm(study.arm, **overrides)
     if not any(e in DYNAMICS for e in study.evaluate):
@@ -327,9 +325,6 @@ def build(study: Study, values: tuple[float, ...]) -> tuple[Arm, Motion | None, 
 
 def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
     """The objectives of one candidate (``values`` in the study's units), by column of ``results.csv``."""
-    from armlab.analysis.singular import JACOBIAN_SAMPLES, task_sigma
-    from armlab.analysis.workspace import workspace
-
     arm, motion, payload = build(study, values)
     out: dict[str, float] = {}
     if any(e in WORKSPACE for e in study.evaluate):
@@ -341,8 +336,6 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
                       "mean_manipulability": float(manipulability.mean())}
         out |= {e: found[e] for e in study.evaluate if e in WORKSPACE}
     if motion is not None:
-        from armlab.diagrams.drives import torque_stats
-
         stats = torque_stats(*_torques(study, arm, motion, payload))
         drive = {"peak_torque": stats["max_abs_torque"], "rms_torque": stats["rms_torque"],
                  "peak_power": stats["peak_power"]}
@@ -357,12 +350,8 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
 def _torques(study: Study, arm: Arm, motion: Motion, payload: float) -> tuple[np.ndarray, np.ndarray]:
     """Joint torques and rates along ``motion``: Fig. 6's simulation, or batch inverse dynamics every 1 ms."""
     if study.simulate:
-        from armlab.diagrams.plant import PlantOptions
-        from armlab.diagrams.simulate import SimulationOptions, simulate
-
         log = simulate(arm, motion, SimulationOptions(PlantOptions(payload=payload, ideal_drives=True)))
         return log.tau, log.qd
-    from armlab.kinematics.rnea import inverse_dynamics
 
     t = np.linspace(0.0, motion.duration, round(motion.duration / TORQUE_PERIOD) + 1)
     q, qd, qdd = motion.evaluate(t)
@@ -372,9 +361,6 @@ def _torques(study: Study, arm: Arm, motion: Motion, payload: float) -> tuple[np
 def timed_evaluate(study: Study, values: tuple[float, ...]) -> dict[str, Any]:
     """:func:`evaluate` on a Dask worker: ``{"objectives", "wall_time_s", "worker"}``, or ``{"error", …}``
     when the candidate raises (its message, one line), so that the other candidates go on."""
-    import os
-    import socket
-
     try:
         from distributed import get_worker
 

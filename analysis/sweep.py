@@ -27,6 +27,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import logging
 import os
 import shutil
 import sys
@@ -67,6 +68,7 @@ class SweepResult:
 
 def versions() -> dict[str, str]:
     """Versions of the software a sweep ran on."""
+    # lazy: armlab --help loads this module but not importlib.metadata (start-up time)
     from importlib.metadata import PackageNotFoundError, version
 
     out = {"python": sys.version.split()[0]}
@@ -164,8 +166,6 @@ def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any
     """A Dask client of the cluster at ``scheduler``, or of a new ``LocalCluster`` whose scheduler and workers keep
     their scratch files in a private temporary folder (made by ``mkdtemp``, mode 0700, not the shared
     ``$TMPDIR/dask-scratch-space``); ``stack`` closes them and removes the folder on every exit path."""
-    import logging
-
     import dask
     from distributed import Client, LocalCluster
 
@@ -234,6 +234,7 @@ def run_sweep(
     ``progress``: a progress bar on stderr (default: when stderr is a terminal); ``report(line)``
     receives the one-line report of each failed candidate (default: stderr).
     """
+    # lazy: armlab --help loads armlab.analysis.sweep but not this (start-up time)
     from armlab.analysis.plots import write_plots
     from armlab.analysis.study import load_study
 
@@ -274,6 +275,7 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
     from distributed import as_completed
     from tqdm import tqdm
 
+    # lazy: armlab --help loads armlab.analysis.sweep but not this (start-up time)
     from armlab.analysis.study import timed_evaluate
 
     started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())

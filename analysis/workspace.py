@@ -21,11 +21,15 @@ configurations are computed on a subsample by :mod:`armlab.analysis.singular`.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from armlab.kinematics.differential import jacobian
+from armlab.limits import check_range, whole_text
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -98,8 +102,6 @@ def tool_positions(arm: Arm, q: ArrayLike) -> NDArray[np.float64]:
 def motion_rank(arm: Arm, q: NDArray[np.float64], basis: NDArray[np.float64]) -> int:
     """Independent directions (within ``basis``, (d, 3)) the tool point moves in: the largest rank of the
     translational Jacobian over the configurations ``q`` (k, n) (:func:`armlab.kinematics.differential.jacobian`)."""
-    from armlab.kinematics.differential import jacobian
-
     J = basis @ jacobian(arm, q)[:, :3, :]  # (k, d, n)
     s = np.linalg.svd(J, compute_uv=False)
     return int(np.max(np.sum(s > 1e-9 * max(float(s.max()), 1e-300), axis=-1)))
@@ -275,8 +277,6 @@ def workspace(
     :func:`default_resolution`); ``seed``: the random generator's seed (the same seed, the same
     samples); ``jacobians``: also evaluate manipulability and singular configurations on a subsample.
     """
-    import time
-
     began = time.perf_counter()
     samples = check_samples(samples)
     seed = check_seed(seed)
@@ -326,6 +326,7 @@ def workspace(
         q=np.concatenate(kept_q), points=np.concatenate(kept_points), seed=seed, wall_time=0.0,
     )
     if jacobians:
+        # lazy: cycle, armlab.analysis.singular imports this module (joint_box, tool_positions)
         from armlab.analysis.singular import add_manipulability
 
         add_manipulability(arm, result)
@@ -335,8 +336,6 @@ def workspace(
 
 def _whole(value: Any, name: str, low: int, high: int, why: str) -> int:
     """``value`` as an int if it is a whole number in ``low … high``; else a one-line ``ValueError`` naming ``name``."""
-    from armlab.limits import whole_text
-
     whole = (isinstance(value, (int, np.integer)) and not isinstance(value, bool)) or \
         (isinstance(value, float) and value.is_integer())
     if not whole or not low <= value <= high:
@@ -357,8 +356,6 @@ def check_seed(seed: Any, name: str = "seed") -> int:
 
 def check_resolution(h: Any, name: str = "resolution") -> float:
     """The voxel edge (m) as a float within :data:`armlab.limits.LIMITS`' range; ``ValueError`` naming ``name``."""
-    from armlab.limits import check_range
-
     try:
         value = float(h)
     except (TypeError, ValueError):

@@ -4,7 +4,6 @@ The names here are exported from ``armlab`` itself (``import armlab; armlab.load
 ``armlab`` command line is a thin layer over them. An arm's own kinematics and dynamics are methods
 of :class:`~armlab.models.arm.Arm` (``fk``, ``jacobian``, ``tool_motion``, ``inverse_dynamics``,
 ``manipulability``, ``sigma_min``, ``ik``); motions and simulations are functions:
-
     >>> import armlab
     >>> arm = armlab.load("rr")
     >>> motion = armlab.quintic(arm, [0.0, 0.5], [1.0, 1.0], tf=2.0)
@@ -24,10 +23,24 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
+from armlab.diagrams.motions import paper_motion as motion_of_paper
+from armlab.diagrams.motions import quintic_motion
+from armlab.diagrams.motions import read_segments as read
+from armlab.diagrams.plant import PlantOptions
+from armlab.diagrams.run import Run
+from armlab.diagrams.simulate import (
+    DEFAULT_ACCURACY,
+    DEFAULT_KD,
+    DEFAULT_KP,
+    DEFAULT_LOG_PERIOD,
+    DIVERGENCE_TOLERANCE,
+    SimulationOptions,
+)
+from armlab.diagrams.simulate import simulate as run_diagram
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, check_duration
+from armlab.models import get_arm
 
 if TYPE_CHECKING:
-    from armlab.diagrams.run import Run
     from armlab.models.arm import Arm
 
 __all__ = ["constant_rate", "load", "paper_motion", "quintic", "read_segments", "simulate", "through"]
@@ -39,8 +52,6 @@ def load(name: str | Path, **parameters: float) -> Arm:
     ``parameters`` override a paper arm's parameters (e.g. ``load("urm6", theta3=0.5)``; names as in
     ``armlab show ARM``). ``ValueError`` for an unknown arm or parameter, or a malformed file.
     """
-    from armlab.models import get_arm
-
     return get_arm(str(name), **parameters)
 
 
@@ -49,8 +60,6 @@ def quintic(arm: Arm, q0: ArrayLike, qf: ArrayLike, tf: float, label: str = "") 
 
     Zero velocity and acceleration at both ends; both ends are checked against the joint limits.
     """
-    from armlab.diagrams.motions import quintic_motion
-
     return quintic_motion(arm, q0, qf, tf, label or "rest-to-rest quintic")
 
 
@@ -84,15 +93,11 @@ def constant_rate(arm: Arm, q0: ArrayLike, rate: ArrayLike, tf: float) -> Motion
 
 def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> Motion:
     """The motion of the arm's paper (what ``armlab simulate ARM`` runs without motion options)."""
-    from armlab.diagrams.motions import paper_motion as motion_of_paper
-
     return motion_of_paper(arm, path, tf)
 
 
 def read_segments(arm: Arm, path: str | Path) -> Motion:
     """The motion in a segments file (JSON; ``armlab simulate --help`` documents the format)."""
-    from armlab.diagrams.motions import read_segments as read
-
     return read(arm, path)
 
 
@@ -118,18 +123,6 @@ def simulate(
     error (rad or m, default 0.01) past which the run counts as diverged. The arm needs mass data. The keywords
     are checked once, as a :class:`~armlab.diagrams.simulate.SimulationOptions` (what the inner layers take).
     """
-    from armlab.diagrams.plant import PlantOptions
-    from armlab.diagrams.run import Run
-    from armlab.diagrams.simulate import (
-        DEFAULT_ACCURACY,
-        DEFAULT_KD,
-        DEFAULT_KP,
-        DEFAULT_LOG_PERIOD,
-        DIVERGENCE_TOLERANCE,
-        SimulationOptions,
-    )
-    from armlab.diagrams.simulate import simulate as run_diagram
-
     options = SimulationOptions(  # None: the option's default
         PlantOptions(gravity=gravity, payload=payload, ideal_drives=True), mode=mode,
         kp=DEFAULT_KP if kp is None else kp, kd=DEFAULT_KD if kd is None else kd, ki=ki,

@@ -23,6 +23,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.limits import check_range
+
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.controllers import InverseDynamics, InverseDynamicsController
@@ -49,8 +51,6 @@ def gain_vector(gain: float | ArrayLike, n: int, name: str) -> NDArray[np.float6
     ``name`` is ``"kp"``, ``"kd"`` or ``"ki"`` (or the option ``"--kp"`` …): the ranges are
     :data:`armlab.limits.LIMITS`' (``ValueError`` naming the value and the range).
     """
-    from armlab.limits import check_range
-
     g = np.asarray(gain, dtype=float)
     if g.ndim == 0:
         g = np.full(n, float(g))

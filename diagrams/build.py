@@ -95,6 +95,7 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     from pydrake.systems.framework import DiagramBuilder, TriggerType
     from pydrake.systems.primitives import Demultiplexer, LogVectorOutput, TrajectorySource
 
+    # lazy: cycle, armlab.diagrams.simulate imports this module (build_diagram, DEFAULT_LOG_PERIOD …)
     from armlab.diagrams.simulate import SimulationOptions
     from armlab.diagrams.tool_point import ToolPointKinematics
 

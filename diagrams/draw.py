@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.files import write_file
+from armlab.kinematics.dh import DHRow, DHTable
 
 if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
@@ -68,8 +69,6 @@ def _dh_table(arm: Arm) -> DHTable | None:
     A user's DH arm keeps its rows as parameters a1, alpha1, d1, theta1, …; the convention is the
     one (standard or modified) whose chain ends at the arm's tool frame.
     """
-    from armlab.kinematics.dh import DHRow, DHTable
-
     if arm.scheme is not None:
         return arm.scheme.dh
     keys = [f"{key}{i + 1}" for i in range(arm.n) for key in ("a", "alpha", "d", "theta")]
@@ -227,6 +226,7 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     The format follows the suffix (``.png``, ``.svg``, ``.pdf``); the file is written completely or
     not at all. ``ValueError`` for a bad suffix or q (count, limits).
     """
+    # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
     from armlab.scripts.figures import DPI, new_figure, set_equal_3d
 
     path = Path(path)

@@ -163,6 +163,7 @@ def write_drives_csv(log: SimulationLog, path: str | Path) -> Path:
 
 def plot_drives(log: SimulationLog, path: str | Path) -> Path:
     """``drives.png``: each joint's torque against its speed along the run, inside its effort/speed limit box."""
+    # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
     from armlab.scripts.figures import DPI, new_figure
 
     rows = drive_table(log)

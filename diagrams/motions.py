@@ -18,7 +18,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.files import is_json_number, json_number, read_json
+from armlab.kinematics.ik import solve, solve_branch
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, Segment, check_duration
+from armlab.models import paper_arms
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -62,8 +64,6 @@ def point_to_joints(
     """Joint values reaching ``point``: the closed form's IK ``branch`` if given (rr: 0 θ2 ≥ 0, 1 θ2 ≤ 0;
     :func:`armlab.kinematics.ik.solve_branch`), else the solution of :func:`armlab.kinematics.ik.solve`
     nearest ``near`` (arm4r: with tool ``pitch``)."""
-    from armlab.kinematics.ik import solve, solve_branch
-
     if branch is None:
         return solve(arm, point, pitch=pitch, near=near)[0]
     return solve_branch(arm, point, branch)
@@ -83,8 +83,6 @@ def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> 
     if path is None:
         return arm.motion(arm, tf)
     if path not in arm.paths:
-        from armlab.models import paper_arms
-
         allowed = ", ".join(f"{other.name}: {', '.join(other.paths)}" for other in paper_arms() if other.paths)
         raise ValueError(f"path {path!r} is not available for {arm.name}; paths: {allowed}")
     return arm.paths[path](arm, tf)

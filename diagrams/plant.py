@@ -23,11 +23,16 @@ arm-ordered vectors (q, q̇, sliders, trajectories) to the plant directly, with 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from armlab.limits import allowed, check_positive, check_range
+from armlab.models.read_urdf import package_roots
+from armlab.values import parse_floats
 
 if TYPE_CHECKING:
     from pydrake.geometry import SceneGraph
@@ -71,16 +76,12 @@ def gravity_vector(gravity: str | ArrayLike | None) -> NDArray[np.float64] | Non
             g = np.zeros(3)
             g["xyz".index(text[1])] = G if text[0] == "+" else -G
             return g
-        from armlab.values import parse_floats
 
         try:
             values = parse_floats(gravity, "--gravity")
         except ValueError as error:
             raise ValueError(f"{error}; or one of {', '.join(GRAVITY_NAMES)}") from None
         gravity = values
-    import math
-
-    from armlab.limits import check_range
 
     g = np.asarray(gravity, dtype=float)
     if g.shape != (3,) or not np.all(np.isfinite(g)):
@@ -92,8 +93,6 @@ def gravity_vector(gravity: str | ArrayLike | None) -> NDArray[np.float64] | Non
 def check_payload(payload: float, name: str = "payload") -> float:
     """``payload`` (kg) as a float; ``ValueError`` (naming it ``name``) unless it is a mass in
     :data:`armlab.limits.LIMITS`' range."""
-    from armlab.limits import allowed, check_range
-
     try:
         value = float(payload)
     except (TypeError, ValueError):
@@ -105,7 +104,6 @@ def check_time_step(time_step: float) -> float:
     """A plant's time step (s) as a float; ``ValueError`` unless 0 (continuous) or a positive finite period."""
     if time_step == 0:
         return 0.0
-    from armlab.limits import check_positive
 
     return check_positive(time_step, "time step", "s", "give 0 (a continuous plant) or a positive finite period")
 
@@ -218,8 +216,6 @@ def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
         if arm.urdf_file is None:
             (instance,) = parser.AddModelsFromString(arm.urdf(), "urdf")
         else:
-            from armlab.models.read_urdf import package_roots
-
             for package_xml in package_roots(arm.urdf_file).values():
                 parser.package_map().AddPackageXml(str(package_xml))
             (instance,) = parser.AddModels(file_name=str(arm.urdf_file))

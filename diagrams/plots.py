@@ -22,6 +22,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armlab.scripts.figures import DPI, new_figure, set_equal_3d
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
@@ -117,8 +119,6 @@ def _joint_unit(log: SimulationLog, i: int, order: int) -> str:
 
 
 def _joints(log: SimulationLog) -> Any:
-    from armlab.scripts.figures import new_figure
-
     n = log.arm.n
     fig, axes = new_figure(_title(log, "joint angles, velocities, accelerations", "joints"), nrows=3,
                            size=(9.0, 9.0), sharex=True)
@@ -150,8 +150,6 @@ def _joints(log: SimulationLog) -> Any:
 
 
 def _torques(log: SimulationLog) -> Any:
-    from armlab.scripts.figures import new_figure
-
     fig, ax = new_figure(_title(log, f"joint torques, {log.mode.replace('_', ' ')}", "torques"), size=(9.0, 4.5))
     colors = _colors()
     for i in range(log.arm.n):
@@ -173,8 +171,6 @@ def _ends(ax: Axes, p: np.ndarray) -> None:
 
 
 def _tool_path(log: SimulationLog) -> Any:
-    from armlab.scripts.figures import new_figure, set_equal_3d
-
     p = log.tool[:, :3]
     planar = np.ptp(p[:, 2]) < 1e-9
     fig, axes = new_figure(_title(log, f"path of tool point {log.arm.tool_name}", "path"), ncols=2,
@@ -214,8 +210,6 @@ def _tool_path(log: SimulationLog) -> Any:
 
 
 def _tool_motion(log: SimulationLog) -> Any:
-    from armlab.scripts.figures import new_figure
-
     fig, axes = new_figure(_title(log, f"tool point {log.arm.tool_name} in the world frame", "path"), nrows=3,
                            size=(9.0, 9.0), sharex=True)
     for row, (name, unit) in enumerate((("position", "m"), ("velocity", "m/s"), ("acceleration", "m/s²"))):
@@ -237,8 +231,6 @@ def figures(log: SimulationLog) -> dict[str, Any]:
 def write_plots(log: SimulationLog, folder: str | Path) -> list[Path]:
     """Write :data:`PLOTS` into ``folder`` (PNG, the reproduction's resolution); returns their paths."""
     import matplotlib.pyplot as plt
-
-    from armlab.scripts.figures import DPI
 
     folder = Path(folder)
     paths = []

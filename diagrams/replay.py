@@ -14,6 +14,7 @@ reads out t, q and τ; a motion of several runs (a branch switch) pauses at each
 
 from __future__ import annotations
 
+import json
 import logging
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -121,6 +122,7 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
     from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams
     from pydrake.systems.framework import DiagramBuilder
 
+    # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
     from armlab.diagrams.plant import PlantOptions, add_arm_plant
 
     builder = DiagramBuilder()
@@ -453,8 +455,6 @@ def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray,
 
 def _controls(data: dict[str, Any]) -> str:
     """The page's control bar, readout and join banner (HTML, CSS and a script driving ``viewer.animator``)."""
-    import json
-
     sizes = _CONTROLS.replace("BAR_PX", str(BAR_HEIGHT)).replace("BANNER_PX", str(BAR_HEIGHT + 12))
     return sizes.replace("/*DATA*/null", json.dumps(data, ensure_ascii=False))
 

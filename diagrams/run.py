@@ -15,7 +15,19 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, divergence, drive_table, limit_violations
+from armlab.diagrams.drives import (
+    DIVERGENCE_TOLERANCE,
+    divergence,
+    drive_table,
+    limit_violations,
+    plot_drives,
+    write_drives_csv,
+)
+from armlab.diagrams.graphviz import fig6_dot, write_pictures
+from armlab.diagrams.output import run_folder, write_log_csv, write_summary
+from armlab.diagrams.plots import write_plots
+from armlab.diagrams.replay import replay_log
+from armlab.diagrams.simulate import summarize
 
 if TYPE_CHECKING:
     from armlab.diagrams.simulate import SimulationLog
@@ -37,8 +49,6 @@ class Run:
     summary: dict[str, Any] = field(init=False)
 
     def __post_init__(self) -> None:
-        from armlab.diagrams.simulate import summarize
-
         summary = summarize(self.log)
         summary["tracking_error_units"] = summary["joint_units"]
         summary["limit_violations"] = limit_violations(self.log)
@@ -108,9 +118,6 @@ class Run:
     # ------------------------------------------------------------------ the files
     def plot(self, folder: str | Path) -> list[Path]:
         """Write the run's plots into ``folder`` (joints, torques, tool path and motion, drives); their paths."""
-        from armlab.diagrams.drives import plot_drives
-        from armlab.diagrams.plots import write_plots
-
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         return [*write_plots(self.log, folder), plot_drives(self.log, folder / "drives.png")]
@@ -121,8 +128,6 @@ class Run:
         ``out`` may be new, empty or an earlier run (which is replaced); ``ValueError`` otherwise.
         Returns the names written; ``deg``: the replay shows revolute angles in degrees.
         """
-        from armlab.diagrams.output import run_folder
-
         with run_folder(out) as folder:
             return self.write(folder, deg)
 
@@ -135,11 +140,6 @@ class Run:
         SVGs need graphviz's ``dot``: without it they are skipped with a
         :class:`~armlab.diagrams.graphviz.DotMissingWarning`, and everything else is written.
         """
-        from armlab.diagrams.drives import write_drives_csv
-        from armlab.diagrams.graphviz import fig6_dot, write_pictures
-        from armlab.diagrams.output import write_log_csv, write_summary
-        from armlab.diagrams.replay import replay_log
-
         log, folder = self.log, Path(folder)
         write_log_csv(log, folder / "log.csv")
         write_summary(self.summary, folder / "summary.json")

@@ -32,6 +32,7 @@ than :data:`MAX_STEPS`.
 from __future__ import annotations
 
 import functools
+import sys
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -42,9 +43,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, SAMPLINGS, RunDiagram, build_diagram, check_log_period
-from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance
+from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, torque_stats
 from armlab.diagrams.plant import PlantOptions
+from armlab.kinematics.differential import tool_motion
 from armlab.kinematics.quintic import Motion
+from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_point
 from armlab.limits import check_range
 
 if TYPE_CHECKING:
@@ -246,8 +249,6 @@ class _Watch:
     """The simulator's monitor over all runs: progress on a terminal, Ctrl-C and the step budget checked per step."""
 
     def __init__(self, name: str, duration: float, accuracy: float) -> None:
-        import sys
-
         from tqdm import tqdm
 
         self.duration, self.accuracy, self.steps, self.offset = duration, accuracy, 0, 0.0
@@ -280,8 +281,6 @@ def state_rows(run: RunDiagram, context: Context) -> tuple[NDArray[np.intp], NDA
 
 def _forward_dynamics(run: RunDiagram, q: NDArray, v: NDArray, tau: NDArray) -> NDArray[np.float64]:
     """v̇ = M(q)⁻¹ (τ − C(q, v) v + τ_g(q)) per sample, M column by column from the batched inverse dynamics."""
-    from armlab.kinematics.rnea import inverse_dynamics
-
     arm, n = run.arm, q.shape[1]
     bias = inverse_dynamics(arm, q, v, np.zeros(n), run.gravity, run.payload)
     mass = np.stack([inverse_dynamics(arm, q, np.zeros(n), e, np.zeros(3), run.payload) for e in np.eye(n)], axis=-1)
@@ -297,9 +296,6 @@ def log_samples(run: RunDiagram, t: NDArray[np.float64], x: NDArray[np.float64],
     "tool": (m, 9)}``, computed as the diagram's systems compute their outputs (see the module docstring), for all
     samples at once.
     """
-    from armlab.kinematics.differential import tool_motion
-    from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_point
-
     arm, n = run.arm, run.arm.n
     ref = np.hstack(run.motion.evaluate(t))  # the TrajectorySource's polynomials, in numpy (Horner's rule)
     q_d, v_d, a_d = ref[:, :n], ref[:, n:2 * n], ref[:, 2 * n:]
@@ -435,8 +431,6 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
 
 
 def _stats(log: SimulationLog, rows: NDArray[np.bool_]) -> dict[str, Any]:
-    from armlab.diagrams.drives import torque_stats
-
     stats = torque_stats(log.tau[rows], log.qd[rows])
     return {
         "max_abs_torque": stats["max_abs_torque"].tolist(),

@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.basic_movements import DH_TO_YUP, T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
+from armlab.models import get_arm
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -749,8 +750,6 @@ def check(samples: int = 100, seed: int = 0, paper: str | None = None) -> list[t
     from its own generator (``seed`` and its place in :data:`ERRATA`), so one paper's errata can be
     checked alone with the numbers a check of all of them gives.
     """
-    from armlab.models import get_arm
-
     out = []
     for k, erratum in enumerate(ERRATA):
         if not erratum.evaluable or erratum.arm is None or paper not in (None, erratum.paper):

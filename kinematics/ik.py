@@ -37,6 +37,7 @@ from armlab.kinematics.ik_target import (
     target_text,
 )
 from armlab.limits import check_range
+from armlab.models import paper_arms
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -101,8 +102,6 @@ def _closed_form(arm: Arm, form: ClosedForm, position: NDArray, rotation: NDArra
 
 def _check_options(arm: Arm, options: dict[str, float]) -> None:
     """``ValueError`` for an option (``pitch``) the arm's closed form does not take, naming the arms that take it."""
-    from armlab.models import paper_arms
-
     form = arm.closed_form
     for name, value in options.items():
         if form is None or name not in form.options:
@@ -121,8 +120,6 @@ def solve_branch(arm: Arm, point: ArrayLike, branch: int) -> NDArray[np.float64]
     """
     form = arm.closed_form
     if form is None or not form.selectable or branch not in range(len(form.branches)):
-        from armlab.models import paper_arms
-
         choices = "; ".join(" and ".join(f"{k} ({text})" for k, text in enumerate(other.closed_form.branches))
                             + f" of the {other.name} arm" for other in paper_arms()
                             if other.closed_form is not None and other.closed_form.selectable)

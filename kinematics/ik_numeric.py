@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.kinematics.differential import jacobian
 from armlab.kinematics.ik_target import (
     ORIENTATION_TOL,
     POSITION_TOL,
@@ -49,8 +50,6 @@ def _project(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray) -> NDArray[np
 
 def _jacobian_rows(arm: Arm, q: NDArray, rows: int) -> NDArray[np.float64]:
     """The tool Jacobian's first ``rows`` rows (3: linear velocity; 6: [v; ω]), world frame, ``(..., rows, n)``."""
-    from armlab.kinematics.differential import jacobian
-
     return jacobian(arm, q)[..., :rows, :]
 
 

@@ -274,6 +274,7 @@ class Motion:
         rule (numpy's ``polyval``), as Drake's ``PiecewisePolynomial`` evaluates them. ``orders``: how many
         of q, q̇, q̈ to return (1 to 3).
         """
+        # lazy: armlab --help loads this module but not numpy.polynomial (start-up time)
         from numpy.polynomial.polynomial import polyder, polyval
 
         t = np.atleast_1d(np.asarray(t, dtype=float))

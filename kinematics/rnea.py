@@ -7,7 +7,6 @@ own frame. With ``R`` the rotation of frame {i} in {i−1}, ``P`` the origin of 
 axis, c_i the link's centre of mass and I_i its inertia about it, m_i its mass:
 
 outward, i = 1 … n, from ω_0 = ω̇_0 = 0 and v̇_0 = −g (gravity as an acceleration of the base):
-
     ω_i  = Rᵀω_{i−1} + q̇_i ẑ                                         (6.45; prismatic: Rᵀω_{i−1})
     ω̇_i  = Rᵀω̇_{i−1} + Rᵀω_{i−1} × q̇_i ẑ + q̈_i ẑ                       (6.46; prismatic: Rᵀω̇_{i−1})
     v̇_i  = Rᵀ(ω̇_{i−1} × P + ω_{i−1} × (ω_{i−1} × P) + v̇_{i−1})          (6.47)
@@ -16,7 +15,6 @@ outward, i = 1 … n, from ω_0 = ω̇_0 = 0 and v̇_0 = −g (gravity as an acc
     F_i  = m_i v̇_ci,   N_i = I_i ω̇_i + ω_i × I_i ω_i                     (6.49–6.50)
 
 inward, i = n … 1 (R, P of link i+1 in i; f_{n+1} = n_{n+1} = 0):
-
     f_i = R f_{i+1} + F_i                                                (6.51)
     n_i = N_i + R n_{i+1} + c_i × F_i + P × R f_{i+1}                     (6.52)
     τ_i = n_i · ẑ (revolute),  f_i · ẑ (prismatic)                       (6.53)
@@ -61,6 +59,7 @@ def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
     """Each moving link's mass properties (:meth:`Arm.mass_properties`, the numbers its URDF and so its
     Drake plant are built from), with a ``payload`` (kg) as a point mass at the tool frame's origin added to
     link n, as :func:`armlab.diagrams.plant.make_plant` welds it there."""
+    # lazy: armlab.diagrams sits above armlab.kinematics and imports it
     from armlab.diagrams.plant import check_payload
 
     payload = check_payload(payload)
@@ -186,6 +185,7 @@ def inverse_dynamics_and_tool_point(
 def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None,
                   payload: float, tool: bool) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """τ ``(..., n)`` and, if ``tool``, the tool point's [p v a] ``(..., 9)`` (else an empty array)."""
+    # lazy: armlab.diagrams sits above armlab.kinematics and imports it
     from armlab.diagrams.plant import resolve_gravity
 
     arm.require_dynamics("inverse dynamics")

@@ -36,6 +36,7 @@ import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
+from armlab.models import get_arm
 
 __all__ = [
     "T_Z1",
@@ -506,8 +507,6 @@ class ArmKinematics:
 
 @cache
 def _arm_kinematics(name: str, overrides: tuple[tuple[str, float], ...]) -> ArmKinematics:
-    from armlab.models import get_arm
-
     arm = get_arm(name, **dict(overrides))
     params = {key: sp.Symbol(key, real=True) for key in arm.parameters}
     q, position, rotation = _BUILDERS[name](params)

@@ -95,10 +95,12 @@ def get_arm(name: str, **overrides: float) -> Arm:
             raise ValueError(f"unknown example arm {name!r}; allowed: {_names(shipped)}")
         path = shipped[name.removeprefix(EXAMPLE)]
     if path.suffix.lower() == ".urdf":
+        # lazy: armlab --help loads armlab.models but not this (start-up time)
         from armlab.models.read_urdf import from_urdf
 
         return from_urdf(path)
     if path.suffix.lower() == ".csv":
+        # lazy: armlab --help loads armlab.models but not this (start-up time)
         from armlab.models.read_dh import from_dh_csv
 
         return from_dh_csv(path)

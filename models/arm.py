@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch, chain_points
 from armlab.kinematics.locating import LocatingTable
+from armlab.limits import check_range
 from armlab.models.write_urdf import Body, JointLimits, Point, link_inertials, urdf_text
 
 if TYPE_CHECKING:
@@ -141,8 +142,6 @@ class Arm:
         An unlimited joint's value is held to ``armlab.limits.LIMITS["q"]`` (±1e6 rad). ``deg``: the user gave
         revolute values in degrees, so the error quotes them in degrees.
         """
-        from armlab.limits import check_range
-
         q = as_batch(q, self.n, name)
         for i, (row, lim) in enumerate(zip(self.table.rows, self.limits, strict=True)):
             if lim.lower is None or lim.upper is None:  # an unlimited revolute joint has neither
@@ -234,6 +233,7 @@ class Arm:
     def make_plant(self, options: PlantOptions | None = None) -> MultibodyPlant:
         """A finalized ``MultibodyPlant`` of the arm (default: continuous, the arm's gravity, no payload), in the arm's
         joint order: :func:`armlab.diagrams.plant.make_plant`, the one plant builder, with ``options``."""
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.diagrams.plant import make_plant
 
         return make_plant(self, options)
@@ -251,6 +251,7 @@ class Arm:
 
         Column j maps q̇_j (rad/s or m/s) to the tool point's velocity (m/s) and angular velocity (rad/s).
         """
+        # lazy: armlab.kinematics sits above armlab.models and imports it
         from armlab.kinematics.differential import jacobian
 
         return jacobian(self, self.check_q(q))
@@ -262,6 +263,7 @@ class Arm:
 
         Each ``(6,)`` for one state, ``(N, 6)`` for a batch; ``qd``, ``qdd`` shaped like ``q``.
         """
+        # lazy: armlab.kinematics sits above armlab.models and imports it
         from armlab.kinematics.differential import tool_motion
 
         return tool_motion(self, self.check_q(q), *self._rates(qd, qdd))
@@ -275,14 +277,13 @@ class Arm:
         ``gravity``: ``None`` (the arm's), ``"off"``, ``"-z"`` …, or (gx, gy, gz) m/s²; ``payload``: a point mass
         (kg) at the tool point. The arm needs mass data (``has_dynamics``).
         """
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.kinematics.rnea import inverse_dynamics
 
         return inverse_dynamics(self, self.check_q(q), *self._rates(qd, qdd), gravity=gravity, payload=payload)
 
     def _rates(self, qd: ArrayLike, qdd: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Joint rates and accelerations checked for shape, finite values and ``armlab.limits`` ranges."""
-        from armlab.limits import check_range
-
         return check_range(as_batch(qd, self.n, "qd"), "qd"), check_range(as_batch(qdd, self.n, "qdd"), "qdd")
 
     def manipulability(
@@ -293,6 +294,7 @@ class Arm:
         ``axes``: ``"trans"`` (rows v), ``"rot"`` (ω) or ``"all"``; default ``"all"`` for n ≥ 6, else ``"trans"``.
         A float for one ``q``, ``(N,)`` for a batch; 0 at a singular configuration.
         """
+        # lazy: armlab.kinematics sits above armlab.models and imports it
         from armlab.kinematics.differential import manipulability
 
         return manipulability(self.jacobian(q), axes)
@@ -301,6 +303,7 @@ class Arm:
         self, q: ArrayLike, axes: Literal["all", "trans", "rot"] | None = None,
     ) -> NDArray[np.float64] | float:
         """The smallest singular value of the tool Jacobian's rows ``axes`` (see :meth:`manipulability`)."""
+        # lazy: armlab.kinematics sits above armlab.models and imports it
         from armlab.kinematics.differential import sigma_min
 
         return sigma_min(self.jacobian(q), axes)
@@ -315,6 +318,7 @@ class Arm:
         finds), else the one nearest ``near`` (default q = 0). ``pitch``: arm4r's tool pitch θ2+θ3+θ4 (rad).
         ``ValueError`` for an unreachable target (with the closest distance) or one outside the joint limits.
         """
+        # lazy: armlab.kinematics sits above armlab.models and imports it
         from armlab.kinematics.ik import solve
 
         return np.array(solve(self, target, pitch=pitch, near=near, all_solutions=all))

@@ -99,6 +99,7 @@ def fig3_motion(arm: Arm, tf: float | None = None) -> Motion:
 
 def abcd_motion(arm: Arm, tf: float | None = None) -> Motion:
     """Paper 000's A → B → C → D → A (Tables 1–2, Figs. 8–10), ``tf`` seconds per segment (default 2 s)."""
+    # lazy: armlab.kinematics sits above armlab.models and imports it
     from armlab.kinematics.ik import solve_branch
 
     tf = 2.0 if tf is None else check_duration(tf)

@@ -22,6 +22,10 @@ import time
 from pathlib import Path
 from typing import Any
 
+from armlab.analysis.sweep import RESULTS, run_sweep
+from armlab.analysis.workspace import workspace
+from armlab.models import get_arm
+
 #: The sweep's study: 100 candidates.
 STUDY = {"arm": "urm6", "vary": {"theta2": {"from": 0, "to": 90, "steps": 10, "unit": "deg"},
                                  "theta3": {"from": 0, "to": 90, "steps": 10, "unit": "deg"}},
@@ -30,9 +34,6 @@ STUDY = {"arm": "urm6", "vary": {"theta2": {"from": 0, "to": 90, "steps": 10, "u
 
 def volume_seconds(samples: int, repeat: int) -> tuple[float, float]:
     """Median wall time (s) of the urm6 volume from ``samples`` samples, and the volume (m³)."""
-    from armlab.analysis.workspace import workspace
-    from armlab.models import get_arm
-
     arm = get_arm("urm6")
     times, volume = [], 0.0
     for _ in range(repeat):
@@ -44,8 +45,6 @@ def volume_seconds(samples: int, repeat: int) -> tuple[float, float]:
 
 def sweep_seconds(workers: int, study: dict, folder: Path) -> dict[str, float]:
     """One sweep of ``study`` on a LocalCluster of ``workers``: whole call, summed candidate times, counts."""
-    from armlab.analysis.sweep import RESULTS, run_sweep
-
     path = folder / f"study_{workers}.json"
     path.write_text(json.dumps(study))
     began = time.perf_counter()

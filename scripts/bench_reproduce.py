@@ -23,6 +23,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from armlab.scripts.reproduce import default_jobs
+
 #: The goal for the default run (s).
 GOAL = 20.0
 #: The source tree (armlab is installed from it in editable mode).
@@ -55,7 +57,6 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3, help="runs of each, in turns (default 3; median)")
     args = parser.parse_args(argv)
-    from armlab.scripts.reproduce import default_jobs
 
     times: dict[str, list[float]] = {"default": [], "one": []}
     summaries = set()

@@ -22,6 +22,9 @@ from typing import Any
 
 import numpy as np
 
+from armlab.analysis.study import evaluate, parse_study
+from armlab.models.urm6 import Parameters
+from armlab.scripts.figures import new_figure
 from armlab.scripts.paper_output import MANIFEST, PaperOutput
 
 __all__ = ["SAMPLES", "STUDIES", "rr_drive_map", "run", "urm6_bend_angles"]
@@ -32,17 +35,11 @@ ANGLE_STEPS = {False: 7, True: 4}
 
 
 def _study(data: dict[str, Any]) -> Any:
-    from armlab.analysis.study import parse_study
-
     return parse_study(data)
 
 
 def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
     """Paper 004's open question: workspace volume against each bend angle ϑ2 … ϑ7 (one at a time)."""
-    from armlab.analysis.study import evaluate
-    from armlab.models.urm6 import Parameters
-    from armlab.scripts.figures import new_figure
-
     samples, steps = SAMPLES[fast], ANGLE_STEPS[fast]
     nominal = Parameters()
     names = [f"theta{k}" for k in range(2, 8)]
@@ -97,9 +94,6 @@ def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
 
 def rr_drive_map(out: PaperOutput, fast: bool) -> None:
     """Paper 000's RR arm: peak joint torques along Fig. 3's motion against t_f and payload."""
-    from armlab.analysis.study import evaluate
-    from armlab.scripts.figures import new_figure
-
     tfs = [0.5, 1.0, 2.0, 3.0] if fast else [0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0]
     payloads = [0.0, 1.0, 2.0, 5.0] if fast else [0.0, 0.5, 1.0, 2.0, 3.0, 5.0]
     study = _study({"arm": "rr", "vary": {"tf": {"values": tfs, "unit": "s"}, "payload": {"values": payloads,

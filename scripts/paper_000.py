@@ -18,6 +18,17 @@ from typing import Any
 
 import numpy as np
 
+from armlab.diagrams.build import DEFAULT_LOG_PERIOD
+from armlab.diagrams.motions import paper_motion
+from armlab.diagrams.plant import PlantOptions
+from armlab.diagrams.simulate import SimulationOptions, simulate, summarize
+from armlab.kinematics.basic_movements import rrrr_dh_chain, rrrr_point_M, rrrr_yup_chain
+from armlab.kinematics.errata import ERRATA
+from armlab.kinematics.ik_closed_form import rr_ik
+from armlab.kinematics.quintic import evaluate_coefficients, quintic_coefficients
+from armlab.models import get_arm
+from armlab.models.rr import ABCD_POINTS, ABCD_SEGMENTS, abcd_motion
+from armlab.scripts.figures import new_figure
 from armlab.scripts.paper_output import PaperOutput
 from armlab.scripts.report_rows import MATCHES, Row, compare, differs, not_reproducible
 
@@ -78,8 +89,6 @@ def _deg(x: np.ndarray) -> np.ndarray:
 
 # ----------------------------------------------------------------------------- RR: Fig. 3 motion
 def _fig3_kinematics(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> None:
-    from armlab.scripts.figures import new_figure
-
     out.group("§4, Figs. 3 and 5: the quintic of Fig. 3's motion",
               "θ1 −38° → 62°, θ2 98° → 68° (the printed angles) by a rest-to-rest quintic per joint. The paper "
               "prints no coordinates of M0 or M_fin; Fig. 3 marks the ones armlab computes from those angles.")
@@ -134,8 +143,6 @@ def _fig3_kinematics(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> 
 
 
 def _fig4_workspace(out: PaperOutput, arm: Any, fast: bool) -> None:
-    from armlab.scripts.figures import new_figure
-
     out.group("Fig. 4: the workspace")
     grid = np.arange(0.0, 1.5 * np.pi, 0.1)  # the paper's theta = 0:0.1:3*pi/2 (Matlab's colon: ends ≤ 3π/2)
     t1, t2 = np.meshgrid(grid, grid, indexing="ij")
@@ -172,8 +179,6 @@ def _cartesian_arc(arm: Any, centre: np.ndarray, radius: float, t: np.ndarray, t
     Returns q, q̇, q̈ (segments, samples, 2) and M. q̇ = J⁺ ṗ and q̈ = J⁺ (p̈ − J̇q̇) with J from the
     symbolic kinematics' velocity (J̇q̇ = acceleration at q̈ = 0).
     """
-    from armlab.kinematics.ik_closed_form import rr_ik
-    from armlab.kinematics.quintic import evaluate_coefficients, quintic_coefficients
     from armlab.kinematics.symbolic import arm_kinematics
 
     numeric = arm_kinematics("rr").numeric()
@@ -207,10 +212,6 @@ def _segment_samples(motion: Any, k: int, tau: np.ndarray) -> np.ndarray:
 
 
 def _abcd(out: PaperOutput, arm: Any, fast: bool, log_period: float) -> None:
-    from armlab.diagrams.simulate import SimulationOptions, simulate, summarize
-    from armlab.models.rr import ABCD_POINTS, ABCD_SEGMENTS, abcd_motion
-    from armlab.scripts.figures import new_figure
-
     motion = abcd_motion(arm, SEGMENT_TIME)
     labels = motion.labels
     # ---- Table 2: exact IK angles at each segment's ends, on the branch Table 2 uses there
@@ -373,10 +374,6 @@ def _branch_switches(out: PaperOutput, motion: Any) -> None:
 
 def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> None:
     """Fig. 7 (torques of Fig. 3's motion) and Figs. 28-29 (the arm with its tool, vertical plane)."""
-    from armlab.diagrams.plant import PlantOptions
-    from armlab.diagrams.simulate import SimulationOptions, simulate
-    from armlab.scripts.figures import new_figure
-
     out.group("§4, Fig. 7: joint torques of Fig. 3's motion",
               "Simulated through Drake's version of the paper's Fig. 6 diagram (quintic trajectory source → inverse "
               "dynamics controller → plant → scopes) with armlab's chosen masses.")
@@ -423,11 +420,7 @@ def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> Non
 
 # ----------------------------------------------------------------------------- RRRR
 def _rrrr(out: PaperOutput) -> None:
-    from armlab.diagrams.motions import paper_motion
-    from armlab.kinematics.basic_movements import rrrr_dh_chain, rrrr_point_M, rrrr_yup_chain
     from armlab.kinematics.symbolic import arm_kinematics
-    from armlab.models import get_arm
-    from armlab.scripts.figures import new_figure
 
     arm = get_arm("rrrr")
     out.group("§7, Figs. 18-19 and 24-25: the RRRR arm at constant joint rates",
@@ -477,7 +470,6 @@ def _symbolic(out: PaperOutput) -> None:
     """Figs. 15-17, 22-23 rederived with sympy; each printed form compared at random points."""
     import sympy as sp
 
-    from armlab.kinematics.errata import ERRATA
     from armlab.kinematics.symbolic import latex_table, rrrr_dh, rrrr_yup
 
     out.group("Figs. 15-17, 22-23: the printed symbolic expressions")
@@ -528,10 +520,6 @@ def _symbolic(out: PaperOutput) -> None:
 # ----------------------------------------------------------------------------- the whole paper
 def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> list[Row]:
     """Reproduce paper 000 into ``out_dir``; ``fast``: fewer samples and a 20 ms log period."""
-    from armlab.diagrams.build import DEFAULT_LOG_PERIOD
-    from armlab.diagrams.motions import paper_motion
-    from armlab.models import get_arm
-
     out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("rr")
     out.scheme(arm, np.radians([-38.0, 98.0]), "scheme_rr", "the RR arm (cf. Fig. 1) at Fig. 3's start, "

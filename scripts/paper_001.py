@@ -15,11 +15,21 @@ Run alone: ``python scripts/paper_001.py --out out/001`` or ``python -m armlab.s
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from armlab.diagrams.build import DEFAULT_LOG_PERIOD
+from armlab.diagrams.motions import paper_motion
+from armlab.diagrams.simulate import SimulationOptions, simulate
+from armlab.kinematics.errata import drake_sample, wrap_angle
+from armlab.kinematics.ik import solve
+from armlab.kinematics.ik_closed_form import arm4r_ik
+from armlab.models import get_arm
+from armlab.models.arm4r import Parameters, dh_table
+from armlab.scripts.figures import draw_chain_3d, new_figure, set_equal_3d
 from armlab.scripts.paper_output import PaperOutput
 from armlab.scripts.report_rows import Row, differs, matches, not_reproducible
 
@@ -76,13 +86,6 @@ def fig4_splits(target: tuple[float, float, float] = PAPER_TARGET, reach: float 
 
 
 def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.ndarray]]:
-    from dataclasses import replace
-
-    from armlab.kinematics.errata import drake_sample
-    from armlab.kinematics.ik import solve
-    from armlab.kinematics.ik_closed_form import arm4r_ik
-    from armlab.models.arm4r import Parameters, dh_table
-
     p = arm.parameters
     zero = np.zeros(arm.n)
     T = arm.forward(zero).tool[:3]
@@ -127,9 +130,6 @@ def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.
 def _fig4_claim(out: PaperOutput, arm: Any, q: np.ndarray) -> None:
     """Fig. 4's claim (joints 1 and 4 coincide, 2 and 3 coincide) with armlab's lengths, and the lengths with which
     it holds (:func:`fig4_splits`), each checked by forward kinematics and against Table 1's limits."""
-    from armlab.kinematics.errata import wrap_angle
-    from armlab.models import get_arm
-
     gap14 = float(np.degrees(np.abs(q[:, 0] - q[:, 3]).max()))
     gap23 = float(np.degrees(np.abs(q[:, 1] - q[:, 2]).max()))
     reach = arm.parameters["a2"] + arm.parameters["a3"]
@@ -160,8 +160,6 @@ def _fig4_claim(out: PaperOutput, arm: Any, q: np.ndarray) -> None:
 
 
 def _figures(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> None:
-    from armlab.scripts.figures import draw_chain_3d, new_figure, set_equal_3d
-
     q, qd, qdd = motion.evaluate(t)
     fk = arm.forward(q)
     end = fk.tool[:, :3, 3]
@@ -202,9 +200,6 @@ def _figures(out: PaperOutput, arm: Any, motion: Any, t: np.ndarray) -> None:
 
 def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> None:
     """Beyond the paper (kinematic only): §3's motion through Drake's Fig. 6 diagram, its torques and replay."""
-    from armlab.diagrams.simulate import SimulationOptions, simulate
-    from armlab.scripts.figures import new_figure
-
     log = simulate(arm, motion, SimulationOptions(log_period=log_period))
     out.simulated_run(log, "motion", "§3's motion (2, 0, 0) → (1, 1, 1.4) m, as the Robotics Toolbox animates it")
     fig, ax = new_figure("Beyond paper 001 — joint torques of §3's motion (gravity −z, armlab's chosen masses)",
@@ -221,10 +216,6 @@ def _dynamics(out: PaperOutput, arm: Any, motion: Any, log_period: float) -> Non
 
 def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> list[Row]:
     """Reproduce paper 001 into ``out_dir``; ``fast``: fewer samples."""
-    from armlab.diagrams.build import DEFAULT_LOG_PERIOD
-    from armlab.diagrams.motions import paper_motion
-    from armlab.models import get_arm
-
     out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("arm4r")
     motion = paper_motion(arm)  # §3: (2, 0, 0) → (1, 1, 1.4), the start's pitch, nearest solution, 2 s

@@ -20,7 +20,13 @@ from typing import Any
 
 import numpy as np
 
-from armlab.scripts.paper_output import PaperOutput
+from armlab.diagrams.motions import paper_motion
+from armlab.kinematics.errata import ERRATA, drake_sample, wrap_angle
+from armlab.kinematics.iterative import iterative_kinematics
+from armlab.kinematics.locating import orientation_angles
+from armlab.models import get_arm
+from armlab.scripts.figures import new_figure
+from armlab.scripts.paper_output import PaperOutput, errata_checked
 from armlab.scripts.report_rows import MATCHES, Row, differs
 
 PAPER = "003"
@@ -57,8 +63,6 @@ def paper_v3(q: np.ndarray, qd: np.ndarray, l: dict[str, float]) -> np.ndarray:
 
 
 def _wrap(x: np.ndarray) -> np.ndarray:
-    from armlab.kinematics.errata import wrap_angle
-
     return wrap_angle(x)
 
 
@@ -69,11 +73,6 @@ def _check(out: PaperOutput, quantity: str, printed: str, computed: str, gap: fl
 
 
 def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> Any:
-    from armlab.kinematics.errata import drake_sample
-    from armlab.kinematics.iterative import iterative_kinematics
-    from armlab.kinematics.locating import orientation_angles
-    from armlab.scripts.paper_output import errata_checked
-
     l = dict(arm.parameters)
     out.group("Eqs. (17)-(23), (43)-(48): the printed forms checked against Drake",
               "Along the demo motion (the paper prints no motion); the misprinted equations are listed in the errata "
@@ -121,8 +120,6 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
 def _end_effector(out: PaperOutput, t: np.ndarray, v: np.ndarray, w: np.ndarray, vd: np.ndarray, wd: np.ndarray,
                   frame: str, title: str, stem: str, label: str, caption: str) -> None:
     """The tool's v, ω, v̇, ω̇ (each (N, 3), projected on ``frame``, "0" or "4") in a 2 × 2 figure."""
-    from armlab.scripts.figures import new_figure
-
     prefix = "" if frame == "0" else "⁴"
     fig, axes = new_figure(title, 2, 2, size=(11, 6.5), sharex=True)
     panels = ((v, "v4 [m/s]"), (w, "ω4 [rad/s]"), (vd, "v̇4 [m/s²]"), (wd, "ω̇4 [rad/s²]"))
@@ -137,8 +134,6 @@ def _end_effector(out: PaperOutput, t: np.ndarray, v: np.ndarray, w: np.ndarray,
 
 
 def _figures(out: PaperOutput, arm: Any, t: np.ndarray, motion: Any, drake_gap: float) -> None:
-    from armlab.scripts.figures import new_figure
-
     out.group("Eqs. (24)-(33), (46)-(49), (62)-(69): the motion of the end effector and of every link",
               "The iterative algorithm along the demo motion (the paper prints no motion or plot).")
     _end_effector(out, t, motion.v_0[:, -1], motion.w_0[:, -1], motion.vd_0[:, -1], motion.wd_0[:, -1], "0",
@@ -167,7 +162,6 @@ def _figures(out: PaperOutput, arm: Any, t: np.ndarray, motion: Any, drake_gap: 
 
 
 def _symbolic(out: PaperOutput) -> None:
-    from armlab.kinematics.errata import ERRATA
     from armlab.kinematics.symbolic import latex_table
 
     out.group("Eqs. (17), (19)-(21), (43)-(49), (61)-(65): the symbolic expressions")
@@ -194,9 +188,6 @@ def _symbolic(out: PaperOutput) -> None:
 
 def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> list[Row]:
     """Reproduce paper 003 into ``out_dir``; ``fast``: fewer samples."""
-    from armlab.diagrams.motions import paper_motion
-    from armlab.models import get_arm
-
     out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("r2t")
     demo = paper_motion(arm)
@@ -206,7 +197,6 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
                "drawn from armlab's model")
     every = max(1, len(t) // 25)
     sample, _ = _rows(out, arm, q[::every], qd[::every], qdd[::every])
-    from armlab.kinematics.iterative import iterative_kinematics
 
     motion = iterative_kinematics(arm.table, q, qd, qdd)
     gap = max(float(np.abs(getattr(motion, a)[::every, -1] - getattr(sample, b)[:, -1]).max())

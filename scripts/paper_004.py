@@ -17,6 +17,12 @@ from typing import Any
 
 import numpy as np
 
+from armlab.diagrams.motions import paper_motion
+from armlab.kinematics.errata import ERRATA, drake_sample
+from armlab.kinematics.urm import position_vectors_homogeneous
+from armlab.models import get_arm
+from armlab.models.urm6 import TABLE1_PHI_DEG
+from armlab.scripts.figures import draw_chain_3d, new_figure, set_equal_3d
 from armlab.scripts.paper_output import PaperOutput
 from armlab.scripts.report_rows import MATCHES, Row, compare, differs
 
@@ -49,8 +55,6 @@ def drake_points(arm: Any, q: np.ndarray, names: list[str]) -> np.ndarray:
 
 def _figure(out: PaperOutput, points_mm: np.ndarray, names: list[str], phi_deg: np.ndarray) -> None:
     """The whole arm with its position vectors, and the wrist (p4 … p7, which lie within 0.1 m) enlarged."""
-    from armlab.scripts.figures import draw_chain_3d, new_figure, set_equal_3d
-
     fig, axes = new_figure("Paper 004, Fig. 4 — URM arm and its position vectors p1…p7 (Table 1 configuration); "
                            "right: the wrist p4…p7 enlarged", 1, 2, size=(12, 6.2), projection="3d")
     ax, wrist = axes[0]
@@ -75,12 +79,6 @@ def _figure(out: PaperOutput, points_mm: np.ndarray, names: list[str], phi_deg: 
 
 def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> list[Row]:
     """Reproduce paper 004 into ``out_dir``; returns its report rows (``fast`` changes nothing here)."""
-    from armlab.diagrams.motions import paper_motion
-    from armlab.kinematics.errata import ERRATA, drake_sample
-    from armlab.kinematics.urm import position_vectors_homogeneous
-    from armlab.models import get_arm
-    from armlab.models.urm6 import TABLE1_PHI_DEG
-
     out = PaperOutput(PAPER, Path(out_dir), progress, TITLE)
     arm = get_arm("urm6")
     phi = np.radians(TABLE1_PHI_DEG)

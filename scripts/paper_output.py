@@ -21,7 +21,12 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+from armlab.diagrams.draw import draw_arm
+from armlab.diagrams.graphviz import fig6_dot, render
+from armlab.diagrams.replay import write_replay
 from armlab.files import write_csv
+from armlab.kinematics.errata import ERRATA, check
+from armlab.scripts.figures import save
 from armlab.scripts.report_rows import Row
 from armlab.scripts.value_text import markdown_table, value_text
 
@@ -78,16 +83,12 @@ class PaperOutput:
 
     def figure(self, fig: Any, stem: str, label: str, caption: str) -> None:
         """Save a matplotlib figure as ``stem.png`` (120 dpi) and ``stem.svg`` and close it."""
-        from armlab.scripts.figures import save
-
         files = save(fig, self.folder / stem)
         self._record("figures", {"label": label, "caption": caption, "png": f"{stem}.png", "svg": f"{stem}.svg"})
         self._say(label, [p.name for p in files])
 
     def scheme(self, arm: Any, q: Any, stem: str, label: str) -> None:
         """The arm's kinematic scheme at ``q`` (:func:`armlab.diagrams.draw.draw_arm`) as ``stem.png``."""
-        from armlab.diagrams.draw import draw_arm
-
         draw_arm(arm, q, self.folder / f"{stem}.png")
         self.manifest["schemes"].append({"label": label, "png": f"{stem}.png"})
         self._say(label, [f"{stem}.png"])
@@ -120,9 +121,6 @@ class PaperOutput:
     def simulated_run(self, log: Any, stem: str, label: str) -> None:
         """A simulated run's Systems diagram as ``diagram_<stem>.svg`` (the Fig. 6 view,
         :func:`armlab.diagrams.graphviz.fig6_dot`) and its 3-D replay as ``replay_<stem>.html``."""
-        from armlab.diagrams.graphviz import fig6_dot, render
-        from armlab.diagrams.replay import write_replay
-
         svg, replay = f"diagram_{stem}.svg", f"replay_{stem}.html"
         dot = fig6_dot(log.diagram_dot)
         (self.folder / svg).write_bytes(render(dot, "svg"))
@@ -134,8 +132,6 @@ class PaperOutput:
 
     def replay(self, arm: Any, t: Any, q: Any, stem: str, label: str) -> None:
         """A kinematic motion ``q(t)`` of ``arm`` as the 3-D replay ``replay_<stem>.html`` (no simulation)."""
-        from armlab.diagrams.replay import write_replay
-
         name = f"replay_{stem}.html"
         write_replay(arm, t, q, self.folder / name)
         self._record("replays", {"label": label, "replay": name})
@@ -154,8 +150,6 @@ class PaperOutput:
 
     def errata(self, samples: int = 20) -> None:
         """Record this paper's errata (:data:`armlab.kinematics.errata.ERRATA`) with their errors against Drake."""
-        from armlab.kinematics.errata import ERRATA
-
         mine = [e for e in ERRATA if e.paper == self.paper]
         checked = {}
         if any(e.evaluable for e in mine):
@@ -201,6 +195,4 @@ def load_rows(folder: Path) -> list[Row] | None:
 @cache
 def errata_checked(samples: int, paper: str) -> list[tuple[Any, float, float]]:
     """:func:`armlab.kinematics.errata.check` of ``paper``'s errata, once per process (it queries Drake)."""
-    from armlab.kinematics.errata import check
-
     return check(samples, paper=paper)

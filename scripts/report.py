@@ -21,6 +21,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from armlab.scripts.math_html import latex_html
 from armlab.scripts.paper_output import MANIFEST
 from armlab.scripts.report_rows import DIFFERS, MATCHES, NOT_REPRODUCIBLE, VERDICT_KINDS, Row, verdict_counts
 from armlab.scripts.value_text import DEVIATION_DIGITS, VALUE_DIGITS, markdown_table, paper_value_text, value_text
@@ -89,8 +90,6 @@ class _Doc:
 
     def latex(self, text: str) -> str:
         """``text`` (LaTeX) as HTML: rendered already, or now (:func:`armlab.scripts.math_html.latex_html`)."""
-        from armlab.scripts.math_html import latex_html
-
         return self.math[text] if text in self.math else latex_html(text)
 
     def heading(self, level: int, text: str, anchor: str = "") -> None:

@@ -30,7 +30,9 @@ from multiprocessing.connection import Connection, wait
 from pathlib import Path
 from typing import Any
 
+from armlab.analysis.sweep import default_workers
 from armlab.files import OutputFolder, signals_held
+from armlab.scripts.report_rows import verdict_counts
 
 __all__ = ["MARKER", "PAPERS", "ReproduceResult", "default_jobs", "output_folder", "reproduce", "reproduce_alone"]
 
@@ -91,8 +93,6 @@ def output_folder(out: str | Path) -> OutputFolder:
 def default_jobs() -> int:
     """Worker processes by default: one per CPU armlab may use (``armlab sweep``'s
     :func:`~armlab.analysis.sweep.default_workers`), at most :data:`MAX_JOBS`."""
-    from armlab.analysis.sweep import default_workers
-
     return min(default_workers(), MAX_JOBS)
 
 
@@ -153,6 +153,7 @@ def _paper(paper: str, folder: Path, fast: bool, progress: Callable[[str], Any]
            ) -> tuple[list[Any], list[str], list[str]]:
     """One paper: its script, then its study beyond the paper, into ``folder``; its rows, and its report's LaTeX
     and figures."""
+    # lazy: armlab --help loads armlab.scripts.reproduce but not this (start-up time)
     from armlab.scripts import beyond
     from armlab.scripts.report import report_images, report_math
 
@@ -163,6 +164,7 @@ def _paper(paper: str, folder: Path, fast: bool, progress: Callable[[str], Any]
 
 def _math(pieces: Sequence[str], progress: Callable[[str], Any]) -> dict[str, str]:
     """LaTeX pieces rendered as the report shows them (LaTeX → HTML)."""
+    # lazy: armlab --help loads armlab.scripts.reproduce but not this (start-up time)
     from armlab.scripts.math_html import latex_html
 
     return {piece: latex_html(piece) for piece in pieces}
@@ -170,6 +172,7 @@ def _math(pieces: Sequence[str], progress: Callable[[str], Any]) -> dict[str, st
 
 def _images(out: Path, images: Sequence[str], progress: Callable[[str], Any]) -> dict[str, str]:
     """Figures embedded as the report embeds them (path relative to ``out`` → data URI)."""
+    # lazy: armlab --help loads armlab.scripts.reproduce but not this (start-up time)
     from armlab.scripts.report import embed_images
 
     return embed_images(out, images)
@@ -329,10 +332,10 @@ def reproduce(
     Called from a script of your own, call it under ``if __name__ == "__main__":`` (as for any
     :mod:`multiprocessing` pool: a spawned worker imports the script again), or pass ``jobs=1``.
     """
+    # lazy: armlab --help loads armlab.scripts.reproduce but not this (start-up time)
     from armlab.diagrams.graphviz import require_dot
     from armlab.scripts.paper_output import load_rows
     from armlab.scripts.report import write_report
-    from armlab.scripts.report_rows import verdict_counts
 
     start = time.perf_counter()
     for paper in papers:

@@ -8,7 +8,9 @@ options from :func:`armlab.cli.reproduce.run_alone`) and the developer benchmark
 (``make bench`` runs them as scripts) and the example scripts ``armlab.scripts.examples.*`` (no module imports
 either, checked). And the CLI package's own module-level
 imports pull none of the heavy libraries armlab imports lazily (:data:`armlab._lazy.LAZY_IMPORTS`), so that
-``armlab --help`` stays fast.
+``armlab --help`` stays fast. Every other import sits at its module's top, where readers and tools see the module
+graph: inside a function only a lazy library, a module that imports one at module level, or an import whose comment
+says ``# lazy: <reason>``.
 """
 
 from __future__ import annotations
@@ -158,3 +160,95 @@ def test_cli_module_level_imports_pull_no_lazy_library():
                                                                            module_level_only=True)
               if any(_names(lazy, name) for lazy in LAZY_IMPORTS)]
     assert not static
+
+
+def _is_type_checking(node: ast.AST) -> bool:
+    """``if TYPE_CHECKING:`` (imports for annotations only: never run)."""
+    return isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
+
+
+def _function_imports(source: str, module: str) -> list[tuple[int, list[str]]]:
+    """(line, names it imports) of each import inside a function of ``source`` (resolved like :func:`imports`)."""
+    found = []
+    for function in ast.walk(ast.parse(source)):
+        if isinstance(function, ast.FunctionDef | ast.AsyncFunctionDef):
+            for node in function.body:
+                for child in ast.walk(node):
+                    if isinstance(child, ast.Import | ast.ImportFrom):
+                        found.append((child.lineno, [name for _, name in imports(ast.unparse(child), module)]))
+    return sorted(set((line, tuple(names)) for line, names in found))  # a nested function is walked twice
+
+
+def _lazy_modules(modules: dict[str, Path]) -> set[str]:
+    """The armlab modules that import a :data:`~armlab._lazy.LAZY_IMPORTS` library at module level (outside
+    ``if TYPE_CHECKING:``): importing one of them is as heavy as the library."""
+    lazy = set()
+    for module, path in modules.items():
+        tree = ast.parse(path.read_text())
+        tree.body = [node for node in tree.body if not _is_type_checking(node)]
+        if any(any(_names(lib, name) for lib in LAZY_IMPORTS)
+               for _, name in imports(ast.unparse(tree), module, module_level_only=True)):
+            lazy.add(module)
+    return lazy
+
+
+def _marked_lazy(lines: list[str], line: int) -> bool:
+    """The comment block right above line ``line`` (1-based), or above the group of imports it ends, says
+    ``# lazy: <reason>``."""
+    above = line - 2
+    while above >= 0 and lines[above].strip().startswith(("from ", "import ")):  # the group's other imports
+        above -= 1
+    while above >= 0 and lines[above].strip().startswith("#"):
+        if lines[above].strip().startswith("# lazy:"):
+            return True
+        above -= 1
+    return False
+
+
+def function_level_violations(modules: dict[str, Path]) -> list[str]:
+    """Each import inside a function that is neither of a lazy library, nor of an armlab module importing one at
+    module level, nor marked ``# lazy: <reason>`` (a cycle, the CLI's start-up order …)."""
+    heavy = _lazy_modules(modules)
+    bad = []
+    for module, path in modules.items():
+        source = path.read_text()
+        lines = source.splitlines()
+        for line, names in _function_imports(source, module):
+            if any(_names(lib, name) for lib in (*LAZY_IMPORTS, *heavy) for name in names):
+                continue
+            if not _marked_lazy(lines, line):
+                shown = path.relative_to(ROOT) if path.is_relative_to(ROOT) else path
+                bad.append(f"{shown}:{line}: {module} imports {names[-1]} inside a function")
+    return bad
+
+
+def test_imports_are_at_module_level():
+    """Readers and tools see the module graph: an import sits inside a function only if it is of a lazy library
+    (or of a module that imports one), or says why (``# lazy: <reason>``)."""
+    modules = _modules()
+    assert {"armlab.kinematics.symbolic", "armlab.diagrams.tool_point"} <= _lazy_modules(modules)
+    bad = function_level_violations(modules)
+    assert not bad, "imports inside functions:\n" + "\n".join(bad)
+
+
+@pytest.mark.parametrize(("source", "bad"), [
+    ("def f():\n    import json", 1),
+    ("def f():\n    if True:\n        from armlab.limits import check_range", 1),
+    ("class A:\n    def f(self):\n        def g():\n            import os", 1),
+    ("def f():\n    import pydrake.all", 0),
+    ("def f():\n    from armlab.kinematics.symbolic import arm_kinematics", 0),
+    ("def f():\n    # lazy: a cycle\n    import json", 0),
+    ("def f():\n    # lazy: a cycle, told on\n    # two lines\n    import json", 0),
+    ("def f():\n    # a comment, no reason\n    import json", 1),
+    ("def f():\n    # lazy: a group\n    import json\n    import os", 0),
+    ("def f():\n    # lazy: a cycle\n    import json\n\n    import os", 1),
+    ("def f():\n    # lazy: a cycle\n    x = 1\n    import os", 1),
+    ("import json", 0),
+])
+def test_function_level_violations_are_caught(tmp_path, source, bad):
+    """The check sees an import inside a function at any depth, and lets through only the three kinds above."""
+    path = tmp_path / "probe.py"
+    path.write_text(source)
+    modules = {m: p for m, p in _modules().items() if m in ("armlab.kinematics.symbolic", "armlab.diagrams.tool_point")}
+    modules["armlab.probe"] = path
+    assert len(function_level_violations(modules)) == bad

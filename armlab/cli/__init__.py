@@ -28,8 +28,8 @@ STDOUT_CLOSED = "standard output is closed"
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``armlab`` argument parser with every subcommand."""
-    # The command modules (and the library they load: numpy, the arms …) are imported here, not at the top, so that
-    # main's stop-signal handlers are in place first: a Ctrl-C during the start-up is handled like any other.
+    # lazy: the command modules (and the library they load: numpy, the arms …) are imported here, not at the top, so
+    # that main's stop-signal handlers are in place first: a Ctrl-C during the start-up is handled like any other.
     from armlab.cli import analysis, draw, kinematics, reproduce, simulate, view
 
     parser = Parser(prog="armlab", description="Serial robot arms modelled, checked and simulated with Drake.",

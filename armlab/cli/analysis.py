@@ -16,6 +16,8 @@ import textwrap
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 import armlab.analysis
 from armlab.analysis.output import workspace_folder, write_workspace
 from armlab.analysis.sweep import EXIT_FAILED, RESULTS, STUDY, run_sweep
@@ -61,8 +63,6 @@ def _format(summary: dict[str, Any]) -> list[str]:
         if "loci" in sing:
             loci = sing["loci"]
             if loci["values"]:
-                import numpy as np
-
                 shown = np.degrees(loci["values"]) if loci["unit"] == "rad" else np.array(loci["values"])
                 unit = "deg" if loci["unit"] == "rad" else "m"
                 values = ", ".join(f"{v:g}" for v in np.round(shown, 9) + 0.0)

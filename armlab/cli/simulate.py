@@ -21,7 +21,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.cli.args import ARM_HELP
-from armlab.diagrams.drives import DIVERGENCE_TOLERANCE
+from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
+from armlab.diagrams.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
+from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.limits import allowed, check_range
 from armlab.models import get_arm
 from armlab.values import joint_values, parse_floats
@@ -49,8 +51,6 @@ def _gains(text: str | None, default: float, name: str) -> float | list[float]:
 
 def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
     """The motion the options give: ``--segments``, ``--from``/``--to``, or the paper motion (``--path``, ``--tf``)."""
-    from armlab.diagrams.motions import paper_motion, quintic_motion, read_segments
-
     tf = None
     if args.tf is not None:
         values = parse_floats(args.tf, "--tf") if isinstance(args.tf, str) else [args.tf]
@@ -76,8 +76,6 @@ def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
 
 def _hold_motion(arm: Arm) -> Motion:
     """Standing still for 1 s at q = 0 (clipped into the limits): a trajectory for drawing a user arm's diagram."""
-    from armlab.kinematics.quintic import Motion, QuinticSegment
-
     q = np.clip(np.zeros(arm.n), *arm.limit_arrays())
     return Motion((QuinticSegment(q, q, 1.0, "hold"),), "standing still")
 
@@ -85,6 +83,7 @@ def _hold_motion(arm: Arm) -> Motion:
 def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
     """The diagram options shared by both commands (and simulate's ``--accuracy``), checked before anything
     runs: ``ValueError`` naming a value outside its range (:data:`armlab.limits.LIMITS`)."""
+    # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
     from armlab.diagrams.plant import check_payload, resolve_gravity
 
@@ -104,9 +103,9 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``armlab simulate``: see the module docstring. Exit 3 when the run diverged, or passed a limit with
     ``--strict-limits``."""
+    # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.api import simulate
     from armlab.diagrams.build import check_log_period
-    from armlab.diagrams.drives import check_tolerance, format_violation
     from armlab.diagrams.graphviz import DotMissingWarning
     from armlab.diagrams.output import run_folder
 
@@ -156,9 +155,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 def cmd_diagram(args: argparse.Namespace) -> int:
     """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG, PNG or PDF (by the suffix of --out)."""
+    # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.diagrams.build import build_diagram
     from armlab.diagrams.graphviz import fig6_dot, graph_format, write_graph
-    from armlab.diagrams.motions import paper_motion
     from armlab.diagrams.plant import PlantOptions
     from armlab.diagrams.simulate import SimulationOptions
 
@@ -191,8 +190,6 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
 
 def register(subparsers: Any) -> None:
     """Add the ``simulate`` and ``diagram`` subcommands to the CLI's subparsers."""
-    from armlab.diagrams.motions import SEGMENTS_FILE_HELP
-
     p = subparsers.add_parser(
         "simulate",
         help="simulate a motion through paper 000's Fig. 6 diagram; write log, summary, plots, diagram",
