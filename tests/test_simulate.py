@@ -497,7 +497,7 @@ def test_simulate_bad_input_is_one_clear_error_and_writes_nothing(tmp_path, caps
 def test_unwritable_out_is_an_error_before_simulating(tmp_path, monkeypatch, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    monkeypatch.setattr("armlab.diagrams.simulate.simulate", lambda *a, **k: pytest.fail("simulated anyway"))
+    monkeypatch.setattr("armlab.api.run_diagram", lambda *a, **k: pytest.fail("simulated anyway"))
     (tmp_path / "mine").mkdir()
     (tmp_path / "mine" / "notes.txt").write_text("keep me")
     for out, message in ((blocker / "run", "cannot write in"), (blocker, "exists and is not a folder"),
@@ -517,7 +517,7 @@ def test_failed_run_leaves_no_folder(tmp_path, monkeypatch, capsys):
     def broken(*args, **kwargs):
         raise ValueError("boom")
 
-    monkeypatch.setattr("armlab.diagrams.plots.write_plots", broken)
+    monkeypatch.setattr("armlab.diagrams.run.write_plots", broken)
     assert cli("simulate", "rr", "--dt", "0.01", "--out", str(tmp_path / "run")) == 2
     assert "boom" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
