@@ -46,8 +46,7 @@ def test_a_sixth_arm_registers_itself_and_is_listed_after_them(arm1r):
     assert [line.split()[0] for line in lines] == ["rr", "rrrr", "arm4r", "r2t", "urm6", "arm1r"]
     assert lines[-1].startswith("arm1r  1 DOF  R      paper test: a one-joint arm")
     arm = armlab.load("arm1r", L=0.7)
-    # exact: the module's own constants, copied
-    assert arm.name == "arm1r" and arm.parameters["L"] == 0.7
+    assert arm.name == "arm1r" and arm.parameters["L"] == 0.7  # exact: the module's own constants, copied
     with pytest.raises(ValueError, match="arm1r: unknown parameter 'L9'; allowed: L, m"):
         armlab.load("arm1r", L9=1.0)
 

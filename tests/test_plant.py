@@ -70,16 +70,13 @@ def test_plant_options_keep_the_resolved_values_and_are_frozen():
     assert PlantOptions().gravity is None  # the arm's own
     assert PlantOptions("default").gravity is None
     # exact: constants and copies, no arithmetic that could round
-    np.testing.assert_array_equal(PlantOptions().gravity_of(rr), [0, -9.81, 0])
+    np.testing.assert_array_equal(PlantOptions().gravity_of(rr), [0, -9.81, 0])  # exact (see above)
+    assert PlantOptions("off").gravity == (0.0, 0.0, 0.0)  # exact: constants and copies, no arithmetic that could round
+    assert PlantOptions("+x").gravity == (9.81, 0.0, 0.0)  # exact: constants and copies, no arithmetic that could round
     # exact: constants and copies, no arithmetic that could round
-    assert PlantOptions("off").gravity == (0.0, 0.0, 0.0)
-    # exact: constants and copies, no arithmetic that could round
-    assert PlantOptions("+x").gravity == (9.81, 0.0, 0.0)
-    # exact: constants and copies, no arithmetic that could round
-    assert PlantOptions("1,2,-3.5").gravity == (1.0, 2.0, -3.5)
+    assert PlantOptions("1,2,-3.5").gravity == (1.0, 2.0, -3.5)  # exact (see above)
     assert PlantOptions(np.array([0.0, 0.0, -9.81])) == PlantOptions("-z")  # the same options, however given
-    # exact: constants and copies, no arithmetic that could round
-    assert PlantOptions(payload=2).payload == 2.0
+    assert PlantOptions(payload=2).payload == 2.0  # exact: constants and copies, no arithmetic that could round
     with pytest.raises(dataclasses.FrozenInstanceError):
         PlantOptions().payload = 1.0
 
@@ -104,7 +101,7 @@ def test_simulation_options_are_checked_when_made(options, message):
 def test_simulation_options_are_frozen_and_hold_immutable_gains():
     options = SimulationOptions(kp=np.array([100.0, 50.0]), kd=20)
     # exact: constants and copies, no arithmetic that could round
-    assert options.kp == (100.0, 50.0) and options.kd == 20.0 and options.plant.ideal_drives
+    assert options.kp == (100.0, 50.0) and options.kd == 20.0 and options.plant.ideal_drives  # exact (see above)
     assert hash(options) == hash(SimulationOptions(kp=(100, 50)))  # a value: usable as a key
     with pytest.raises(dataclasses.FrozenInstanceError):
         options.mode = "inverse_dynamics"
@@ -132,7 +129,7 @@ def test_every_plant_is_in_the_arms_joint_order(name):
     assert [j.position_start() for j in joints] == list(range(arm.n))
     assert [j.velocity_start() for j in joints] == list(range(arm.n))
     # exact: constants and copies, no arithmetic that could round
-    np.testing.assert_array_equal(plant.gravity_field().gravity_vector(), arm.gravity)
+    np.testing.assert_array_equal(plant.gravity_field().gravity_vector(), arm.gravity)  # exact (see above)
 
 
 def test_a_file_listing_its_joints_out_of_order_still_gives_the_chains_order(tmp_path):
@@ -142,7 +139,7 @@ def test_a_file_listing_its_joints_out_of_order_still_gives_the_chains_order(tmp
     plant = arm.make_plant(PlantOptions(ideal_drives=True))
     assert [plant.GetJointByName(j).position_start() for j in arm.joint_names] == [0, 1]
     # exact: constants and copies, no arithmetic that could round
-    np.testing.assert_array_equal(plant.MakeActuationMatrix(), np.eye(2))
+    np.testing.assert_array_equal(plant.MakeActuationMatrix(), np.eye(2))  # exact (see above)
 
 
 def test_a_plant_whose_order_differs_from_the_arms_is_refused(monkeypatch):
@@ -163,7 +160,7 @@ def test_ideal_drives_need_one_actuator_per_joint_in_joint_order(tmp_path):
         arm.make_plant(PlantOptions(ideal_drives=True))
     in_order = _user_arm(tmp_path, ("shoulder", "elbow")).make_plant(PlantOptions(ideal_drives=True))
     # exact: constants and copies, no arithmetic that could round
-    np.testing.assert_array_equal(in_order.MakeActuationMatrix(), np.eye(2))
+    np.testing.assert_array_equal(in_order.MakeActuationMatrix(), np.eye(2))  # exact (see above)
 
 
 def test_ideal_drives_lift_the_effort_limits_and_need_mass_data():
@@ -175,8 +172,7 @@ def test_ideal_drives_lift_the_effort_limits_and_need_mass_data():
     for options, expected in ((None, limits), (PlantOptions(ideal_drives=True), [np.inf] * arm.n)):
         plant = arm.make_plant(options)
         efforts = [plant.get_joint_actuator(JointActuatorIndex(i)).effort_limit() for i in range(arm.n)]
-        # exact: constants and copies, no arithmetic that could round
-        np.testing.assert_array_equal(efforts, expected)
+        np.testing.assert_array_equal(efforts, expected)  # exact: constants and copies, no arithmetic that could round
     kinematic = dataclasses.replace(arm, has_dynamics=False)
     assert kinematic.make_plant().num_positions() == arm.n
     with pytest.raises(ValueError, match=r"r2t is a kinematic arm .*: simulate needs mass data"):
@@ -197,8 +193,8 @@ def test_the_payload_is_a_point_mass_at_the_tool_point():
     body = loaded.GetBodyByName("payload")
     tool = loaded.GetFrameByName(arm.tool_name).CalcPoseInWorld(contexts[1]).translation()
     np.testing.assert_allclose(body.EvalPoseInWorld(contexts[1]).translation(), tool, atol=1e-12)
-    # exact: constants and copies, no arithmetic that could round
-    np.testing.assert_array_equal(body.default_rotational_inertia().CopyToFullMatrix3(), np.zeros((3, 3)))
+    inertia = body.default_rotational_inertia().CopyToFullMatrix3()
+    np.testing.assert_array_equal(inertia, np.zeros((3, 3)))  # exact: a point mass's zero inertia, no arithmetic
     # a point mass at the tool point adds m Jᵀ J to the mass matrix (two Drake computations: 1e-9 of its size)
     J = bare.CalcJacobianTranslationalVelocity(contexts[0], JacobianWrtVariable.kV, bare.GetFrameByName(arm.tool_name),
                                                np.zeros(3), bare.world_frame(), bare.world_frame())
@@ -210,11 +206,10 @@ def test_options_set_gravity_and_the_time_step():
     arm = get_arm("arm4r")
     plant = arm.make_plant(PlantOptions(gravity="+x", time_step=1e-3))
     # exact: constants and copies, no arithmetic that could round
-    np.testing.assert_array_equal(plant.gravity_field().gravity_vector(), [9.81, 0, 0])
+    np.testing.assert_array_equal(plant.gravity_field().gravity_vector(), [9.81, 0, 0])  # exact (see above)
     # exact: constants and copies, no arithmetic that could round
     assert plant.time_step() == 1e-3 and plant.num_discrete_state_groups() == 1  # the state is discrete
-    # exact: constants and copies, no arithmetic that could round
-    assert arm.make_plant().time_step() == 0.0
+    assert arm.make_plant().time_step() == 0.0  # exact: constants and copies, no arithmetic that could round
 
 
 def test_the_scene_graph_variant_registers_the_arms_geometry():
