@@ -17,7 +17,7 @@ import warnings
 from collections.abc import Sequence
 
 from armlab import __version__
-from armlab.cli.args import Parser, error_text, join_negative_values, silence, write_error
+from armlab.cli.args import Parser, error_text, join_negative_values, silence, write_error, write_warning
 from armlab.files import stop_on_signals
 
 __all__ = ["build_parser", "main"]
@@ -101,6 +101,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     if signals.received:
         return 128 + signals.received
     for warning in caught:
-        warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
+        if type(warning.message).__module__.startswith("armlab."):  # armlab's own (graphviz's dot missing): one line
+            write_warning(str(warning.message))
+        else:
+            warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
     return code
 

@@ -10,7 +10,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-__all__ = ["ARM_HELP", "Parser", "error_text", "join_negative_values", "positive_int", "silence", "write_error"]
+__all__ = ["ARM_HELP", "Parser", "error_text", "join_negative_values", "positive_int", "silence", "write_error", "write_warning"]
 
 #: The help of every command's ARM argument.
 ARM_HELP = "arm name (armlab list), or a .urdf / DH .csv file"
@@ -71,8 +71,17 @@ def silence(stream: Any) -> None:
 def write_error(message: str) -> None:
     """``armlab: error: MESSAGE`` as one line on stderr (line breaks in MESSAGE become spaces); dropped if stderr
     cannot be written (the exit code still says 2)."""
+    _write_line("error", message)
+
+
+def write_warning(message: str) -> None:
+    """``armlab: warning: MESSAGE`` as one line on stderr, like :func:`write_error`."""
+    _write_line("warning", message)
+
+
+def _write_line(kind: str, message: str) -> None:
     try:
-        sys.stderr.write(f"armlab: error: {' '.join(message.splitlines())}\n")
+        sys.stderr.write(f"armlab: {kind}: {' '.join(message.splitlines())}\n")
         sys.stderr.flush()
     except OSError:
         silence(sys.stderr)

@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 import sys
 import textwrap
-import warnings
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -106,7 +105,6 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.api import simulate
     from armlab.diagrams.build import check_log_period
-    from armlab.diagrams.graphviz import DotMissingWarning
     from armlab.diagrams.output import run_folder
 
     arm = get_arm(args.arm)
@@ -122,21 +120,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         summary = run.summary
         print(f"simulated {motion.duration:g} s in {run.log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× "
               f"real time), mode {run.log.mode}, {summary['runs']['count']} run(s)", flush=True)
-        with warnings.catch_warnings(record=True) as caught:  # graphviz's dot missing: a warning line of ours
-            warnings.simplefilter("always", DotMissingWarning)
-            written = run.write(folder, deg=args.deg)
-    skipped = [str(w.message) for w in caught if w.category is DotMissingWarning]
-    for w in caught:  # any other warning goes on as it came
-        if w.category is not DotMissingWarning:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        written = run.write(folder, deg=args.deg)  # graphviz's dot missing: a warning main() shows as one line
     print("max |τ|: " + ", ".join(f"τ{i + 1} = {v:.4f} {u}" for i, (v, u) in enumerate(zip(
         summary["max_abs_torque"], summary["torque_units"], strict=True)))
           + f"; peak power {summary['peak_power']:.4g} W; max tracking error "
           + ", ".join(f"{v:.3g} {u}" for v, u in zip(summary["max_tracking_error"], summary["joint_units"],
                                                       strict=True)))
     print(f"wrote {args.out}: {' '.join(written)}")
-    for message in skipped:
-        print(f"armlab: warning: {message}", file=sys.stderr)
     for violation in run.violations:
         print(f"armlab: warning: {arm.name} {format_violation(violation)}", file=sys.stderr)
     if run.diverged:
