@@ -10,7 +10,8 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-__all__ = ["ARM_HELP", "Parser", "error_text", "join_negative_values", "positive_int", "silence", "write_error", "write_warning"]
+__all__ = ["ARM_HELP", "Parser", "error_text", "join_negative_values", "positive_int", "silence", "write_error",
+           "write_warning"]
 
 #: The help of every command's ARM argument.
 ARM_HELP = "arm name (armlab list), or a .urdf / DH .csv file"
