@@ -1,0 +1,1 @@
+"""Drive trains (gear ratio, rotor inertia, efficiency, friction) and the sizing of motors and gearboxes."""

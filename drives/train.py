@@ -1,0 +1,141 @@
+"""A drive train per joint: gear ratio, rotor inertia, gearbox efficiency, viscous and Coulomb friction.
+
+Every quantity is given on the **joint side** (the gearbox output), where the arm's torques live, except
+the rotor inertia, which is the motor's own (motor side, as datasheets and the Robotics Toolbox give it):
+
+* ``gear_ratio`` G — motor speed = G·q̇ (G ≥ 1 for a reduction; G ≠ 0, its sign is the motor's direction);
+* ``rotor_inertia`` J_m (kg·m², motor side) — reflected to the joint as G²·J_m (Drake's
+  ``JointActuator`` rotor inertia and gear ratio, which put it on the mass matrix's diagonal);
+* ``efficiency`` η in (0, 1] — of the gearbox, both ways;
+* ``viscous`` B (N·m·s/rad, joint side) — friction B·q̇ (a URDF's ``<dynamics damping>``);
+* ``coulomb`` T_c (N·m, joint side) — friction T_c·tanh(q̇/v_s), smooth so it can be simulated, with the
+  speed ``coulomb_speed`` v_s (rad/s, the same for every joint; :data:`COULOMB_SPEED` by default).
+
+The Robotics Toolbox gives B and T_c on the **motor side** (Corke & Armstrong-Hélouvry 1994 for the Puma
+560): :meth:`DriveTrain.from_motor_side` converts them once, B = G²·B_m and T_c = |G|·T_c,m.
+
+The motor-side torque of a joint-side torque τ (which includes the reflected inertia and friction) is
+:func:`motor_torque`: τ/(G·η) when the drive delivers power (τ·q̇ ≥ 0) and τ·η/G when the load drives it
+back (τ·q̇ < 0: the gearbox's losses then help the motor). Prismatic joints read N for N·m, m for rad.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["COULOMB_SPEED", "DriveTrain", "motor_speed", "motor_torque"]
+
+#: v_s (rad/s or m/s) of the smooth Coulomb friction T_c·tanh(q̇/v_s): 99.5 % of T_c at 3·v_s = 0.03 rad/s.
+COULOMB_SPEED = 0.01
+
+#: The fields, their units and what is allowed, for messages.
+_ALLOWED = {
+    "gear_ratio": ("", "a finite number other than 0"),
+    "rotor_inertia": ("kg·m²", "a finite number ≥ 0"),
+    "efficiency": ("", "a number in (0, 1]"),
+    "viscous": ("N·m·s/rad", "a finite number ≥ 0"),
+    "coulomb": ("N·m", "a finite number ≥ 0"),
+}
+
+
+def _vector(value: ArrayLike, name: str, n: int | None) -> NDArray[np.float64]:
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"drive train {name} = {value!r} is not allowed: {_ALLOWED[name][1]} per joint") from None
+    if a.ndim != 1 or (n is not None and a.size != n):
+        raise ValueError(f"drive train {name} has shape {a.shape}; expected one value per joint"
+                         + (f" ({n})" if n is not None else ""))
+    unit, allowed_text = _ALLOWED[name]
+    bad = ~np.isfinite(a)
+    if name == "gear_ratio":
+        bad |= a == 0
+    elif name == "efficiency":
+        bad |= (a <= 0) | (a > 1)
+    else:
+        bad |= a < 0
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ValueError(f"drive train {name} of joint {k + 1} = {a[k]:g}{' ' + unit if unit else ''} is not allowed: "
+                         f"{allowed_text}")
+    return a
+
+
+@dataclass(frozen=True)
+class DriveTrain:
+    """Per-joint drive-train parameters, each shape ``(n,)``, joint side except J_m (see the module)."""
+
+    gear_ratio: NDArray[np.float64]
+    rotor_inertia: NDArray[np.float64]
+    efficiency: NDArray[np.float64]
+    viscous: NDArray[np.float64]
+    coulomb: NDArray[np.float64]
+    coulomb_speed: float = COULOMB_SPEED
+
+    def __post_init__(self) -> None:
+        n = None
+        for f in fields(self):
+            if f.name == "coulomb_speed":
+                continue
+            a = _vector(getattr(self, f.name), f.name, n)
+            n = a.size
+            object.__setattr__(self, f.name, a)
+        v_s = float(self.coulomb_speed)
+        if not (np.isfinite(v_s) and v_s > 0):
+            raise ValueError(f"drive train coulomb_speed = {self.coulomb_speed!r} rad/s is not allowed: "
+                             "a positive finite speed")
+        object.__setattr__(self, "coulomb_speed", v_s)
+
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return int(self.gear_ratio.size)
+
+    @classmethod
+    def ideal(cls, n: int) -> DriveTrain:
+        """Direct drives: G = 1, no rotor inertia, η = 1, no friction."""
+        return cls(np.ones(n), np.zeros(n), np.ones(n), np.zeros(n), np.zeros(n))
+
+    @classmethod
+    def from_motor_side(cls, gear_ratio: ArrayLike, rotor_inertia: ArrayLike, efficiency: ArrayLike,
+                        viscous_motor: ArrayLike, coulomb_motor: ArrayLike,
+                        coulomb_speed: float = COULOMB_SPEED) -> DriveTrain:
+        """From motor-side friction as the Robotics Toolbox gives it: B = G²·B_m, T_c = |G|·T_c,m."""
+        g = _vector(gear_ratio, "gear_ratio", None)
+        b_m = _vector(viscous_motor, "viscous", g.size)
+        tc_m = _vector(coulomb_motor, "coulomb", g.size)
+        return cls(g, np.asarray(rotor_inertia, dtype=float), np.asarray(efficiency, dtype=float),
+                   g**2 * b_m, np.abs(g) * tc_m, coulomb_speed)
+
+    @property
+    def reflected_inertia(self) -> NDArray[np.float64]:
+        """G²·J_m per joint (kg·m², joint side), shape ``(n,)``."""
+        return self.gear_ratio**2 * self.rotor_inertia
+
+    def friction(self, qd: ArrayLike) -> NDArray[np.float64]:
+        """Joint-side friction torque B·q̇ + T_c·tanh(q̇/v_s) (N·m) for rates ``(..., n)``, same shape."""
+        qd = np.asarray(qd, dtype=float)
+        return self.viscous * qd + self.coulomb * np.tanh(qd / self.coulomb_speed)
+
+    def torque(self, qd: ArrayLike, qdd: ArrayLike) -> NDArray[np.float64]:
+        """What the drive train adds to the arm's joint torques: G²·J_m·q̈ + friction(q̇), shape ``(..., n)``."""
+        return self.reflected_inertia * np.asarray(qdd, dtype=float) + self.friction(qd)
+
+
+def motor_torque(train: DriveTrain, tau: ArrayLike, qd: ArrayLike) -> NDArray[np.float64]:
+    """Motor-side torque (N·m) of joint-side torques ``tau`` at rates ``qd``, both ``(..., n)``.
+
+    τ/(G·η) where the drive delivers power (τ·q̇ ≥ 0), τ·η/G where it is driven back (τ·q̇ < 0).
+    """
+    tau = np.asarray(tau, dtype=float)
+    delivering = tau * np.asarray(qd, dtype=float) >= 0
+    return np.where(delivering, tau / (train.gear_ratio * train.efficiency),
+                    tau * train.efficiency / train.gear_ratio)
+
+
+def motor_speed(train: DriveTrain, qd: ArrayLike) -> NDArray[np.float64]:
+    """Motor speed G·q̇ (rad/s), shape of ``qd`` ``(..., n)``."""
+    return train.gear_ratio * np.asarray(qd, dtype=float)
