@@ -18,6 +18,7 @@ an unreachable position's error gives the closest distance the tool gets to it.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import cmp_to_key
 from typing import TYPE_CHECKING
 
@@ -38,6 +39,7 @@ from armlab.kinematics.ik_target import (
 )
 from armlab.limits import check_range
 from armlab.models import paper_arms
+from armlab.models.write_urdf import JointLimits
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -166,6 +168,48 @@ def _ordered(arm: Arm, q: NDArray, near: NDArray) -> list[NDArray[np.float64]]:
     return [q[i] for i in sorted(range(q.shape[0]), key=cmp_to_key(compare))]
 
 
+def _local(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArray, seeds: int) -> NDArray[np.float64]:
+    """The solution the numerical solver reaches from ``near`` alone, ``(1, n)``: what one solution costs (a few
+    ms); if that start fails, every solution ``seeds`` starts find (the search's own error if none)."""
+    try:
+        return numeric_ik(arm, position, rotation, q0=near, seeds=1)[:1]
+    except ValueError:
+        return numeric_ik(arm, position, rotation, q0=near, seeds=seeds)
+
+
+def _held(arm: Arm, joints: range, q: NDArray) -> Arm:
+    """``arm`` with ``joints`` held at ``q``'s values (their limits closed onto them)."""
+    limits = tuple(JointLimits(float(q[i]), float(q[i]), lim.effort, lim.velocity) if i in joints else lim
+                   for i, lim in enumerate(arm.limits))
+    return replace(arm, limits=limits)
+
+
+def _numeric(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArray, all_solutions: bool,
+             seeds: int) -> NDArray[np.float64]:
+    """Numerical candidates ``(k, n)``: the local solution from ``near`` first, then (``all_solutions``) the rest.
+
+    A request with as many constraints as joints (a pose on six, a position on three) has a finite set: every
+    solution ``seeds`` starts find. One with fewer (a position on more than three joints, a pose on more than six) has
+    a continuum; its rest is the finite set at the continuum's parameter held at the local solution q*'s: for a
+    position, the tool orientation of q* (then, for more than six joints, also joints 7 … n at q*'s values), for a
+    pose, joints 7 … n at q*'s values. An arm whose closed form needs a pose (``needs_pose``) solves that pose by it.
+    """
+    local = _local(arm, position, rotation, near, seeds)
+    if not all_solutions:
+        return local
+    fitted = fit_limits(arm, local, near)[0]
+    best = fitted[np.argmin(np.linalg.norm(_joint_difference(arm, fitted, near), axis=-1))]
+    if rotation is None and arm.n > 3:
+        rotation = arm.forward(best).tool[:3, :3]
+        form = arm.closed_form
+        if form is not None and form.needs_pose:
+            rest = _closed_form(arm, form, position, rotation, {}, near)
+            return np.vstack([best[None, :], rest])
+    held = arm if arm.n <= 6 else _held(arm, range(6, arm.n), best)
+    rest = numeric_ik(held, position, rotation, q0=near, seeds=seeds)
+    return np.vstack([best[None, :], rest])
+
+
 def solve(
     arm: Arm,
     target: ArrayLike,
@@ -185,9 +229,18 @@ def solve(
       (rad), **pitch = 0 if not given** (tool x axis horizontal, the "stretched" state of paper 001's
       simulation); r2t :func:`~armlab.kinematics.ik_closed_form.r2t_ik`, 2 branches. For a pose the
       branches are kept whose orientation matches (:func:`_closed_form`).
-    * any other arm (urm6, rrrr, users' arms): :func:`~armlab.kinematics.ik_numeric.numeric_ik` from
-      ``near`` and ``seeds − 1`` random starts: every distinct solution *found* (a redundant request
-      has infinitely many).
+      A library arm with a closed form for a full pose (UR5, UR10: :func:`~armlab.kinematics.ik_wrist.ur_ik`;
+      Puma 560: :func:`~armlab.kinematics.ik_wrist.spherical_wrist_ik`) solves a pose by it, 8 branches.
+    * any other arm (urm6, rrrr, users' arms, Panda, …), and a position target of an arm whose closed form
+      needs a pose: :func:`~armlab.kinematics.ik_numeric.numeric_ik`. Without ``all_solutions``, the
+      solution reached from ``near`` alone (one start: a few ms; the local solution, nearest ``near`` in
+      most cases, not always), or, if that start fails, the nearest of ``seeds`` starts. With it, the local
+      solution and every distinct solution ``seeds`` starts find; a request with fewer constraints than
+      joints has a continuum of solutions, so what is returned is the finite set at its parameter held at the
+      local solution's (:func:`_numeric`): a **position** target of an arm of more than three joints, the
+      solutions with the tool orientation of the local solution (the 8 branches of a UR or Puma closed form);
+      a **pose** target of an arm of more than six joints (Panda), the solutions with joints 7 … n at the
+      local solution's values.
 
     Every solution is fitted into the joint limits by :func:`~armlab.kinematics.ik_target.fit_limits`;
     those that do not fit are dropped, duplicates (revolute joints modulo 2π) removed, and the rest
@@ -208,10 +261,11 @@ def solve(
     _check_options(arm, options)
     if pitch is not None and np.isfinite(pitch):  # NaN/inf: the closed form names them as such
         check_range(pitch, "pitch", key="angle")
-    if arm.closed_form is not None:
-        candidates, tol = _closed_form(arm, arm.closed_form, position, rotation, options, near), SAME_SOLUTION_TOL
+    form = arm.closed_form
+    if form is not None and (rotation is not None or not form.needs_pose):
+        candidates, tol = _closed_form(arm, form, position, rotation, options, near), SAME_SOLUTION_TOL
     else:
-        candidates, tol = numeric_ik(arm, position, rotation, q0=near, seeds=seeds), DISTINCT_TOL
+        candidates, tol = _numeric(arm, position, rotation, near, all_solutions, seeds), DISTINCT_TOL
     fitted, violations = fit_limits(arm, candidates, near)
     kept = fitted[[v is None for v in violations]]
     if kept.shape[0] == 0:

@@ -79,7 +79,8 @@ def examples() -> dict[str, Path]:
 
 
 def get_arm(name: str, **overrides: float) -> Arm:
-    """A paper arm by name (parameters overridable), an example (``example:NAME``), or a ``.urdf``/``.csv`` file."""
+    """A paper arm by name (parameters overridable), a library arm (:data:`armlab.models.library.LIBRARY`:
+    ``puma560``, ``ur5``, …), an example (``example:NAME``), or a ``.urdf``/``.csv`` file."""
     if name in ARMS:
         known = [f.name for f in fields(ARMS[name].Parameters)]
         for key, value in overrides.items():
@@ -104,8 +105,16 @@ def get_arm(name: str, **overrides: float) -> Arm:
         from armlab.models.read_dh import from_dh_csv
 
         return from_dh_csv(path)
-    raise ValueError(f"unknown arm {name!r}; allowed: {', '.join(ARMS)}, an example ({_names(examples())}), or a "
-                     ".urdf or DH .csv file")
+    # lazy: armlab --help loads armlab.models but not the library's list (start-up time)
+    from armlab.models.library import LIBRARY, library_arm
+
+    if name in LIBRARY:
+        if overrides:
+            raise ValueError(f"{name}: a library arm takes no parameters (its numbers are its sources'; "
+                             f"got {', '.join(overrides)}); write a DH table to change them")
+        return library_arm(name)
+    raise ValueError(f"unknown arm {name!r}; allowed: a paper arm ({', '.join(ARMS)}), a library arm "
+                     f"({', '.join(LIBRARY)}), an example ({_names(examples())}), or a .urdf or DH .csv file")
 
 
 def _names(shipped: dict[str, Path]) -> str:

@@ -54,6 +54,9 @@ class ClosedForm:
     coordinates: Callable[[NDArray], NDArray[np.float64]] | None = None
     #: Whether a user may choose a branch by its number (rr: paper 000's Table 2 names the elbow of each point).
     selectable: bool = False
+    #: Whether it solves a full pose only (a six-axis arm's: ``rotation`` must be given); a position target is then
+    #: solved as :func:`armlab.kinematics.ik.solve` says for a continuum.
+    needs_pose: bool = False
 
 
 @dataclass(frozen=True)

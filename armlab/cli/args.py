@@ -14,7 +14,7 @@ __all__ = ["ARM_HELP", "Parser", "error_text", "join_negative_values", "positive
            "write_warning"]
 
 #: The help of every command's ARM argument.
-ARM_HELP = "arm name (armlab list), or a .urdf / DH .csv file"
+ARM_HELP = "arm name (armlab list: paper and library arms), or a .urdf / DH .csv file"
 
 
 class Parser(argparse.ArgumentParser):

@@ -14,6 +14,7 @@ from armlab.cli.args import ARM_HELP
 from armlab.kinematics.differential import default_axes
 from armlab.kinematics.ik import SEEDS, solve, target_pose
 from armlab.models import ARMS, get_arm
+from armlab.models.library import LIBRARY
 from armlab.values import joint_rates, joint_values, parse_floats
 
 if TYPE_CHECKING:
@@ -30,6 +31,10 @@ def _cmd_list(args: argparse.Namespace) -> int:
     for name in ARMS:
         arm = get_arm(name)
         print(f"{name:6s} {arm.n} DOF  {''.join(r.kind for r in arm.table.rows):6s} paper {arm.paper}")
+    print("library arms (well-known arms, every number cited: armlab show NAME):")
+    for name in LIBRARY:
+        arm = get_arm(name)
+        print(f"{name:8s} {arm.n} DOF  {''.join(r.kind for r in arm.table.rows):7s} {arm.paper.removeprefix('library: ')}")
     return 0
 
 
@@ -84,6 +89,10 @@ def _cmd_show(args: argparse.Namespace) -> int:
         for i, row in enumerate(info["dh"]["rows"], start=1):
             values = " ".join(f"{row[key]:+10.6g}" for key in ("a", "alpha", "d", "theta"))
             print(f"  {i:5d} {row['type']:4s} {values}")
+    if arm.notes and info["dh"] is not None:  # a library arm: where each of its numbers comes from
+        print("sources:")
+        for key, note in arm.notes.items():
+            print(f"  {key}: {note}")
     if not arm.has_dynamics:
         print("links: no mass data (a kinematic arm): torques and simulations need masses")
     else:
@@ -208,7 +217,9 @@ def register(subparsers: Any) -> None:
     p.add_argument("--all", action="store_true",
                    help="every solution within the joint limits: rr, arm4r, r2t: every branch of the closed form; "
                    f"other arms: every distinct solution found from {SEEDS} starts of the numerical solver "
-                   "(a target with fewer constraints than joints has infinitely many: these are samples)")
+                   "(a target with fewer constraints than joints has a continuum: then the local solution and those at "
+                   "its tool orientation, and for more than six joints at its values of joints 7 …); without --all, "
+                   "the solution reached from --near (one start, a few ms)")
     p.add_argument("--deg", action="store_true", help="angles in degrees")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_ik)

@@ -1,0 +1,157 @@
+"""Closed-form inverse kinematics of the two classic six-axis layouts, read off the arm's own standard DH table.
+
+* :func:`ur_ik` — the Universal Robots layout (three parallel axes 2, 3, 4; α = 90°, 0, 0, 90°, −90°, 0;
+  a1 = a4 = a5 = a6 = 0), after Hawkins, "Analytic inverse kinematics for the Universal Robots UR-5/UR-10 arms"
+  (2013): θ1 from the wrist-2 origin's offset d2 + d3 + d4 from the base axis, θ5 from the tool position along
+  z1, θ6 from the tool orientation, then θ2, θ3, θ4 as a planar 3R chain. 8 branches (shoulder ×
+  wrist ± × elbow).
+* :func:`spherical_wrist_ik` — the Puma 560 layout (a spherical wrist: α4 = 90°, α5 = −90°, a4 = a5 = a6 =
+  d5 = 0; α1 = 90°, α2 = 0, α3 = −90°, a1 = 0), after Paul, Shimano & Mayer (1981): θ1 from the wrist centre's
+  offset d2 + d3 from the base axis, θ2, θ3 from its distance in the arm's plane, and the wrist's
+  R36 = Rz(θ4)·Ry(−θ5)·Rz(θ6) (ZYZ). 8 branches (shoulder × elbow × wrist flip).
+
+Both take a full pose: a position-only target of a six-axis arm is a continuum (:func:`armlab.kinematics.ik.solve`
+says what it returns then). Each returns the branches that exist, ``(k, 6)``, k ≤ 8, not fitted into the joint
+limits; at a wrist singularity (θ5 = 0) the free angle is ``near``'s. ``ValueError`` for an unreachable target.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armlab.kinematics.basic_movements import T_Z5, T_Z6
+from armlab.kinematics.dh import DHTable
+from armlab.kinematics.ik_closed_form import REACH_RTOL
+from armlab.kinematics.ik_target import target_text
+from armlab.models.extras import ClosedForm
+
+__all__ = ["spherical_wrist_closed_form", "spherical_wrist_ik", "ur_closed_form", "ur_ik"]
+
+#: |sin θ5| below this is a wrist singularity: θ6 (UR) or θ4 (spherical wrist) is then taken from ``near``.
+SINGULAR_SIN = 1e-12
+
+
+def _row(table: DHTable, i: int, theta: float) -> NDArray[np.float64]:
+    """T_{i,i+1} of standard DH row ``i`` (0-based) at the DH angle ``theta`` (rad), 000 eq. (9): R_z(θ − offset)
+    times the row at q = 0 (:attr:`DHTable.steps`; the joint's turn comes first in a standard row)."""
+    post = table.steps[i].post
+    c, s = np.cos(theta - table.rows[i].theta), np.sin(theta - table.rows[i].theta)
+    turn = np.array([[c, -s, 0.0, 0.0], [s, c, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+    return turn if post is None else turn @ post
+
+
+def _shoulder(point: NDArray, offset: float, what: str) -> tuple[float, float]:
+    """The two θ1 with ``point``·z1 = ``offset``, z1 = (sin θ1, −cos θ1, 0): r sin(θ1 − φ) = offset."""
+    r = float(np.hypot(point[0], point[1]))
+    if r < abs(offset) * (1 - REACH_RTOL):
+        raise ValueError(f"{what} is out of reach: the wrist point is {r:.6g} m from the base axis, closer than "
+                         f"the shoulder offset {abs(offset):.6g} m")
+    phi, s = float(np.arctan2(point[1], point[0])), float(np.arcsin(np.clip(offset / r, -1.0, 1.0)))
+    return phi + s, phi + np.pi - s
+
+
+def _acos(c: float) -> float | None:
+    """arccos of ``c`` clipped at ±1 within round-off; ``None`` beyond (that branch does not exist)."""
+    if abs(c) > 1 + 1e-9:
+        return None
+    return float(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+def _offsets(table: DHTable) -> NDArray[np.float64]:
+    return np.array([row.theta for row in table.rows])
+
+
+def _rows_or_raise(solutions: list[list[float]], table: DHTable, what: str) -> NDArray[np.float64]:
+    if not solutions:
+        raise ValueError(f"{what} is out of reach: no branch of the closed form reaches it")
+    return np.array(solutions) - _offsets(table)  # DH angles θ = q + offset
+
+
+def ur_ik(table: DHTable, position: NDArray, rotation: NDArray, near: NDArray) -> NDArray[np.float64]:
+    """Every branch (k ≤ 8, 6) of a UR-layout arm reaching the tool pose (``position`` m, ``rotation`` (3, 3)),
+    the tool being DH frame 6; joint values q (rad) = DH angle − offset."""
+    what = target_text(position, rotation)
+    a2, a3 = table.rows[1].a, table.rows[2].a
+    offset = table.rows[1].d + table.rows[2].d + table.rows[3].d
+    d6 = table.rows[5].d
+    target = np.eye(4)
+    target[:3, :3], target[:3, 3] = rotation, position
+    wrist = position - d6 * rotation[:, 2]  # the origin of DH frame 5
+    theta_near = near + _offsets(table)
+    solutions: list[list[float]] = []
+    for t1 in _shoulder(wrist, offset, what):
+        z1 = np.array([np.sin(t1), -np.cos(t1), 0.0])
+        c5 = (position @ z1 - offset) / d6
+        t5 = _acos(c5)
+        if t5 is None:
+            continue
+        for t5s in (t5, -t5):
+            v = rotation.T @ z1  # z1 in frame 6: (s5 c6, −s5 s6, c5)
+            s5 = np.sin(t5s)
+            t6 = theta_near[5] if abs(s5) < SINGULAR_SIN else float(np.arctan2(-v[1] / s5, v[0] / s5))
+            T14 = np.linalg.solve(_row(table, 0, t1), target) @ np.linalg.inv(_row(table, 4, t5s) @ _row(table, 5, t6))
+            x, y = T14[0, 3], T14[1, 3]
+            t234 = float(np.arctan2(T14[1, 0], T14[0, 0]))
+            t3 = _acos((x * x + y * y - a2 * a2 - a3 * a3) / (2 * a2 * a3))
+            if t3 is None:
+                continue
+            for t3s in (t3, -t3):
+                t2 = float(np.arctan2(y, x) - np.arctan2(a3 * np.sin(t3s), a2 + a3 * np.cos(t3s)))
+                solutions.append([t1, t2, t3s, t234 - t2 - t3s, t5s, t6])
+    return _rows_or_raise(solutions, table, what)
+
+
+def spherical_wrist_ik(table: DHTable, position: NDArray, rotation: NDArray, near: NDArray) -> NDArray[np.float64]:
+    """Every branch (k ≤ 8, 6) of a Puma-layout arm reaching the tool pose (``position`` m, ``rotation`` (3, 3)),
+    the tool being DH frame 6; joint values q (rad) = DH angle − offset."""
+    what = target_text(position, rotation)
+    a2, a3, d4 = table.rows[1].a, table.rows[2].a, table.rows[3].d
+    offset = table.rows[1].d + table.rows[2].d
+    wrist = position - table.rows[5].d * rotation[:, 2]  # the wrist centre
+    rho, beta = float(np.hypot(a3, d4)), float(np.arctan2(d4, a3))
+    theta_near = near + _offsets(table)
+    solutions: list[list[float]] = []
+    for t1 in _shoulder(wrist, offset, what):
+        u, v, _ = np.linalg.solve(_row(table, 0, t1), np.append(wrist, 1.0))[:3]
+        elbow = _acos((u * u + v * v - a2 * a2 - a3 * a3 - d4 * d4) / (2 * a2 * rho))
+        if elbow is None:
+            continue
+        for t3 in (-beta + elbow, -beta - elbow):
+            s3, c3 = np.sin(t3), np.cos(t3)
+            t2 = float(np.arctan2(v, u) - np.arctan2(a3 * s3 + d4 * c3, a2 + a3 * c3 - d4 * s3))
+            R03 = (_row(table, 0, t1) @ _row(table, 1, t2) @ _row(table, 2, t3))[:3, :3]
+            R36 = R03.T @ rotation  # Rz(θ4)·Ry(−θ5)·Rz(θ6)
+            b = float(np.arctan2(np.hypot(R36[0, 2], R36[1, 2]), R36[2, 2]))
+            for bs in (b, -b):
+                sb = np.sin(bs)
+                t4 = theta_near[3] if abs(sb) < SINGULAR_SIN else float(np.arctan2(R36[1, 2] / sb, R36[0, 2] / sb))
+                M = T_Z5(-bs)[:3, :3] @ T_Z6(-t4)[:3, :3] @ R36  # = Rz(θ6)
+                solutions.append([t1, t2, float(t3), t4, -bs, float(np.arctan2(M[1, 0], M[0, 0]))])
+    return _rows_or_raise(solutions, table, what)
+
+
+_BRANCHES = tuple(f"shoulder {s}, wrist {w}, elbow {e}" for s in ("right", "left") for w in ("+", "−")
+                  for e in ("+", "−"))
+
+
+def ur_closed_form(table: DHTable) -> ClosedForm:
+    """:func:`ur_ik` of the arm's DH ``table`` as its ``ClosedForm`` (a pose target; 8 branches)."""
+    def solve(position: NDArray, rotation: NDArray | None, near: NDArray) -> NDArray[np.float64]:
+        return ur_ik(table, position, _pose_only(rotation), near)
+    return ClosedForm(solve, _BRANCHES, needs_pose=True)
+
+
+def spherical_wrist_closed_form(table: DHTable) -> ClosedForm:
+    """:func:`spherical_wrist_ik` of the arm's DH ``table`` as its ``ClosedForm`` (a pose target; 8 branches)."""
+    def solve(position: NDArray, rotation: NDArray | None, near: NDArray) -> NDArray[np.float64]:
+        return spherical_wrist_ik(table, position, _pose_only(rotation), near)
+    return ClosedForm(solve, tuple(f"shoulder {s}, elbow {e}, wrist {w}" for s in ("right", "left")
+                                   for e in ("+", "−") for w in ("+", "−")), needs_pose=True)
+
+
+def _pose_only(rotation: NDArray | None) -> NDArray:
+    if rotation is None:  # the dispatcher turns a position target into a pose first (a continuum otherwise)
+        raise ValueError("this closed form takes a full pose (a 4×4 target): a tool position alone is reached by a "
+                         "continuum of joint values")
+    return rotation
