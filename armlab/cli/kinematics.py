@@ -34,7 +34,8 @@ def _cmd_list(args: argparse.Namespace) -> int:
     print("library arms (well-known arms, every number cited: armlab show NAME):")
     for name in LIBRARY:
         arm = get_arm(name)
-        print(f"{name:8s} {arm.n} DOF  {''.join(r.kind for r in arm.table.rows):7s} {arm.paper.removeprefix('library: ')}")
+        kinds = "".join(r.kind for r in arm.table.rows)
+        print(f"{name:8s} {arm.n} DOF  {kinds:7s} {arm.paper.removeprefix('library: ')}")
     return 0
 
 

@@ -35,4 +35,5 @@ def library_dh_arm(name: str, source: str, convention: str, rows: Sequence[DHRow
     ``closed_form`` makes its closed-form inverse kinematics from the table (:mod:`armlab.kinematics.ik_wrist`)."""
     table = DHTable(tuple(rows), "modified" if convention == "modified" else "standard")
     arm = from_dh(table, limits, inertials, name=name)
-    return replace(arm, paper=f"library: {source}", notes=dict(notes), closed_form=None if closed_form is None else closed_form(table))
+    return replace(arm, paper=f"library: {source}", notes=dict(notes),
+                   closed_form=None if closed_form is None else closed_form(table))

@@ -1,10 +1,10 @@
-"""KUKA KR5 (arc): standard DH and joint limits as the Robotics Toolbox models it (``roboticstoolbox.models.DH.KR5``,
-by Gautam Sinha, IIT Kanpur; numbers cross-checked there), from KUKA's KR 5 arc data sheet (lengths, axis ranges).
+"""KUKA KR5 (arc): standard DH and joint limits as the Robotics Toolbox 1.5 models it (``roboticstoolbox.models.DH.KR5``,
+by Gautam Sinha, IIT Kanpur, updated from ARTE's robots/KUKA/KR5_arc/parameters.m; numbers cross-checked there).
 
 A kinematic arm: the toolbox gives no mass data and none is invented (``has_dynamics`` False: torques and
-simulations are refused with a message saying so). The toolbox's KR5 adds an 11.5 cm tool in its notes but not in
-its model; armlab's tool frame is DH frame 6 (the flange), as the toolbox's ``fkine``. No closed form here (its
-wrist is spherical but its offsets differ from the Puma's layout): solved numerically.
+simulations are refused with a message saying so). The toolbox's last row includes its 11.5 cm tool along z
+(d6 = −0.115 m with α6 = 180°): armlab's tool frame is that DH frame 6, as the toolbox's ``fkine``. No closed form
+here: solved numerically.
 """
 
 from __future__ import annotations
@@ -15,19 +15,19 @@ from armlab.kinematics.dh import DHRow
 from armlab.models.arm import Arm
 from armlab.models.library._dh_arm import degrees, library_dh_arm
 
-SOURCE = ("KUKA KR5 arc; standard DH and limits as the Robotics Toolbox's KR5 (KUKA data sheet); kinematic only "
-          "(no published mass data)")
+SOURCE = ("KUKA KR5 arc; standard DH and limits as the Robotics Toolbox 1.5's KR5 (from ARTE's KR5_arc parameters), "
+          "its 11.5 cm tool included; kinematic only (no published mass data)")
 
-#: (a m, α rad, d m) per joint, standard DH, θ offsets 0: the toolbox's KR5.
-DH = ((0.18, np.pi / 2, 0.4), (0.6, np.pi, 0.135), (0.12, -np.pi / 2, 0.135), (0.0, np.pi / 2, 0.62),
-      (0.0, -np.pi / 2, 0.0), (0.0, 0.0, 0.0))
-#: Joint limits (deg): the toolbox's qlim.
-LIMITS_DEG = ((-155, 155), (-180, 65), (-110, 170), (-165, 165), (-140, 140), (-180, 180))
+#: (a m, α rad, d m) per joint, standard DH, θ offsets 0: the toolbox 1.5's KR5.
+DH = ((0.18, -np.pi / 2, 0.4), (0.6, 0.0, 0.0), (0.12, np.pi / 2, 0.0), (0.0, -np.pi / 2, -0.62),
+      (0.0, np.pi / 2, 0.0), (0.0, np.pi, -0.115))
+#: Joint limits (deg): the toolbox 1.5's qlim.
+LIMITS_DEG = ((-155, 155), (-180, 65), (-15, 158), (-350, 350), (-130, 130), (-350, 350))
 
 
 def build() -> Arm:
     """The KR5 (kinematic; see the module)."""
-    notes = {"kinematics": "standard DH, the Robotics Toolbox's KR5 (KUKA KR 5 arc data sheet)",
+    notes = {"kinematics": "standard DH, the Robotics Toolbox 1.5's KR5 (ARTE's KR5_arc), its 11.5 cm tool included",
              "limits": "the toolbox's qlim; effort and velocity limits not in the source",
              "masses": "none published: a kinematic arm"}
     return library_dh_arm("kr5", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],

@@ -3,8 +3,9 @@
 the Robotics Toolbox carries (``roboticstoolbox.models.DH.Puma560``, from which the numbers were cross-checked) —
 and joint limits of Wang & Chen, IEEE Trans. Robotics and Automation 7(4), 1991, p. 489.
 
-Standard DH, link frames at the distal end of each link (the toolbox's). The base height: d1 = 0.672 m from the
-mounting surface to the shoulder axis (the toolbox's ``base = 0.672``); the base frame is on the mounting surface.
+Standard DH, link frames at the distal end of each link (the toolbox's). The base height: d1 = 26.45 in = 0.67183 m from
+the mounting surface to the shoulder axis (the toolbox 1.5's ``base = 26.45 * inch``); the base frame is on the
+mounting surface.
 The tool frame is DH frame 6, at the wrist centre (d6 = 0, no tool). Centres of mass and inertias are in each
 link's own DH frame; the inertias' products are 0 in the source.
 
@@ -45,12 +46,13 @@ from armlab.models.library._dh_arm import degrees, library_dh_arm
 from armlab.models.read_dh import DHInertial
 
 SOURCE = ("Unimation Puma 560; Corke & Armstrong-Hélouvry, ICRA 1994, pp. 1608-1613 (kinematics, dynamics, drive "
-          "train), as the Robotics Toolbox's Puma560; limits Wang & Chen, IEEE T-RA 7(4) 1991; base height 0.672 m; "
+          "train), as the Robotics Toolbox's Puma560; limits Wang & Chen, IEEE T-RA 7(4) 1991; base height 26.45 in; "
           "links 1 and 3 corrected to be physical (no effect on gravity torques; see the module)")
 
+INCH = 0.0254
 #: (a m, α rad, d m, θ offset rad) per joint, standard DH: Corke & Armstrong-Hélouvry 1994 (the toolbox's
-#: D3 = 150.05 mm, "closer to data from Lee, AKB86 and Tarn"; α as Paul's, righty at q = 0).
-DH = ((0.0, np.pi / 2, 0.672, 0.0), (0.4318, 0.0, 0.0, 0.0), (0.0203, -np.pi / 2, 0.15005, 0.0),
+#: D3 = 150.05 mm, "closer to data from Lee, AKB86 and Tarn"; α as Paul's, righty at q = 0); d1 the base height.
+DH = ((0.0, np.pi / 2, 26.45 * INCH, 0.0), (0.4318, 0.0, 0.0, 0.0), (0.0203, -np.pi / 2, 0.15005, 0.0),
       (0.0, np.pi / 2, 0.4318, 0.0), (0.0, -np.pi / 2, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0))
 #: Joint limits (deg): Wang & Chen 1991, as the toolbox's qlim.
 LIMITS_DEG = ((-160, 160), (-45, 225), (-225, 45), (-110, 170), (-100, 100), (-266, 266))
@@ -92,7 +94,7 @@ def build() -> Arm:
                  for m, c, moments in zip(MASS, COM, INERTIA, strict=True)]
     notes = {
         "kinematics": "standard DH, Corke & Armstrong-Hélouvry 1994 (the Robotics Toolbox's Puma560); base height "
-                      "d1 = 0.672 m (mounting surface to shoulder axis); tool frame = DH frame 6 (wrist centre)",
+                      "d1 = 26.45 in = 0.67183 m (mounting surface to shoulder axis); tool frame = DH frame 6 (wrist centre)",
         "limits": "Wang & Chen, IEEE T-RA 7(4) 1991 (the toolbox's qlim); effort and velocity limits not published",
         "masses": "Corke & Armstrong-Hélouvry 1994, in each link's DH frame",
         "correction link 1": "m 0 → 1 kg, Ixx = Izz 0 → 0.175 kg·m² (physical); no effect on any torque",
