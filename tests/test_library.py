@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import armlab_main, random_q
+from helpers import armlab_main
 
 from armlab.kinematics.ik import solve
 from armlab.models import get_arm

@@ -1,5 +1,6 @@
-"""KUKA KR5 (arc): standard DH and joint limits as the Robotics Toolbox 1.5 models it (``roboticstoolbox.models.DH.KR5``,
-by Gautam Sinha, IIT Kanpur, updated from ARTE's robots/KUKA/KR5_arc/parameters.m; numbers cross-checked there).
+"""KUKA KR5 (arc): standard DH and joint limits as the Robotics Toolbox 1.5 models it
+(``roboticstoolbox.models.DH.KR5``, by Gautam Sinha, IIT Kanpur, updated from ARTE's
+robots/KUKA/KR5_arc/parameters.m; numbers cross-checked there).
 
 A kinematic arm: the toolbox gives no mass data and none is invented (``has_dynamics`` False: torques and
 simulations are refused with a message saying so). The toolbox's last row includes its 11.5 cm tool along z

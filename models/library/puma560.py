@@ -94,7 +94,8 @@ def build() -> Arm:
                  for m, c, moments in zip(MASS, COM, INERTIA, strict=True)]
     notes = {
         "kinematics": "standard DH, Corke & Armstrong-Hélouvry 1994 (the Robotics Toolbox's Puma560); base height "
-                      "d1 = 26.45 in = 0.67183 m (mounting surface to shoulder axis); tool frame = DH frame 6 (wrist centre)",
+                      "d1 = 26.45 in = 0.67183 m (mounting surface to shoulder axis); tool frame = DH frame 6 "
+                      "(wrist centre)",
         "limits": "Wang & Chen, IEEE T-RA 7(4) 1991 (the toolbox's qlim); effort and velocity limits not published",
         "masses": "Corke & Armstrong-Hélouvry 1994, in each link's DH frame",
         "correction link 1": "m 0 → 1 kg, Ixx = Izz 0 → 0.175 kg·m² (physical); no effect on any torque",

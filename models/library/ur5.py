@@ -40,7 +40,7 @@ COM = ((0, -0.02561, 0.00193), (0.2125, 0, 0.11336), (0.15, 0, 0.0265), (0, -0.0
 FLANGE_RADIUS = 0.0375
 
 
-def disc(mass: float, radius: float) -> tuple[tuple[float, ...], ...]:
+def disc(mass: float, radius: float) -> tuple[tuple[float, float, float], ...]:
     """A solid disc's inertia about its centre (kg·m²), axis z: diag(m r²/4, m r²/4, m r²/2)."""
     return ((mass * radius**2 / 4, 0.0, 0.0), (0.0, mass * radius**2 / 4, 0.0), (0.0, 0.0, mass * radius**2 / 2))
 
