@@ -31,11 +31,11 @@ def _cmd_list(args: argparse.Namespace) -> int:
     for name in ARMS:
         arm = get_arm(name)
         print(f"{name:6s} {arm.n} DOF  {''.join(r.kind for r in arm.table.rows):6s} paper {arm.paper}")
-    print("library arms (well-known arms, every number cited: armlab show NAME):")
+    print("library arms (well-known arms, every number cited; their sources: armlab show NAME):")
     for name in LIBRARY:
         arm = get_arm(name)
         kinds = "".join(r.kind for r in arm.table.rows)
-        print(f"{name:8s} {arm.n} DOF  {kinds:7s} {arm.paper.removeprefix('library: ')}")
+        print(f"{name:8s} {arm.n} DOF  {kinds:7s} {arm.paper.removeprefix('library: ').split(';')[0]}")
     return 0
 
 
