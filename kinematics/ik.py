@@ -92,8 +92,8 @@ def _closed_form(arm: Arm, form: ClosedForm, position: NDArray, rotation: NDArra
     ``arm.forward``) matches the target's to 1e-9 rad.
     """
     candidates = form.solve(position, rotation, near, **options)
-    if rotation is None:
-        return candidates
+    if rotation is None or form.needs_pose:  # a closed form of the pose matches its orientation by construction
+        return candidates  # (solve's own FK check of what it returns still has the last word)
     miss = np.linalg.norm(pose_error(arm, position, rotation, candidates)[:, 3:], axis=-1)
     if not np.any(miss <= ORIENTATION_TOL):
         raise ValueError(f"{target_text(position, rotation)} is out of reach of {arm.name}: its position is "
