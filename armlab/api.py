@@ -47,7 +47,8 @@ __all__ = ["constant_rate", "load", "paper_motion", "quintic", "read_segments", 
 
 
 def load(name: str | Path, **parameters: float) -> Arm:
-    """An arm: a paper arm's name (``armlab list``: rr, rrrr, arm4r, r2t, urm6), a ``.urdf`` or a DH ``.csv`` file.
+    """An arm: a paper arm's name (``armlab list``: rr, rrrr, arm4r, r2t, urm6), a library arm's (puma560, ur5, ur10,
+    panda, stanford, irb140, kr5: well-known arms, every number cited), a ``.urdf`` or a DH ``.csv`` file.
 
     ``parameters`` override a paper arm's parameters (e.g. ``load("urm6", theta3=0.5)``; names as in
     ``armlab show ARM``). ``ValueError`` for an unknown arm or parameter, or a malformed file.
