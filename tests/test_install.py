@@ -55,7 +55,9 @@ def test_an_unknown_example_is_a_one_line_error_naming_the_examples():
     out = armlab_main("fk", "example:arm9", "--q", "0,0,0")
     assert out.returncode == 2 and out.stdout == ""
     assert out.stderr == "armlab: error: unknown example arm 'example:arm9'; allowed: example:arm3r\n"
-    with pytest.raises(ValueError, match=r"allowed: rr, rrrr, arm4r, r2t, urm6, an example \(example:arm3r\), or"):
+    with pytest.raises(ValueError, match=r"allowed: a paper arm \(rr, rrrr, arm4r, r2t, urm6\), a library arm "
+                                         r"\(irb140, kr5, panda, puma560, stanford, ur10, ur5\), an example "
+                                         r"\(example:arm3r\), or"):
         armlab.load("puma")
 
 
