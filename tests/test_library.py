@@ -74,7 +74,9 @@ def test_library_arm_kinematics_and_dynamics_two_ways(name: str, rng: np.random.
                 arm.inverse_dynamics(q, qd, qdd)
 
 
-@pytest.mark.parametrize("name", LIBRARY)
+#: numerical multi-start IK of a 6- or 7-DOF arm takes seconds: slow (the closed-form arms and irb140 stay fast)
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in ("kr5", "panda", "stanford")
+                                  else n for n in LIBRARY])
 def test_library_arm_ik_every_solution_reaches_the_pose(name: str, rng: np.random.Generator) -> None:
     """A pose from FK of a random configuration: every solution returned reaches it to 1e-9 (armlab's FK), the
     single solution nearest ``near`` = q is q, and with a closed form the configuration is among the branches."""
@@ -132,7 +134,8 @@ def test_library_arm_simulates_and_its_torques_are_the_inverse_dynamics(name: st
 
 
 # ------------------------------------------------------------------ closed forms and what ik returns
-@pytest.mark.parametrize("name", ["ur5", "ur10", "puma560"])
+@pytest.mark.parametrize("name", ["ur5", pytest.param("ur10", marks=pytest.mark.slow),
+                                  pytest.param("puma560", marks=pytest.mark.slow)])  # multi-start IK: seconds
 def test_closed_form_branches_are_the_numerical_solvers(name: str, rng: np.random.Generator) -> None:
     """Without its closed form the arm is solved by the multi-start numerical solver: the same set of solutions
     (each numerical one within 1e-6 of a branch, every branch within the limits found), and 8 branches before the
@@ -167,6 +170,7 @@ def test_position_target_of_a_six_axis_arm_is_its_branches_at_one_orientation(rn
     np.testing.assert_allclose(arm.fk(every)[:, :3, :3], np.broadcast_to(R, (len(every), 3, 3)), atol=TOL)
 
 
+@pytest.mark.slow  # a multi-start search of the Panda (2 s); the rule is also in the dispatcher's docstring
 def test_panda_pose_all_is_the_solutions_at_the_local_solutions_joint7(rng: np.random.Generator) -> None:
     """A pose on the 7-DOF Panda is a continuum: all=True gives the local solution and the others with the same
     q7 (the redundant joint held), each reaching the pose."""
@@ -205,6 +209,7 @@ def _rtb(name: str):
             "kr5": rtb.models.DH.KR5}[name]()
 
 
+@pytest.mark.slow  # importing the toolbox takes 10-15 s; make test (CI) runs it, with the test extra installed
 @pytest.mark.parametrize("name", LIBRARY)
 def test_against_the_robotics_toolbox(name: str, rng: np.random.Generator) -> None:
     """FK and Jacobian equal to the toolbox's DH model of the same arm (its tool offset removed: armlab's tool is
@@ -253,8 +258,7 @@ def test_against_pinocchio_reading_armlabs_urdf(name: str, rng: np.random.Genera
 
 def test_models_readme_puma560_gravity_table_is_computed() -> None:
     """The models/README.md table of the Puma 560's gravity torques at qz, qr, qs, qn is what the script computes
-    (to its printed 4 decimals) — and the toolbox's gravload gives the same (where installed)."""
-    from armlab.models.library import puma560
+    (to its printed 4 decimals); the toolbox's gravload at the same configurations: the next test."""
     from armlab.scripts.library_tables import puma560_gravity
 
     text = MODELS_README.read_text(encoding="utf-8")
@@ -263,9 +267,13 @@ def test_models_readme_puma560_gravity_table_is_computed() -> None:
         (row,) = re.findall(rf"^\| `{name}` \|(.*)\|$", text, flags=re.MULTILINE)
         printed = [float(v) for v in row.split("|")[1:]]
         np.testing.assert_allclose(printed, tau, atol=0.5e-4 + 1e-12)
-    try:
-        robot = _rtb("puma560")
-    except pytest.skip.Exception:
-        return
-    for name, tau in computed.items():
+
+
+@pytest.mark.slow  # importing the toolbox takes 10-15 s
+def test_puma560_gravity_at_the_named_configurations_is_the_toolboxs() -> None:
+    from armlab.models.library import puma560
+    from armlab.scripts.library_tables import puma560_gravity
+
+    robot = _rtb("puma560")
+    for name, tau in puma560_gravity().items():
         np.testing.assert_allclose(tau, robot.gravload(np.array(puma560.CONFIGURATIONS[name])), atol=TORQUE_TOL)
