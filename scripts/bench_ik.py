@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import argparse
 import time
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -81,12 +81,15 @@ def _drake_one(plant: MultibodyPlant, arm: Arm, target: np.ndarray, near: np.nda
 
 def single_solution(names: tuple[str, ...], poses: int) -> None:
     """Print the per-call times of one IK solution near ``near`` on ``names``: armlab, Drake, the toolbox's ik_LM."""
+    rtb: Any = None  # the toolbox's module, if installed
     try:
         # lazy: the Robotics Toolbox is an optional comparison (the test extra), not armlab's
-        import roboticstoolbox as rtb
+        import roboticstoolbox
         from spatialmath import SE3
+
+        rtb = roboticstoolbox
     except ImportError:
-        rtb = None
+        pass
     print(f"one solution nearest near (near = q + 0.2 rad noise), {poses} poses per arm; median ms per call "
           "(solved / calls)")
     print(" arm        armlab (CPU)              Drake IK (1 start)   Drake/armlab   toolbox ik_LM        ik_LM/armlab")
