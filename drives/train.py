@@ -115,10 +115,13 @@ class DriveTrain:
         """G²·J_m per joint (kg·m², joint side), shape ``(n,)``."""
         return self.gear_ratio**2 * self.rotor_inertia
 
+    def coulomb_friction(self, qd: ArrayLike) -> NDArray[np.float64]:
+        """Joint-side Coulomb friction torque T_c·tanh(q̇/v_s) (N·m) for rates ``(..., n)``, same shape."""
+        return self.coulomb * np.tanh(np.asarray(qd, dtype=float) / self.coulomb_speed)
+
     def friction(self, qd: ArrayLike) -> NDArray[np.float64]:
         """Joint-side friction torque B·q̇ + T_c·tanh(q̇/v_s) (N·m) for rates ``(..., n)``, same shape."""
-        qd = np.asarray(qd, dtype=float)
-        return self.viscous * qd + self.coulomb * np.tanh(qd / self.coulomb_speed)
+        return self.viscous * np.asarray(qd, dtype=float) + self.coulomb_friction(qd)
 
     def torque(self, qd: ArrayLike, qdd: ArrayLike) -> NDArray[np.float64]:
         """What the drive train adds to the arm's joint torques: G²·J_m·q̈ + friction(q̇), shape ``(..., n)``."""
