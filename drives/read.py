@@ -22,13 +22,17 @@ from __future__ import annotations
 import csv
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from armlab.drives.train import DriveTrain
 from armlab.models.arm_file import file_number, read_text
 
-__all__ = ["DRIVE_COLUMNS", "drive_train", "read_drive_file"]
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
+
+__all__ = ["DRIVE_COLUMNS", "drive_train", "read_drive_file", "with_drives"]
 
 #: The drive columns of a DH table and a drive file; the ``_motor`` ones are motor side (module docstring).
 DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "viscous_motor", "coulomb_motor")
@@ -98,3 +102,15 @@ def read_drive_file(path: str | Path, joint_names: Sequence[str]) -> DriveTrain:
         raise ValueError(f"{path}: joint column {','.join(names)} differs from the arm's joints "
                          f"{','.join(joint_names)} (one row per joint, in that order)")
     return drive_train(columns, n, str(path))
+
+
+def with_drives(arm: Arm, drives: str | Path | DriveTrain | None) -> Arm:
+    """``arm`` with the drive train ``drives``: a :class:`~armlab.drives.train.DriveTrain` or a drive file's path
+    (:func:`read_drive_file`); ``None``: ``arm`` as it is (its own drive train, or ideal drives)."""
+    if drives is None:
+        return arm
+    if isinstance(drives, DriveTrain):
+        return arm.with_drives(drives)
+    if not isinstance(drives, str | Path):
+        raise ValueError(f"drives = {drives!r} is not allowed: give a drive file's path or a DriveTrain")
+    return arm.with_drives(read_drive_file(drives, arm.joint_names))
