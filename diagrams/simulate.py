@@ -45,7 +45,7 @@ from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, SAMPLINGS, RunDiagram, build_diagram, check_log_period
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, torque_stats
 from armlab.diagrams.plant import PlantOptions
-from armlab.drives.train import motor_speed, motor_torque
+from armlab.drives.train import DRIVE_FIELDS, motor_speed, motor_torque
 from armlab.kinematics.differential import tool_motion
 from armlab.kinematics.quintic import Motion
 from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_point
@@ -460,7 +460,8 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
     """The numbers of ``summary.json``: overall and per-segment maxima, coefficients, the setup.
 
     ``max_abs_torque``, ``rms_torque``, ``max_tracking_error``: per joint (N·m or N; rad or m);
-    ``peak_power``: max over time of |Σ τ_i q̇_i| (W); ``quintic_coefficients``: per segment, per
+    ``peak_power``: max over time of |Σ τ_i q̇_i| (W); ``drive_train``: the arm's (``None``: ideal drives), its
+    parameters per joint; ``quintic_coefficients``: per segment, per
     joint, [a1 … a6] of θ(τ) = a1 τ⁵ + … + a6 in the segment's local time τ (paper 000 eqs. 3–6).
     """
     arm, motion = log.arm, log.motion
@@ -490,6 +491,11 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
         "torque_units": ["N·m" if r else "N" for r in revolute],
         "gravity": log.gravity.tolist(),
         "payload_kg": log.payload,
+        "drive_train": None if arm.drives is None else {
+            **{name: getattr(arm.drives, name).tolist() for name in DRIVE_FIELDS},
+            "coulomb_speed": arm.drives.coulomb_speed,
+            "units": {"rotor_inertia": "kg·m² (motor side)", "viscous": "N·m·s/rad (joint side)",
+                      "coulomb": "N·m (joint side)"}},
         "log_period": log.log_period,
         "integrator": {"scheme": DEFAULT_INTEGRATOR, "target_accuracy": log.accuracy, "max_step": max_step(log.mode)},
         **_stats(log, np.ones(log.t.shape, dtype=bool)),

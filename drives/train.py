@@ -26,10 +26,13 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["COULOMB_SPEED", "DriveTrain", "motor_speed", "motor_torque"]
+__all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "motor_speed", "motor_torque"]
 
 #: v_s (rad/s or m/s) of the smooth Coulomb friction T_c·tanh(q̇/v_s): 99.5 % of T_c at 3·v_s = 0.03 rad/s.
 COULOMB_SPEED = 0.01
+
+#: The per-joint fields of a :class:`DriveTrain`, in its order.
+DRIVE_FIELDS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb")
 
 #: The fields, their units and what is allowed, for messages.
 _ALLOWED = {

@@ -17,6 +17,7 @@ inertia and gear ratio of its ``<transmission>``'s ``<actuator>`` (``<drake:roto
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,6 +37,8 @@ __all__ = ["from_urdf", "package_roots"]
 
 _TEXT_ATTRIBUTES = {"name", "filename", "link", "joint", "type", "version", "reference", "xmlns"}
 _JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+#: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …); a URDF may use them undeclared.
+DRAKE_NAMESPACE = "http://drake.mit.edu"
 
 
 def _vector(text: str | None, what: str, default: str) -> np.ndarray:
@@ -59,6 +62,8 @@ def _xml(path: Path, what: str) -> ET.Element:
     if "<!DOCTYPE" in text or "<!ENTITY" in text:
         raise ValueError(f"{path}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not "
                          f"allowed in a {what}")
+    if "drake:" in text and "xmlns:drake" not in text:  # Drake's own tags, their namespace undeclared as Drake allows
+        text = re.sub(r"<robot\b", f'<robot xmlns:drake="{DRAKE_NAMESPACE}"', text, count=1)
     try:
         return ET.fromstring(text)
     except ET.ParseError as error:

@@ -4,6 +4,7 @@ the inverse dynamics, the motor side, and the Puma 560's drive data checked agai
 from __future__ import annotations
 
 import csv
+import json
 
 import numpy as np
 import pytest
@@ -53,6 +54,16 @@ def test_urdf_drive_train_is_what_drake_reads():
         np.testing.assert_allclose(drives.gear_ratio[k], actuators[name].default_gear_ratio(), rtol=1e-15)
         np.testing.assert_allclose(drives.viscous[k], plant.GetJointByName(name).default_damping(), rtol=1e-15)
     np.testing.assert_allclose(drives.coulomb, [0.4, 0.0], rtol=1e-15)  # the file's friction=
+
+
+def test_urdf_drake_namespace_may_be_undeclared(tmp_path):
+    """Drake reads <drake:…> tags without the xmlns:drake declaration; so does armlab."""
+    path = tmp_path / "undeclared.urdf"
+    path.write_text(DAMPED.read_text().replace(' xmlns:drake="http://drake.mit.edu"', ""))
+    assert "xmlns:drake" not in path.read_text()
+    drives, declared = armlab.load(path).drives, armlab.load(DAMPED).drives
+    np.testing.assert_allclose(drives.rotor_inertia, declared.rotor_inertia, rtol=1e-15)
+    np.testing.assert_allclose(drives.gear_ratio, declared.gear_ratio, rtol=1e-15)
 
 
 def test_dh_and_drive_file_columns(tmp_path):
@@ -170,6 +181,9 @@ def test_simulate_cli_writes_the_motor_side(tmp_path):
         drives = list(csv.DictReader(handle))
     np.testing.assert_allclose([float(r["peak_motor_torque"]) for r in drives], np.abs(tau_m).max(axis=0), rtol=1e-9)
     np.testing.assert_allclose([float(r["gear_ratio"]) for r in drives], g, rtol=1e-15)
+    summary = json.loads((out / "summary.json").read_text())
+    np.testing.assert_allclose(summary["drive_train"]["efficiency"], eta, rtol=1e-15)
+    assert max(summary["max_tracking_error"]) <= 1e-6
 
 
 # ------------------------------------------------------------------------------------------ the Puma 560
