@@ -127,8 +127,9 @@ class PlantOptions:
     (checked; the arm needs mass data). ``geometry``: the arm's visual geometry in a ``SceneGraph``
     (only in a diagram: :func:`add_arm_plant`). ``time_step``: 0 (continuous) or a discrete period (s).
 
-    What comes next (collision geometry, drive trains with rotor inertia and gear ratio, a payload with an
-    inertia of its own) is one more field here, checked in ``__post_init__``, and one more step of the builder.
+    The arm's drive train is not an option: it comes with the arm (``Arm.drives``, see the module docstring).
+    What comes next (collision geometry, a payload with an inertia of its own) is one more field here, checked in
+    ``__post_init__``, and one more step of the builder.
     """
 
     gravity: str | ArrayLike | None = None
@@ -254,7 +255,7 @@ def _set_drive_train(plant: MultibodyPlant, arm: Arm, instance: Any) -> None:
     for k, name in enumerate(arm.joint_names):
         by_joint[name].set_default_rotor_inertia(float(train.rotor_inertia[k]))
         by_joint[name].set_default_gear_ratio(float(train.gear_ratio[k]))
-        plant.GetMutableJointByName(name, instance).set_default_damping_vector([float(train.viscous[k])])
+        plant.GetMutableJointByName(name, instance).set_default_damping_vector(train.viscous[k:k + 1])
 
 
 def _check_drivable(plant: MultibodyPlant, arm: Arm) -> None:

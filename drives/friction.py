@@ -26,7 +26,7 @@ __all__ = ["CoulombFriction", "add_coulomb_friction"]
 
 
 class CoulombFriction(LeafSystem):
-    """Input ``state`` ([q, v], 2n); output ``generalized_force`` = ``sign``·T_c·tanh(v/v_s) (N·m or N, n)."""
+    """Input ``state`` ([q, v], 2n); output ``friction`` = ``sign``·T_c·tanh(v/v_s) (N·m or N, n)."""
 
     # No state: a C++ function under the name spares pydrake's per-evaluation lookup of a Python override
     # (see armlab.diagrams.tool_point.ToolPointKinematics); it is never called.
@@ -36,7 +36,7 @@ class CoulombFriction(LeafSystem):
         super().__init__()
         self._n, self._drives, self._sign = drives.n, drives, sign
         self.DeclareVectorInputPort("state", 2 * self._n)
-        self.DeclareVectorOutputPort("generalized_force", self._n, self._calc)
+        self.DeclareVectorOutputPort("friction", self._n, self._calc)
         self.set_name(name)
 
     def _calc(self, context: Context, output: BasicVector) -> None:

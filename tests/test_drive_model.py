@@ -54,6 +54,9 @@ def test_urdf_drive_train_is_what_drake_reads():
         np.testing.assert_allclose(drives.gear_ratio[k], actuators[name].default_gear_ratio(), rtol=1e-15)
         np.testing.assert_allclose(drives.viscous[k], plant.GetJointByName(name).default_damping(), rtol=1e-15)
     np.testing.assert_allclose(drives.coulomb, [0.4, 0.0], rtol=1e-15)  # the file's friction=
+    shown = armlab_main("show", str(DAMPED))
+    assert shown.returncode == 0 and "drive train" in shown.stdout
+    assert shown.stdout.splitlines()[-2].split() == ["shoulder", "100", "2e-05", "1", "5", "0.4"]
 
 
 def test_urdf_drake_namespace_may_be_undeclared(tmp_path):
