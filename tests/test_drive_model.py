@@ -152,6 +152,28 @@ def test_simulation_with_drives_tracks_and_logs_the_inverse_dynamics(mode):
     assert np.abs(log.tau - ideal).max() > 0.2 * peak  # the drive train is a large part of the torque
 
 
+@pytest.mark.parametrize("mode", ["controller", "inverse_dynamics"])
+def test_large_damping_from_a_drive_train_reaches_the_joints(mode):
+    """Issue 24 item 4: damping large enough that leaving it out of the logged torques crashed ``simulate`` ("the
+    torque samples … differ"; open loop "the tool samples …"), on a motion that ends moving (constant rates): the
+    drive train's B is the plant's joint damping (Drake's own), and the run tracks and logs B·q̇ with the rest."""
+    arm = armlab.load(DAMPED)
+    heavy = arm.with_drives(DriveTrain(arm.drives.gear_ratio, arm.drives.rotor_inertia, np.ones(2), [60.0, 25.0],
+                                       [1.5, 0.5]))
+    plant = heavy.make_plant()
+    damping = [plant.GetJointByName(name).default_damping() for name in heavy.joint_names]
+    np.testing.assert_allclose(damping, [60.0, 25.0], rtol=1e-15)
+    motion = armlab.constant_rate(heavy, [0.0, 0.0], [0.8, -0.6], tf=1.0)
+    log = simulate(heavy, motion, SimulationOptions(PlantOptions(ideal_drives=True), mode=mode))
+    assert np.abs(log.q - log.q_ref).max() <= 1e-6
+    expected = heavy.inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref)
+    np.testing.assert_allclose(log.tau, expected, rtol=0, atol=1e-6 * np.abs(expected).max())
+    friction = [60.0 * 0.8 + 1.5 * np.tanh(0.8 / COULOMB_SPEED), -25.0 * 0.6 - 0.5 * np.tanh(0.6 / COULOMB_SPEED)]
+    rigid = arm.with_drives(None).inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref)
+    np.testing.assert_allclose(log.tau - rigid, friction + heavy.drives.reflected_inertia * log.qdd_ref, rtol=0,
+                               atol=1e-5)
+
+
 @pytest.mark.slow
 def test_periodic_loggers_record_the_inverse_dynamics_with_drives():
     """Drake's own loggers (periodic sampling: the diagram's outputs, no armlab recomputation) record the torque
