@@ -136,7 +136,7 @@ def test_inverse_dynamics_includes_the_damping_the_plant_applies():
 
 
 # ------------------------------------------------------------------------------------------ the simulation
-@pytest.mark.parametrize("mode", ["controller", "inverse_dynamics"])
+@pytest.mark.parametrize("mode", ["controller", pytest.param("inverse_dynamics", marks=pytest.mark.slow)])
 def test_simulation_with_drives_tracks_and_logs_the_inverse_dynamics(mode):
     """With rotor inertia, damping and Coulomb friction in the plant, the controller's model has the same drive
     train: tracking ≤ 1e-6 rad, and the logged torque is arm.inverse_dynamics along the reference (the dense
@@ -186,9 +186,37 @@ def test_periodic_loggers_record_the_inverse_dynamics_with_drives():
     np.testing.assert_allclose(log.tau, expected, rtol=0, atol=1e-9 * np.abs(expected).max())
 
 
+def _motor_side(tau, qd):
+    """τ_m = τ/(G·η) where the drive delivers power, τ·η/G where it is driven back, and ω_m = G·q̇, for
+    tests/data/rr_drives.csv (G = 100, 80; η = 0.8, 0.75), written out here."""
+    g, eta = np.array([100.0, 80.0]), np.array([0.8, 0.75])
+    return np.where(tau * qd >= 0, tau / (g * eta), tau * eta / g), g * qd
+
+
+def test_motor_side_of_a_run(tmp_path):
+    """A run with a drive train gives its motor side: the log's τ_m and ω_m, log.csv's tau_m/w_m columns and
+    drives.csv's motor columns (Run's own writers), against the rule written out in the test."""
+    from armlab.diagrams.drives import drive_table
+    from armlab.diagrams.output import write_log_csv
+
+    rr = armlab.load("rr", drives=RR_DRIVES)
+    log = simulate(rr, armlab.paper_motion(rr))
+    tau_m, w_m = _motor_side(log.tau, log.qd)
+    np.testing.assert_allclose(log.tau_motor, tau_m, rtol=1e-15, atol=0)
+    np.testing.assert_allclose(log.motor_speed, w_m, rtol=1e-15, atol=0)
+    assert (log.tau * log.qd < 0).any() and (log.tau * log.qd > 0).any()  # both branches of the rule are used
+    table = np.genfromtxt(write_log_csv(log, tmp_path / "log.csv"), delimiter=",", names=True)
+    np.testing.assert_allclose(np.column_stack([table["tau_m1"], table["tau_m2"]]), tau_m, rtol=1e-11, atol=1e-15)
+    np.testing.assert_allclose(np.column_stack([table["w_m1"], table["w_m2"]]), w_m, rtol=1e-11, atol=1e-15)
+    rows = drive_table(log)
+    np.testing.assert_allclose([r["rms_motor_torque"] for r in rows], np.sqrt(np.mean(tau_m**2, axis=0)), rtol=1e-12)
+    np.testing.assert_allclose([r["peak_motor_speed"] for r in rows], np.abs(w_m).max(axis=0), rtol=1e-12)
+
+
+@pytest.mark.slow
 def test_simulate_cli_writes_the_motor_side(tmp_path):
-    """``armlab simulate rr --drives FILE``: log.csv and drives.csv carry the motor side, τ_m = τ/(G·η) where the
-    drive delivers power and τ·η/G where it is driven back, ω_m = G·q̇ (checked here from the logged τ, q̇)."""
+    """``armlab simulate rr --drives FILE`` as a user runs it: log.csv, drives.csv and summary.json carry the motor
+    side and the drive train (the rule checked from the logged τ, q̇ as written)."""
     out = tmp_path / "run"
     result = armlab_main("simulate", "rr", "--drives", str(RR_DRIVES), "--out", str(out))
     assert result.returncode == 0, result.stderr
@@ -198,10 +226,10 @@ def test_simulate_cli_writes_the_motor_side(tmp_path):
     qd = np.array([[float(r[f"qd{i}"]) for i in (1, 2)] for r in rows])
     tau_m = np.array([[float(r[f"tau_m{i}"]) for i in (1, 2)] for r in rows])
     w_m = np.array([[float(r[f"w_m{i}"]) for i in (1, 2)] for r in rows])
-    g, eta = np.array([100.0, 80.0]), np.array([0.8, 0.75])  # tests/data/rr_drives.csv
-    expected = np.where(tau * qd >= 0, tau / (g * eta), tau * eta / g)
+    expected, speed = _motor_side(tau, qd)
     np.testing.assert_allclose(tau_m, expected, rtol=1e-9, atol=1e-12)
-    np.testing.assert_allclose(w_m, g * qd, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(w_m, speed, rtol=1e-9, atol=1e-12)
+    g, eta = np.array([100.0, 80.0]), np.array([0.8, 0.75])  # tests/data/rr_drives.csv
     with (out / "drives.csv").open() as handle:
         drives = list(csv.DictReader(handle))
     np.testing.assert_allclose([float(r["peak_motor_torque"]) for r in drives], np.abs(tau_m).max(axis=0), rtol=1e-9)
