@@ -286,6 +286,16 @@ def test_bad_drive_file_is_one_line_naming_file_and_value(tmp_path, header, row,
     assert str(path) in str(error.value) and "\n" not in str(error.value)
 
 
+def test_bad_dh_drive_column_is_one_line(tmp_path):
+    """A DH table's drive column with a bad value: one line naming the table and what is allowed; CLI exit 2."""
+    path = tmp_path / "puma_bad.csv"
+    path.write_text(PUMA.read_text().replace(",71.923,", ",0,"))
+    with pytest.raises(ValueError, match=r"puma_bad.csv: drive train gear_ratio of joint 5 = 0 is not allowed"):
+        armlab.load(path)
+    result = armlab_main("show", str(path))
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1 and "joint 5" in result.stderr
+
+
 def test_bad_drive_file_shapes_and_cli_exit_2(tmp_path):
     """A drive file with a row count or joint names other than the arm's: one line; the CLI exits 2."""
     path = tmp_path / "three.csv"
