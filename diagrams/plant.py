@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.drives.train import DriveTrain
 from armlab.limits import allowed, check_positive, check_range
 from armlab.models.read_urdf import package_roots
 from armlab.values import parse_floats
@@ -245,9 +246,6 @@ def _set_drive_train(plant: MultibodyPlant, arm: Arm, instance: Any) -> None:
     inertia (kg·m²) and gear ratio on its actuator and its viscous friction (N·m·s/rad) as its damping; an arm
     without a drive train gets ideal drives (none of either, whatever its URDF says)."""
     from pydrake.multibody.tree import JointActuatorIndex
-
-    # lazy: armlab.drives.train is numpy only, imported where a plant is built
-    from armlab.drives.train import DriveTrain
 
     train = DriveTrain.ideal(arm.n) if arm.drives is None else arm.drives
     actuators = (plant.get_mutable_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
