@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, through
     from armlab.diagrams.run import Run
+    from armlab.drives.train import DriveTrain
     from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
     from armlab.models.arm import Arm
 
@@ -31,6 +32,7 @@ __version__ = "0.1.0"
 _EXPORTS = {
     "Arm": "armlab.models.arm",
     "ConstantRate": "armlab.kinematics.quintic",
+    "DriveTrain": "armlab.drives.train",
     "Motion": "armlab.kinematics.quintic",
     "QuinticSegment": "armlab.kinematics.quintic",
     "Run": "armlab.diagrams.run",
@@ -41,6 +43,7 @@ _EXPORTS = {
 __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "Arm",
     "ConstantRate",
+    "DriveTrain",
     "Motion",
     "QuinticSegment",
     "Run",

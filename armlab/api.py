@@ -37,23 +37,27 @@ from armlab.diagrams.simulate import (
     SimulationOptions,
 )
 from armlab.diagrams.simulate import simulate as run_diagram
+from armlab.drives.read import with_drives
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, check_duration
 from armlab.models import get_arm
 
 if TYPE_CHECKING:
+    from armlab.drives.train import DriveTrain
     from armlab.models.arm import Arm
 
 __all__ = ["constant_rate", "load", "paper_motion", "quintic", "read_segments", "simulate", "through"]
 
 
-def load(name: str | Path, **parameters: float) -> Arm:
+def load(name: str | Path, drives: str | Path | DriveTrain | None = None, **parameters: float) -> Arm:
     """An arm: a paper arm's name (``armlab list``: rr, rrrr, arm4r, r2t, urm6), a library arm's (puma560, ur5, ur10,
     panda, stanford, irb140, kr5: well-known arms, every number cited), a ``.urdf`` or a DH ``.csv`` file.
 
-    ``parameters`` override a paper arm's parameters (e.g. ``load("urm6", theta3=0.5)``; names as in
-    ``armlab show ARM``). ``ValueError`` for an unknown arm or parameter, or a malformed file.
+    ``drives``: its drive train, a drive file (CSV, see the README) or a :class:`~armlab.drives.train.DriveTrain`,
+    instead of the one its file gives (``None``: that one; none: ideal drives). ``parameters`` override a paper
+    arm's parameters (e.g. ``load("urm6", theta3=0.5)``; names as in ``armlab show ARM``). ``ValueError`` for an
+    unknown arm or parameter, or a malformed file.
     """
-    return get_arm(str(name), **parameters)
+    return with_drives(get_arm(str(name), **parameters), drives)
 
 
 def quintic(arm: Arm, q0: ArrayLike, qf: ArrayLike, tf: float, label: str = "") -> Motion:

@@ -13,7 +13,10 @@ by point) is ``arm.inverse_dynamics(q, qd, qdd)``: the batch recursive Newton–
 
 The controllers use ``model`` as their model of the arm (Fig. 6's exact model: the simulated ``plant``
 itself, evaluated on a context of the controller's own, or any finalized plant of the same arm) and drive
-the simulated ``plant``'s actuation input.
+the simulated ``plant``'s actuation input. The model has the arm's drive train as its plant does (reflected
+inertia and joint damping: Drake's inverse dynamics includes both); the Coulomb friction, which the diagram
+applies to the plant outside it (:func:`armlab.drives.friction.add_coulomb_friction`), is added to the
+controller's torque by the same system of the state the torque is computed at (:func:`drive_actuation`).
 """
 
 from __future__ import annotations
@@ -28,7 +31,9 @@ from armlab.limits import check_range
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.controllers import InverseDynamics, InverseDynamicsController
-    from pydrake.systems.framework import DiagramBuilder
+    from pydrake.systems.framework import DiagramBuilder, OutputPort
+
+    from armlab.drives.train import DriveTrain
 
 
 __all__ = [
@@ -36,6 +41,7 @@ __all__ = [
     "DEFAULT_KP",
     "add_inverse_dynamics",
     "add_inverse_dynamics_controller",
+    "drive_actuation",
     "gain_vector",
 ]
 
@@ -63,15 +69,19 @@ def add_inverse_dynamics_controller(
     builder: DiagramBuilder,
     plant: MultibodyPlant,
     model: MultibodyPlant,
+    desired_state: OutputPort,
+    desired_acceleration: OutputPort,
     kp: float | ArrayLike = DEFAULT_KP,
     kd: float | ArrayLike = DEFAULT_KD,
     ki: float | ArrayLike = 0.0,
+    drives: DriveTrain | None = None,
     name: str = "InverseDynamicsController",
-) -> InverseDynamicsController:
+) -> tuple[InverseDynamicsController, OutputPort]:
     """Add the computed-torque controller on ``model``, with ``plant``'s state fed back and its actuation driven.
 
-    Its ``desired_state`` ([q_d, q̇_d]) and ``desired_acceleration`` (q̈_d) inputs are left for the
-    caller to connect. Returns the controller.
+    ``desired_state`` ([q_d, q̇_d]) and ``desired_acceleration`` (q̈_d) are the ports of the reference;
+    ``drives``: the arm's drive train, whose Coulomb friction at the plant's rates the torque includes
+    (:func:`drive_actuation`). Returns the controller and the port of the torque driving the plant.
     """
     from pydrake.systems.controllers import InverseDynamicsController
 
@@ -83,18 +93,23 @@ def add_inverse_dynamics_controller(
     controller.set_name(name)
     builder.AddSystem(controller)
     builder.Connect(plant.get_state_output_port(), controller.get_input_port_estimated_state())
-    builder.Connect(controller.get_output_port_control(), plant.get_actuation_input_port())
-    return controller
+    builder.Connect(desired_state, controller.get_input_port_desired_state())
+    builder.Connect(desired_acceleration, controller.get_input_port_desired_acceleration())
+    torque = drive_actuation(builder, plant, controller.get_output_port_control(), plant.get_state_output_port(),
+                             drives)
+    return controller, torque
 
 
 def add_inverse_dynamics(
-    builder: DiagramBuilder, plant: MultibodyPlant, model: MultibodyPlant, name: str = "InverseDynamics"
-) -> InverseDynamics:
+    builder: DiagramBuilder, plant: MultibodyPlant, model: MultibodyPlant, state: OutputPort,
+    acceleration: OutputPort, drives: DriveTrain | None = None, name: str = "InverseDynamics",
+) -> tuple[InverseDynamics, OutputPort]:
     """Add open-loop inverse dynamics on ``model`` driving ``plant``'s actuation input (no feedback).
 
-    Its ``estimated_state`` input takes the *reference* state [q_d, q̇_d] and ``desired_acceleration``
-    q̈_d; the caller connects both. ``model``'s actuation matrix must be the identity (one actuator
-    per joint, in joint order) so that generalized forces are actuator torques.
+    ``state`` is the port of the *reference* state [q_d, q̇_d] and ``acceleration`` of q̈_d; ``drives``: the arm's
+    drive train, whose Coulomb friction at the reference rates the torque includes (:func:`drive_actuation`).
+    ``model``'s actuation matrix must be the identity (one actuator per joint, in joint order) so that
+    generalized forces are actuator torques. Returns the system and the port of the torque driving the plant.
     """
     from pydrake.systems.controllers import InverseDynamics
 
@@ -103,5 +118,29 @@ def add_inverse_dynamics(
     inverse_dynamics = InverseDynamics(model, InverseDynamics.InverseDynamicsMode.kInverseDynamics)
     inverse_dynamics.set_name(name)
     builder.AddSystem(inverse_dynamics)
-    builder.Connect(inverse_dynamics.get_output_port_generalized_force(), plant.get_actuation_input_port())
-    return inverse_dynamics
+    builder.Connect(state, inverse_dynamics.get_input_port_estimated_state())
+    builder.Connect(acceleration, inverse_dynamics.get_input_port_desired_acceleration())
+    torque = drive_actuation(builder, plant, inverse_dynamics.get_output_port_generalized_force(), state, drives)
+    return inverse_dynamics, torque
+
+
+def drive_actuation(builder: DiagramBuilder, plant: MultibodyPlant, torque: OutputPort, state: OutputPort,
+                    drives: DriveTrain | None) -> OutputPort:
+    """Connect the model's torque ``torque`` (N·m or N, n) to ``plant``'s actuation input, with the Coulomb friction
+    T_c·tanh(v/v_s) of the rates of ``state`` ([q, v]) added when ``drives`` has any (a ``friction_compensation``
+    :class:`~armlab.drives.friction.CoulombFriction` and an ``Adder``); the port of the torque applied."""
+    if drives is None or not np.any(drives.coulomb > 0):
+        builder.Connect(torque, plant.get_actuation_input_port())
+        return torque
+    from pydrake.systems.primitives import Adder
+
+    # lazy: armlab.drives.friction imports Drake
+    from armlab.drives.friction import CoulombFriction
+
+    compensation = builder.AddSystem(CoulombFriction(drives, 1.0, "friction_compensation"))
+    builder.Connect(state, compensation.get_input_port())
+    adder = builder.AddNamedSystem("drive_torque", Adder(2, drives.n))
+    builder.Connect(torque, adder.get_input_port(0))
+    builder.Connect(compensation.get_output_port(), adder.get_input_port(1))
+    builder.Connect(adder.get_output_port(), plant.get_actuation_input_port())
+    return adder.get_output_port()

@@ -7,6 +7,12 @@ joint torques. Here, with Drake's own systems, named so that the graphviz pictur
                                                          │          ↑ state feedback ─────────┘
     loggers: log_reference, log_state, log_torque, log_tool (ToolPoint: p, v, a of the tool point)
 
+The plant carries the arm's drive train (rotor inertia, gear ratio, joint damping: :mod:`armlab.diagrams.plant`),
+and so does the controller's model, the plant itself. An arm whose drive train has Coulomb friction gets two
+more systems: ``joint_friction`` (−T_c·tanh(v/v_s) of the plant's rates into its applied generalized force)
+and ``friction_compensation`` + ``drive_torque`` (the same term added to the controller's torque; what
+``log_torque`` records is that sum, the torque the drives apply).
+
 How the loggers sample (``sampling``, one of :data:`SAMPLINGS`):
 
 * ``"dense"`` (the default): the loggers publish when the diagram is forced to (once, at the end of the
@@ -98,6 +104,7 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     # lazy: cycle, armlab.diagrams.simulate imports this module (build_diagram, DEFAULT_LOG_PERIOD …)
     from armlab.diagrams.simulate import SimulationOptions
     from armlab.diagrams.tool_point import ToolPointKinematics
+    from armlab.drives.friction import add_coulomb_friction
 
     options = SimulationOptions() if options is None else options
     if len(motion.runs()) != 1:
@@ -118,16 +125,13 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     split = builder.AddNamedSystem("reference_split", Demultiplexer([2 * n, n]))
     builder.Connect(source.get_output_port(), split.get_input_port())
     gains = (gain_vector(options.kp, n, "kp"), gain_vector(options.kd, n, "kd"), gain_vector(options.ki, n, "ki"))
+    add_coulomb_friction(builder, plant, arm.drives)
     if mode == "controller":
-        controller = add_inverse_dynamics_controller(builder, plant, model, *gains)
-        builder.Connect(split.get_output_port(0), controller.get_input_port_desired_state())
-        builder.Connect(split.get_output_port(1), controller.get_input_port_desired_acceleration())
-        torque_port = controller.get_output_port_control()
+        _, torque_port = add_inverse_dynamics_controller(builder, plant, model, split.get_output_port(0),
+                                                         split.get_output_port(1), *gains, drives=arm.drives)
     else:
-        inverse = add_inverse_dynamics(builder, plant, model)
-        builder.Connect(split.get_output_port(0), inverse.get_input_port_estimated_state())
-        builder.Connect(split.get_output_port(1), inverse.get_input_port_desired_acceleration())
-        torque_port = inverse.get_output_port_generalized_force()
+        _, torque_port = add_inverse_dynamics(builder, plant, model, split.get_output_port(0),
+                                              split.get_output_port(1), drives=arm.drives)
 
     tool = builder.AddSystem(ToolPointKinematics(plant, plant.GetFrameByName(arm.tool_name)))
     builder.Connect(plant.get_state_output_port(), tool.get_input_port(0))

@@ -139,10 +139,11 @@ def torque_stats(tau: NDArray[np.float64], qd: NDArray[np.float64]) -> dict[str,
 
 
 def drive_table(log: SimulationLog) -> list[dict[str, Any]]:
-    """Per joint: peak |τ|, RMS τ, peak |q̇|, peak |τ q̇| (W) and the effort and velocity limits (None: unknown)."""
+    """Per joint: peak |τ|, RMS τ, peak |q̇|, peak |τ q̇| (W) and the effort and velocity limits (None: unknown);
+    with a drive train, its motor side too: the gear ratio, peak |τ_m| and RMS τ_m (N·m), peak |ω_m| (rad/s)."""
     units = _units(log)
     power = np.abs(log.tau * log.qd)
-    return [{
+    rows = [{
         "joint": name,
         "peak_torque": float(np.max(np.abs(log.tau[:, i]))),
         "rms_torque": float(np.sqrt(np.mean(log.tau[:, i] ** 2))),
@@ -153,6 +154,13 @@ def drive_table(log: SimulationLog) -> list[dict[str, Any]]:
         "effort_limit": lim.effort,
         "velocity_limit": lim.velocity,
     } for i, (name, lim) in enumerate(zip(log.arm.joint_names, log.arm.limits, strict=True))]
+    drives, tau_motor, speed = log.arm.drives, log.tau_motor, log.motor_speed
+    if drives is not None and tau_motor is not None and speed is not None:
+        for i, row in enumerate(rows):
+            row.update(gear_ratio=float(drives.gear_ratio[i]), peak_motor_torque=float(np.max(np.abs(tau_motor[:, i]))),
+                       rms_motor_torque=float(np.sqrt(np.mean(tau_motor[:, i] ** 2))),
+                       peak_motor_speed=float(np.max(np.abs(speed[:, i]))))
+    return rows
 
 
 def write_drives_csv(log: SimulationLog, path: str | Path) -> Path:
@@ -169,9 +177,28 @@ def plot_drives(log: SimulationLog, path: str | Path) -> Path:
     rows = drive_table(log)
     n = log.arm.n
     cols = min(n, 3)
-    fig, axes = new_figure(f"{log.arm.name}: drive operating points (torque against speed) and limits",
-                           (n + cols - 1) // cols, cols, size=(3.3 * cols, 3.0 * ((n + cols - 1) // cols) + 0.6))
+    per_side = (n + cols - 1) // cols  # rows of panels per side
+    tau_motor, speed = log.tau_motor, log.motor_speed
+    sides = 1 if tau_motor is None else 2
+    title = f"{log.arm.name}: drive operating points (torque against speed) and limits"
+    fig, axes = new_figure(title + (", joint side (top) and motor side (bottom)" if sides == 2 else ""),
+                           per_side * sides, cols, size=(3.3 * cols, 3.0 * per_side * sides + 0.6))
     axes = np.atleast_1d(axes).ravel()
+    motor_axes = axes[per_side * cols:]
+    if tau_motor is not None and speed is not None:
+        for i, (row, ax) in enumerate(zip(rows, motor_axes, strict=False)):
+            for k in range(len(log.run_starts)):
+                rows_k = log.run == k
+                ax.plot(speed[rows_k, i], tau_motor[rows_k, i], color="#2e8b57", lw=1.2,
+                        label="motor operating points (ω_m, τ_m)" if k == 0 else None)
+            ax.set_title(f"{row['joint']} motor, G = {row['gear_ratio']:.4g}:\npeak |τ_m| "
+                         f"{row['peak_motor_torque']:.4g} N·m, peak |ω_m| {row['peak_motor_speed']:.3g} rad/s",
+                         fontsize=8)
+            ax.set_xlabel(f"ω_m{i + 1} [rad/s]")
+            ax.set_ylabel(f"τ_m{i + 1} [N·m]")
+        for ax in motor_axes[n:]:
+            ax.set_visible(False)
+        axes = axes[:per_side * cols]
     for i, (row, ax) in enumerate(zip(rows, axes, strict=False)):
         for k in range(len(log.run_starts)):
             rows_k = log.run == k
@@ -194,7 +221,8 @@ def plot_drives(log: SimulationLog, path: str | Path) -> Path:
         ax.set_ylabel(f"τ{i + 1} [{row['torque_unit']}]")
     for ax in axes[n:]:
         ax.set_visible(False)
-    legend = {label: handle for ax in axes[:n] for handle, label in zip(*ax.get_legend_handles_labels(), strict=True)}
+    shown = [*axes[:n], *(motor_axes[:n] if sides == 2 else [])]
+    legend = {label: handle for ax in shown for handle, label in zip(*ax.get_legend_handles_labels(), strict=True)}
     fig.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=len(legend), fontsize=8)
     fig.savefig(path, dpi=DPI)
     import matplotlib.pyplot as plt

@@ -157,12 +157,15 @@ _SIGNALS = {
     "actuation": "τ",
     "generalized_force": "τ",
     "tool_pva": "p, v, a of the tool point",
+    "friction": "±T<SUB>c</SUB>·tanh(q̇/v<SUB>s</SUB>)",  # armlab.drives.friction.CoulombFriction
+    "sum": "τ",  # the drives' torque: the controller's and its friction compensation (an Adder)
 }
 #: Signal into an input port fed by the reference split, by input port name.
 _REFERENCE_SIGNALS = {
     "desired_state": "x<SUB>d</SUB> = (q<SUB>d</SUB>, q̇<SUB>d</SUB>)",
     "estimated_state": "x<SUB>d</SUB> = (q<SUB>d</SUB>, q̇<SUB>d</SUB>)",
     "desired_acceleration": "q̈<SUB>d</SUB>",
+    "state": "x<SUB>d</SUB> = (q<SUB>d</SUB>, q̇<SUB>d</SUB>)",  # the friction compensation of open loop
 }
 _REFERENCE = "q<SUB>d</SUB>, q̇<SUB>d</SUB>, q̈<SUB>d</SUB>"
 #: Column of each kind of system, left to right (by class; anything else goes in the middle).

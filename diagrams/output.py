@@ -29,18 +29,24 @@ RUN_OUTPUTS = (*RUN_FILES, "diagram.svg", "diagram_full.svg", "diagram.dot", *PL
                "replay.html")
 
 
-def csv_header(n: int) -> list[str]:
-    """Column names of ``log.csv`` for ``n`` joints."""
+def csv_header(n: int, motor: bool = False) -> list[str]:
+    """Column names of ``log.csv`` for ``n`` joints; ``motor``: with the motor side of a drive train, the motor
+    torques ``tau_m1 …`` (N·m) and speeds ``w_m1 …`` (rad/s) after the tool point's columns."""
     cols = ["t"]
     for fmt in ("q{}_ref", "qd{}_ref", "qdd{}_ref", "q{}", "qd{}", "tau{}"):
         cols += [fmt.format(i) for i in range(1, n + 1)]
-    return cols + ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"]
+    cols += ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"]
+    return cols + ([f"{side}{i}" for side in ("tau_m", "w_m") for i in range(1, n + 1)] if motor else [])
 
 
 def write_log_csv(log: SimulationLog, path: str | Path) -> Path:
     """``log.csv``: a header row, then one row per log sample (:func:`csv_header`), SI units."""
-    table = np.column_stack([log.t, log.q_ref, log.qd_ref, log.qdd_ref, log.q, log.qd, log.tau, log.tool])
-    np.savetxt(path, table, fmt="%.12g", delimiter=",", header=",".join(csv_header(log.arm.n)), comments="")
+    columns = [log.t, log.q_ref, log.qd_ref, log.qdd_ref, log.q, log.qd, log.tau, log.tool]
+    tau_motor, speed = log.tau_motor, log.motor_speed
+    if tau_motor is not None and speed is not None:
+        columns += [tau_motor, speed]
+    np.savetxt(path, np.column_stack(columns), fmt="%.12g", delimiter=",",
+               header=",".join(csv_header(log.arm.n, tau_motor is not None)), comments="")
     return Path(path)
 
 

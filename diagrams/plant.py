@@ -16,6 +16,12 @@ is said by a frozen :class:`PlantOptions`, validated when it is made:
 * ``geometry`` — the arm's visual geometry registered with a ``SceneGraph`` (for Meshcat);
 * ``time_step`` — 0 (continuous, the default) or a discrete period (s).
 
+The arm's drive train (``Arm.drives``, :mod:`armlab.drives.train`; ideal when it has none) is always in its
+plant, whatever the options: each joint's rotor inertia and gear ratio on its Drake ``JointActuator`` (the
+reflected inertia G²·J_m on the mass matrix's diagonal) and its viscous friction as the joint's damping (so a
+drive file's value replaces the URDF's ``<dynamics damping>``). Its Coulomb friction is not a plant element:
+the diagram applies it (:func:`armlab.controllers.inverse_dynamics.add_coulomb_friction`).
+
 Joint order, one rule: the plant's generalized positions and velocities are in the arm's joint order
 (joint1 … jointN, what the URDF's serial chain gives), checked once here, so every caller wires
 arm-ordered vectors (q, q̇, sliders, trajectories) to the plant directly, with no index map.
@@ -30,6 +36,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.drives.train import DriveTrain
 from armlab.limits import allowed, check_positive, check_range
 from armlab.models.read_urdf import package_roots
 from armlab.values import parse_floats
@@ -121,8 +128,9 @@ class PlantOptions:
     (checked; the arm needs mass data). ``geometry``: the arm's visual geometry in a ``SceneGraph``
     (only in a diagram: :func:`add_arm_plant`). ``time_step``: 0 (continuous) or a discrete period (s).
 
-    What comes next (collision geometry, drive trains with rotor inertia and gear ratio, a payload with an
-    inertia of its own) is one more field here, checked in ``__post_init__``, and one more step of the builder.
+    The arm's drive train is not an option: it comes with the arm (``Arm.drives``, see the module docstring).
+    What comes next (collision geometry, a payload with an inertia of its own) is one more field here, checked in
+    ``__post_init__``, and one more step of the builder.
     """
 
     gravity: str | ArrayLike | None = None
@@ -174,13 +182,15 @@ def make_plant(arm: Arm, options: PlantOptions | None = None) -> MultibodyPlant:
 
 
 def _build(plant: MultibodyPlant, arm: Arm, options: PlantOptions) -> None:
-    """Parse ``arm``'s URDF into the empty ``plant``, weld its base, add the actuators, gravity, the payload and
-    the drives of ``options``, finalize, and check the joint order (and, for ideal drives, what simulation needs)."""
+    """Parse ``arm``'s URDF into the empty ``plant``, weld its base, add the actuators with the arm's drive train,
+    gravity, the payload and the drives of ``options``, finalize, and check the joint order (and, for ideal
+    drives, what simulation needs)."""
     from pydrake.multibody.tree import JointActuatorIndex, RotationalInertia, SpatialInertia
 
     if options.ideal_drives:
         arm.require_dynamics("simulate")
     instance = _add_model(plant, arm)
+    _set_drive_train(plant, arm, instance)
     if options.payload > 0:
         body = plant.AddRigidBody("payload", instance, SpatialInertia.MakeFromCentralInertia(
             options.payload, np.zeros(3), RotationalInertia(0, 0, 0)))
@@ -229,6 +239,21 @@ def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
         if name not in actuated:
             plant.AddJointActuator(f"{name}_actuator", plant.GetJointByName(name, instance))
     return instance
+
+
+def _set_drive_train(plant: MultibodyPlant, arm: Arm, instance: Any) -> None:
+    """Give each joint of ``arm`` (in ``plant``'s model ``instance``, before ``Finalize``) its drive train's rotor
+    inertia (kg·m²) and gear ratio on its actuator and its viscous friction (N·m·s/rad) as its damping; an arm
+    without a drive train gets ideal drives (none of either, whatever its URDF says)."""
+    from pydrake.multibody.tree import JointActuatorIndex
+
+    train = DriveTrain.ideal(arm.n) if arm.drives is None else arm.drives
+    actuators = (plant.get_mutable_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
+    by_joint = {a.joint().name(): a for a in actuators if a.model_instance() == instance}
+    for k, name in enumerate(arm.joint_names):
+        by_joint[name].set_default_rotor_inertia(float(train.rotor_inertia[k]))
+        by_joint[name].set_default_gear_ratio(float(train.gear_ratio[k]))
+        plant.GetMutableJointByName(name, instance).set_default_damping_vector(train.viscous[k:k + 1])
 
 
 def _check_drivable(plant: MultibodyPlant, arm: Arm) -> None:

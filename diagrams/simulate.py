@@ -45,6 +45,7 @@ from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, SAMPLINGS, RunDiagram, build_diagram, check_log_period
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, torque_stats
 from armlab.diagrams.plant import PlantOptions
+from armlab.drives.train import DRIVE_FIELDS, motor_speed, motor_torque
 from armlab.kinematics.differential import tool_motion
 from armlab.kinematics.quintic import Motion
 from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_point
@@ -152,7 +153,9 @@ class SimulationLog:
     """Everything logged in a simulation, one row per log sample, on the motion's time axis.
 
     Arrays are ``(m, n)`` except ``t``, ``run``, ``segment`` ``(m,)`` and ``tool`` ``(m, 9)`` =
-    [x y z vx vy vz ax ay az] of the tool point in the world frame. Where a motion is made of
+    [x y z vx vy vz ax ay az] of the tool point in the world frame; ``tau`` is joint side, the torque the drives
+    apply (with the arm's drive train: reflected inertia and friction included), :attr:`tau_motor` and
+    :attr:`motor_speed` its motor side. Where a motion is made of
     several runs, the time at a join appears twice (end of one run, start of the next). ``diagram`` is the
     first run's Fig. 6 diagram, :attr:`diagram_dot` its picture.
     """
@@ -177,6 +180,19 @@ class SimulationLog:
     run_starts: list[float]
     wall_time: float
     diagram: Diagram = field(repr=False, compare=False)
+
+    @property
+    def tau_motor(self) -> NDArray[np.float64] | None:
+        """Motor-side torques ``(m, n)`` (N·m) of :attr:`tau` by :func:`armlab.drives.train.motor_torque` (τ/(G·η)
+        delivering, τ·η/G driven back), ``None`` for ideal drives (the arm has no drive train)."""
+        drives = self.arm.drives
+        return None if drives is None else motor_torque(drives, self.tau, self.qd)
+
+    @property
+    def motor_speed(self) -> NDArray[np.float64] | None:
+        """Motor speeds G·q̇ ``(m, n)`` (rad/s), ``None`` for ideal drives."""
+        drives = self.arm.drives
+        return None if drives is None else motor_speed(drives, self.qd)
 
     @cached_property
     def diagram_dot(self) -> str:
@@ -444,7 +460,8 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
     """The numbers of ``summary.json``: overall and per-segment maxima, coefficients, the setup.
 
     ``max_abs_torque``, ``rms_torque``, ``max_tracking_error``: per joint (N·m or N; rad or m);
-    ``peak_power``: max over time of |Σ τ_i q̇_i| (W); ``quintic_coefficients``: per segment, per
+    ``peak_power``: max over time of |Σ τ_i q̇_i| (W); ``drive_train``: the arm's (``None``: ideal drives), its
+    parameters per joint; ``quintic_coefficients``: per segment, per
     joint, [a1 … a6] of θ(τ) = a1 τ⁵ + … + a6 in the segment's local time τ (paper 000 eqs. 3–6).
     """
     arm, motion = log.arm, log.motion
@@ -474,6 +491,11 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
         "torque_units": ["N·m" if r else "N" for r in revolute],
         "gravity": log.gravity.tolist(),
         "payload_kg": log.payload,
+        "drive_train": None if arm.drives is None else {
+            **{name: getattr(arm.drives, name).tolist() for name in DRIVE_FIELDS},
+            "coulomb_speed": arm.drives.coulomb_speed,
+            "units": {"rotor_inertia": "kg·m² (motor side)", "viscous": "N·m·s/rad (joint side)",
+                      "coulomb": "N·m (joint side)"}},
         "log_period": log.log_period,
         "integrator": {"scheme": DEFAULT_INTEGRATOR, "target_accuracy": log.accuracy, "max_step": max_step(log.mode)},
         **_stats(log, np.ones(log.t.shape, dtype=bool)),

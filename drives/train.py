@@ -26,10 +26,13 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["COULOMB_SPEED", "DriveTrain", "motor_speed", "motor_torque"]
+__all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "motor_speed", "motor_torque"]
 
 #: v_s (rad/s or m/s) of the smooth Coulomb friction T_c·tanh(q̇/v_s): 99.5 % of T_c at 3·v_s = 0.03 rad/s.
 COULOMB_SPEED = 0.01
+
+#: The per-joint fields of a :class:`DriveTrain`, in its order.
+DRIVE_FIELDS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb")
 
 #: The fields, their units and what is allowed, for messages.
 _ALLOWED = {
@@ -115,10 +118,13 @@ class DriveTrain:
         """G²·J_m per joint (kg·m², joint side), shape ``(n,)``."""
         return self.gear_ratio**2 * self.rotor_inertia
 
+    def coulomb_friction(self, qd: ArrayLike) -> NDArray[np.float64]:
+        """Joint-side Coulomb friction torque T_c·tanh(q̇/v_s) (N·m) for rates ``(..., n)``, same shape."""
+        return self.coulomb * np.tanh(np.asarray(qd, dtype=float) / self.coulomb_speed)
+
     def friction(self, qd: ArrayLike) -> NDArray[np.float64]:
         """Joint-side friction torque B·q̇ + T_c·tanh(q̇/v_s) (N·m) for rates ``(..., n)``, same shape."""
-        qd = np.asarray(qd, dtype=float)
-        return self.viscous * qd + self.coulomb * np.tanh(qd / self.coulomb_speed)
+        return self.viscous * np.asarray(qd, dtype=float) + self.coulomb_friction(qd)
 
     def torque(self, qd: ArrayLike, qdd: ArrayLike) -> NDArray[np.float64]:
         """What the drive train adds to the arm's joint torques: G²·J_m·q̈ + friction(q̇), shape ``(..., n)``."""

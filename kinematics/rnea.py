@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.kinematics.batch import as_batch, blocks, cos_sin, cross, turn_z
 
 if TYPE_CHECKING:
+    from armlab.drives.train import DriveTrain
     from armlab.models.arm import Arm
 
 __all__ = ["LinkInertias", "inverse_dynamics", "inverse_dynamics_and_tool_point", "link_inertias"]
@@ -154,21 +155,24 @@ def _block(links: list[_Link], g: NDArray, q: NDArray, qd: NDArray, qdd: NDArray
 
 def inverse_dynamics(
     arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
-    payload: float = 0.0,
+    payload: float = 0.0, drives: DriveTrain | None = None,
 ) -> NDArray[np.float64]:
-    """Joint torques/forces τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) (N·m or N), ``(n,)`` or ``(..., n)``.
+    """Joint torques/forces τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) + the drive train's (N·m or N), ``(n,)`` or ``(..., n)``.
 
     ``q, qd, qdd``: joint positions (rad or m), rates and accelerations, ``(n,)`` or ``(..., n)``,
     broadcast together. ``gravity``: as :func:`armlab.diagrams.plant.resolve_gravity` (default the arm's);
-    ``payload``: a point mass (kg) at the tool frame's origin. Equal to Drake's ``CalcInverseDynamics``
-    with gravity as the plant's force elements. ``ValueError`` for a kinematic arm (no mass data).
+    ``payload``: a point mass (kg) at the tool frame's origin; ``drives``: the drive train whose
+    G²·J_m·q̈ + B·q̇ + T_c·tanh(q̇/v_s) (:meth:`~armlab.drives.train.DriveTrain.torque`) is added, ``None``: the
+    arm's own (``arm.drives``; none: ideal drives, the rigid arm alone). Equal to Drake's ``CalcInverseDynamics``
+    with gravity and the joints' damping as the plant's force elements and the actuators' reflected inertia, plus
+    the Coulomb friction. ``ValueError`` for a kinematic arm (no mass data).
     """
-    return _newton_euler(arm, q, qd, qdd, gravity, payload, tool=False)[0]
+    return _newton_euler(arm, q, qd, qdd, gravity, payload, tool=False, drives=drives)[0]
 
 
 def inverse_dynamics_and_tool_point(
     arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
-    payload: float = 0.0,
+    payload: float = 0.0, drives: DriveTrain | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """(τ, [p v a] of the tool point): :func:`inverse_dynamics` and, from the same outward recursion, the tool
     point's position (m), velocity (m/s) and acceleration (m/s²) in the world frame, ``(..., n)`` and ``(..., 9)``.
@@ -179,12 +183,14 @@ def inverse_dynamics_and_tool_point(
     numbers as :func:`armlab.kinematics.differential.tool_motion`'s [v], [a] and the forward kinematics, for one
     pass instead of three.
     """
-    return _newton_euler(arm, q, qd, qdd, gravity, payload, tool=True)
+    return _newton_euler(arm, q, qd, qdd, gravity, payload, tool=True, drives=drives)
 
 
 def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None,
-                  payload: float, tool: bool) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """τ ``(..., n)`` and, if ``tool``, the tool point's [p v a] ``(..., 9)`` (else an empty array)."""
+                  payload: float, tool: bool,
+                  drives: DriveTrain | None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """τ ``(..., n)`` (with the drive train ``drives``, ``None``: the arm's) and, if ``tool``, the tool point's
+    [p v a] ``(..., 9)`` (else an empty array)."""
     # lazy: armlab.diagrams sits above armlab.kinematics and imports it
     from armlab.diagrams.plant import resolve_gravity
 
@@ -201,6 +207,11 @@ def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity
         tau[:, block], W = _block(links, g, q[:, block], qd[:, block], qdd[:, block], velocity=tool)
         if tool:
             last[..., block] = W
+    train = arm.drives if drives is None else drives
+    if train is not None:
+        if train.n != n:
+            raise ValueError(f"{arm.name}: the drive train has {train.n} joint(s); the arm has {n}")
+        tau += train.torque(qd.T, qdd.T).T
     if not tool:
         return tau.T.reshape(shape + (n,)), last
     step = arm.table.steps[-1]

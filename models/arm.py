@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
 
     from armlab.diagrams.plant import PlantOptions
+    from armlab.drives.train import DriveTrain
     from armlab.kinematics.dh import DHTable
     from armlab.models.extras import ClosedForm, MotionFn, PaperScheme
 
@@ -98,6 +99,18 @@ class Arm:
     paths: Mapping[str, MotionFn] = field(default_factory=dict)
     #: What ``armlab draw`` shows of it beyond the model: the paper figure, the DH table, the default pose.
     scheme: PaperScheme | None = None
+    #: The drive train per joint (gear ratio, rotor inertia, efficiency, friction; :mod:`armlab.drives.train`),
+    #: from the arm's file (a DH table's drive columns, a URDF's ``<dynamics>`` and ``<transmission>``) or a drive
+    #: file (:meth:`with_drives`); ``None``: ideal drives. The plant, the controller's model and
+    #: :meth:`inverse_dynamics` all include it.
+    drives: DriveTrain | None = None
+
+    def with_drives(self, drives: DriveTrain | None) -> Arm:
+        """This arm with the drive train ``drives`` (one per joint) instead of its own; ``None``: ideal drives."""
+        if drives is not None and drives.n != self.n:
+            raise ValueError(f"{self.name}: the drive train has {drives.n} joint(s); the arm has {self.n} "
+                             f"({', '.join(self.joint_names)})")
+        return replace(self, drives=drives)
 
     def require_dynamics(self, what: str) -> None:
         """``ValueError`` (saying how to add mass data) unless the arm has mass data; ``what`` needs it."""
@@ -270,17 +283,21 @@ class Arm:
 
     def inverse_dynamics(
         self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity: str | ArrayLike | None = None,
-        payload: float = 0.0,
+        payload: float = 0.0, drives: DriveTrain | None = None,
     ) -> NDArray[np.float64]:
-        """Joint torques τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) (N·m, or N for prismatic joints): ``(n,)`` or ``(N, n)``.
+        """Joint-side torques τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) + G²·J_m·q̈ + B·q̇ + T_c·tanh(q̇/v_s) (N·m, or N for
+        prismatic joints): ``(n,)`` or ``(N, n)``; the last three terms are the drive train's.
 
         ``gravity``: ``None`` (the arm's), ``"off"``, ``"-z"`` …, or (gx, gy, gz) m/s²; ``payload``: a point mass
-        (kg) at the tool point. The arm needs mass data (``has_dynamics``).
+        (kg) at the tool point; ``drives``: a :class:`~armlab.drives.train.DriveTrain`, ``None``: the arm's own
+        (:attr:`drives`, what its plant applies; ideal if it has none). The motor side of these torques is
+        :func:`armlab.drives.train.motor_torque`. The arm needs mass data (``has_dynamics``).
         """
         # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.kinematics.rnea import inverse_dynamics
 
-        return inverse_dynamics(self, self.check_q(q), *self._rates(qd, qdd), gravity=gravity, payload=payload)
+        return inverse_dynamics(self, self.check_q(q), *self._rates(qd, qdd), gravity=gravity, payload=payload,
+                                drives=drives)
 
     def _rates(self, qd: ArrayLike, qdd: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Joint rates and accelerations checked for shape, finite values and ``armlab.limits`` ranges."""

@@ -10,7 +10,10 @@ A **DH table** is a CSV file (the README's section "Your own arm: the DH table f
   lengths in metres; ``lower``/``upper`` empty for an unlimited revolute joint), then, in any order,
   the optional columns of the Robotics Toolbox's ``RevoluteDH(m=, r=, I=)``, per link in the link's
   own DH frame: ``mass`` (kg), ``cx,cy,cz`` (centre of mass, m), ``Ixx,Iyy,Izz,Ixy,Ixz,Iyz``
-  (kg·m² about the centre of mass), ``effort`` (N·m or N) and ``velocity`` (rad/s or m/s) limits.
+  (kg·m² about the centre of mass), ``effort`` (N·m or N) and ``velocity`` (rad/s or m/s) limits, and the
+  drive train's columns (:data:`armlab.drives.read.DRIVE_COLUMNS`: ``gear_ratio``, ``rotor_inertia``,
+  ``efficiency``, ``viscous``, ``coulomb`` or motor side ``viscous_motor``, ``coulomb_motor``), which give the
+  arm its ``drives`` (:mod:`armlab.drives.read`).
 
 A table without the ``mass`` column is a *kinematic* arm (``Arm.has_dynamics`` False): no masses
 are invented. Missing effort/velocity limits are unknown (``None``). At most
@@ -29,6 +32,7 @@ from typing import Literal, TypeGuard
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.drives.read import DRIVE_COLUMNS, drive_train
 from armlab.kinematics.batch import chain_points
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import Arm, Forward
@@ -40,7 +44,7 @@ __all__ = ["DHInertial", "from_dh", "from_dh_csv", "read_dh_csv"]
 _DH_COLUMNS = ("type", "a", "alpha", "d", "theta", "lower", "upper")
 _COM_COLUMNS = ("cx", "cy", "cz")
 _INERTIA_COLUMNS = ("Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz")
-_OPTIONAL_COLUMNS = ("mass", *_COM_COLUMNS, *_INERTIA_COLUMNS, "effort", "velocity")
+_OPTIONAL_COLUMNS = ("mass", *_COM_COLUMNS, *_INERTIA_COLUMNS, "effort", "velocity", *DRIVE_COLUMNS)
 _DIRECTIVES = {"convention": ("standard", "modified"), "units": ("rad", "deg")}
 _KINDS: tuple[Literal["R", "T"], ...] = ("R", "T")
 
@@ -126,14 +130,19 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
     """Read a DH table file (see the module docstring): the table (radians), limits (SI) and mass data.
 
     The mass data is ``None`` when the file has no ``mass`` column (a kinematic arm). Errors name the
-    bad row and column.
+    bad row and column. (The drive columns are read by :func:`from_dh_csv`.)
     """
-    path = Path(path)
+    return _read(Path(path))[:3]
+
+
+def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | None, dict[str, list[str]]]:
+    """:func:`read_dh_csv`'s three and the text cells of the drive columns given (column → one cell per row)."""
     settings, lines = _header_comments(path, read_text(path, "DH table").splitlines())
     deg = settings.get("units") == "deg"
     reader = csv.reader(lines)
     columns = _columns(path, next(reader, None))
     rows, limits, inertials = [], [], []
+    drive_cells: dict[str, list[str]] = {name: [] for name in columns if name in DRIVE_COLUMNS}
     for number, values in enumerate(reader, start=1):
         if not values:
             continue
@@ -167,11 +176,13 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
             limits.append(JointLimits(lo, hi, effort, velocity))
         if "mass" in record:
             inertials.append(_dh_inertial(record, where))
+        for name, cells in drive_cells.items():
+            cells.append(record[name])
     if not rows:
         raise ValueError(f"{path}: the DH table has no rows")
     # _header_comments let only "standard" or "modified" through; absent is standard
     table = DHTable(tuple(rows), "modified" if settings.get("convention") == "modified" else "standard")
-    return table, limits, inertials if "mass" in columns else None
+    return table, limits, inertials if "mass" in columns else None, drive_cells
 
 
 def _dh_inertial(record: dict[str, str], where: str) -> DHInertial:
@@ -239,8 +250,11 @@ def _moved(body: DHInertial, X: NDArray) -> Body:
 
 
 def from_dh_csv(path: str | Path) -> Arm:
-    """An arm from a DH table file (:func:`read_dh_csv`), named after the file."""
-    return from_dh(*read_dh_csv(path), name=Path(path).stem)
+    """An arm from a DH table file (:func:`read_dh_csv`), named after the file, with the drive train of its drive
+    columns (:func:`armlab.drives.read.drive_train`; none: ideal drives)."""
+    table, limits, inertials, drive_cells = _read(Path(path))
+    arm = from_dh(table, limits, inertials, name=Path(path).stem)
+    return arm.with_drives(drive_train(drive_cells, arm.n, str(path)) if drive_cells else None)
 
 
 def _dh_forward(table: DHTable, q: np.ndarray) -> Forward:

@@ -8,10 +8,16 @@ or entity definitions, joint cycles, mimic, floating and planar joints, reversed
 non-physical inertia, non-finite numbers, more than :data:`~armlab.models.arm_file.MAX_JOINTS` joints,
 and mesh files (and the files a mesh pulls in) outside the URDF's folder or its ROS package
 (:func:`package_roots`, :func:`armlab.models.meshes.check_meshes`).
+
+The arm's drive train (``Arm.drives``) is what the URDF says of it, as Drake reads it: each joint's
+``<dynamics damping= friction=>`` (viscous B, N·m·s/rad, and Coulomb T_c, N·m, joint side) and the rotor
+inertia and gear ratio of its ``<transmission>``'s ``<actuator>`` (``<drake:rotor_inertia value=>``,
+``<drake:gear_ratio value=>``); ``None`` (ideal drives) if it says none of them.
 """
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +25,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.drives.train import DriveTrain
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm
@@ -30,6 +37,8 @@ __all__ = ["from_urdf", "package_roots"]
 
 _TEXT_ATTRIBUTES = {"name", "filename", "link", "joint", "type", "version", "reference", "xmlns"}
 _JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
+#: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …); a URDF may use them undeclared.
+DRAKE_NAMESPACE = "http://drake.mit.edu"
 
 
 def _vector(text: str | None, what: str, default: str) -> np.ndarray:
@@ -53,6 +62,8 @@ def _xml(path: Path, what: str) -> ET.Element:
     if "<!DOCTYPE" in text or "<!ENTITY" in text:
         raise ValueError(f"{path}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not "
                          f"allowed in a {what}")
+    if "drake:" in text and "xmlns:drake" not in text:  # Drake's own tags, their namespace undeclared as Drake allows
+        text = re.sub(r"<robot\b", f'<robot xmlns:drake="{DRAKE_NAMESPACE}"', text, count=1)
     try:
         return ET.fromstring(text)
     except ET.ParseError as error:
@@ -216,6 +227,34 @@ def _joint_limits(path: Path, joint: ET.Element) -> JointLimits:
     return JointLimits(lo, hi, *rates)
 
 
+def _drive_train(path: Path, root: ET.Element, joints: dict[str, ET.Element], order: list[str]) -> DriveTrain | None:
+    """The drive train of the joints ``order`` (module docstring); ``None`` if the URDF gives no part of it."""
+    n = len(order)
+    values = {"gear_ratio": np.ones(n), "rotor_inertia": np.zeros(n), "viscous": np.zeros(n), "coulomb": np.zeros(n)}
+    for k, name in enumerate(order):
+        dynamics = joints[name].find("dynamics")
+        for key, attribute in (("viscous", "damping"), ("coulomb", "friction")):
+            if dynamics is not None and attribute in dynamics.attrib:
+                values[key][k] = file_number(dynamics.get(attribute), f"{path}: joint {name!r} dynamics {attribute}")
+    for transmission in root.findall("transmission"):
+        joint, actuator = transmission.find("joint"), transmission.find("actuator")
+        if joint is None or actuator is None or joint.get("name") not in order:
+            continue
+        k = order.index(str(joint.get("name")))
+        for child in actuator:
+            key = child.tag.rpartition("}")[2]  # <drake:gear_ratio> with the drake namespace declared
+            if key in ("rotor_inertia", "gear_ratio"):
+                values[key][k] = file_number(child.get("value"), f"{path}: joint {order[k]!r} transmission {key}")
+    ideal = DriveTrain.ideal(n)
+    if all(np.array_equal(v, getattr(ideal, key)) for key, v in values.items()):  # exact: the defaults themselves
+        return None
+    try:
+        return DriveTrain(values["gear_ratio"], values["rotor_inertia"], np.ones(n), values["viscous"],
+                          values["coulomb"])
+    except ValueError as error:
+        raise ValueError(f"{path}: {error} (joints in chain order: {', '.join(order)})") from None
+
+
 def from_urdf(path: str | Path) -> Arm:
     """An arm from a user's URDF file of one serial chain; errors name what is wrong (module docstring)."""
     path = Path(path)
@@ -279,6 +318,7 @@ def from_urdf(path: str | Path) -> Arm:
         base_link=base,
         has_dynamics=any(body.mass > 0 for body in bodies),
         link_names=tuple(names),
+        drives=_drive_train(path, root, joints, [row.name for row in rows]),
     )
 
 

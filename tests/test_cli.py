@@ -31,8 +31,9 @@ def test_show_json(name):
     assert out.returncode == 0, out.stderr
     info = json.loads(out.stdout)
     assert set(info) == {"name", "paper", "dof", "joints", "units", "has_dynamics", "links", "dh", "gravity",
-                         "parameters", "urdf", "tool_frame"}
+                         "parameters", "urdf", "tool_frame", "drive_train"}
     arm = get_arm(name)
+    assert info["drive_train"] is None  # a paper arm's drives are ideal
     assert info["name"] == name and info["tool_frame"] == arm.tool_name and info["dof"] == arm.n
     assert [j["name"] for j in info["joints"]] == arm.joint_names
     assert all(set(j) == {"name", "type", "lower", "upper", "effort", "velocity"} for j in info["joints"])

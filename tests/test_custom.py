@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers import arm_and_plant, data, two_link_urdf
+from helpers import arm_and_plant, data, rnea_in_dh_frames, two_link_urdf
 
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models import get_arm
@@ -145,51 +145,6 @@ def test_dh_rows_validate():
 
 
 # --------------------------------------------------------------------------- dynamics from a DH table
-def _dh(convention: str, a: float, alpha: float, d: float, theta: float) -> np.ndarray:
-    """One DH transform, written out: standard Rz(θ)·Tz(d)·Tx(a)·Rx(α); modified (Craig 3.6) Rx(α)·Tx(a)·Rz(θ)·Tz(d)."""
-    ca, sa, ct, st = np.cos(alpha), np.sin(alpha), np.cos(theta), np.sin(theta)
-    if convention == "standard":
-        return np.array([[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st], [0, sa, ca, d],
-                         [0, 0, 0, 1]])
-    return np.array([[ct, -st, 0, a], [st * ca, ct * ca, -sa, -sa * d], [st * sa, ct * sa, ca, ca * d], [0, 0, 0, 1]])
-
-
-def _rnea_in_dh_frames(rows, convention, links, q, qd, qdd, gravity):
-    """Joint torques by recursive Newton–Euler written directly in the DH frames (world-frame vectors).
-
-    ``rows``: (kind, a, alpha, d, theta) in radians; ``links``: (m, r, I) with the centre of mass r and the
-    inertia I about it in DH frame i (RTB's convention). Joint i turns or slides along z of DH frame i−1
-    (standard) or i (modified); link i is fixed to DH frame i. Base acceleration −g carries gravity.
-    """
-    T = [np.eye(4)]
-    for (kind, a, alpha, d, theta), qi in zip(rows, q, strict=True):
-        T.append(T[-1] @ _dh(convention, a, alpha, d + (qi if kind == "T" else 0), theta + (qi if kind == "R" else 0)))
-    w, wd, ref, a_ref = np.zeros(3), np.zeros(3), np.zeros(3), -np.asarray(gravity, dtype=float)
-    data = []
-    for i, ((kind, *_), (m, r, inertia)) in enumerate(zip(rows, links, strict=True)):
-        joint = T[i] if convention == "standard" else T[i + 1]
-        z, p = joint[:3, 2], joint[:3, 3]
-        a_p = a_ref + np.cross(wd, p - ref) + np.cross(w, np.cross(w, p - ref))
-        if kind == "R":
-            wd = wd + z * qdd[i] + np.cross(w, z * qd[i])
-            w = w + z * qd[i]
-            a_ref = a_p
-        else:
-            a_ref = a_p + z * qdd[i] + 2 * np.cross(w, z * qd[i])
-        ref = p
-        R = T[i + 1][:3, :3]
-        c, Iw = T[i + 1][:3, 3] + R @ r, R @ inertia @ R.T
-        a_c = a_ref + np.cross(wd, c - ref) + np.cross(w, np.cross(w, c - ref))
-        data.append((kind, z, ref, c, m * a_c, Iw @ wd + np.cross(w, Iw @ w)))
-    tau, f, moment, next_ref = np.zeros(len(rows)), np.zeros(3), np.zeros(3), np.zeros(3)
-    for i in reversed(range(len(rows))):
-        kind, z, ref, c, F, N = data[i]
-        moment = N + np.cross(c - ref, F) + moment + np.cross(next_ref - ref, f)  # about the joint point
-        f, next_ref = F + f, ref
-        tau[i] = z @ (moment if kind == "R" else f)
-    return tau
-
-
 def _random_links(rng, n):
     """Physical mass properties: masses, centres of mass and rotated principal inertias (triangle inequality)."""
     out = []
@@ -241,7 +196,7 @@ def test_dh_masses_give_drakes_inverse_dynamics(tmp_path, convention, deg):
         forces = MultibodyForces(plant)
         plant.CalcForceElementsContribution(ctx, forces)  # gravity
         tau_drake = plant.CalcInverseDynamics(ctx, qdd, forces)
-        tau = _rnea_in_dh_frames(rows, convention, links, q, qd, qdd, arm.gravity)
+        tau = rnea_in_dh_frames(rows, convention, links, q, qd, qdd, arm.gravity)
         np.testing.assert_allclose(tau_drake, tau, rtol=0, atol=1e-9 * np.abs(tau).max())
     masses, _, _ = arm.mass_properties()
     np.testing.assert_allclose(masses, [m for m, _, _ in links], rtol=1e-15)

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.cli.args import ARM_HELP
+from armlab.drives.train import DRIVE_FIELDS
 from armlab.kinematics.differential import default_axes
 from armlab.kinematics.ik import SEEDS, solve, target_pose
 from armlab.models import ARMS, get_arm
@@ -44,7 +45,8 @@ def _limit_text(value: float | None, unit: str) -> str:
 
 
 def arm_info(arm: Arm) -> dict[str, Any]:
-    """What ``armlab show`` prints: joints with every limit, links with mass data, DH table, gravity (SI)."""
+    """What ``armlab show`` prints: joints with every limit, links with mass data, DH table, gravity, the drive train
+    (``None``: ideal drives) (SI)."""
     dh = arm.dh
     return {
         "name": arm.name,
@@ -64,6 +66,9 @@ def arm_info(arm: Arm) -> dict[str, Any]:
         "parameters": dict(arm.parameters),
         "urdf": None if arm.urdf_file is None else str(arm.urdf_file),
         "tool_frame": arm.tool_name,
+        "drive_train": None if arm.drives is None else {
+            **{name: getattr(arm.drives, name).tolist() for name in DRIVE_FIELDS},
+            "coulomb_speed": arm.drives.coulomb_speed},
     }
 
 
@@ -103,6 +108,12 @@ def _cmd_show(args: argparse.Namespace) -> int:
             com = ", ".join(f"{c:+.4g}" for c in np.where(np.abs(link["com"]) < 1e-12, 0.0, link["com"]))
             inertia = ", ".join(f"{v:.4g}" for v in np.diag(link["inertia"]))
             print(f"  {link['name']:10s} {link['mass']:10.6g}  com ({com})  I ({inertia})")
+    if arm.drives is not None:
+        print("drive train: gear ratio G, rotor inertia J_m [kg·m², motor side], efficiency, viscous B [N·m·s/rad] "
+              "and Coulomb T_c [N·m] (joint side)")
+        for k, name in enumerate(arm.joint_names):
+            values = "  ".join(f"{getattr(arm.drives, field)[k]:<10.6g}" for field in DRIVE_FIELDS)
+            print(f"  {name:8s} {values}".rstrip())
     if arm.parameters and info["dh"] is None:
         print("parameters:")
         for key, value in arm.parameters.items():

@@ -22,6 +22,7 @@ import numpy as np
 from armlab.cli.args import ARM_HELP
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
 from armlab.diagrams.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
+from armlab.drives.read import with_drives
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.limits import allowed, check_range
 from armlab.models import get_arm
@@ -107,7 +108,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from armlab.diagrams.build import check_log_period
     from armlab.diagrams.output import run_folder
 
-    arm = get_arm(args.arm)
+    arm = with_drives(get_arm(args.arm), args.drives)
     arm.require_dynamics("armlab simulate")  # before anything is printed (the plant checks it again)
     motion = motion_from_args(arm, args)
     setup = _setup(arm, args)
@@ -151,7 +152,7 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     from armlab.diagrams.plant import PlantOptions
     from armlab.diagrams.simulate import SimulationOptions
 
-    arm = get_arm(args.arm)
+    arm = with_drives(get_arm(args.arm), args.drives)
     graph_format(args.out)
     setup = _setup(arm, args)
     motion = paper_motion(arm).runs()[0][1] if arm.motion is not None else _hold_motion(arm)
@@ -176,6 +177,9 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--kp", help=f"position gain(s), 1/s²: one value or one per joint (default 100; {allowed('kp')})")
     p.add_argument("--kd", help=f"velocity gain(s), 1/s: one value or one per joint (default 20; {allowed('kd')})")
     p.add_argument("--ki", help=f"integral gain(s), 1/s³: one value or one per joint (default 0; {allowed('ki')})")
+    p.add_argument("--drives", metavar="FILE",
+                   help="a drive file (CSV, one row per joint: gear_ratio, rotor_inertia, efficiency, viscous, "
+                        "coulomb; see the README) giving the arm its drive train instead of the one its file gives")
 
 
 def register(subparsers: Any) -> None:

@@ -1,0 +1,116 @@
+"""Drive trains from files: the per-joint drive columns of a DH table, and a drive file for any arm.
+
+The columns (:data:`DRIVE_COLUMNS`), one value per joint, the same in a DH table (optional columns) and a
+drive file, each as :class:`~armlab.drives.train.DriveTrain` has it:
+
+* ``gear_ratio`` G (default 1), ``rotor_inertia`` J_m (kg·m², motor side, default 0), ``efficiency`` η in
+  (0, 1] (default 1);
+* ``viscous`` B (N·m·s/rad) and ``coulomb`` T_c (N·m), joint side (default 0) — or ``viscous_motor`` and
+  ``coulomb_motor``, motor side as the Robotics Toolbox gives them (B_m, T_c,m; converted once by
+  :meth:`~armlab.drives.train.DriveTrain.from_motor_side`: B = G²·B_m, T_c = |G|·T_c,m). Not both sides.
+
+A column left out takes its default (an ideal drive); a column given needs a value in every row.
+
+A **drive file** (``--drives FILE``, ``armlab.load(…, drives=FILE)``) is a CSV file: optional ``#`` comment
+lines, a header row of drive columns and optionally ``joint`` (the arm's joint names, checked, in joint
+order), then one row per joint, base to tool. It gives the arm its drive train, whatever the arm (a paper
+arm, a URDF, a DH table), replacing one its own file gives.
+"""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armlab.drives.train import DriveTrain
+from armlab.models.arm_file import file_number, read_text
+
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
+
+__all__ = ["DRIVE_COLUMNS", "drive_train", "read_drive_file", "with_drives"]
+
+#: The drive columns of a DH table and a drive file; the ``_motor`` ones are motor side (module docstring).
+DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "viscous_motor", "coulomb_motor")
+#: What a column left out is: an ideal drive (direct, no rotor inertia, lossless, no friction).
+_DEFAULTS = {"gear_ratio": 1.0, "rotor_inertia": 0.0, "efficiency": 1.0, "viscous": 0.0, "coulomb": 0.0}
+
+
+def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> DriveTrain:
+    """The drive train of ``n`` joints from the text ``cells`` of the drive columns given (column → n cells).
+
+    ``where`` (the file) starts every error: an unknown column, both sides of one friction, an empty cell,
+    a cell that is not a number, or a value :class:`~armlab.drives.train.DriveTrain` does not allow (with the
+    row, that is the joint, and the column).
+    """
+    unknown = [name for name in cells if name not in DRIVE_COLUMNS]
+    if unknown:
+        raise ValueError(f"{where}: unknown drive column(s) {', '.join(unknown)}; allowed: {', '.join(DRIVE_COLUMNS)}")
+    for name in ("viscous", "coulomb"):
+        if name in cells and f"{name}_motor" in cells:
+            raise ValueError(f"{where}: give {name} (joint side) or {name}_motor (motor side), not both")
+    values = {}
+    for name, column in cells.items():
+        for k, text in enumerate(column):
+            if text.strip() == "":
+                raise ValueError(f"{where}: row {k + 1}: {name} is empty: every row needs a value when the "
+                                 "column is given (leave the column out for its default)")
+        values[name] = np.array([file_number(text, f"{where}: row {k + 1}: {name}") for k, text in enumerate(column)])
+    full = {name: values.get(name, np.full(n, default)) for name, default in _DEFAULTS.items()}
+    try:
+        if "viscous_motor" in values or "coulomb_motor" in values:
+            return DriveTrain.from_motor_side(
+                full["gear_ratio"], full["rotor_inertia"], full["efficiency"],
+                values.get("viscous_motor", np.zeros(n)), values.get("coulomb_motor", np.zeros(n)))
+        return DriveTrain(full["gear_ratio"], full["rotor_inertia"], full["efficiency"], full["viscous"],
+                          full["coulomb"])
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+
+
+def read_drive_file(path: str | Path, joint_names: Sequence[str]) -> DriveTrain:
+    """The drive train in the drive file ``path`` (module docstring) for an arm with joints ``joint_names``.
+
+    ``ValueError`` (naming the file) for a row count other than the arm's joints, a ``joint`` column naming
+    other joints, or a bad column or value (:func:`drive_train`).
+    """
+    path = Path(path)
+    lines = [line for line in read_text(path, "drive file").splitlines() if line.strip()]
+    while lines and lines[0].lstrip().startswith("#"):
+        lines.pop(0)
+    rows = list(csv.reader(lines))
+    if not rows:
+        raise ValueError(f"{path}: the drive file has no header row ({', '.join(('joint', *DRIVE_COLUMNS))})")
+    header, body = [name.strip() for name in rows[0]], rows[1:]
+    repeated = sorted({name for name in header if header.count(name) > 1})
+    if repeated:
+        raise ValueError(f"{path}: column(s) {', '.join(repeated)} appear more than once")
+    n = len(joint_names)
+    if len(body) != n:
+        raise ValueError(f"{path}: {len(body)} drive row(s); the arm has {n} joints ({', '.join(joint_names)}): "
+                         "give one row per joint, base to tool")
+    for k, row in enumerate(body):
+        if len(row) != len(header):
+            raise ValueError(f"{path}: row {k + 1} has {len(row)} values; expected {len(header)} ({','.join(header)})")
+    columns = {name: [row[i].strip() for row in body] for i, name in enumerate(header)}
+    names = columns.pop("joint", None)
+    if names is not None and names != list(joint_names):
+        raise ValueError(f"{path}: joint column {','.join(names)} differs from the arm's joints "
+                         f"{','.join(joint_names)} (one row per joint, in that order)")
+    return drive_train(columns, n, str(path))
+
+
+def with_drives(arm: Arm, drives: str | Path | DriveTrain | None) -> Arm:
+    """``arm`` with the drive train ``drives``: a :class:`~armlab.drives.train.DriveTrain` or a drive file's path
+    (:func:`read_drive_file`); ``None``: ``arm`` as it is (its own drive train, or ideal drives)."""
+    if drives is None:
+        return arm
+    if isinstance(drives, DriveTrain):
+        return arm.with_drives(drives)
+    if not isinstance(drives, str | Path):
+        raise ValueError(f"drives = {drives!r} is not allowed: give a drive file's path or a DriveTrain")
+    return arm.with_drives(read_drive_file(drives, arm.joint_names))
