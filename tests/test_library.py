@@ -66,9 +66,10 @@ def test_library_arm_kinematics_and_dynamics_two_ways(name: str, rng: np.random.
             dp = (arm.forward(q + step).tool[:3, 3] - arm.forward(q - step).tool[:3, 3]) / (2 * h)
             np.testing.assert_allclose(J[:3, j], dp, atol=1e-8)  # central differences: O(h²) ≈ 1e-12, round-off 1e-10
         qd, qdd = rng.uniform(-1, 1, size=(2, arm.n))
-        if arm.has_dynamics:
-            _, tau = _drake(arm, q, qd, qdd)
-            np.testing.assert_allclose(arm.inverse_dynamics(q, qd, qdd), tau, atol=TORQUE_TOL, rtol=1e-12)
+        if arm.has_dynamics:  # the rigid arm here (a drive train's terms: tests/test_drive_model.py)
+            rigid = arm.with_drives(None)
+            _, tau = _drake(rigid, q, qd, qdd)
+            np.testing.assert_allclose(rigid.inverse_dynamics(q, qd, qdd), tau, atol=TORQUE_TOL, rtol=1e-12)
         else:
             with pytest.raises(ValueError, match="kinematic arm"):
                 arm.inverse_dynamics(q, qd, qdd)
@@ -199,6 +200,9 @@ def test_puma560_corrections_are_physical_and_change_no_gravity_torque(rng: np.r
     np.testing.assert_allclose(train.gear_ratio, puma560.GEAR_RATIO, rtol=1e-15)
     np.testing.assert_allclose(train.viscous, np.square(puma560.GEAR_RATIO) * puma560.VISCOUS_MOTOR, rtol=1e-14)
     np.testing.assert_allclose(train.reflected_inertia[0], 62.6111**2 * 200e-6, rtol=1e-14)
+    carried = get_arm("puma560").drives  # the arm carries it: its torques and simulations include it
+    assert carried is not None
+    np.testing.assert_allclose(carried.reflected_inertia, train.reflected_inertia, rtol=1e-15)
 
 
 def _rtb(name: str):

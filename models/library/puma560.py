@@ -102,7 +102,8 @@ def build() -> Arm:
         "correction link 3": "Izz 0.0125 → 0.0200 kg·m² (triangle inequality); gravity torques unchanged, mass "
                              "matrix within 0.0075 kg·m²",
         "drive train": "Corke & Armstrong-Hélouvry 1994 motor-side J_m, G, B_m, T_c (mean of ±) → "
-                       "armlab.models.library.puma560.drive_train()",
+                       "armlab.models.library.puma560.drive_train(), the arm's own (arm.drives)",
     }
-    return library_dh_arm("puma560", SOURCE, "standard", rows, [degrees(lo, hi) for lo, hi in LIMITS_DEG],
-                          inertials, notes, spherical_wrist_closed_form)
+    arm = library_dh_arm("puma560", SOURCE, "standard", rows, [degrees(lo, hi) for lo, hi in LIMITS_DEG],
+                         inertials, notes, spherical_wrist_closed_form)
+    return arm.with_drives(drive_train())
