@@ -46,13 +46,17 @@ if TYPE_CHECKING:
 __all__ = ["constant_rate", "load", "paper_motion", "quintic", "read_segments", "simulate", "through"]
 
 
-def load(name: str | Path, **parameters: float) -> Arm:
+def load(name: str | Path, *, tool: str | None = None, package_paths: Sequence[str | Path] = (),
+         **parameters: float) -> Arm:
     """An arm: a paper arm's name (``armlab list``: rr, rrrr, arm4r, r2t, urm6), a ``.urdf`` or a DH ``.csv`` file.
 
     ``parameters`` override a paper arm's parameters (e.g. ``load("urm6", theta3=0.5)``; names as in
-    ``armlab show ARM``). ``ValueError`` for an unknown arm or parameter, or a malformed file.
+    ``armlab show ARM``). For a URDF: ``tool`` names the tool frame's link (default: the end of the chain;
+    ``armlab show`` lists the choices) and ``package_paths`` the folders holding the ROS packages of its
+    ``package://`` meshes (``ROS_PACKAGE_PATH`` is searched too). ``ValueError`` for an unknown arm or
+    parameter, or a malformed file.
     """
-    return get_arm(str(name), **parameters)
+    return get_arm(str(name), tool=tool, package_paths=package_paths, **parameters)
 
 
 def quintic(arm: Arm, q0: ArrayLike, qf: ArrayLike, tf: float, label: str = "") -> Motion:

@@ -31,7 +31,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.limits import allowed, check_positive, check_range
-from armlab.models.read_urdf import package_roots
 from armlab.values import parse_floats
 
 if TYPE_CHECKING:
@@ -202,10 +201,11 @@ def _build(plant: MultibodyPlant, arm: Arm, options: PlantOptions) -> None:
 def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
     """Parse the URDF into ``plant``, weld its root link to the world (no offset); returns the model instance.
 
-    A generated URDF is parsed from its text in memory (never through a file). A URDF file's
-    ``package://NAME/…`` paths resolve through the ``package.xml`` of its folder or of the two above
-    it (a ROS package's layout; :func:`armlab.models.read_urdf.package_roots`). A joint without a
-    ``<transmission>`` gets an actuator of its own. ``ValueError`` if Drake cannot load the URDF.
+    A generated URDF is parsed from its text in memory (never through a file), and so is a user's URDF: its
+    text as checked (:attr:`~armlab.models.arm.Arm.model_text`: meshes as ``file://`` URIs of the files found,
+    ``package://`` ones through :func:`armlab.models.read_urdf.package_roots`). A root link named ``world``
+    (the ROS convention) is Drake's world body itself: nothing to weld. A joint without a ``<transmission>``
+    gets an actuator of its own. ``ValueError`` if Drake cannot load the URDF.
     """
     from pydrake.multibody.parsing import Parser
     from pydrake.multibody.tree import JointActuatorIndex
@@ -213,16 +213,17 @@ def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
     parser = Parser(plant)
     parser.SetAutoRenaming(True)
     try:
-        if arm.urdf_file is None:
+        if arm.model_text is not None:
+            (instance,) = parser.AddModelsFromString(arm.model_text, "urdf")
+        elif arm.urdf_file is None:
             (instance,) = parser.AddModelsFromString(arm.urdf(), "urdf")
         else:
-            for package_xml in package_roots(arm.urdf_file).values():
-                parser.package_map().AddPackageXml(str(package_xml))
             (instance,) = parser.AddModels(file_name=str(arm.urdf_file))
     except RuntimeError as error:
         source = arm.urdf_file or f"{arm.name}'s generated URDF"
         raise ValueError(f"{source}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
-    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(arm.base_link, instance))
+    if arm.base_link != "world":  # Drake's URDF parser makes a link named world the world body
+        plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(arm.base_link, instance))
     actuators = (plant.get_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
     actuated = {a.joint().name() for a in actuators if a.model_instance() == instance}
     for name in arm.joint_names:

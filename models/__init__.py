@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+from collections.abc import Sequence
 from dataclasses import fields
 from importlib.resources import files
 from pathlib import Path
@@ -78,8 +79,18 @@ def examples() -> dict[str, Path]:
     return {path.stem: path for path in sorted(folder.iterdir()) if path.suffix.lower() in (".csv", ".urdf")}
 
 
-def get_arm(name: str, **overrides: float) -> Arm:
-    """A paper arm by name (parameters overridable), an example (``example:NAME``), or a ``.urdf``/``.csv`` file."""
+def get_arm(name: str, *, tool: str | None = None, package_paths: Sequence[str | Path] = (),
+            **overrides: float) -> Arm:
+    """A paper arm by name (parameters overridable), an example (``example:NAME``), or a ``.urdf``/``.csv`` file.
+
+    ``tool`` (a link name) and ``package_paths`` (folders of ROS packages) are for URDF files
+    (:func:`armlab.models.read_urdf.from_urdf`); ``ValueError`` if given for another arm.
+    """
+    path = Path(name)
+    if path.suffix.lower() != ".urdf" or name in ARMS:
+        given = [option for option, value in (("tool", tool), ("package_paths", package_paths)) if value]
+        if given:
+            raise ValueError(f"{' and '.join(given)} apply to a URDF file's arm, not to {name!r}")
     if name in ARMS:
         known = [f.name for f in fields(ARMS[name].Parameters)]
         for key, value in overrides.items():
@@ -88,7 +99,6 @@ def get_arm(name: str, **overrides: float) -> Arm:
             if not np.isfinite(value):
                 raise ValueError(f"{name}: parameter {key} = {value} is not a finite number")
         return ARMS[name].build(**overrides)
-    path = Path(name)
     if name.startswith(EXAMPLE):
         shipped = examples()
         if name.removeprefix(EXAMPLE) not in shipped:
@@ -98,7 +108,7 @@ def get_arm(name: str, **overrides: float) -> Arm:
         # lazy: armlab --help loads armlab.models but not this (start-up time)
         from armlab.models.read_urdf import from_urdf
 
-        return from_urdf(path)
+        return from_urdf(path, tool, package_paths)
     if path.suffix.lower() == ".csv":
         # lazy: armlab --help loads armlab.models but not this (start-up time)
         from armlab.models.read_dh import from_dh_csv

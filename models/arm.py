@@ -89,6 +89,11 @@ class Arm:
     link_names: tuple[str, ...] = ()
     #: The DH table the arm was made from (a user's DH ``.csv``), else ``None``.
     dh: DHTable | None = None
+    #: A user's URDF as Drake reads it (meshes as checked ``file://`` URIs, what Drake cannot use left out:
+    #: :func:`armlab.models.read_urdf.from_urdf`); ``None``: Drake reads :attr:`urdf_file` or :meth:`urdf`.
+    model_text: str | None = None
+    #: Why the tool frame is :attr:`tool_name` (``armlab show`` says it).
+    tool_source: str = "the tool frame of the arm's model"
     # What only a paper arm has, from its module (:mod:`armlab.models.extras`); a user's arm has none.
     #: Its paper's closed-form inverse kinematics; ``None``: solved numerically (:func:`armlab.kinematics.ik.solve`).
     closed_form: ClosedForm | None = None

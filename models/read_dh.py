@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 from armlab.kinematics.batch import chain_points
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.models.arm import Arm, Forward
-from armlab.models.arm_file import MAX_JOINTS, file_number, read_text
+from armlab.models.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
 __all__ = ["DHInertial", "from_dh", "from_dh_csv", "read_dh_csv"]
@@ -78,20 +78,24 @@ def _header_comments(path: Path, lines: list[str]) -> tuple[dict[str, str], list
 
 
 def _columns(path: Path, fieldnames: Sequence[str] | None) -> list[str]:
-    """The header's column names (optional ones spelt as documented); errors name what is wrong."""
+    """The header's column names (optional ones spelt as documented; empty trailing names, as a spreadsheet's
+    trailing commas give, dropped); errors name what is wrong."""
     names = [f.strip() for f in fieldnames or []]
+    while names and not names[-1]:
+        names.pop()
+    lowered = [name.lower() for name in names]
+    repeated = sorted({name for name, low in zip(names, lowered, strict=True) if lowered.count(low) > 1})
+    if repeated:
+        raise ValueError(f"{path}: column(s) {', '.join(repeated)} appear more than once in the header")
     if tuple(names[:7]) != _DH_COLUMNS:
         raise ValueError(f"{path}: header {','.join(names)!r} must start with {','.join(_DH_COLUMNS)}")
     known = {c.lower(): c for c in _OPTIONAL_COLUMNS}
     extra = names[7:]
-    unknown = [c for c in extra if c.lower() not in known]
+    unknown = [repr(c) for c in extra if c.lower() not in known]
     if unknown:
         raise ValueError(f"{path}: unknown column(s) {', '.join(unknown)}; allowed after "
                          f"{','.join(_DH_COLUMNS)}: {','.join(_OPTIONAL_COLUMNS)}")
     extra = [known[c.lower()] for c in extra]
-    repeated = sorted({c for c in extra if extra.count(c) > 1})
-    if repeated:
-        raise ValueError(f"{path}: column(s) {', '.join(repeated)} appear more than once")
     orphans = [c for c in extra if c in _COM_COLUMNS + _INERTIA_COLUMNS and "mass" not in extra]
     if orphans:
         raise ValueError(f"{path}: column(s) {', '.join(orphans)} need the mass column")
@@ -104,7 +108,10 @@ def _is_kind(text: str) -> TypeGuard[Literal["R", "T"]]:
 
 
 def _angle(value: float, deg: bool, what: str) -> float:
-    """``value`` in radians; in a radian table, a value that can only be degrees is an error."""
+    """A DH angle (α or θ) in radians; in a radian table, one beyond ±2π can only be degrees: an error.
+
+    Joint limits are not held to ±2π (a wrist may turn ±400°): :func:`read_dh_csv` converts them with ``# units``.
+    """
     if deg:
         return float(np.radians(value))
     if abs(value) > 2 * np.pi + 1e-9:
@@ -132,15 +139,19 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
     settings, lines = _header_comments(path, read_text(path, "DH table").splitlines())
     deg = settings.get("units") == "deg"
     reader = csv.reader(lines)
-    columns = _columns(path, next(reader, None))
-    rows, limits, inertials = [], [], []
-    for number, values in enumerate(reader, start=1):
-        if not values:
-            continue
+    try:
+        columns = _columns(path, next(reader, None))
+        records = [(number, values) for number, values in enumerate(reader, start=1) if any(v.strip() for v in values)]
+    except csv.Error as error:  # a cell longer than csv's field limit (131072 characters)
+        raise ValueError(f"{path}: the DH table cannot be read as CSV: {error}: a cell holds one number") from None
+    rows: list[DHRow] = []
+    limits, inertials = [], []
+    for number, values in records:  # blank and whitespace-only lines are not rows
+        values = _without_trailing_blanks(values, len(columns))
         if len(values) != len(columns):
             raise ValueError(f"{path}: row {number} has {len(values)} values; expected {len(columns)} "
                              f"({','.join(columns)})")
-        if number > MAX_JOINTS:
+        if len(rows) == MAX_JOINTS:
             raise ValueError(f"{path}: more than {MAX_JOINTS} rows: armlab takes arms of at most {MAX_JOINTS} "
                              "joints (its plots, replay and numerical IK are not made for longer chains)")
         record = {k: v.strip() for k, v in zip(columns, values, strict=True)}
@@ -160,8 +171,8 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
             limits.append(JointLimits(None, None, effort, velocity))
         else:
             lo, hi = (file_number(record[k], f"{where}: {k}") for k in ("lower", "upper"))
-            if kind == "R":
-                lo, hi = _angle(lo, deg, f"{where}: lower"), _angle(hi, deg, f"{where}: upper")
+            if kind == "R" and deg:
+                lo, hi = float(np.radians(lo)), float(np.radians(hi))
             if lo >= hi:
                 raise ValueError(f"{where}: lower = {lo} must be below upper = {hi}")
             limits.append(JointLimits(lo, hi, effort, velocity))
@@ -172,6 +183,13 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
     # _header_comments let only "standard" or "modified" through; absent is standard
     table = DHTable(tuple(rows), "modified" if settings.get("convention") == "modified" else "standard")
     return table, limits, inertials if "mass" in columns else None
+
+
+def _without_trailing_blanks(values: list[str], count: int) -> list[str]:
+    """A row's cells without the empty cells past the ``count`` columns (a spreadsheet's trailing commas)."""
+    while len(values) > count and not values[-1].strip():
+        values = values[:-1]
+    return values
 
 
 def _dh_inertial(record: dict[str, str], where: str) -> DHInertial:
@@ -206,6 +224,11 @@ def from_dh(
     if has_dynamics:
         if len(inertials) != n:
             raise ValueError(f"{name}: need {n} link inertials, got {len(inertials)}")
+        size = sum(abs(row.a) + abs(row.d) for row in table.rows) + sum(
+            max(abs(lim.lower or 0.0), abs(lim.upper or 0.0)) for row, lim in zip(table.rows, limits, strict=True)
+            if row.kind == "T")
+        for i, body in enumerate(inertials, start=1):
+            check_com_distance(float(np.linalg.norm(body.com)), size, f"{name}: link {i}")
         # link i carries both its DH frame i and the URDF's frame {i}: X = T_{0,{i}}⁻¹ · T_{0,i}, constant in q
         zero = np.zeros(n)
         urdf_frames, dh_frames = locating.frames(zero)[1:n + 1], table.frames(zero)[1:]

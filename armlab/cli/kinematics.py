@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.cli.args import ARM_HELP
+from armlab.cli.args import add_arm, arm_of
 from armlab.kinematics.differential import default_axes
 from armlab.kinematics.ik import SEEDS, solve, target_pose
 from armlab.models import ARMS, get_arm
@@ -62,7 +62,7 @@ def arm_info(arm: Arm) -> dict[str, Any]:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     info = arm_info(arm)
     if args.json:
         print(json.dumps(info, indent=2))
@@ -106,7 +106,7 @@ SINGULAR_SIGMA = 1e-6
 
 
 def _cmd_fk(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     q = joint_values(arm, args.q, args.deg)
     qd = joint_rates(arm, args.qd, args.deg, "--qd")
     qdd = joint_rates(arm, args.qdd, args.deg, "--qdd")
@@ -152,7 +152,7 @@ def _cmd_fk(args: argparse.Namespace) -> int:
 
 
 def _cmd_ik(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     target = np.array(parse_floats(args.target, "--target"))
     if args.rpy is not None:
         rpy = parse_floats(args.rpy, "--rpy")
@@ -184,12 +184,12 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=_cmd_list)
 
     p = subparsers.add_parser("show", help="an arm's joints, parameters and URDF")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_show)
 
     p = subparsers.add_parser("fk", help="forward kinematics: tool pose and named points")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--q", required=True, help="joint values v1,v2,… (rad and m; see --deg)")
     p.add_argument("--qd", help="joint rates v1,v2,… (rad/s and m/s; deg/s with --deg): print the tool's twist")
     p.add_argument("--qdd", help="joint accelerations (rad/s² and m/s²; deg/s² with --deg): the tool's acceleration")
@@ -198,7 +198,7 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=_cmd_fk)
 
     p = subparsers.add_parser("ik", help="inverse kinematics: joint values reaching a target position or pose")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--target", required=True, help="tool position x,y,z in metres (rr: x,y)")
     p.add_argument("--rpy", help="tool orientation roll,pitch,yaw (rad; see --deg), R = Rz(yaw)·Ry(pitch)·Rx(roll) "
                    "as in URDF: makes the target a full pose")
