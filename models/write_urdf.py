@@ -23,6 +23,7 @@ from html import escape
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.drives.train import DriveTrain
 from armlab.kinematics.locating import LocatingTable, orientation_angles
 
 __all__ = ["Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_inertials", "urdf_text"]
@@ -179,19 +180,24 @@ def urdf_text(
     points: tuple[Point, ...],
     tool_name: str = "tool",
     comment: str = "",
+    drives: DriveTrain | None = None,
 ) -> str:
     """URDF of the chain: links ``base_link``, ``link1`` … ``linkN``, ``tool_name`` and the points.
 
-    ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint.
+    ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint; ``drives`` the drive train
+    (module docstring), ``None`` for none.
     """
     n = table.n
     if len(bodies) != n or len(limits) != n:
         raise ValueError(f"{name}: need {n} bodies and {n} joint limits, got {len(bodies)} and {len(limits)}")
+    if drives is not None and drives.n != n:
+        raise ValueError(f"{name}: the drive train has {drives.n} joints, the arm {n}")
     link_names = ["base_link"] + [f"link{i}" for i in range(1, n + 1)] + [tool_name]
     out = ['<?xml version="1.0"?>']
     if comment:
         out.append(f"<!-- {comment} -->")
-    out.append(f'<robot name="{escape(name, quote=True)}">')  # html, not xml.sax.saxutils: that imports urllib
+    drake = ' xmlns:drake="http://drake.mit.edu"' if drives is not None else ""
+    out.append(f'<robot name="{escape(name, quote=True)}"{drake}>')  # html, not xml.sax.saxutils: that imports urllib
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
     out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')
     base_r = max(b.radius for b in bodies) * 2.5
@@ -247,6 +253,8 @@ def urdf_text(
                       if value is not None]  # an unknown effort or velocity limit is left out (unlimited)
         if attributes:
             out.append(f"    <limit {' '.join(attributes)}/>")
+        if drives is not None:
+            out.append(f'    <dynamics damping="{_f(drives.viscous[i - 1])}" friction="{_f(drives.coulomb[i - 1])}"/>')
         out.append("  </joint>")
     out.append(f'  <link name="{tool_name}"><visual><geometry><sphere radius="{_f(bodies[-1].radius * 1.2)}"/>'
                '</geometry><material name="tool"><color rgba="0.85 0.1 0.1 1"/></material></visual></link>')
@@ -258,12 +266,17 @@ def urdf_text(
         out.append(f'  <link name="{point.name}"/>')
         out.append(f'  <joint name="{point.name}_weld" type="fixed"><parent link="{link_names[point.link]}"/>'
                    f'<child link="{point.name}"/><origin xyz="{" ".join(map(_f, point.xyz))}"/></joint>')
-    for row in table.rows:
+    for i, row in enumerate(table.rows):
+        ratio, motor = "1", ""
+        if drives is not None:
+            ratio = _f(drives.gear_ratio[i])
+            motor = (f'<drake:gear_ratio value="{ratio}"/><drake:rotor_inertia value="{_f(drives.rotor_inertia[i])}"/>'
+                     f"<!-- gearbox efficiency {_f(drives.efficiency[i])} (no URDF or Drake tag) -->")
         out.append(f'  <transmission name="{row.name}_transmission">'
                    "<type>transmission_interface/SimpleTransmission</type>"
                    f'<joint name="{row.name}"><hardwareInterface>hardware_interface/EffortJointInterface'
                    "</hardwareInterface></joint>"
-                   f'<actuator name="{row.name}_motor"><mechanicalReduction>1</mechanicalReduction></actuator>'
-                   "</transmission>")
+                   f'<actuator name="{row.name}_motor"><mechanicalReduction>{ratio}</mechanicalReduction>{motor}'
+                   "</actuator></transmission>")
     out.append("</robot>")
     return "\n".join(out) + "\n"
