@@ -306,6 +306,7 @@ def from_dh(
         forward_fn=lambda q: _dh_forward(table, base_pose, tool_pose, q),
         has_dynamics=has_dynamics,
         dh=table,
+        tool_source="DH frame n" if tool_pose is None else "DH frame n moved by the table's '# tool:' pose",
     )
 
 
@@ -348,10 +349,14 @@ def dh_inertials(arm: Arm) -> list[DHInertial] | None:
     for mass, com, inertia, X in zip(masses, coms, inertias, _dh_in_links(arm.dh, arm.table, dh_base_tool(arm)[0]),
                                      strict=True):
         R = X[:3, :3]
-        c = R.T @ (com - X[:3, 3])
-        out.append(DHInertial(float(mass), (float(c[0]), float(c[1]), float(c[2])),
-                              tuple(map(tuple, (R.T @ inertia @ R).tolist()))))
+        c, I = _rounded(R.T @ (com - X[:3, 3])), _rounded(R.T @ inertia @ R)
+        out.append(DHInertial(float(mass), (float(c[0]), float(c[1]), float(c[2])), tuple(map(tuple, I.tolist()))))
     return out
+
+
+def _rounded(values: NDArray) -> NDArray:
+    """``values`` with the round-off of a frame change (below 1e-14 of the largest, e.g. 2e-35) set to 0."""
+    return np.where(np.abs(values) < 1e-14 * np.abs(values).max(initial=0.0), 0.0, values)
 
 
 def _dh_forward(table: DHTable, base: NDArray, tool: NDArray | None, q: np.ndarray) -> Forward:

@@ -39,6 +39,9 @@ __all__ = ["from_urdf", "package_roots"]
 
 #: The namespaces of xacro, the macro language ROS URDFs are often written in (expanded by ``xacro``).
 _XACRO = ("{http://www.ros.org/wiki/xacro}", "{http://ros.org/wiki/xacro}")
+#: Drake's URDF extensions (``<drake:gear_ratio>`` …) keep their prefix when armlab writes a URDF back out
+#: (:func:`_drake_text`): Drake's parser reads the prefixed names, not namespaces.
+ET.register_namespace("drake", "http://drake.mit.edu")
 #: How deep below a ``--package-path`` / ``ROS_PACKAGE_PATH`` folder packages are looked for (as ``rospack``).
 _PACKAGE_DEPTH = 4
 

@@ -14,6 +14,7 @@ from armlab.cli.args import add_arm, arm_of
 from armlab.kinematics.differential import default_axes
 from armlab.kinematics.ik import SEEDS, solve, target_pose
 from armlab.models import ARMS, get_arm
+from armlab.models.read_dh import dh_inertials
 from armlab.values import joint_rates, joint_values, parse_floats
 
 if TYPE_CHECKING:
@@ -48,7 +49,8 @@ def arm_info(arm: Arm) -> dict[str, Any]:
                    for joint, lim in zip(arm.joints(), arm.limits, strict=True)],
         "units": {"revolute": {"position": "rad", "velocity": "rad/s", "effort": "N·m"},
                   "prismatic": {"position": "m", "velocity": "m/s", "effort": "N"}, "mass": "kg", "com": "m",
-                  "inertia": "kg·m² about the centre of mass, in the link frame"},
+                  "inertia": "kg·m² about the centre of mass, in the link frame (links: the URDF's link frame "
+                             "{i}; dh_links: DH frame i, as the table gives them)"},
         "has_dynamics": arm.has_dynamics,
         "links": arm.links(),
         "dh": None if dh is None else {
@@ -58,7 +60,27 @@ def arm_info(arm: Arm) -> dict[str, Any]:
         "parameters": dict(arm.parameters),
         "urdf": None if arm.urdf_file is None else str(arm.urdf_file),
         "tool_frame": arm.tool_name,
+        "tool_source": arm.tool_source,
+        "dh_links": None if dh is None else _dh_links(arm),
     }
+
+
+def _dh_links(arm: Arm) -> list[dict[str, Any]] | None:
+    """A DH arm's links' mass data as its table gives them, in DH frame i (``None``: a kinematic arm)."""
+    inertials = dh_inertials(arm)
+    if inertials is None:
+        return None
+    return [{"name": f"link{i}", "mass": body.mass, "com": list(body.com), "inertia": [list(r) for r in body.inertia]}
+            for i, body in enumerate(inertials, start=1)]
+
+
+def _print_links(links: list[dict[str, Any]], frames: str) -> None:
+    """The links' mass, centre of mass and inertia diagonal, one line each, under a line saying their ``frames``."""
+    print(f"links: mass [kg], centre of mass [m] and inertia diagonal [kg·m²], {frames}")
+    for link in links:
+        com = ", ".join(f"{c:+.4g}" for c in np.where(np.abs(link["com"]) < 1e-12, 0.0, link["com"]))
+        inertia = ", ".join(f"{v:.4g}" for v in np.diag(link["inertia"]))
+        print(f"  {link['name']:10s} {link['mass']:10.6g}  com ({com})  I ({inertia})")
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
@@ -68,8 +90,9 @@ def _cmd_show(args: argparse.Namespace) -> int:
         print(json.dumps(info, indent=2))
         return 0
     print(f"{arm.name}: {arm.paper}")
-    print(f"URDF: {info['urdf'] or 'generated in memory'}   tool frame: {arm.tool_name}   "
+    print(f"URDF: {info['urdf'] or 'generated in memory'}   "
           f"gravity: ({', '.join(f'{g:g}' for g in arm.gravity)}) m/s²")
+    print(f"tool frame: {arm.tool_name} ({arm.tool_source})")
     print("joints:             position limits             velocity limit   effort limit")
     for joint in info["joints"]:
         units = info["units"][joint["type"]]
@@ -87,12 +110,10 @@ def _cmd_show(args: argparse.Namespace) -> int:
     if not arm.has_dynamics:
         print("links: no mass data (a kinematic arm): torques and simulations need masses")
     else:
-        print("links: mass [kg], centre of mass [m] and inertia diagonal [kg·m²], in link frame {i} (origin on "
-              "joint i's axis)")
-        for link in info["links"]:
-            com = ", ".join(f"{c:+.4g}" for c in np.where(np.abs(link["com"]) < 1e-12, 0.0, link["com"]))
-            inertia = ", ".join(f"{v:.4g}" for v in np.diag(link["inertia"]))
-            print(f"  {link['name']:10s} {link['mass']:10.6g}  com ({com})  I ({inertia})")
+        if info["dh_links"] is not None:
+            _print_links(info["dh_links"], "in DH frame i, as the table gives them (standard DH: at the link's far "
+                         "end; modified: at joint i)")
+        _print_links(info["links"], "in link frame {i} of the arm's URDF (origin on joint i's axis)")
     if arm.parameters and info["dh"] is None:
         print("parameters:")
         for key, value in arm.parameters.items():
