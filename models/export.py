@@ -3,8 +3,9 @@
 ``export(arm, urdf=FILE)`` writes the arm's URDF from the one builder (:meth:`armlab.models.arm.Arm.urdf`):
 joint i's origin and axis are the arm's matrix of nominal geometry, each link's inertial its mass, centre of
 mass and inertia in the URDF's link frame {i}, the drive train (if the arm carries one) as Drake's own tags
-(:mod:`armlab.models.write_urdf`). A URDF arm leaves with armlab's link names (``link1`` … ``linkN``) and
-drawn visuals, not its meshes. ``export(arm, dh=FILE)`` writes the DH table of an arm made from one, in the
+(:mod:`armlab.models.write_urdf`); an unknown effort or velocity limit as 0, ROS's "none" (ROS's parser, and so
+Pinocchio's, needs both; armlab reads 0 as unknown and gives Drake none). A URDF arm leaves with armlab's link
+names (``link1`` … ``linkN``) and drawn visuals, not its meshes. ``export(arm, dh=FILE)`` writes the DH table of an arm made from one, in the
 format :mod:`armlab.models.read_dh` reads (radians, the link mass data back in the DH frames
 (:func:`~armlab.models.read_dh.dh_inertials`), its base and tool poses as header lines), every number as the
 shortest decimal that reads back to the same float. Both files read back to the same arm (tests/test_export.py:
@@ -105,5 +106,5 @@ def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = Non
         texts.append((dh, dh_text(arm)))
     if urdf is not None:
         train = drives if drives is not None else getattr(arm, "drives", None)  # Arm.drives (issue 19), if any
-        texts.insert(0, (urdf, arm.urdf(train)))
+        texts.insert(0, (urdf, arm.urdf(train, ros_limits=True)))
     return [write_file(path, text) for path, text in texts]

@@ -262,7 +262,8 @@ def _welded(link: str, children: dict[str, list[_Joint]]) -> list[str]:
 def _drake_text(root: ET.Element, meshes: Meshes) -> str:
     """The URDF as Drake reads it: each kept mesh as the ``file://`` URI of its checked file, the visuals and
     collisions :func:`~armlab.models.meshes.check_meshes` left out removed, ``<mimic>`` of fixed joints removed
-    (Drake refuses one; it does nothing). ``root`` is changed."""
+    (Drake refuses one; it does nothing), effort and velocity limits of 0 (ROS's "none") removed. ``root`` is
+    changed."""
     for mesh, file in meshes.files.items():
         mesh.set("filename", file.as_uri())
     for link in root.iter("link"):
@@ -271,6 +272,10 @@ def _drake_text(root: ET.Element, meshes: Meshes) -> str:
     for joint in root.iter("joint"):
         for mimic in joint.findall("mimic") if joint.get("type") == "fixed" else []:
             joint.remove(mimic)
+        for limit in joint.findall("limit"):  # 0, ROS's "none": unknown to armlab, so no limit for Drake either
+            for key in ("effort", "velocity"):  # (Drake skips the transmission of a joint with effort 0)
+                if limit.get(key) is not None and file_number(limit.get(key), key) == 0:
+                    del limit.attrib[key]
     return ET.tostring(root, encoding="unicode")
 
 
@@ -306,8 +311,8 @@ def from_urdf(path: str | Path, tool: str | None = None, package_paths: Sequence
             )
         # side branches of fixed joints are named points; past the last joint the first (or the tool's) is the tool
         toward_tool = [j for j in children[link] if j.child in to_tool]
-        joint, *side = moving or (toward_tool + [j for j in children[link] if j not in toward_tool])
-        for other in side + [j for j in children[link] if j not in moving and j is not joint]:
+        joint = (moving or toward_tool or children[link])[0]
+        for other in [j for j in children[link] if j is not joint]:
             T = carried @ _pose(other.element, f"{path}: joint {other.name!r}")
             points.append(Point(other.child, len(rows), tuple(T[:3, 3])))
         name, kind = joint.name, joint.kind

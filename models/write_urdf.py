@@ -181,11 +181,13 @@ def urdf_text(
     tool_name: str = "tool",
     comment: str = "",
     drives: DriveTrain | None = None,
+    ros_limits: bool = False,
 ) -> str:
     """URDF of the chain: links ``base_link``, ``link1`` … ``linkN``, ``tool_name`` and the points.
 
     ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint; ``drives`` the drive train
-    (module docstring), ``None`` for none.
+    (module docstring), ``None`` for none. ``ros_limits``: an unknown effort or velocity limit is written as 0,
+    ROS's "none" (urdfdom, and so Pinocchio, needs both attributes; armlab reads 0 as unknown), not left out.
     """
     n = table.n
     if len(bodies) != n or len(limits) != n:
@@ -248,9 +250,10 @@ def urdf_text(
         out.append(f'    <parent link="{link_names[i - 1]}"/><child link="link{i}"/>')
         out.append(f"    {_origin(row.T_fixed)}")
         out.append(f'    <axis xyz="{" ".join(map(_f, row.k))}"/>')
-        attributes = [f'{key}="{_f(value)}"' for key, value in
-                      (("lower", lim.lower), ("upper", lim.upper), ("effort", lim.effort), ("velocity", lim.velocity))
-                      if value is not None]  # an unknown effort or velocity limit is left out (unlimited)
+        rates = [(key, 0.0 if value is None and ros_limits else value)
+                 for key, value in (("effort", lim.effort), ("velocity", lim.velocity))]
+        attributes = [f'{key}="{_f(value)}"' for key, value in (("lower", lim.lower), ("upper", lim.upper), *rates)
+                      if value is not None]  # an unknown effort or velocity limit is left out (unlimited), or 0
         if attributes:
             out.append(f"    <limit {' '.join(attributes)}/>")
         if drives is not None:
@@ -263,9 +266,12 @@ def urdf_text(
     for point in points:
         if point.name in link_names:
             continue  # the point is already a link (e.g. the tool)
+        # a point of the tool frame hangs from link n (the tool link stays the end of the chain, what a reader takes)
+        parent, xyz = ((link_names[n], (table.tool @ np.array([*point.xyz, 1.0]))[:3]) if point.link == n + 1
+                       else (link_names[point.link], point.xyz))
         out.append(f'  <link name="{point.name}"/>')
-        out.append(f'  <joint name="{point.name}_weld" type="fixed"><parent link="{link_names[point.link]}"/>'
-                   f'<child link="{point.name}"/><origin xyz="{" ".join(map(_f, point.xyz))}"/></joint>')
+        out.append(f'  <joint name="{point.name}_weld" type="fixed"><parent link="{parent}"/>'
+                   f'<child link="{point.name}"/><origin xyz="{" ".join(map(_f, xyz))}"/></joint>')
     for i, row in enumerate(table.rows):
         ratio, motor = "1", ""
         if drives is not None:
