@@ -3,13 +3,14 @@
 ``export(arm, urdf=FILE)`` writes the arm's URDF from the one builder (:meth:`armlab.models.arm.Arm.urdf`):
 joint i's origin and axis are the arm's matrix of nominal geometry, each link's inertial its mass, centre of
 mass and inertia in the URDF's link frame {i}, the drive train (if the arm carries one) as Drake's own tags
-(:mod:`armlab.models.write_urdf`); an unknown effort or velocity limit as 0, ROS's "none" (ROS's parser, and so
-Pinocchio's, needs both; armlab reads 0 as unknown and gives Drake none). A URDF arm leaves with armlab's link
-names (``link1`` … ``linkN``) and drawn visuals, not its meshes. ``export(arm, dh=FILE)`` writes the DH table of an arm made from one, in the
-format :mod:`armlab.models.read_dh` reads (radians, the link mass data back in the DH frames
-(:func:`~armlab.models.read_dh.dh_inertials`), its base and tool poses as header lines), every number as the
-shortest decimal that reads back to the same float. Both files read back to the same arm (tests/test_export.py:
-forward kinematics, Jacobian and inverse dynamics equal to 1e-9, through Drake and through Pinocchio).
+(:mod:`armlab.models.write_urdf`); an unknown effort or velocity limit as 0, ROS's "none" (ROS's parser, and
+so Pinocchio's, needs both; armlab reads 0 as unknown and gives Drake none). A URDF arm leaves with armlab's
+link names (``link1`` … ``linkN``) and drawn visuals, not its meshes. ``export(arm, dh=FILE)`` writes the DH
+table of an arm made from one, in the format :mod:`armlab.models.read_dh` reads (radians, the link mass data
+back in the DH frames (:func:`~armlab.models.read_dh.dh_inertials`), its base and tool poses as header
+lines), every number as the shortest decimal that reads back to the same float. Both files read back to the
+same arm (tests/test_export.py: forward kinematics, Jacobian and inverse dynamics equal to 1e-9, through
+Drake and through Pinocchio).
 
 Every path is checked before anything is written (:func:`check_output`), and each file is written completely
 or not at all (:func:`armlab.files.write_file`).
