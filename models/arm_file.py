@@ -33,7 +33,7 @@ MAX_FILE_NUMBER = 1e12
 COM_REACH = 10.0
 
 #: A plain decimal number: what a number in an arm file may be (``float`` also takes ``0_5``, ``1_000``, ``nan``).
-_DECIMAL = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")  # ASCII digits (re's \d: any script)
 
 
 def file_number(text: str | None, what: str) -> float:
