@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -41,7 +42,7 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = ["GRAVITY_NAMES", "G", "PlantOptions", "add_arm_plant", "check_payload", "check_time_step", "gravity_vector",
-           "make_plant", "resolve_gravity"]
+           "make_plant", "parse_model_file", "resolve_gravity"]
 
 #: Standard gravity (m/s²), the magnitude of every arm's default gravity.
 G = 9.81
@@ -244,3 +245,26 @@ def _check_drivable(plant: MultibodyPlant, arm: Arm) -> None:
         raise ValueError(f"{arm.name}: the mass matrix is singular (joint(s) {', '.join(still) or 'together'} move "
                          "no mass or inertia): to simulate, every moving link needs an <inertial> with mass > 0 and "
                          "inertia")
+
+
+def parse_model_file(path: Path, packages: dict[str, Path]) -> tuple[MultibodyPlant, Any]:
+    """A user's SDFormat (``.sdf``) or MuJoCo MJCF (``.xml``) file parsed by Drake's own parser into a new plant,
+    not finalized (:mod:`armlab.models.read_sdf` reads the arm out of it); ``(plant, model instance)``.
+
+    ``packages``: ``{name: package.xml}`` for ``package://`` URIs. ``ValueError`` (one line) if Drake cannot
+    load the file or it holds more than one model.
+    """
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+
+    plant = MultibodyPlant(0.0)
+    parser = Parser(plant)
+    for package_xml in packages.values():
+        parser.package_map().AddPackageXml(str(package_xml))
+    try:
+        instances = parser.AddModels(file_name=str(path))
+    except RuntimeError as error:
+        raise ValueError(f"{path}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
+    if len(instances) != 1:
+        raise ValueError(f"{path} holds {len(instances)} models: armlab takes one serial arm per file")
+    return plant, instances[0]

@@ -81,16 +81,18 @@ def examples() -> dict[str, Path]:
 
 def get_arm(name: str, *, tool: str | None = None, package_paths: Sequence[str | Path] = (),
             **overrides: float) -> Arm:
-    """A paper arm by name (parameters overridable), an example (``example:NAME``), or a ``.urdf``/``.csv`` file.
+    """A paper arm by name (parameters overridable), an example (``example:NAME``), or a ``.urdf``, ``.sdf``, MJCF
+    ``.xml`` or DH ``.csv`` file.
 
-    ``tool`` (a link name) and ``package_paths`` (folders of ROS packages) are for URDF files
-    (:func:`armlab.models.read_urdf.from_urdf`); ``ValueError`` if given for another arm.
+    ``tool`` (a link name) and ``package_paths`` (folders of ROS packages) are for URDF, SDFormat and MJCF files
+    (:func:`armlab.models.read_urdf.from_urdf`, :func:`armlab.models.read_sdf.from_model_file`); ``ValueError``
+    if given for another arm.
     """
     path = Path(name)
-    if path.suffix.lower() != ".urdf" or name in ARMS:
+    if path.suffix.lower() not in (".urdf", ".sdf", ".xml") or name in ARMS:
         given = [option for option, value in (("tool", tool), ("package_paths", package_paths)) if value]
         if given:
-            raise ValueError(f"{' and '.join(given)} apply to a URDF file's arm, not to {name!r}")
+            raise ValueError(f"{' and '.join(given)} apply to a URDF, SDFormat or MJCF file's arm, not to {name!r}")
     if name in ARMS:
         known = [f.name for f in fields(ARMS[name].Parameters)]
         for key, value in overrides.items():
@@ -109,13 +111,18 @@ def get_arm(name: str, *, tool: str | None = None, package_paths: Sequence[str |
         from armlab.models.read_urdf import from_urdf
 
         return from_urdf(path, tool, package_paths)
+    if path.suffix.lower() in (".sdf", ".xml"):
+        # lazy: armlab --help loads armlab.models but not this (start-up time)
+        from armlab.models.read_sdf import from_model_file
+
+        return from_model_file(path, tool, package_paths)
     if path.suffix.lower() == ".csv":
         # lazy: armlab --help loads armlab.models but not this (start-up time)
         from armlab.models.read_dh import from_dh_csv
 
         return from_dh_csv(path)
     raise ValueError(f"unknown arm {name!r}; allowed: {', '.join(ARMS)}, an example ({_names(examples())}), or a "
-                     ".urdf or DH .csv file")
+                     ".urdf, .sdf, MJCF .xml or DH .csv file")
 
 
 def _names(shipped: dict[str, Path]) -> str:

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote
 
-__all__ = ["COLLISION_SUFFIXES", "MeshWarning", "Meshes", "check_meshes", "without_doctype"]
+__all__ = ["COLLISION_SUFFIXES", "MeshWarning", "Meshes", "check_meshes", "check_references", "without_doctype"]
 
 #: Mesh files Drake makes collision geometry of (a convex hull): others are left out of ``<collision>``.
 COLLISION_SUFFIXES = (".obj", ".vtk", ".gltf")
@@ -190,3 +190,18 @@ def _check_pulled_in(path: Path, mesh: Path, folders: Sequence[Path]) -> None:
             if named is None:
                 raise ValueError(f"{path}: {file.name} names {name!r}: a file a mesh names is relative to the mesh")
             pending.append(named)
+
+
+def check_references(path: Path, references: Sequence[str], packages: dict[str, Path]) -> None:
+    """``ValueError`` naming the file unless every file ``references`` name (relative to the folder of ``path``, an
+    SDFormat or MJCF file, or ``package://`` of one of ``packages``), and every file those name, lies inside that
+    folder or the packages' (the rules of :func:`check_meshes`), and exists."""
+    folders = [path.resolve().parent] + [xml.parent.resolve() for xml in packages.values()]
+    for reference in references:
+        what = f"{path}: {reference!r}"
+        file = _reference(reference, path.resolve().parent, packages, folders, what)
+        if file is None:
+            raise ValueError(f"{what} names a ROS package that is not found: --package-path DIR or ROS_PACKAGE_PATH")
+        if not file.is_file():
+            raise ValueError(f"{what}: no such file {file}")
+        _check_pulled_in(path, file, folders)

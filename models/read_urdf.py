@@ -35,7 +35,7 @@ from armlab.models.arm_file import MAX_JOINTS, check_com_distance, file_number, 
 from armlab.models.meshes import Meshes, check_meshes, without_doctype
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
-__all__ = ["from_urdf", "package_roots"]
+__all__ = ["check_com_distances", "check_numbers", "from_urdf", "package_roots", "read_xml"]
 
 #: The namespaces of xacro, the macro language ROS URDFs are often written in (expanded by ``xacro``).
 _XACRO = ("{http://www.ros.org/wiki/xacro}", "{http://ros.org/wiki/xacro}")
@@ -85,7 +85,14 @@ def _parse_urdf(path: Path) -> ET.Element:
     if root.find("link") is None:
         raise ValueError(f"{path}: the <robot> has no <link> elements: an empty URDF (a URDF names its links and "
                          "the joints between them)")
-    for element in root.iter():  # every number in the file, not only the ones armlab reads itself
+    check_numbers(path, root)
+    return root
+
+
+def check_numbers(path: Path, root: ET.Element) -> None:
+    """``ValueError`` naming the element unless every number in the XML file ``path`` (``root`` parsed), not only
+    the ones armlab reads itself, is finite (Drake's parser reads the rest)."""
+    for element in root.iter():
         texts = [(f"{key}={value!r}", value) for key, value in element.attrib.items() if key not in _TEXT_ATTRIBUTES]
         for where, value in texts + [("text", element.text or "")]:
             for token in value.split():
@@ -96,6 +103,13 @@ def _parse_urdf(path: Path) -> ET.Element:
                 if not np.isfinite(number):
                     raise ValueError(f"{path}: <{element.tag}> {where if where != 'text' else repr(value.strip())} "
                                      "has a value that is not a finite number")
+
+
+def read_xml(path: Path, what: str) -> ET.Element:
+    """The root element of a user's XML file ``path`` (a ``what``): bounded UTF-8 text, no document-type or
+    entity definitions, every number finite."""
+    root = _xml(path, what)
+    check_numbers(path, root)
     return root
 
 
@@ -343,7 +357,7 @@ def from_urdf(path: str | Path, tool: str | None = None, package_paths: Sequence
     points.extend(Point(j.child, n + 1, tuple(_pose(j.element, f"{path}: joint {j.name!r}")[:3, 3]))
                   for j in children[link])
     table = LocatingTable(tuple(rows), tool=carried)
-    _check_coms(path, table, bodies, limits, names)
+    check_com_distances(path, table, bodies, limits, names)
     others = [name for name in past_last if name != link]
     return Arm(
         name=root.get("name") or path.stem,
@@ -367,7 +381,7 @@ def from_urdf(path: str | Path, tool: str | None = None, package_paths: Sequence
     )
 
 
-def _check_coms(path: Path, table: LocatingTable, bodies: list[Body], limits: list[JointLimits],
+def check_com_distances(path: Path, table: LocatingTable, bodies: list[Body], limits: list[JointLimits],
                 names: list[str]) -> None:
     """``ValueError`` for a link whose centre of mass lies far beyond the arm's size (its frames' offsets and its
     prismatic strokes summed): :func:`~armlab.models.arm_file.check_com_distance`."""

@@ -92,7 +92,8 @@ def test_tool_frame_is_the_users_choice():
         _ur(tool="forearm_link")
     with pytest.raises(ValueError, match="tool link 'nope' is not a link of the URDF"):
         armlab.load(UR, tool="nope")  # before the meshes are looked at
-    with pytest.raises(ValueError, match="tool and package_paths apply to a URDF file's arm, not to 'rr'"):
+    with pytest.raises(ValueError, match="tool and package_paths apply to a URDF, SDFormat or MJCF file's arm, "
+                                         "not to 'rr'"):
         armlab.load("rr", tool="x", package_paths=["."])
 
 

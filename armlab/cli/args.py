@@ -14,7 +14,7 @@ __all__ = ["ARM_HELP", "Parser", "add_arm", "arm_of", "error_text", "join_negati
            "silence", "write_error", "write_warning"]
 
 #: The help of every command's ARM argument.
-ARM_HELP = "arm name (armlab list), or a .urdf / DH .csv file"
+ARM_HELP = "arm name (armlab list), or a .urdf, .sdf, MJCF .xml or DH .csv file"
 
 
 def add_arm(parser: argparse.ArgumentParser) -> None:
