@@ -56,7 +56,7 @@ def load(name: str | Path, *, tool: str | None = None, package_paths: Sequence[s
     ``package://`` meshes (``ROS_PACKAGE_PATH`` is searched too). ``ValueError`` for an unknown arm or
     parameter, or a malformed file.
     """
-    return get_arm(str(name), tool=tool, package_paths=package_paths, **parameters)
+    return get_arm(str(name), tool, package_paths, **parameters)
 
 
 def quintic(arm: Arm, q0: ArrayLike, qf: ArrayLike, tf: float, label: str = "") -> Motion:

@@ -79,7 +79,7 @@ def examples() -> dict[str, Path]:
     return {path.stem: path for path in sorted(folder.iterdir()) if path.suffix.lower() in (".csv", ".urdf")}
 
 
-def get_arm(name: str, *, tool: str | None = None, package_paths: Sequence[str | Path] = (),
+def get_arm(name: str, tool: str | None = None, package_paths: Sequence[str | Path] = (), /,
             **overrides: float) -> Arm:
     """A paper arm by name (parameters overridable), an example (``example:NAME``), or a ``.urdf``, ``.sdf``, MJCF
     ``.xml`` or DH ``.csv`` file.

@@ -66,7 +66,7 @@ def _references(root: ET.Element, suffix: str) -> list[str]:
     return out
 
 
-def _group(joints_below: dict[int, list[Any]], body: int) -> list[int]:
+def _group(joints_below: dict[Any, list[Any]], body: Any) -> list[Any]:
     """``body`` and every body welded to it below, not past a moving joint."""
     out, stack = [], [body]
     while stack:
@@ -126,12 +126,12 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
         raise ValueError(f"{path}: Drake cannot build it: {str(error).strip().splitlines()[0]}") from None
     context = plant.CreateDefaultContext()
     plant.SetPositions(context, np.zeros(plant.num_positions()))
-    below: dict[int, list[Any]] = {}
+    below: dict[Any, list[Any]] = {}  # BodyIndex → the joints whose parent it is
     for joint in joints:
         below.setdefault(joint.parent_body().index(), []).append(joint)
-    moving_below: dict[int, bool] = {}
+    moving_below: dict[Any, bool] = {}
 
-    def moves(body: int) -> bool:  # a movable joint lies below ``body`` (memoised; the tree is finite)
+    def moves(body: Any) -> bool:  # a movable joint lies below ``body`` (memoised; the tree is finite)
         if body not in moving_below:
             moving_below[body] = any(j.type_name() != "weld" or moves(j.child_body().index())
                                      for j in below.get(body, []))
@@ -146,7 +146,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     bodies: list[Body] = []
     link = roots[0].index() if roots else world
     frame = np.eye(4) if not roots else roots[0].body_frame().CalcPoseInWorld(context).GetAsMatrix4()
-    last_group: list[int] = []
+    last_group: list[Any] = []
     while True:
         moving = [j for j in below.get(link, []) if j.type_name() != "weld" or moves(j.child_body().index())]
         if len(moving) > 1:
@@ -216,7 +216,7 @@ def _body(inertia: Any, what: str) -> Body:
     return Body(mass, 0.03, com=(float(com[0]), float(com[1]), float(com[2])), inertia=tuple(map(tuple, central)))
 
 
-def _tool(plant: Any, instance: Any, tool: str | None, below: dict[int, list[Any]], link: int, group: list[int],
+def _tool(plant: Any, instance: Any, tool: str | None, below: dict[Any, list[Any]], link: Any, group: list[Any],
           path: Path) -> Any:
     """The tool frame: ``tool`` (a frame or body of the model on the last link's welded group), else the last body
     reached from the last moving link through welds (the first declared at each step)."""

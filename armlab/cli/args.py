@@ -32,7 +32,7 @@ def arm_of(args: argparse.Namespace) -> Any:
     # lazy: armlab --help imports this module, not the arms (start-up time)
     from armlab.models import get_arm
 
-    return get_arm(args.arm, tool=args.tool, package_paths=args.package_path)
+    return get_arm(args.arm, args.tool, args.package_path)
 
 
 class Parser(argparse.ArgumentParser):
