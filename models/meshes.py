@@ -118,8 +118,8 @@ def _collada_images(mesh: Path) -> list[str]:
     """The image files a COLLADA (``.dae``) mesh names: its ``<init_from>`` paths (1.4) or their ``<ref>`` (1.5)."""
     try:
         root = ET.fromstring(without_doctype(mesh.read_text(encoding="utf-8", errors="replace"), str(mesh)))
-    except ET.ParseError as error:
-        raise ValueError(f"{mesh}: not a COLLADA file (not valid XML: {error})") from None
+    except ET.ParseError:  # not XML (an empty file, a Git LFS pointer): no viewer reads anything through it
+        return []
     names = []
     for element in root.iter():
         if element.tag.rpartition("}")[2] == "init_from":
@@ -142,12 +142,14 @@ def check_meshes(path: Path, root: ET.Element, packages: dict[str, Path]) -> Mes
     files: dict[ET.Element, Path] = {}
     dropped: set[ET.Element] = set()
     missing, unusable = [], []
+    unfound = 0  # of the missing: the package:// ones whose package is not found
     for role in ("visual", "collision"):
         for element in root.iter(role):
             for mesh in element.iter("mesh"):
                 reference = mesh.get("filename") or ""
                 what = f"{path}: mesh {reference!r}"
                 file = _reference(reference, path.resolve().parent, packages, folders, what)
+                unfound += file is None
                 if file is None or not file.is_file():
                     missing.append(reference)
                     dropped.add(element)
@@ -161,8 +163,9 @@ def check_meshes(path: Path, root: ET.Element, packages: dict[str, Path]) -> Mes
     if missing:
         warnings.warn(MeshWarning(
             f"{path}: {len(missing)} mesh(es) not found, their visuals and collisions left out (kinematics and "
-            f"dynamics do not need them): {_listed(missing)}; a package:// mesh needs its package found: "
-            "--package-path DIR or ROS_PACKAGE_PATH"), stacklevel=3)
+            f"dynamics do not need them): {_listed(missing)}"
+            + ("; a package:// mesh needs its package found: --package-path DIR or ROS_PACKAGE_PATH" if unfound
+               else "")), stacklevel=3)
     if unusable:
         warnings.warn(MeshWarning(
             f"{path}: {len(unusable)} collision mesh(es) left out: Drake makes collision geometry only of "

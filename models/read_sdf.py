@@ -79,9 +79,9 @@ def _group(joints_below: dict[Any, list[Any]], body: Any) -> list[Any]:
 def from_model_file(path: str | Path, tool: str | None = None, package_paths: Sequence[str | Path] = ()) -> Arm:
     """An arm from a user's SDFormat or MJCF file of one serial chain (module docstring); ``ValueError`` naming
     what is wrong."""
-    # lazy: Drake is imported by commands that need it (armlab --help loads this module's package only)
     from pydrake.multibody.tree import JointActuatorIndex
 
+    # lazy: the arm readers sit below armlab.diagrams (its plant module imports armlab.models.arm's package)
     from armlab.diagrams.plant import parse_model_file
 
     path = Path(path)

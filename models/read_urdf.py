@@ -38,7 +38,7 @@ from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 __all__ = ["check_com_distances", "check_numbers", "from_urdf", "package_roots", "read_xml"]
 
 #: The namespaces of xacro, the macro language ROS URDFs are often written in (expanded by ``xacro``).
-_XACRO = ("{http://www.ros.org/wiki/xacro}", "{http://ros.org/wiki/xacro}")
+_XACRO = ("{http://www.ros.org/wiki/xacro}", "{http://ros.org/wiki/xacro}", "{http://wiki.ros.org/xacro}")
 #: Drake's URDF extensions (``<drake:gear_ratio>`` …) keep their prefix when armlab writes a URDF back out
 #: (:func:`_drake_text`): Drake's parser reads the prefixed names, not namespaces.
 ET.register_namespace("drake", "http://drake.mit.edu")
