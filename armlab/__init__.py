@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
     from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
     from armlab.models.arm import Arm
+    from armlab.models.export import export
 
 __version__ = "0.1.0"
 
@@ -36,6 +37,7 @@ _EXPORTS = {
     "Motion": "armlab.kinematics.quintic",
     "QuinticSegment": "armlab.kinematics.quintic",
     "Run": "armlab.diagrams.run",
+    "export": "armlab.models.export",
     **{name: "armlab.api" for name in ("constant_rate", "load", "paper_motion", "quintic", "read_segments",
                                        "simulate", "through")},
 }
@@ -49,6 +51,7 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "Run",
     "__version__",
     "constant_rate",
+    "export",
     "load",
     "paper_motion",
     "quintic",

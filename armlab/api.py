@@ -48,16 +48,20 @@ if TYPE_CHECKING:
 __all__ = ["constant_rate", "load", "paper_motion", "quintic", "read_segments", "simulate", "through"]
 
 
-def load(name: str | Path, drives: str | Path | DriveTrain | None = None, **parameters: float) -> Arm:
+def load(name: str | Path, *, drives: str | Path | DriveTrain | None = None, tool: str | None = None,
+         package_paths: Sequence[str | Path] = (), **parameters: float) -> Arm:
     """An arm: a paper arm's name (``armlab list``: rr, rrrr, arm4r, r2t, urm6), a library arm's (puma560, ur5, ur10,
-    panda, stanford, irb140, kr5: well-known arms, every number cited), a ``.urdf`` or a DH ``.csv`` file.
+    panda, stanford, irb140, kr5: well-known arms, every number cited), a ``.urdf``, ``.sdf``, MJCF ``.xml`` or DH
+    ``.csv`` file.
 
-    ``drives``: its drive train, a drive file (CSV, see the README) or a :class:`~armlab.drives.train.DriveTrain`,
-    instead of the one its file gives (``None``: that one; none: ideal drives). ``parameters`` override a paper
-    arm's parameters (e.g. ``load("urm6", theta3=0.5)``; names as in ``armlab show ARM``). ``ValueError`` for an
-    unknown arm or parameter, or a malformed file.
+    ``parameters`` override a paper arm's parameters (e.g. ``load("urm6", theta3=0.5)``; names as in
+    ``armlab show ARM``). ``drives``: its drive train, a drive file (CSV, see the README) or a
+    :class:`~armlab.drives.train.DriveTrain`, instead of the one its file gives (``None``: that one; none: ideal
+    drives). For a URDF: ``tool`` names the tool frame's link (default: the end of the chain; ``armlab show`` lists
+    the choices) and ``package_paths`` the folders holding the ROS packages of its ``package://`` meshes
+    (``ROS_PACKAGE_PATH`` is searched too). ``ValueError`` for an unknown arm or parameter, or a malformed file.
     """
-    return with_drives(get_arm(str(name), **parameters), drives)
+    return with_drives(get_arm(str(name), tool, package_paths, **parameters), drives)
 
 
 def quintic(arm: Arm, q0: ArrayLike, qf: ArrayLike, tf: float, label: str = "") -> Motion:

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -38,7 +39,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.drives.train import DriveTrain
 from armlab.limits import allowed, check_positive, check_range
-from armlab.models.read_urdf import package_roots
 from armlab.values import parse_floats
 
 if TYPE_CHECKING:
@@ -49,7 +49,7 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = ["GRAVITY_NAMES", "G", "PlantOptions", "add_arm_plant", "check_payload", "check_time_step", "gravity_vector",
-           "make_plant", "resolve_gravity"]
+           "make_plant", "parse_model_file", "resolve_gravity"]
 
 #: Standard gravity (m/s²), the magnitude of every arm's default gravity.
 G = 9.81
@@ -212,10 +212,11 @@ def _build(plant: MultibodyPlant, arm: Arm, options: PlantOptions) -> None:
 def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
     """Parse the URDF into ``plant``, weld its root link to the world (no offset); returns the model instance.
 
-    A generated URDF is parsed from its text in memory (never through a file). A URDF file's
-    ``package://NAME/…`` paths resolve through the ``package.xml`` of its folder or of the two above
-    it (a ROS package's layout; :func:`armlab.models.read_urdf.package_roots`). A joint without a
-    ``<transmission>`` gets an actuator of its own. ``ValueError`` if Drake cannot load the URDF.
+    A generated URDF is parsed from its text in memory (never through a file), and so is a user's URDF: its
+    text as checked (:attr:`~armlab.models.arm.Arm.model_text`: meshes as ``file://`` URIs of the files found,
+    ``package://`` ones through :func:`armlab.models.read_urdf.package_roots`). A root link named ``world``
+    (the ROS convention) is Drake's world body itself: nothing to weld. A joint without a ``<transmission>``
+    gets an actuator of its own. ``ValueError`` if Drake cannot load the URDF.
     """
     from pydrake.multibody.parsing import Parser
     from pydrake.multibody.tree import JointActuatorIndex
@@ -223,16 +224,17 @@ def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
     parser = Parser(plant)
     parser.SetAutoRenaming(True)
     try:
-        if arm.urdf_file is None:
+        if arm.model_text is not None:
+            (instance,) = parser.AddModelsFromString(arm.model_text, "urdf")
+        elif arm.urdf_file is None:
             (instance,) = parser.AddModelsFromString(arm.urdf(), "urdf")
         else:
-            for package_xml in package_roots(arm.urdf_file).values():
-                parser.package_map().AddPackageXml(str(package_xml))
             (instance,) = parser.AddModels(file_name=str(arm.urdf_file))
     except RuntimeError as error:
         source = arm.urdf_file or f"{arm.name}'s generated URDF"
         raise ValueError(f"{source}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
-    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(arm.base_link, instance))
+    if arm.base_link != "world":  # Drake's URDF parser makes a link named world the world body
+        plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(arm.base_link, instance))
     actuators = (plant.get_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
     actuated = {a.joint().name() for a in actuators if a.model_instance() == instance}
     for name in arm.joint_names:
@@ -268,3 +270,26 @@ def _check_drivable(plant: MultibodyPlant, arm: Arm) -> None:
         raise ValueError(f"{arm.name}: the mass matrix is singular (joint(s) {', '.join(still) or 'together'} move "
                          "no mass or inertia): to simulate, every moving link needs an <inertial> with mass > 0 and "
                          "inertia")
+
+
+def parse_model_file(path: Path, packages: dict[str, Path]) -> tuple[MultibodyPlant, Any]:
+    """A user's SDFormat (``.sdf``) or MuJoCo MJCF (``.xml``) file parsed by Drake's own parser into a new plant,
+    not finalized (:mod:`armlab.models.read_sdf` reads the arm out of it); ``(plant, model instance)``.
+
+    ``packages``: ``{name: package.xml}`` for ``package://`` URIs. ``ValueError`` (one line) if Drake cannot
+    load the file or it holds more than one model.
+    """
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+
+    plant = MultibodyPlant(0.0)
+    parser = Parser(plant)
+    for package_xml in packages.values():
+        parser.package_map().AddPackageXml(str(package_xml))
+    try:
+        instances = parser.AddModels(file_name=str(path))
+    except RuntimeError as error:
+        raise ValueError(f"{path}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
+    if len(instances) != 1:
+        raise ValueError(f"{path} holds {len(instances)} models: armlab takes one serial arm per file")
+    return plant, instances[0]

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+from collections.abc import Sequence
 from dataclasses import fields
 from importlib.resources import files
 from pathlib import Path
@@ -78,9 +79,21 @@ def examples() -> dict[str, Path]:
     return {path.stem: path for path in sorted(folder.iterdir()) if path.suffix.lower() in (".csv", ".urdf")}
 
 
-def get_arm(name: str, **overrides: float) -> Arm:
+def get_arm(name: str, tool: str | None = None, package_paths: Sequence[str | Path] = (), /,
+            **overrides: float) -> Arm:
     """A paper arm by name (parameters overridable), a library arm (:data:`armlab.models.library.LIBRARY`:
-    ``puma560``, ``ur5``, …), an example (``example:NAME``), or a ``.urdf``/``.csv`` file."""
+    ``puma560``, ``ur5``, …), an example (``example:NAME``), or a ``.urdf``, ``.sdf``, MJCF ``.xml`` or DH ``.csv``
+    file.
+
+    ``tool`` (a link name) and ``package_paths`` (folders of ROS packages) are for URDF, SDFormat and MJCF files
+    (:func:`armlab.models.read_urdf.from_urdf`, :func:`armlab.models.read_sdf.from_model_file`); ``ValueError``
+    if given for another arm.
+    """
+    path = Path(name)
+    if path.suffix.lower() not in (".urdf", ".sdf", ".xml") or name in ARMS:
+        given = [option for option, value in (("tool", tool), ("package_paths", package_paths)) if value]
+        if given:
+            raise ValueError(f"{' and '.join(given)} apply to a URDF, SDFormat or MJCF file's arm, not to {name!r}")
     if name in ARMS:
         known = [f.name for f in fields(ARMS[name].Parameters)]
         for key, value in overrides.items():
@@ -89,7 +102,6 @@ def get_arm(name: str, **overrides: float) -> Arm:
             if not np.isfinite(value):
                 raise ValueError(f"{name}: parameter {key} = {value} is not a finite number")
         return ARMS[name].build(**overrides)
-    path = Path(name)
     if name.startswith(EXAMPLE):
         shipped = examples()
         if name.removeprefix(EXAMPLE) not in shipped:
@@ -99,7 +111,12 @@ def get_arm(name: str, **overrides: float) -> Arm:
         # lazy: armlab --help loads armlab.models but not this (start-up time)
         from armlab.models.read_urdf import from_urdf
 
-        return from_urdf(path)
+        return from_urdf(path, tool, package_paths)
+    if path.suffix.lower() in (".sdf", ".xml"):
+        # lazy: armlab --help loads armlab.models but not this (start-up time)
+        from armlab.models.read_sdf import from_model_file
+
+        return from_model_file(path, tool, package_paths)
     if path.suffix.lower() == ".csv":
         # lazy: armlab --help loads armlab.models but not this (start-up time)
         from armlab.models.read_dh import from_dh_csv
@@ -114,7 +131,8 @@ def get_arm(name: str, **overrides: float) -> Arm:
                              f"got {', '.join(overrides)}); write a DH table to change them")
         return library_arm(name)
     raise ValueError(f"unknown arm {name!r}; allowed: a paper arm ({', '.join(ARMS)}), a library arm "
-                     f"({', '.join(LIBRARY)}), an example ({_names(examples())}), or a .urdf or DH .csv file")
+                     f"({', '.join(LIBRARY)}), an example ({_names(examples())}), or a .urdf, .sdf, MJCF .xml or "
+                     "DH .csv file")
 
 
 def _names(shipped: dict[str, Path]) -> str:

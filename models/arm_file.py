@@ -1,19 +1,22 @@
 """What every reader of a user's arm file (:mod:`~armlab.models.read_dh`, :mod:`~armlab.models.read_urdf`) enforces.
 
-The file is read as UTF-8 text of bounded size (:func:`read_text`); every number in it is finite and at
-most :data:`MAX_FILE_NUMBER` in magnitude (:func:`file_number`); the arm has at most :data:`MAX_JOINTS`
-joints. Violations are a one-line ``ValueError`` naming the file, the bad value and what is allowed.
+The file is read as UTF-8 text of bounded size (:func:`read_text`); every number in it is a plain decimal
+(``-0.5``, ``2``, ``1e-3``: no Python digit separators ``0_5``, no ``0x`` or ``inf``), finite and at most
+:data:`MAX_FILE_NUMBER` in magnitude (:func:`file_number`); the arm has at most :data:`MAX_JOINTS` joints; a
+link's centre of mass lies within reach of the arm (:func:`check_com_distance`). Violations are a one-line
+``ValueError`` naming the file, the bad value and what is allowed.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
 
 from armlab.files import read_input
 
-__all__ = ["MAX_FILE_NUMBER", "MAX_JOINTS", "file_number", "read_text"]
+__all__ = ["COM_REACH", "MAX_FILE_NUMBER", "MAX_JOINTS", "check_com_distance", "file_number", "read_text"]
 
 #: The most joints an arm may have. Serial arms have a handful; a 64-joint DH arm with masses still
 #: simulates (1 s of motion in about 1 s, plus ~45 s for its 64-curve plots and replay on 2 shared
@@ -25,14 +28,28 @@ MAX_JOINTS = 64
 MAX_FILE_NUMBER = 1e12
 
 
+#: A centre of mass farther from its link frame's origin than this many times the arm's size (plus 1 m) is refused:
+#: no link's mass lies kilometres from its joint (the Robotics Toolbox's IRB 140 data has one 198 km away, a typo).
+COM_REACH = 10.0
+
+#: A plain decimal number: what a number in an arm file may be (``float`` also takes ``0_5``, ``1_000``, ``nan``).
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")  # ASCII digits (re's \d: any script)
+
+
 def file_number(text: str | None, what: str) -> float:
-    """``text`` as a finite number of magnitude ≤ :data:`MAX_FILE_NUMBER`; ``what`` names it in the error."""
-    try:
-        value = float(text or "")
-    except ValueError:
-        raise ValueError(f"{what} = {text!r} is not a number") from None
-    if not np.isfinite(value):
-        raise ValueError(f"{what} = {text!r} is not a finite number")
+    """``text`` as a plain decimal (:data:`_DECIMAL`), finite and of magnitude ≤ :data:`MAX_FILE_NUMBER`;
+    ``what`` names it in the error."""
+    stripped = (text or "").strip()
+    if not _DECIMAL.fullmatch(stripped):
+        try:
+            finite = np.isfinite(float(stripped))
+        except ValueError:
+            finite = True
+        if not finite:
+            raise ValueError(f"{what} = {text!r} is not a finite number")
+        raise ValueError(f"{what} = {text!r} is not a number: numbers in arm files are plain decimals "
+                         "(e.g. 0.5, -2, 1e-3)")
+    value = float(stripped)
     if abs(value) > MAX_FILE_NUMBER:
         raise ValueError(f"{what} = {text!r} is out of range: allowed |value| ≤ {MAX_FILE_NUMBER:g}")
     return value
@@ -45,3 +62,13 @@ def read_text(path: Path, what: str) -> str:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         raise ValueError(f"cannot read {what} {path}: it is not UTF-8 text") from None
+
+
+def check_com_distance(distance: float, size: float, what: str) -> None:
+    """``ValueError`` naming ``what`` if a centre of mass ``distance`` m from its link frame's origin lies beyond
+    :data:`COM_REACH` × ``size`` + 1 m, ``size`` (m) the arm's own (its links' lengths summed): not physical."""
+    bound = COM_REACH * size + 1.0
+    if distance > bound:
+        raise ValueError(f"{what}: the centre of mass is {distance:.6g} m from its link frame, beyond "
+                         f"{bound:.6g} m ({COM_REACH:g} × the arm's size {size:.6g} m + 1 m): not physical; "
+                         "check the centre of mass (m, in the link's frame)")

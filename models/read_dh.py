@@ -5,7 +5,11 @@ A **DH table** is a CSV file (the README's section "Your own arm: the DH table f
 * optional header comment lines, in any order: ``# convention: standard`` or ``# convention: modified``
   (standard if absent) and ``# units: rad`` or ``# units: deg`` (rad if absent); ``deg`` means
   ``alpha``, ``theta`` and a revolute joint's ``lower``, ``upper`` (and ``velocity``, deg/s) are in
-  degrees. Other ``#`` lines at the top are free comments.
+  degrees. A radian table's ``alpha`` or ``theta`` beyond ±2π can only be degrees and is refused; joint
+  limits may go beyond (a wrist turning ±400°). ``# base: x y z roll pitch yaw`` places DH frame 0 in the
+  arm's base (world) frame and ``# tool: x y z roll pitch yaw`` the tool frame in DH frame n (the Robotics
+  Toolbox's ``base=`` and ``tool=``; m, and angles in the table's units, R = Rz(yaw)·Ry(pitch)·Rx(roll) as
+  in URDF; identity if absent). Other ``#`` lines at the top are free comments.
 * a header row starting ``type,a,alpha,d,theta,lower,upper`` (one row per joint; ``type`` R or T;
   lengths in metres; ``lower``/``upper`` empty for an unlimited revolute joint), then, in any order,
   the optional columns of the Robotics Toolbox's ``RevoluteDH(m=, r=, I=)``, per link in the link's
@@ -30,22 +34,26 @@ from pathlib import Path
 from typing import Literal, TypeGuard
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from armlab.drives.read import DRIVE_COLUMNS, drive_train
-from armlab.kinematics.batch import chain_points
+from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
+from armlab.kinematics.batch import ZStep, chain_points
 from armlab.kinematics.dh import DHRow, DHTable
+from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm, Forward
-from armlab.models.arm_file import MAX_JOINTS, file_number, read_text
+from armlab.models.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
-__all__ = ["DHInertial", "from_dh", "from_dh_csv", "read_dh_csv"]
+__all__ = ["DHInertial", "dh_base_tool", "dh_inertials", "from_dh", "from_dh_csv", "read_dh_csv", "read_dh_poses"]
 
 _DH_COLUMNS = ("type", "a", "alpha", "d", "theta", "lower", "upper")
 _COM_COLUMNS = ("cx", "cy", "cz")
 _INERTIA_COLUMNS = ("Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz")
 _OPTIONAL_COLUMNS = ("mass", *_COM_COLUMNS, *_INERTIA_COLUMNS, "effort", "velocity", *DRIVE_COLUMNS)
 _DIRECTIVES = {"convention": ("standard", "modified"), "units": ("rad", "deg")}
+#: The header lines that place the chain: ``# base: x y z roll pitch yaw`` and ``# tool: …``.
+_POSES = ("base", "tool")
 _KINDS: tuple[Literal["R", "T"], ...] = ("R", "T")
 
 
@@ -64,15 +72,21 @@ class DHInertial:
 
 
 def _header_comments(path: Path, lines: list[str]) -> tuple[dict[str, str], list[str]]:
-    """The ``# convention:`` / ``# units:`` settings of the leading ``#`` lines, and the lines after them."""
+    """The ``# convention:`` / ``# units:`` settings and the ``# base:`` / ``# tool:`` texts of the leading ``#``
+    lines, and the lines after them."""
     settings: dict[str, str] = {}
     while lines and lines[0].lstrip().startswith("#"):
         line = lines.pop(0)
         key, colon, value = line.lstrip().lstrip("#").partition(":")
         key, value = key.strip().lower(), value.strip().lower()
-        mentioned = [name for name in _DIRECTIVES  # a line starting "# unit…:" or "# convention… =" is a setting
+        mentioned = [name for name in (*_DIRECTIVES, *_POSES)  # a line starting "# unit…:" or "# tool… =" is a setting
                      if re.match(rf"\s*#\s*{name.rstrip('s')}\w*\s*[:=]", line.lower())]
-        if colon and key in _DIRECTIVES and value in _DIRECTIVES[key] and key not in settings:
+        if colon and key in _POSES and key not in settings:
+            settings[key] = value
+        elif mentioned and mentioned[0] in _POSES:
+            raise ValueError(f"{path}: header line {line.strip()!r}: write it once as "
+                             f"'# {mentioned[0]}: x y z roll pitch yaw'")
+        elif colon and key in _DIRECTIVES and value in _DIRECTIVES[key] and key not in settings:
             settings[key] = value
         elif mentioned:  # a misspelt or repeated setting must not be ignored silently
             name = mentioned[0]
@@ -82,20 +96,24 @@ def _header_comments(path: Path, lines: list[str]) -> tuple[dict[str, str], list
 
 
 def _columns(path: Path, fieldnames: Sequence[str] | None) -> list[str]:
-    """The header's column names (optional ones spelt as documented); errors name what is wrong."""
+    """The header's column names (optional ones spelt as documented; empty trailing names, as a spreadsheet's
+    trailing commas give, dropped); errors name what is wrong."""
     names = [f.strip() for f in fieldnames or []]
+    while names and not names[-1]:
+        names.pop()
+    lowered = [name.lower() for name in names]
+    repeated = sorted({name for name, low in zip(names, lowered, strict=True) if lowered.count(low) > 1})
+    if repeated:
+        raise ValueError(f"{path}: column(s) {', '.join(repeated)} appear more than once in the header")
     if tuple(names[:7]) != _DH_COLUMNS:
         raise ValueError(f"{path}: header {','.join(names)!r} must start with {','.join(_DH_COLUMNS)}")
     known = {c.lower(): c for c in _OPTIONAL_COLUMNS}
     extra = names[7:]
-    unknown = [c for c in extra if c.lower() not in known]
+    unknown = [c or "''" for c in extra if c.lower() not in known]  # an empty name (a,,b) shown as ''
     if unknown:
         raise ValueError(f"{path}: unknown column(s) {', '.join(unknown)}; allowed after "
                          f"{','.join(_DH_COLUMNS)}: {','.join(_OPTIONAL_COLUMNS)}")
     extra = [known[c.lower()] for c in extra]
-    repeated = sorted({c for c in extra if extra.count(c) > 1})
-    if repeated:
-        raise ValueError(f"{path}: column(s) {', '.join(repeated)} appear more than once")
     orphans = [c for c in extra if c in _COM_COLUMNS + _INERTIA_COLUMNS and "mass" not in extra]
     if orphans:
         raise ValueError(f"{path}: column(s) {', '.join(orphans)} need the mass column")
@@ -108,7 +126,10 @@ def _is_kind(text: str) -> TypeGuard[Literal["R", "T"]]:
 
 
 def _angle(value: float, deg: bool, what: str) -> float:
-    """``value`` in radians; in a radian table, a value that can only be degrees is an error."""
+    """A DH angle (α or θ) in radians; in a radian table, one beyond ±2π can only be degrees: an error.
+
+    Joint limits are not held to ±2π (a wrist may turn ±400°): :func:`read_dh_csv` converts them with ``# units``.
+    """
     if deg:
         return float(np.radians(value))
     if abs(value) > 2 * np.pi + 1e-9:
@@ -140,16 +161,20 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
     settings, lines = _header_comments(path, read_text(path, "DH table").splitlines())
     deg = settings.get("units") == "deg"
     reader = csv.reader(lines)
-    columns = _columns(path, next(reader, None))
-    rows, limits, inertials = [], [], []
+    try:
+        columns = _columns(path, next(reader, None))
+        records = [(number, values) for number, values in enumerate(reader, start=1) if any(v.strip() for v in values)]
+    except csv.Error as error:  # a cell longer than csv's field limit (131072 characters)
+        raise ValueError(f"{path}: the DH table cannot be read as CSV: {error}: a cell holds one number") from None
+    rows: list[DHRow] = []
+    limits, inertials = [], []
     drive_cells: dict[str, list[str]] = {name: [] for name in columns if name in DRIVE_COLUMNS}
-    for number, values in enumerate(reader, start=1):
-        if not values:
-            continue
+    for number, values in records:  # blank and whitespace-only lines are not rows
+        values = _without_trailing_blanks(values, len(columns))
         if len(values) != len(columns):
             raise ValueError(f"{path}: row {number} has {len(values)} values; expected {len(columns)} "
                              f"({','.join(columns)})")
-        if number > MAX_JOINTS:
+        if len(rows) == MAX_JOINTS:
             raise ValueError(f"{path}: more than {MAX_JOINTS} rows: armlab takes arms of at most {MAX_JOINTS} "
                              "joints (its plots, replay and numerical IK are not made for longer chains)")
         record = {k: v.strip() for k, v in zip(columns, values, strict=True)}
@@ -169,8 +194,8 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
             limits.append(JointLimits(None, None, effort, velocity))
         else:
             lo, hi = (file_number(record[k], f"{where}: {k}") for k in ("lower", "upper"))
-            if kind == "R":
-                lo, hi = _angle(lo, deg, f"{where}: lower"), _angle(hi, deg, f"{where}: upper")
+            if kind == "R" and deg:
+                lo, hi = float(np.radians(lo)), float(np.radians(hi))
             if lo >= hi:
                 raise ValueError(f"{where}: lower = {lo} must be below upper = {hi}")
             limits.append(JointLimits(lo, hi, effort, velocity))
@@ -183,6 +208,13 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
     # _header_comments let only "standard" or "modified" through; absent is standard
     table = DHTable(tuple(rows), "modified" if settings.get("convention") == "modified" else "standard")
     return table, limits, inertials if "mass" in columns else None, drive_cells
+
+
+def _without_trailing_blanks(values: list[str], count: int) -> list[str]:
+    """A row's cells without the empty cells past the ``count`` columns (a spreadsheet's trailing commas)."""
+    while len(values) > count and not values[-1].strip():
+        values = values[:-1]
+    return values
 
 
 def _dh_inertial(record: dict[str, str], where: str) -> DHInertial:
@@ -198,18 +230,57 @@ def _dh_inertial(record: dict[str, str], where: str) -> DHInertial:
     return DHInertial(mass, (c[0], c[1], c[2]), inertia)
 
 
+def _pose(path: Path, key: str, text: str, deg: bool) -> NDArray:
+    """The ``# base:`` / ``# tool:`` header text ``x y z roll pitch yaw`` (commas allowed) as a 4×4 pose."""
+    parts = text.replace(",", " ").split()
+    if len(parts) != 6:
+        raise ValueError(f"{path}: '# {key}: {text}' needs six numbers x y z roll pitch yaw (m, then the table's "
+                         "angle units)")
+    x, y, z, *angles = (file_number(part, f"{path}: {key}") for part in parts)
+    roll, pitch, yaw = np.radians(angles) if deg else angles
+    return homogeneous((T_Z6(yaw) @ T_Z5(pitch) @ T_Z4(roll))[:3, :3], np.array([x, y, z]))
+
+
+def read_dh_poses(path: str | Path) -> tuple[NDArray | None, NDArray | None]:
+    """A DH table file's ``# base:`` and ``# tool:`` header lines as 4×4 poses (``None`` where absent)."""
+    path = Path(path)
+    settings, _ = _header_comments(path, read_text(path, "DH table").splitlines())
+    deg = settings.get("units") == "deg"
+    base, tool = (_pose(path, key, settings[key], deg) if key in settings else None for key in _POSES)
+    return base, tool
+
+
+def _dh_in_links(table: DHTable, locating: LocatingTable, base: NDArray) -> list[NDArray]:
+    """Each DH frame i in the URDF's link frame {i} (``base``: DH frame 0 in the base frame): X = T_{{i}}⁻¹ · T_i,
+    constant in q, both in the base frame."""
+    zero = np.zeros(table.n)
+    urdf_frames, dh_frames = locating.frames(zero)[1:table.n + 1], base @ table.frames(zero)[1:]
+    return [np.linalg.solve(F, D) for F, D in zip(urdf_frames, dh_frames, strict=True)]
+
+
 def from_dh(
     table: DHTable,
     limits: Sequence[JointLimits],
     inertials: Sequence[DHInertial] | None = None,
     name: str = "dh_arm",
+    base: NDArray | None = None,
+    tool: NDArray | None = None,
 ) -> Arm:
     """An arm from a DH table: its URDF comes from the same builder as the paper arms'.
 
     ``inertials`` (one per link, in the links' DH frames) are moved into the URDF's link frames {i};
-    ``None`` or all masses 0 gives a kinematic arm (``has_dynamics`` False, no ``<inertial>``).
+    ``None`` or all masses 0 gives a kinematic arm (``has_dynamics`` False, no ``<inertial>``). ``base``
+    (4×4) is DH frame 0 in the arm's base frame and ``tool`` (4×4) the tool frame in DH frame n
+    (``None``: the identity; :func:`dh_base_tool` gives them back).
     """
-    locating = table.locating_table()
+    base_pose = np.eye(4) if base is None else np.asarray(base, dtype=float)
+    tool_pose = None if tool is None else np.asarray(tool, dtype=float)
+    plain = table.locating_table()
+    first = plain.rows[0]
+    T0 = base_pose @ first.T_fixed  # the base pose goes into the first row: no transform is added in code
+    placed = JointRow(first.name, first.kind, tuple(T0[:3, 3]), first.k, tuple(map(tuple, T0[:3, :3])))
+    locating = LocatingTable((placed, *plain.rows[1:]),
+                             tool=plain.tool if tool_pose is None else plain.tool @ tool_pose)
     n = table.n
     inertials = inertials or ()  # None: a kinematic arm
     has_dynamics = any(body.mass > 0 for body in inertials)
@@ -217,11 +288,20 @@ def from_dh(
     if has_dynamics:
         if len(inertials) != n:
             raise ValueError(f"{name}: need {n} link inertials, got {len(inertials)}")
-        # link i carries both its DH frame i and the URDF's frame {i}: X = T_{0,{i}}⁻¹ · T_{0,i}, constant in q
-        zero = np.zeros(n)
-        urdf_frames, dh_frames = locating.frames(zero)[1:n + 1], table.frames(zero)[1:]
-        bodies = tuple(_moved(body, np.linalg.solve(F, D)) for body, F, D in
-                       zip(inertials, urdf_frames, dh_frames, strict=True))
+        size = sum(abs(row.a) + abs(row.d) for row in table.rows) + sum(
+            max(abs(lim.lower or 0.0), abs(lim.upper or 0.0)) for row, lim in zip(table.rows, limits, strict=True)
+            if row.kind == "T")
+        for i, body in enumerate(inertials, start=1):
+            check_com_distance(float(np.linalg.norm(body.com)), size, f"{name}: link {i}")
+        # link i carries both its DH frame i and the URDF's frame {i}
+        bodies = tuple(_moved(body, X) for body, X in
+                       zip(inertials, _dh_in_links(table, locating, base_pose), strict=True))
+    points = tuple(Point(f"O{i}", i, (0.0, 0.0, 0.0)) for i in range(1, n))
+    if tool_pose is None:  # the tool is DH frame n
+        points += (Point(f"O{n}", n + 1, (0.0, 0.0, 0.0)),)
+    else:
+        on = np.linalg.solve(tool_pose, np.array([0.0, 0.0, 0.0, 1.0]))[:3]  # DH frame n's origin, in the tool frame
+        points += (Point(f"O{n}", n + 1, (float(on[0]), float(on[1]), float(on[2]))), Point("tool", n + 1, (0, 0, 0)))
     return Arm(
         name=name,
         paper="user DH table",
@@ -231,12 +311,13 @@ def from_dh(
         table=locating,
         bodies=bodies,
         limits=tuple(limits),
-        points=tuple(Point(f"O{i}", i, (0.0, 0.0, 0.0)) for i in range(1, n)) + (Point(f"O{n}", n + 1, (0, 0, 0)),),
-        tool_name=f"O{n}",
+        points=points,
+        tool_name=f"O{n}" if tool_pose is None else "tool",
         gravity=(0.0, 0.0, -9.81),
-        forward_fn=lambda q: _dh_forward(table, q),
+        forward_fn=lambda q: _dh_forward(table, base_pose, tool_pose, q),
         has_dynamics=has_dynamics,
         dh=table,
+        tool_source="DH frame n" if tool_pose is None else "DH frame n moved by the table's '# tool:' pose",
     )
 
 
@@ -250,14 +331,55 @@ def _moved(body: DHInertial, X: NDArray) -> Body:
 
 
 def from_dh_csv(path: str | Path) -> Arm:
-    """An arm from a DH table file (:func:`read_dh_csv`), named after the file, with the drive train of its drive
-    columns (:func:`armlab.drives.read.drive_train`; none: ideal drives)."""
+    """An arm from a DH table file (:func:`read_dh_csv`, :func:`read_dh_poses`), named after the file, with the drive
+    train of its drive columns (:func:`armlab.drives.read.drive_train`; none: ideal drives)."""
     table, limits, inertials, drive_cells = _read(Path(path))
-    arm = from_dh(table, limits, inertials, name=Path(path).stem)
+    base, tool = read_dh_poses(path)
+    arm = from_dh(table, limits, inertials, name=Path(path).stem, base=base, tool=tool)
     return arm.with_drives(drive_train(drive_cells, arm.n, str(path)) if drive_cells else None)
 
 
-def _dh_forward(table: DHTable, q: np.ndarray) -> Forward:
-    """The DH frames' origins O1 … On; the tool is DH frame n."""
-    tool, points = chain_points(q, table.steps, {f"O{i}": (i, (0.0, 0.0, 0.0)) for i in range(1, table.n + 1)})
-    return Forward(tool, points)
+def dh_base_tool(arm: Arm) -> tuple[NDArray, NDArray]:
+    """A DH arm's base (DH frame 0 in the base frame) and tool (the tool frame in DH frame n) poses, 4×4 each."""
+    if arm.dh is None:
+        raise ValueError(f"{arm.name} has no DH table")
+    plain = arm.dh.locating_table()
+    base = arm.table.rows[0].T_fixed @ np.linalg.inv(plain.rows[0].T_fixed)
+    return base, np.linalg.solve(plain.tool, arm.table.tool)
+
+
+def dh_inertials(arm: Arm) -> list[DHInertial] | None:
+    """A DH arm's link mass properties in the links' DH frames, as its table gives them (``None``: a kinematic arm).
+
+    The inverse of :func:`from_dh`'s move into the URDF's link frames: a centre of mass typed as ``cy = −0.2``
+    in DH frame i comes back as −0.2 (to rounding), whatever frame {i} the URDF uses.
+    """
+    if arm.dh is None:
+        raise ValueError(f"{arm.name} has no DH table")
+    if not arm.has_dynamics:
+        return None
+    out = []
+    masses, coms, inertias = arm.mass_properties()
+    for mass, com, inertia, X in zip(masses, coms, inertias, _dh_in_links(arm.dh, arm.table, dh_base_tool(arm)[0]),
+                                     strict=True):
+        R = X[:3, :3]
+        c, I = _rounded(R.T @ (com - X[:3, 3])), _rounded(R.T @ inertia @ R)
+        out.append(DHInertial(float(mass), (float(c[0]), float(c[1]), float(c[2])), tuple(map(tuple, I.tolist()))))
+    return out
+
+
+def _rounded(values: NDArray) -> NDArray:
+    """``values`` with the round-off of a frame change (below 1e-14 of the largest, e.g. 2e-35) set to 0."""
+    return np.where(np.abs(values) < 1e-14 * np.abs(values).max(initial=0.0), 0.0, values)
+
+
+def _dh_forward(table: DHTable, base: NDArray, tool: NDArray | None, q: np.ndarray) -> Forward:
+    """The DH frames' origins O1 … On (and the tool point, with a tool pose), in the base frame; the tool frame
+    is DH frame n (times ``tool``)."""
+    first, *rest = table.steps
+    steps = (ZStep(base if first.pre is None else base @ first.pre, first.revolute, first.post), *rest)
+    named: dict[str, tuple[int, ArrayLike]] = {f"O{i}": (i, (0.0, 0.0, 0.0)) for i in range(1, table.n + 1)}
+    if tool is not None:
+        named["tool"] = (table.n, tool[:3, 3])
+    pose, points = chain_points(q, steps, named, tool)
+    return Forward(pose, points)

@@ -1,13 +1,20 @@
-"""Users' own arms from a URDF file of one serial chain.
+"""Users' own arms from a URDF file of one serial chain, as they come from ROS and robot vendors.
 
 A **URDF file** must describe one serial chain (fixed joints are folded into the next joint's
 origin; fixed side branches become named points; links rigidly attached through fixed joints are
-one body); its root link is the base frame and the tool is the end of the chain (past the last
-joint, the first fixed child declared). Refused with a one-line ``ValueError``: XML document-type
-or entity definitions, joint cycles, mimic, floating and planar joints, reversed limits, a
-non-physical inertia, non-finite numbers, more than :data:`~armlab.models.arm_file.MAX_JOINTS` joints,
-and mesh files (and the files a mesh pulls in) outside the URDF's folder or its ROS package
-(:func:`package_roots`, :func:`armlab.models.meshes.check_meshes`).
+one body); its root link is the base frame (a root link named ``world``, the ROS convention, is
+Drake's world itself) and the tool is the link ``tool`` names (``--tool LINK``, ``load(…, tool=)``:
+the last moving link or a link welded to it), else the end of the chain (past the last joint, the
+first fixed child declared). ``package://NAME/…`` meshes are found through :func:`package_roots`: the
+URDF's folder and the two above it, the folders ``package_paths`` names (``--package-path``) and
+``ROS_PACKAGE_PATH``. A mesh that cannot be found, or a collision mesh Drake cannot use, is left out
+with a warning (:mod:`armlab.models.meshes`). ``<mimic>`` on a fixed joint does nothing and is ignored.
+Refused with a one-line ``ValueError``: XML document-type or entity definitions (outside comments),
+an empty ``<robot>``, an unexpanded xacro file, joint cycles, mimic on a moving joint, floating and
+planar joints, reversed limits, a non-physical inertia or a centre of mass far beyond the arm
+(:func:`~armlab.models.arm_file.check_com_distance`), non-finite numbers, more than
+:data:`~armlab.models.arm_file.MAX_JOINTS` joints, and mesh files (and the files a mesh pulls in)
+outside the URDF's folder and its ROS packages.
 
 The arm's drive train (``Arm.drives``) is what the URDF says of it, as Drake reads it: each joint's
 ``<dynamics damping= friction=>`` (viscous B, N·m·s/rad, and Coulomb T_c, N·m, joint side) and the rotor
@@ -17,8 +24,10 @@ inertia and gear ratio of its ``<transmission>``'s ``<actuator>`` (``<drake:roto
 
 from __future__ import annotations
 
+import os
 import re
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -29,16 +38,27 @@ from armlab.drives.train import DriveTrain
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm
-from armlab.models.arm_file import MAX_JOINTS, file_number, read_text
-from armlab.models.meshes import check_meshes
+from armlab.models.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
+from armlab.models.meshes import Meshes, check_meshes, without_doctype
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
-__all__ = ["from_urdf", "package_roots"]
+__all__ = ["check_com_distances", "check_numbers", "from_urdf", "package_roots", "read_xml"]
+
+#: The namespaces of xacro, the macro language ROS URDFs are often written in (expanded by ``xacro``).
+_XACRO = ("{http://www.ros.org/wiki/xacro}", "{http://ros.org/wiki/xacro}", "{http://wiki.ros.org/xacro}")
+#: Drake's URDF extensions (``<drake:gear_ratio>`` …) keep their prefix when armlab writes a URDF back out
+#: (:func:`_drake_text`): Drake's parser reads the prefixed names, not namespaces.
+ET.register_namespace("drake", "http://drake.mit.edu")
+#: How deep below a ``--package-path`` / ``ROS_PACKAGE_PATH`` folder packages are looked for (as ``rospack``).
+_PACKAGE_DEPTH = 4
 
 _TEXT_ATTRIBUTES = {"name", "filename", "link", "joint", "type", "version", "reference", "xmlns"}
 _JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
 #: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …); a URDF may use them undeclared.
 DRAKE_NAMESPACE = "http://drake.mit.edu"
+# the URDF handed to Drake (Arm.model_text) is written back by ElementTree: its Drake tags keep the prefix Drake's
+# parser looks for (``drake:gear_ratio``, not ``ns0:gear_ratio``)
+ET.register_namespace("drake", DRAKE_NAMESPACE)
 
 
 def _vector(text: str | None, what: str, default: str) -> np.ndarray:
@@ -58,10 +78,7 @@ def _pose(element: ET.Element | None, what: str) -> np.ndarray:
 
 def _xml(path: Path, what: str) -> ET.Element:
     """The root element of an XML file; entity and document-type definitions (entity expansion) are refused."""
-    text = read_text(path, what)
-    if "<!DOCTYPE" in text or "<!ENTITY" in text:
-        raise ValueError(f"{path}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not "
-                         f"allowed in a {what}")
+    text = without_doctype(read_text(path, what), f"{path} ({what})")
     if "drake:" in text and "xmlns:drake" not in text:  # Drake's own tags, their namespace undeclared as Drake allows
         text = re.sub(r"<robot\b", f'<robot xmlns:drake="{DRAKE_NAMESPACE}"', text, count=1)
     try:
@@ -75,7 +92,21 @@ def _parse_urdf(path: Path) -> ET.Element:
     root = _xml(path, "URDF")
     if root.tag != "robot":
         raise ValueError(f"{path}: the root element is <{root.tag}>, a URDF needs <robot>")
-    for element in root.iter():  # every number in the file, not only the ones armlab reads itself
+    if any(element.tag.startswith(_XACRO) for element in root.iter()) or any(
+            "${" in value or "$(" in value for element in root.iter() for value in element.attrib.values()):
+        raise ValueError(f"{path} is an unexpanded xacro file (<xacro:…> elements or ${{…}}/$(…) expressions): "
+                         "expand it first, e.g. 'xacro FILE.urdf.xacro > FILE.urdf'")
+    if root.find("link") is None:
+        raise ValueError(f"{path}: the <robot> has no <link> elements: an empty URDF (a URDF names its links and "
+                         "the joints between them)")
+    check_numbers(path, root)
+    return root
+
+
+def check_numbers(path: Path, root: ET.Element) -> None:
+    """``ValueError`` naming the element unless every number in the XML file ``path`` (``root`` parsed), not only
+    the ones armlab reads itself, is finite (Drake's parser reads the rest)."""
+    for element in root.iter():
         texts = [(f"{key}={value!r}", value) for key, value in element.attrib.items() if key not in _TEXT_ATTRIBUTES]
         for where, value in texts + [("text", element.text or "")]:
             for token in value.split():
@@ -86,6 +117,13 @@ def _parse_urdf(path: Path) -> ET.Element:
                 if not np.isfinite(number):
                     raise ValueError(f"{path}: <{element.tag}> {where if where != 'text' else repr(value.strip())} "
                                      "has a value that is not a finite number")
+
+
+def read_xml(path: Path, what: str) -> ET.Element:
+    """The root element of a user's XML file ``path`` (a ``what``): bounded UTF-8 text, no document-type or
+    entity definitions, every number finite."""
+    root = _xml(path, what)
+    check_numbers(path, root)
     return root
 
 
@@ -122,7 +160,7 @@ def _tree(path: Path, links: dict[str, ET.Element],
         if kind not in _JOINT_TYPES:
             raise ValueError(f"{path}: joint {name!r} has type {kind!r}; allowed: {', '.join(_JOINT_TYPES)}")
         mimic = joint.find("mimic")
-        if mimic is not None:
+        if mimic is not None and kind != "fixed":  # on a fixed joint it does nothing
             raise ValueError(f"{path}: joint {name!r} mimics joint {mimic.get('joint')!r}: mimic "
                              "joints are not supported (each joint of an armlab arm moves independently)")
         parent, child = joint.find("parent"), joint.find("child")
@@ -255,8 +293,54 @@ def _drive_train(path: Path, root: ET.Element, joints: dict[str, ET.Element], or
         raise ValueError(f"{path}: {error} (joints in chain order: {', '.join(order)})") from None
 
 
-def from_urdf(path: str | Path) -> Arm:
-    """An arm from a user's URDF file of one serial chain; errors name what is wrong (module docstring)."""
+def _tool_path(tool: str | None, base: str, children: dict[str, list[_Joint]]) -> set[str]:
+    """The links from the root ``base`` to the link ``tool`` (empty for no tool)."""
+    if tool is None:
+        return set()
+    parent = {j.child: link for link, below in children.items() for j in below}
+    path, link = {tool}, tool
+    while link != base:
+        link = parent[link]
+        path.add(link)
+    return path
+
+
+def _welded(link: str, children: dict[str, list[_Joint]]) -> list[str]:
+    """``link`` and the links welded below it by fixed joints, depth first."""
+    out, stack = [], [link]
+    while stack:
+        name = stack.pop()
+        out.append(name)
+        stack.extend(reversed([j.child for j in children[name] if j.kind == "fixed"]))
+    return out
+
+
+def _drake_text(root: ET.Element, meshes: Meshes) -> str:
+    """The URDF as Drake reads it: each kept mesh as the ``file://`` URI of its checked file, the visuals and
+    collisions :func:`~armlab.models.meshes.check_meshes` left out removed, ``<mimic>`` of fixed joints removed
+    (Drake refuses one; it does nothing), effort and velocity limits of 0 (ROS's "none") removed. ``root`` is
+    changed."""
+    for mesh, file in meshes.files.items():
+        mesh.set("filename", file.as_uri())
+    for link in root.iter("link"):
+        for element in [child for child in link if child in meshes.dropped]:
+            link.remove(element)
+    for joint in root.iter("joint"):
+        for mimic in joint.findall("mimic") if joint.get("type") == "fixed" else []:
+            joint.remove(mimic)
+        for limit in joint.findall("limit"):  # 0, ROS's "none": unknown to armlab, so no limit for Drake either
+            for key in ("effort", "velocity"):  # (Drake skips the transmission of a joint with effort 0)
+                if limit.get(key) is not None and file_number(limit.get(key), key) == 0:
+                    del limit.attrib[key]
+    return ET.tostring(root, encoding="unicode")
+
+
+def from_urdf(path: str | Path, tool: str | None = None, package_paths: Sequence[str | Path] = ()) -> Arm:
+    """An arm from a user's URDF file of one serial chain; errors name what is wrong (module docstring).
+
+    ``tool``: the tool frame's link (the last moving link or one welded to it); ``None``: the end of the chain.
+    ``package_paths``: folders holding the ROS packages the URDF's ``package://`` meshes name (:func:`package_roots`).
+    """
     path = Path(path)
     root = _parse_urdf(path)
     links = _named(path, root.findall("link"), "link")
@@ -265,22 +349,26 @@ def from_urdf(path: str | Path) -> Arm:
     if len(movable) > MAX_JOINTS:
         raise ValueError(f"{path}: {len(movable)} movable joints: armlab takes arms of at most {MAX_JOINTS} joints")
     base, children = _tree(path, links, joints)
+    if tool is not None and tool not in links:
+        raise ValueError(f"{path}: tool link {tool!r} is not a link of the URDF")
     moving_below = _moving_below(base, children)
-    check_meshes(path, root, package_roots(path))
+    meshes = check_meshes(path, root, package_roots(path, package_paths))
+    to_tool = _tool_path(tool, base, children)
 
     rows: list[JointRow] = []
     limits, bodies, names, points = [], [], [], []
     carried = np.eye(4)
     link = base
-    while children[link]:
+    while children[link] and not (link == tool and not moving_below[link]):
         moving = [j for j in children[link] if j.kind != "fixed" or moving_below[j.child]]
         if len(moving) > 1:
             raise ValueError(
                 f"{path}: link {link!r} branches into {len(moving)} moving chains; armlab takes serial arms"
             )
-        # side branches of fixed joints are named points; past the last joint the first is the tool
-        joint, *side = moving or children[link]
-        for other in side + [j for j in children[link] if j not in moving and j is not joint]:
+        # side branches of fixed joints are named points; past the last joint the first (or the tool's) is the tool
+        toward_tool = [j for j in children[link] if j.child in to_tool]
+        joint = (moving or toward_tool or children[link])[0]
+        for other in [j for j in children[link] if j is not joint]:
             T = carried @ _pose(other.element, f"{path}: joint {other.name!r}")
             points.append(Point(other.child, len(rows), tuple(T[:3, 3])))
         name, kind = joint.name, joint.kind
@@ -303,12 +391,22 @@ def from_urdf(path: str | Path) -> Arm:
     if not rows:
         raise ValueError(f"{path}: the URDF has no movable joint")
     n = len(rows)
+    past_last = _welded(names[-1], children)
+    if tool is not None and link != tool:
+        raise ValueError(f"{path}: tool link {tool!r} is not past the last joint {rows[-1].name!r}; allowed: "
+                         f"{', '.join(past_last)}")
+    # the fixed children of the tool link are points on it
+    points.extend(Point(j.child, n + 1, tuple(_pose(j.element, f"{path}: joint {j.name!r}")[:3, 3]))
+                  for j in children[link])
+    table = LocatingTable(tuple(rows), tool=carried)
+    check_com_distances(path, table, bodies, limits, names)
+    others = [name for name in past_last if name != link]
     return Arm(
         name=root.get("name") or path.stem,
         paper=f"user URDF {path}",
         parameters={},
         notes={},
-        table=LocatingTable(tuple(rows), tool=carried),
+        table=table,
         bodies=tuple(bodies),
         limits=tuple(limits),
         points=tuple(points) + (Point(link, n + 1, (0.0, 0.0, 0.0)),),
@@ -319,17 +417,61 @@ def from_urdf(path: str | Path) -> Arm:
         has_dynamics=any(body.mass > 0 for body in bodies),
         link_names=tuple(names),
         drives=_drive_train(path, root, joints, [row.name for row in rows]),
+        model_text=_drake_text(root, meshes),
+        tool_source=("chosen (tool=, --tool)" if tool is not None else
+                     "the end of the chain: the first link declared past the last joint"
+                     + (f"; other choices (--tool LINK): {', '.join(others)}" if others else "")),
     )
 
 
-def package_roots(urdf: Path) -> dict[str, Path]:
-    """The ROS packages a URDF may use: ``{name: package.xml}`` in its folder or the two above it."""
+def check_com_distances(path: Path, table: LocatingTable, bodies: list[Body], limits: list[JointLimits],
+                names: list[str]) -> None:
+    """``ValueError`` for a link whose centre of mass lies far beyond the arm's size (its frames' offsets and its
+    prismatic strokes summed): :func:`~armlab.models.arm_file.check_com_distance`."""
+    size = sum(float(np.linalg.norm(row.P)) for row in table.rows) + float(np.linalg.norm(table.tool[:3, 3])) + sum(
+        max(abs(lim.lower or 0.0), abs(lim.upper or 0.0)) for row, lim in zip(table.rows, limits, strict=True)
+        if row.kind == "T")
+    for body, name in zip(bodies, names, strict=True):
+        if body.com is not None:
+            check_com_distance(float(np.linalg.norm(body.com)), size, f"{path}: link {name!r}")
+
+
+def package_roots(urdf: Path, package_paths: Sequence[str | Path] = ()) -> dict[str, Path]:
+    """The ROS packages a URDF may use: ``{name: package.xml}``.
+
+    Found, the first of a name winning, in the URDF's folder and the two above it (a package's layout), then
+    below each folder of ``package_paths`` and of ``ROS_PACKAGE_PATH`` (``os.pathsep``-separated), as ROS's
+    ``rospack`` and Drake's ``PackageMap`` do: a folder holding a ``package.xml`` is a package (not searched
+    further), others are searched up to :data:`_PACKAGE_DEPTH` levels down. ``ValueError`` for a
+    ``package_paths`` entry that is not a folder.
+    """
     out: dict[str, Path] = {}
-    for folder in list(Path(urdf).resolve().parents)[:3]:
-        package_xml = folder / "package.xml"
+    found = [folder / "package.xml" for folder in list(Path(urdf).resolve().parents)[:3]]
+    for folder in package_paths:
+        if not Path(folder).is_dir():
+            raise ValueError(f"package path {str(folder)!r} is not a folder: give the folder that holds ROS "
+                             "packages (each a folder with a package.xml)")
+    env = [folder for folder in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if folder]
+    for folder in [*package_paths, *env]:
+        found.extend(_packages_below(Path(folder)))
+    for package_xml in found:
         if package_xml.is_file():
             name = (_xml(package_xml, "package.xml").findtext("name") or "").strip()
             if not name:
                 raise ValueError(f"{package_xml}: a package.xml needs a <name>")
-            out.setdefault(name, package_xml)
+            out.setdefault(name, package_xml.resolve())
+    return out
+
+
+def _packages_below(folder: Path) -> list[Path]:
+    """The ``package.xml`` files of the ROS packages in ``folder`` or below it (see :func:`package_roots`)."""
+    out = []
+    for where, subfolders, files_here in os.walk(folder):
+        depth = len(Path(where).relative_to(folder).parts)
+        if "package.xml" in files_here:
+            out.append(Path(where) / "package.xml")
+            subfolders.clear()
+        elif depth >= _PACKAGE_DEPTH:
+            subfolders.clear()
+        subfolders[:] = sorted(name for name in subfolders if not name.startswith("."))
     return out

@@ -23,6 +23,7 @@ from html import escape
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.drives.train import DriveTrain
 from armlab.kinematics.locating import LocatingTable, orientation_angles
 
 __all__ = ["Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_inertials", "urdf_text"]
@@ -179,19 +180,26 @@ def urdf_text(
     points: tuple[Point, ...],
     tool_name: str = "tool",
     comment: str = "",
+    drives: DriveTrain | None = None,
+    ros_limits: bool = False,
 ) -> str:
     """URDF of the chain: links ``base_link``, ``link1`` … ``linkN``, ``tool_name`` and the points.
 
-    ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint.
+    ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint; ``drives`` the drive train
+    (module docstring), ``None`` for none. ``ros_limits``: an unknown effort or velocity limit is written as 0,
+    ROS's "none" (urdfdom, and so Pinocchio, needs both attributes; armlab reads 0 as unknown), not left out.
     """
     n = table.n
     if len(bodies) != n or len(limits) != n:
         raise ValueError(f"{name}: need {n} bodies and {n} joint limits, got {len(bodies)} and {len(limits)}")
+    if drives is not None and drives.n != n:
+        raise ValueError(f"{name}: the drive train has {drives.n} joints, the arm {n}")
     link_names = ["base_link"] + [f"link{i}" for i in range(1, n + 1)] + [tool_name]
     out = ['<?xml version="1.0"?>']
     if comment:
         out.append(f"<!-- {comment} -->")
-    out.append(f'<robot name="{escape(name, quote=True)}">')  # html, not xml.sax.saxutils: that imports urllib
+    drake = ' xmlns:drake="http://drake.mit.edu"' if drives is not None else ""
+    out.append(f'<robot name="{escape(name, quote=True)}"{drake}>')  # html, not xml.sax.saxutils: that imports urllib
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
     out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')
     base_r = max(b.radius for b in bodies) * 2.5
@@ -242,11 +250,14 @@ def urdf_text(
         out.append(f'    <parent link="{link_names[i - 1]}"/><child link="link{i}"/>')
         out.append(f"    {_origin(row.T_fixed)}")
         out.append(f'    <axis xyz="{" ".join(map(_f, row.k))}"/>')
-        attributes = [f'{key}="{_f(value)}"' for key, value in
-                      (("lower", lim.lower), ("upper", lim.upper), ("effort", lim.effort), ("velocity", lim.velocity))
-                      if value is not None]  # an unknown effort or velocity limit is left out (unlimited)
+        rates = [(key, 0.0 if value is None and ros_limits else value)
+                 for key, value in (("effort", lim.effort), ("velocity", lim.velocity))]
+        attributes = [f'{key}="{_f(value)}"' for key, value in (("lower", lim.lower), ("upper", lim.upper), *rates)
+                      if value is not None]  # an unknown effort or velocity limit is left out (unlimited), or 0
         if attributes:
             out.append(f"    <limit {' '.join(attributes)}/>")
+        if drives is not None:
+            out.append(f'    <dynamics damping="{_f(drives.viscous[i - 1])}" friction="{_f(drives.coulomb[i - 1])}"/>')
         out.append("  </joint>")
     out.append(f'  <link name="{tool_name}"><visual><geometry><sphere radius="{_f(bodies[-1].radius * 1.2)}"/>'
                '</geometry><material name="tool"><color rgba="0.85 0.1 0.1 1"/></material></visual></link>')
@@ -255,15 +266,23 @@ def urdf_text(
     for point in points:
         if point.name in link_names:
             continue  # the point is already a link (e.g. the tool)
+        # a point of the tool frame hangs from link n (the tool link stays the end of the chain, what a reader takes)
+        parent, xyz = ((link_names[n], (table.tool @ np.array([*point.xyz, 1.0]))[:3]) if point.link == n + 1
+                       else (link_names[point.link], point.xyz))
         out.append(f'  <link name="{point.name}"/>')
-        out.append(f'  <joint name="{point.name}_weld" type="fixed"><parent link="{link_names[point.link]}"/>'
-                   f'<child link="{point.name}"/><origin xyz="{" ".join(map(_f, point.xyz))}"/></joint>')
-    for row in table.rows:
+        out.append(f'  <joint name="{point.name}_weld" type="fixed"><parent link="{parent}"/>'
+                   f'<child link="{point.name}"/><origin xyz="{" ".join(map(_f, xyz))}"/></joint>')
+    for i, row in enumerate(table.rows):
+        ratio, motor = "1", ""
+        if drives is not None:
+            ratio = _f(drives.gear_ratio[i])
+            motor = (f'<drake:gear_ratio value="{ratio}"/><drake:rotor_inertia value="{_f(drives.rotor_inertia[i])}"/>'
+                     f"<!-- gearbox efficiency {_f(drives.efficiency[i])} (no URDF or Drake tag) -->")
         out.append(f'  <transmission name="{row.name}_transmission">'
                    "<type>transmission_interface/SimpleTransmission</type>"
                    f'<joint name="{row.name}"><hardwareInterface>hardware_interface/EffortJointInterface'
                    "</hardwareInterface></joint>"
-                   f'<actuator name="{row.name}_motor"><mechanicalReduction>1</mechanicalReduction></actuator>'
-                   "</transmission>")
+                   f'<actuator name="{row.name}_motor"><mechanicalReduction>{ratio}</mechanicalReduction>{motor}'
+                   "</actuator></transmission>")
     out.append("</robot>")
     return "\n".join(out) + "\n"

@@ -48,10 +48,11 @@ def _medians_us(runs: dict[str, tuple[Callable[[], object], int]], repeat: int, 
 
 
 class Pinocchio:
-    """Pinocchio's model of the arm's URDF, its gravity, and q in Pinocchio's layout (cos, sin for continuous)."""
+    """Pinocchio's model of the arm's URDF (or of the URDF text ``urdf``, e.g. a file armlab exported), its gravity,
+    and q in Pinocchio's layout (cos, sin for continuous)."""
 
-    def __init__(self, arm: Arm) -> None:
-        self.model = pin.buildModelFromXML(arm.urdf())
+    def __init__(self, arm: Arm, urdf: str | None = None) -> None:
+        self.model = pin.buildModelFromXML(arm.urdf() if urdf is None else urdf)
         self.model.gravity.linear = np.asarray(arm.gravity, dtype=float)
         self.data = self.model.createData()
         self.frame = self.model.getFrameId(arm.tool_name)

@@ -31,7 +31,7 @@ def test_show_json(name):
     assert out.returncode == 0, out.stderr
     info = json.loads(out.stdout)
     assert set(info) == {"name", "paper", "dof", "joints", "units", "has_dynamics", "links", "dh", "gravity",
-                         "parameters", "urdf", "tool_frame", "drive_train"}
+                         "parameters", "urdf", "tool_frame", "drive_train", "tool_source", "dh_links"}
     arm = get_arm(name)
     assert info["drive_train"] is None  # a paper arm's drives are ideal
     assert info["name"] == name and info["tool_frame"] == arm.tool_name and info["dof"] == arm.n
@@ -39,7 +39,7 @@ def test_show_json(name):
     assert all(set(j) == {"name", "type", "lower", "upper", "effort", "velocity"} for j in info["joints"])
     assert [(j["effort"], j["velocity"]) for j in info["joints"]] == [(lim.effort, lim.velocity) for lim in arm.limits]
     assert info["has_dynamics"] and [link["mass"] for link in info["links"]] == [b.mass for b in arm.bodies]
-    assert info["gravity"] == list(arm.gravity) and info["dh"] is None
+    assert info["gravity"] == list(arm.gravity) and info["dh"] is None and info["dh_links"] is None
     assert info["parameters"] == dict(arm.parameters)
     assert info["urdf"].endswith(f"{name}.urdf")
 

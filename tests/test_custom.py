@@ -328,7 +328,6 @@ _DH_CASES = [
     (f"{_H},mass,Ixx\nR,0,0,0,0,,,0,0.1\n", "mass 0 kg with a nonzero inertia"),
     (f"{_H},effort\nR,0,0,0,0,,,-5\n", "row 1: effort = -5 is not allowed"),
     (f"{_H}\nR,0.4,90,0,0,,\n", r"alpha = 90 is beyond ±2π rad.*'# units: deg'"),
-    (f"{_H}\nR,0.4,0,0,0,-180,180\n", r"lower = -180 is beyond ±2π rad.*'# units: deg'"),
     (f"{_H}\nR,0.4,0,0,400,,\n", "theta = 400 is beyond"),
     (f"# unit: degrees\n{_H}\nR,0,0,0,0,,\n", "write it once as '# units: rad' or '# units: deg'"),
     (f"# units: deg\n# units: deg\n{_H}\nR,0,0,0,0,,\n", "write it once"),

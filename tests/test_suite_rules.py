@@ -139,6 +139,10 @@ ALLOWED: dict[tuple[str, str], str] = {
     ('test_workspace.py',
      'assert ws.dim == 3 and ws.motions == 2 and ws.volume == 0.0 and "curved surface" in ws.summary()["note"]'):
         BY_CONSTRUCTION,
+    ('test_dh_file_rules.py', 'assert read_dh_csv(_file(tmp_path, text))[0].rows[0].a == 5.0'):
+        PARSED,
+    ('test_dh_file_rules.py', 'assert table.n == 2 and [b.mass for b in inertials] == [1.0, 2.0]'):
+        PARSED,
 }
 
 

@@ -31,9 +31,8 @@ from armlab.analysis.workspace import (
     check_seed,
     workspace,
 )
-from armlab.cli.args import ARM_HELP, positive_int
+from armlab.cli.args import add_arm, arm_of, positive_int
 from armlab.limits import allowed, whole_text
-from armlab.models import get_arm
 
 __all__ = ["cmd_sweep", "cmd_workspace", "register"]
 
@@ -83,7 +82,7 @@ def cmd_workspace(args: argparse.Namespace) -> int:
     check_seed(args.seed, "--seed")
     if args.resolution is not None:
         check_resolution(args.resolution, "--resolution")
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     folder = workspace_folder(args.out) if args.out else None
     ws = workspace(arm, args.samples, args.resolution, args.seed)
     summary = ws.summary()
@@ -118,7 +117,7 @@ def register(subparsers: Any) -> None:
             "(Yoshikawa's and σ_min of the Jacobian) and the singular configurations. With --out, write "
             "workspace.json, slices.png, convergence.png, singular.png and workspace.html (a 3-D point cloud).", 100),
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--samples", type=positive_int, default=DEFAULT_SAMPLES, metavar="N",
                    help=f"joint-space samples, 1000 … {whole_text(MAX_SAMPLES)} "
                         f"(default {whole_text(DEFAULT_SAMPLES)})")

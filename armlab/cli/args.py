@@ -10,11 +10,29 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-__all__ = ["ARM_HELP", "Parser", "error_text", "join_negative_values", "positive_int", "silence", "write_error",
-           "write_warning"]
+__all__ = ["ARM_HELP", "Parser", "add_arm", "arm_of", "error_text", "join_negative_values", "positive_int",
+           "silence", "write_error", "write_warning"]
 
 #: The help of every command's ARM argument.
-ARM_HELP = "arm name (armlab list: paper and library arms), or a .urdf / DH .csv file"
+ARM_HELP = "arm name (armlab list: paper and library arms), or a .urdf, .sdf, MJCF .xml or DH .csv file"
+
+
+def add_arm(parser: argparse.ArgumentParser) -> None:
+    """The ARM argument of a command, and the options that say how to read a URDF file's arm."""
+    parser.add_argument("arm", help=ARM_HELP)
+    parser.add_argument("--tool", metavar="LINK", help="a URDF's tool frame: this link (the last moving link or one "
+                        "welded to it; default: the end of the chain; 'armlab show' lists the choices)")
+    parser.add_argument("--package-path", metavar="DIR", action="append", default=[],
+                        help="a folder holding the ROS packages of a URDF's package:// meshes (repeatable; "
+                        "ROS_PACKAGE_PATH is searched too)")
+
+
+def arm_of(args: argparse.Namespace) -> Any:
+    """The arm the options of :func:`add_arm` name (:func:`armlab.models.get_arm`)."""
+    # lazy: armlab --help imports this module, not the arms (start-up time)
+    from armlab.models import get_arm
+
+    return get_arm(args.arm, args.tool, args.package_path)
 
 
 class Parser(argparse.ArgumentParser):

@@ -5,16 +5,15 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from armlab.cli.args import ARM_HELP
+from armlab.cli.args import add_arm, arm_of
 from armlab.diagrams.draw import default_q, draw_arm
-from armlab.models import get_arm
 from armlab.values import joint_values
 
 __all__ = ["register"]
 
 
 def _cmd_draw(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     q = joint_values(arm, args.q, args.deg) if args.q is not None else default_q(arm)
     path = draw_arm(arm, q, args.out)
     print(f"wrote {path}")
@@ -28,7 +27,7 @@ def register(subparsers: Any) -> None:
                               description="Draw ARM's kinematic scheme at the joint values --q, like the papers' "
                                           "figures: links, joint axes, frames {0}…{n} and the tool as RGB triads, "
                                           "and the DH (a, α, d, θ) or locating (P_i, k_i) parameters.")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--q", help="joint values v1,v2,… (rad and m; see --deg); default: a paper arm's paper motion "
                                "start, other arms' zeros (within the limits)")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees")

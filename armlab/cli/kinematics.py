@@ -10,12 +10,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.cli.args import ARM_HELP
+from armlab.cli.args import add_arm, arm_of
 from armlab.drives.train import DRIVE_FIELDS
 from armlab.kinematics.differential import default_axes
 from armlab.kinematics.ik import SEEDS, solve, target_pose
 from armlab.models import ARMS, get_arm
 from armlab.models.library import LIBRARY
+from armlab.models.read_dh import dh_inertials
 from armlab.values import joint_rates, joint_values, parse_floats
 
 if TYPE_CHECKING:
@@ -56,7 +57,8 @@ def arm_info(arm: Arm) -> dict[str, Any]:
                    for joint, lim in zip(arm.joints(), arm.limits, strict=True)],
         "units": {"revolute": {"position": "rad", "velocity": "rad/s", "effort": "N·m"},
                   "prismatic": {"position": "m", "velocity": "m/s", "effort": "N"}, "mass": "kg", "com": "m",
-                  "inertia": "kg·m² about the centre of mass, in the link frame"},
+                  "inertia": "kg·m² about the centre of mass, in the link frame (links: the URDF's link frame "
+                             "{i}; dh_links: DH frame i, as the table gives them)"},
         "has_dynamics": arm.has_dynamics,
         "links": arm.links(),
         "dh": None if dh is None else {
@@ -69,18 +71,39 @@ def arm_info(arm: Arm) -> dict[str, Any]:
         "drive_train": None if arm.drives is None else {
             **{name: getattr(arm.drives, name).tolist() for name in DRIVE_FIELDS},
             "coulomb_speed": arm.drives.coulomb_speed},
+        "tool_source": arm.tool_source,
+        "dh_links": None if dh is None else _dh_links(arm),
     }
 
 
+def _dh_links(arm: Arm) -> list[dict[str, Any]] | None:
+    """A DH arm's links' mass data as its table gives them, in DH frame i (``None``: a kinematic arm)."""
+    inertials = dh_inertials(arm)
+    if inertials is None:
+        return None
+    return [{"name": f"link{i}", "mass": body.mass, "com": list(body.com), "inertia": [list(r) for r in body.inertia]}
+            for i, body in enumerate(inertials, start=1)]
+
+
+def _print_links(links: list[dict[str, Any]], frames: str) -> None:
+    """The links' mass, centre of mass and inertia diagonal, one line each, under a line saying their ``frames``."""
+    print(f"links: mass [kg], centre of mass [m] and inertia diagonal [kg·m²], {frames}")
+    for link in links:
+        com = ", ".join(f"{c:+.4g}" for c in np.where(np.abs(link["com"]) < 1e-12, 0.0, link["com"]))
+        inertia = ", ".join(f"{v:.4g}" for v in np.diag(link["inertia"]))
+        print(f"  {link['name']:10s} {link['mass']:10.6g}  com ({com})  I ({inertia})")
+
+
 def _cmd_show(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     info = arm_info(arm)
     if args.json:
         print(json.dumps(info, indent=2))
         return 0
     print(f"{arm.name}: {arm.paper}")
-    print(f"URDF: {info['urdf'] or 'generated in memory'}   tool frame: {arm.tool_name}   "
+    print(f"URDF: {info['urdf'] or 'generated in memory'}   "
           f"gravity: ({', '.join(f'{g:g}' for g in arm.gravity)}) m/s²")
+    print(f"tool frame: {arm.tool_name} ({arm.tool_source})")
     print("joints:             position limits             velocity limit   effort limit")
     for joint in info["joints"]:
         units = info["units"][joint["type"]]
@@ -102,12 +125,10 @@ def _cmd_show(args: argparse.Namespace) -> int:
     if not arm.has_dynamics:
         print("links: no mass data (a kinematic arm): torques and simulations need masses")
     else:
-        print("links: mass [kg], centre of mass [m] and inertia diagonal [kg·m²], in link frame {i} (origin on "
-              "joint i's axis)")
-        for link in info["links"]:
-            com = ", ".join(f"{c:+.4g}" for c in np.where(np.abs(link["com"]) < 1e-12, 0.0, link["com"]))
-            inertia = ", ".join(f"{v:.4g}" for v in np.diag(link["inertia"]))
-            print(f"  {link['name']:10s} {link['mass']:10.6g}  com ({com})  I ({inertia})")
+        if info["dh_links"] is not None:
+            _print_links(info["dh_links"], "in DH frame i, as the table gives them (standard DH: at the link's far "
+                         "end; modified: at joint i)")
+        _print_links(info["links"], "in link frame {i} of the arm's URDF (origin on joint i's axis)")
     if arm.drives is not None:
         print("drive train: gear ratio G, rotor inertia J_m [kg·m², motor side], efficiency, viscous B [N·m·s/rad] "
               "and Coulomb T_c [N·m] (joint side)")
@@ -127,7 +148,7 @@ SINGULAR_SIGMA = 1e-6
 
 
 def _cmd_fk(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     q = joint_values(arm, args.q, args.deg)
     qd = joint_rates(arm, args.qd, args.deg, "--qd")
     qdd = joint_rates(arm, args.qdd, args.deg, "--qdd")
@@ -173,7 +194,7 @@ def _cmd_fk(args: argparse.Namespace) -> int:
 
 
 def _cmd_ik(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     target = np.array(parse_floats(args.target, "--target"))
     if args.rpy is not None:
         rpy = parse_floats(args.rpy, "--rpy")
@@ -205,12 +226,12 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=_cmd_list)
 
     p = subparsers.add_parser("show", help="an arm's joints, parameters and URDF")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_show)
 
     p = subparsers.add_parser("fk", help="forward kinematics: tool pose and named points")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--q", required=True, help="joint values v1,v2,… (rad and m; see --deg)")
     p.add_argument("--qd", help="joint rates v1,v2,… (rad/s and m/s; deg/s with --deg): print the tool's twist")
     p.add_argument("--qdd", help="joint accelerations (rad/s² and m/s²; deg/s² with --deg): the tool's acceleration")
@@ -219,7 +240,7 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=_cmd_fk)
 
     p = subparsers.add_parser("ik", help="inverse kinematics: joint values reaching a target position or pose")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--target", required=True, help="tool position x,y,z in metres (rr: x,y)")
     p.add_argument("--rpy", help="tool orientation roll,pitch,yaw (rad; see --deg), R = Rz(yaw)·Ry(pitch)·Rx(roll) "
                    "as in URDF: makes the target a full pose")

@@ -19,13 +19,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.cli.args import ARM_HELP
+from armlab.cli.args import add_arm, arm_of
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
 from armlab.diagrams.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
 from armlab.drives.read import with_drives
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.limits import allowed, check_range
-from armlab.models import get_arm
 from armlab.values import joint_values, parse_floats
 
 if TYPE_CHECKING:
@@ -108,7 +107,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from armlab.diagrams.build import check_log_period
     from armlab.diagrams.output import run_folder
 
-    arm = with_drives(get_arm(args.arm), args.drives)
+    arm = with_drives(arm_of(args), args.drives)
     arm.require_dynamics("armlab simulate")  # before anything is printed (the plant checks it again)
     motion = motion_from_args(arm, args)
     setup = _setup(arm, args)
@@ -152,7 +151,7 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     from armlab.diagrams.plant import PlantOptions
     from armlab.diagrams.simulate import SimulationOptions
 
-    arm = with_drives(get_arm(args.arm), args.drives)
+    arm = with_drives(arm_of(args), args.drives)
     graph_format(args.out)
     setup = _setup(arm, args)
     motion = paper_motion(arm).runs()[0][1] if arm.motion is not None else _hold_motion(arm)
@@ -197,7 +196,7 @@ def register(subparsers: Any) -> None:
         epilog=SEGMENTS_FILE_HELP,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--from", dest="q_from", metavar="Q", help="start joints q1,q2,… (rad and m; see --deg)")
     p.add_argument("--to", dest="q_to", metavar="Q", help="end joints q1,q2,…: a rest-to-rest quintic")
     p.add_argument("--tf", metavar="T", help="duration, s (--from/--to: default 2; paper motions: their own; "
@@ -223,7 +222,7 @@ def register(subparsers: Any) -> None:
                                           "000's Fig. 6 (connected ports only, signals named; --full: Drake's whole "
                                           "graph) as DOT, or SVG/PNG/PDF through graphviz's dot, chosen by the "
                                           "suffix of --out.")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     _diagram_options(p)
     p.add_argument("--out", required=True, metavar="FILE", help="FILE.dot, FILE.svg, FILE.png or FILE.pdf")
     p.add_argument("--full", action="store_true", help="Drake's full graph (every port of every system) instead "

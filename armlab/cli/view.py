@@ -5,16 +5,15 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from armlab.cli.args import ARM_HELP
+from armlab.cli.args import add_arm, arm_of
 from armlab.diagrams.view import PORT_TRIES, run_view
-from armlab.models import get_arm
 from armlab.values import joint_values
 
 __all__ = ["register"]
 
 
 def _cmd_view(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     q0 = joint_values(arm, args.q, args.deg) if args.q is not None else None
     return run_view(arm, q0, port=args.port, deg=args.deg, duration=args.duration)
 
@@ -22,7 +21,7 @@ def _cmd_view(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``view`` subcommand to the CLI's subparsers."""
     p = subparsers.add_parser("view", help="3-D view of an arm with a slider per joint (Meshcat, in a browser)")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--q", help="initial joint values v1,v2,… (rad and m; see --deg); default: zeros within limits")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees: --q, the sliders and the "
                                                       "printed joints")

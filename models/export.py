@@ -1,0 +1,111 @@
+"""An arm leaving armlab: its URDF (any arm) and its DH table (an arm made from one), for ROS, Drake, Pinocchio, MuJoCo.
+
+``export(arm, urdf=FILE)`` writes the arm's URDF from the one builder (:meth:`armlab.models.arm.Arm.urdf`):
+joint i's origin and axis are the arm's matrix of nominal geometry, each link's inertial its mass, centre of
+mass and inertia in the URDF's link frame {i}, the drive train (if the arm carries one) as Drake's own tags
+(:mod:`armlab.models.write_urdf`); an unknown effort or velocity limit as 0, ROS's "none" (ROS's parser, and
+so Pinocchio's, needs both; armlab reads 0 as unknown and gives Drake none). A URDF arm leaves with armlab's
+link names (``link1`` … ``linkN``) and drawn visuals, not its meshes. ``export(arm, dh=FILE)`` writes the DH
+table of an arm made from one, in the format :mod:`armlab.models.read_dh` reads (radians, the link mass data
+back in the DH frames (:func:`~armlab.models.read_dh.dh_inertials`), its base and tool poses as header
+lines), every number as the shortest decimal that reads back to the same float. Both files read back to the
+same arm (tests/test_export.py: forward kinematics, Jacobian and inverse dynamics equal to 1e-9, through
+Drake and through Pinocchio).
+
+Every path is checked before anything is written (:func:`check_output`), and each file is written completely
+or not at all (:func:`armlab.files.write_file`).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from armlab.files import write_file
+from armlab.kinematics.locating import orientation_angles
+from armlab.models.read_dh import dh_base_tool, dh_inertials
+
+if TYPE_CHECKING:
+    from armlab.drives.train import DriveTrain
+    from armlab.models.arm import Arm
+
+__all__ = ["check_output", "dh_text", "export"]
+
+
+def check_output(path: str | Path, suffix: str, what: str) -> Path:
+    """``path`` as a Path if a file ending in ``suffix`` can be written there; else a ``ValueError`` naming ``what``
+    (the option): a folder or a name ending in ``/``, another suffix, or a folder that cannot be written."""
+    text = str(path)
+    out = Path(path)
+    if not text.strip() or text.endswith(("/", os.sep)) or out.is_dir():
+        raise ValueError(f"{what} {text!r} is a folder: give a file name ending in {suffix}")
+    if out.suffix.lower() != suffix:
+        raise ValueError(f"{what} {text!r} must end in {suffix}")
+    if out.exists() and not out.is_file():
+        raise ValueError(f"{what} {text!r} exists and is not a regular file")
+    folder = next(parent for parent in out.absolute().parents if parent.exists())
+    if not folder.is_dir() or not os.access(folder, os.W_OK | os.X_OK):
+        raise ValueError(f"{what} {text!r}: cannot write in {folder}")
+    return out
+
+
+def _number(value: float) -> str:
+    """The shortest decimal that reads back to ``value`` (``0`` for zero, also −0)."""
+    return repr(float(value)) if value != 0 else "0"
+
+
+def dh_text(arm: Arm) -> str:
+    """The DH table file of ``arm`` (made from a DH table: ``arm.dh``), in :mod:`armlab.models.read_dh`'s format.
+
+    ``ValueError`` for an arm without a DH description (its geometry is a URDF's or a paper's matrix).
+    """
+    table = arm.dh
+    if table is None:
+        raise ValueError(f"{arm.name} has no DH description (its geometry is not a DH table): export it with --urdf")
+    base, tool = dh_base_tool(arm)
+    lines = [f"# {arm.name}: exported by armlab from {arm.paper}", f"# convention: {table.convention}",
+             "# units: rad"]
+    for key, pose in (("base", base), ("tool", tool)):
+        if np.abs(pose - np.eye(4)).max() > 0:
+            values = [*pose[:3, 3], *orientation_angles(pose[:3, :3])]
+            lines.append(f"# {key}: {' '.join(map(_number, values))}")
+    inertials = dh_inertials(arm)
+    header = ["type", "a", "alpha", "d", "theta", "lower", "upper"]
+    if inertials is not None:
+        header += ["mass", "cx", "cy", "cz", "Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz"]
+    lines.append(",".join([*header, "effort", "velocity"]))
+    for i, (row, lim) in enumerate(zip(table.rows, arm.limits, strict=True)):
+        cells = [row.kind, *map(_number, (row.a, row.alpha, row.d, row.theta))]
+        cells += ["" if value is None else _number(value) for value in (lim.lower, lim.upper)]
+        if inertials is not None:
+            body = inertials[i]
+            inertia = np.asarray(body.inertia)
+            cells += [_number(body.mass), *map(_number, body.com),
+                      *(_number(inertia[j, k]) for j, k in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)))]
+        cells += ["" if value is None else _number(value) for value in (lim.effort, lim.velocity)]
+        lines.append(",".join(cells))
+    return "\n".join(lines) + "\n"
+
+
+def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = None,
+           drives: DriveTrain | None = None) -> list[Path]:
+    """Write ``arm``'s URDF to ``urdf`` and/or its DH table to ``dh`` (module docstring); the files written.
+
+    ``drives``: the drive train written into the URDF as Drake's tags; ``None``: the arm's own, if it carries
+    one. Both paths are checked (and the DH description's existence) before anything is written.
+    """
+    if urdf is None and dh is None:
+        raise ValueError("nothing to export: give a URDF file (urdf=, --urdf) or a DH table file (dh=, --dh)")
+    texts = []
+    if urdf is not None:
+        check_output(urdf, ".urdf", "URDF file")
+    if dh is not None:
+        check_output(dh, ".csv", "DH table file")
+        texts.append((dh, dh_text(arm)))
+    if urdf is not None:
+        train = drives if drives is not None else getattr(arm, "drives", None)  # Arm.drives (issue 19), if any
+        texts.insert(0, (urdf, arm.urdf(train, ros_limits=True)))
+    return [write_file(path, text) for path, text in texts]

@@ -1,0 +1,169 @@
+"""``armlab export`` / ``armlab.export``: an arm leaves as a URDF or a DH table and comes back the same.
+
+Round trips: the exported file read back by armlab (its own formulation of the re-read model), by Drake (the
+plant of the re-read arm, parsed from the file's text) and by Pinocchio (its own URDF parser, on the file) gives
+the original arm's forward kinematics, Jacobian and inverse dynamics to 1e-9. A drive train leaves as Drake's
+tags, which Drake's parser reads into the actuators (and their reflected inertia into the mass matrix). Paths
+are refused before any work, and nothing is written unless everything can be.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import DATA, armlab_main, random_q
+
+import armlab
+from armlab.drives.train import DriveTrain
+from armlab.models.meshes import MeshWarning
+from armlab.models.read_dh import dh_inertials, read_dh_csv
+
+pin = pytest.importorskip("pinocchio", reason="Pinocchio (pin, in the test extra) reads the exported URDFs")
+from armlab.scripts.bench_kinematics import Drake, Pinocchio  # noqa: E402  (needs pinocchio)
+
+#: The arms sent out and read back: paper arms (revolute, prismatic), DH tables (with base and tool header lines,
+#: a prismatic joint, products of inertia) and a ROS-style URDF (world root, tool0 chosen).
+ARMS = {
+    "rr": ("rr", {}),
+    "r2t": ("r2t", {}),
+    "urm6": ("urm6", {}),
+    "dh_base_tool": (str(DATA / "dh_base_tool.csv"), {}),
+    "two_link_masses_dh": (str(DATA / "two_link_masses_dh.csv"), {}),
+    "ur_like": (str(DATA / "ros" / "robots" / "ur_like.urdf"),
+                {"tool": "tool0", "package_paths": [DATA / "ros" / "pkgs"]}),
+}
+TOL = 1e-9
+
+
+def _load(key: str) -> armlab.Arm:
+    name, options = ARMS[key]
+    if key != "ur_like":
+        return armlab.load(name, **options)
+    with pytest.warns(MeshWarning):  # its missing mesh, its .stl collision meshes
+        return armlab.load(name, **options)
+
+
+def _states(arm: armlab.Arm, count: int = 5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(22)
+    return random_q(arm, rng, count), rng.uniform(-1, 1, (count, arm.n)), rng.uniform(-2, 2, (count, arm.n))
+
+
+def _assert_same_arm(original: armlab.Arm, copy: armlab.Arm) -> None:
+    """FK, Jacobian and inverse dynamics (gravity −z for both) of ``copy`` equal ``original``'s to 1e-9."""
+    q, qd, qdd = _states(original)
+    np.testing.assert_allclose(copy.fk(q), original.fk(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose(copy.jacobian(q), original.jacobian(q), atol=TOL, rtol=0)
+    if original.has_dynamics:
+        np.testing.assert_allclose(copy.inverse_dynamics(q, qd, qdd, gravity="-z"),
+                                   original.inverse_dynamics(q, qd, qdd, gravity="-z"), atol=TOL, rtol=TOL)
+
+
+@pytest.mark.parametrize("key", list(ARMS))
+def test_urdf_round_trip_armlab_drake_pinocchio(key, tmp_path):
+    original = _load(key)
+    (path,) = armlab.export(original, urdf=tmp_path / f"{key}.urdf")
+    copy = armlab.load(path)
+    assert copy.joint_names == original.joint_names
+    _assert_same_arm(original, copy)
+    q, qd, qdd = _states(original)
+    gravity_z = np.array([0.0, 0.0, -9.81])
+    pino = Pinocchio(copy, path.read_text())  # Pinocchio's parser on the file armlab wrote
+    pino.model.gravity.linear = gravity_z
+    qp = pino.configurations(q)
+    np.testing.assert_allclose(pino.forward(qp), original.fk(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose([J[:, pino.v_index] for J in pino.jacobian(qp)], original.jacobian(q), atol=TOL,
+                               rtol=0)
+    drake = Drake(copy)  # Drake's parser on the same text (the re-read arm's model text)
+    np.testing.assert_allclose(drake.forward(q), original.fk(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose(drake.jacobian(q), original.jacobian(q), atol=TOL, rtol=0)
+    if original.has_dynamics:
+        tau = original.inverse_dynamics(q, qd, qdd, gravity="-z")
+        tau_pin = [t[pino.v_index] for t in pino.rnea(qp, pino.velocities(qd), pino.velocities(qdd))]
+        np.testing.assert_allclose(tau_pin, tau, atol=TOL, rtol=TOL)
+        np.testing.assert_allclose(drake.inverse_dynamics(q, qd, qdd), tau, atol=TOL, rtol=TOL)
+
+
+@pytest.mark.parametrize("key", ["dh_base_tool", "two_link_masses_dh"])
+def test_dh_round_trip(key, tmp_path):
+    original = _load(key)
+    (path,) = armlab.export(original, dh=tmp_path / f"{key}.csv")
+    copy = armlab.load(path)
+    _assert_same_arm(original, copy)
+    table, limits, inertials = read_dh_csv(path)
+    typed_table, typed_limits, typed_inertials = read_dh_csv(ARMS[key][0])
+    assert table.convention == typed_table.convention  # exact: a word of the file
+    for row, typed in zip(table.rows, typed_table.rows, strict=True):
+        np.testing.assert_allclose([row.a, row.alpha, row.d, row.theta],
+                                   [typed.a, typed.alpha, typed.d, typed.theta], atol=1e-12, rtol=0)
+    assert limits == typed_limits  # exact: the shortest decimal of a float reads back to that float
+    assert inertials is not None and typed_inertials is not None
+    for body, typed in zip(inertials, typed_inertials, strict=True):  # back in the DH frames the user typed
+        np.testing.assert_allclose(body.com, typed.com, atol=1e-12, rtol=0)
+        np.testing.assert_allclose(body.inertia, typed.inertia, atol=1e-12, rtol=0)
+
+
+def test_dh_inertials_are_the_typed_ones():
+    arm = _load("dh_base_tool")
+    _, _, typed = read_dh_csv(ARMS["dh_base_tool"][0])
+    for body, given in zip(dh_inertials(arm), typed, strict=True):
+        assert body.mass == given.mass  # exact: the mass is carried, never transformed
+        np.testing.assert_allclose(body.com, given.com, atol=1e-12, rtol=0)
+        np.testing.assert_allclose(body.inertia, given.inertia, atol=1e-12, rtol=0)
+
+
+def test_drive_train_leaves_as_drakes_tags(tmp_path):
+    original = _load("urm6")
+    n = original.n
+    train = DriveTrain(gear_ratio=np.arange(1.0, n + 1) * 10, rotor_inertia=np.full(n, 2e-4),
+                       efficiency=np.full(n, 0.9), viscous=np.arange(n) * 0.1, coulomb=np.full(n, 0.5))
+    (path,) = armlab.export(original, urdf=tmp_path / "urm6.urdf", drives=train)
+    text = path.read_text()
+    assert 'xmlns:drake="http://drake.mit.edu"' in text and "<drake:rotor_inertia" in text
+    copy = armlab.load(path)
+    plant = copy.make_plant()
+    actuators = [plant.GetJointActuatorByName(f"{name}_motor") for name in copy.joint_names]
+    np.testing.assert_allclose([a.default_gear_ratio() for a in actuators], train.gear_ratio, rtol=1e-15)
+    np.testing.assert_allclose([a.default_rotor_inertia() for a in actuators], train.rotor_inertia, rtol=1e-15)
+    np.testing.assert_allclose([plant.GetJointByName(name).default_damping() for name in copy.joint_names],
+                               train.viscous, rtol=1e-15)
+    # Drake puts the reflected inertia G²·J_m on the mass matrix's diagonal: against the arm without drives
+    q = _states(original)[0][0]
+    bare = original.make_plant()
+    masses = []
+    for model in (plant, bare):
+        context = model.CreateDefaultContext()
+        model.SetPositions(context, q)
+        masses.append(model.CalcMassMatrix(context))
+    np.testing.assert_allclose(masses[0] - masses[1], np.diag(train.reflected_inertia), atol=1e-12, rtol=0)
+
+
+def test_cli_export_writes_both(tmp_path):
+    result = armlab_main("export", ARMS["dh_base_tool"][0], "--urdf", str(tmp_path / "a.urdf"),
+                         "--dh", str(tmp_path / "a.csv"))
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.splitlines() == [f"wrote {tmp_path / 'a.urdf'}", f"wrote {tmp_path / 'a.csv'}"]
+    _assert_same_arm(_load("dh_base_tool"), armlab.load(tmp_path / "a.csv"))
+
+
+@pytest.mark.parametrize("args, message", [
+    ((), "nothing to export"),
+    (("--urdf", "{tmp}/"), "is a folder"),
+    (("--urdf", "{tmp}"), "is a folder"),
+    (("--urdf", "{tmp}/a.txt"), "must end in .urdf"),
+    (("--dh", "{tmp}/a.urdf"), "must end in .csv"),
+    (("--urdf", "{tmp}/file.txt/a.urdf"), "cannot write in"),
+])
+def test_cli_export_refuses_paths_before_work(args, message, tmp_path):
+    (tmp_path / "file.txt").write_text("a file, not a folder")
+    argv = [arg.format(tmp=tmp_path) for arg in args]
+    # the arm does not exist: a path refused before any work never gets to read it
+    result = armlab_main("export", str(tmp_path / "missing.csv"), *argv)
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and message in result.stderr, result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file.txt"]
+
+
+def test_export_writes_nothing_unless_everything_can_be(tmp_path):
+    with pytest.raises(ValueError, match="rr has no DH description"):
+        armlab.export(armlab.load("rr"), urdf=tmp_path / "rr.urdf", dh=tmp_path / "rr.csv")
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,107 @@
+"""SDFormat and MuJoCo MJCF files load like URDFs, through Drake's own parser, with the same checks (issue 22 §2).
+
+tests/data/formats/two_link.sdf and two_link.xml are tests/data/two_link.urdf written in the other formats: the
+arm read from each has the URDF's kinematics and dynamics (1e-9), and Drake's plant of the file itself puts the
+tool frame where the arm's forward kinematics does (two ways). Bad files get the URDF's one-line refusals.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import DATA, armlab_main
+
+import armlab
+from armlab.diagrams.plant import PlantOptions, parse_model_file
+
+FILES = [DATA / "formats" / "two_link.sdf", DATA / "formats" / "two_link.xml"]
+TOL = 1e-9
+
+
+def _states(count: int = 6):
+    rng = np.random.default_rng(2)
+    return rng.uniform(-3, 3, (count, 2)), rng.uniform(-2, 2, (count, 2)), rng.uniform(-5, 5, (count, 2))
+
+
+@pytest.mark.parametrize("path", FILES, ids=lambda p: p.suffix)
+def test_same_arm_as_the_urdf(path):
+    urdf, arm = armlab.load(DATA / "two_link.urdf"), armlab.load(path, tool="tool")
+    assert arm.joint_names == ["shoulder", "elbow"] and arm.tool_name == "tool"  # exact: names
+    q, qd, qdd = _states()
+    np.testing.assert_allclose(arm.fk(q), urdf.fk(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose(arm.jacobian(q), urdf.jacobian(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose(arm.inverse_dynamics(q, qd, qdd), urdf.inverse_dynamics(q, qd, qdd), atol=TOL,
+                               rtol=TOL)
+    for lim, expected in zip(arm.limits, urdf.limits, strict=True):
+        np.testing.assert_allclose([lim.lower, lim.upper, lim.effort], [expected.lower, expected.upper,
+                                                                         expected.effort], atol=1e-12, rtol=0)
+    # Drake's plant of the file itself (not armlab's URDF of it): the same tool frame
+    plant, instance = parse_model_file(path, {})
+    if not plant.HasFrameNamed("tool", instance) or path.suffix == ".sdf":
+        plant.WeldFrames(plant.world_frame(), plant.GetBodyByName("base", instance).body_frame())
+    plant.Finalize()
+    context = plant.CreateDefaultContext()
+    for x in q:
+        plant.SetPositions(context, x)
+        np.testing.assert_allclose(plant.GetFrameByName("tool").CalcPoseInWorld(context).GetAsMatrix4(), arm.fk(x),
+                                   atol=TOL, rtol=0)
+    drivable = arm.make_plant(PlantOptions(ideal_drives=True))  # what simulate builds
+    assert drivable.num_actuators() == 2
+
+
+def test_default_tool_and_the_command_line():
+    assert armlab.load(FILES[0]).tool_name == "fore"  # exact: SDF frames are not bodies; the last body
+    assert armlab.load(FILES[1]).tool_name == "tool"  # exact: MJCF's tool is a body
+    result = armlab_main("fk", str(FILES[1]), "--q", "0.3,-0.7")
+    assert result.returncode == 0, result.stderr
+    tool = armlab.load(FILES[1]).fk([0.3, -0.7])[:3, 3]
+    assert f"{tool[0]:+.6f}" in result.stdout
+
+
+def _write(tmp_path, name: str, text: str):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+_LINK = ('<link name="{0}"><inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy><izz>1</izz></inertia>'
+         "</inertial></link>")
+_REVOLUTE = ('<joint name="{0}" type="revolute"><parent>{1}</parent><child>{2}</child><axis><xyz>0 0 1</xyz></axis>'
+             "</joint>")
+
+
+def _sdf(body: str) -> str:
+    return f'<?xml version="1.0"?><sdf version="1.9">{body}</sdf>'
+
+
+def _model(name: str = "m", extra: str = "") -> str:
+    return (f'<model name="{name}">' + _LINK.format("a") + _LINK.format("b") + _REVOLUTE.format("j", "a", "b")
+            + extra + "</model>")
+
+
+@pytest.mark.parametrize("name, text, message", [
+    ("two.sdf", _sdf(_model("m1") + _model("m2")), "holds 2 models: armlab takes one serial arm per file"),
+    ("free.xml", '<mujoco model="m"><worldbody><body name="a"><freejoint/><inertial pos="0 0 0" mass="1" '
+                 'diaginertia="1 1 1"/></body></worldbody></mujoco>',
+     "joint of body 'a' is a free joint (a floating base"),
+    ("ball.xml", '<mujoco model="m"><worldbody><body name="a"><joint name="b" type="ball"/><inertial pos="0 0 0" '
+                 'mass="1" diaginertia="1 1 1"/></body></worldbody></mujoco>', "joint 'b' is a ball_rpy joint"),
+    ("roots.sdf", _sdf(_model(extra=_LINK.format("c"))), "a serial arm has one root body, found 'a', 'c'"),
+    ("branch.sdf", _sdf(_model(extra=_LINK.format("c") + _REVOLUTE.format("k", "a", "c"))),
+     "body 'a' branches into 2 moving chains"),
+    ("outside.sdf", _sdf(_model(extra='<link name="v"><visual name="v"><geometry><mesh><uri>../x.obj</uri></mesh>'
+                                      '</geometry></visual></link>')), "x.obj lies outside"),
+    ("mesh.xml", '<mujoco model="m"><asset><mesh file="/etc/hostname"/></asset><worldbody/></mujoco>',
+     "'/etc/hostname' is an absolute path"),
+    ("doctype.sdf", '<?xml version="1.0"?><!DOCTYPE sdf [<!ENTITY x "y">]>' + _sdf(_model()), "entity definitions"),
+    ("wrong.sdf", '<robot name="x"/>', "the root element is <robot>, an SDFormat file (.sdf) needs <sdf>"),
+    ("inf.sdf", _sdf(_model().replace("<ixx>1</ixx>", "<ixx>inf</ixx>")), "not a finite number"),
+])
+def test_bad_files_get_one_line_refusals(tmp_path, name, text, message):
+    (tmp_path / "x.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    folder = tmp_path / "robot"
+    folder.mkdir()
+    path = _write(folder, name, text)
+    result = armlab_main("show", str(path))
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and message in result.stderr, result.stderr
