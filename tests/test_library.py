@@ -231,8 +231,10 @@ def test_against_the_robotics_toolbox(name: str, rng: np.random.Generator) -> No
             zero = np.zeros(arm.n)
             np.testing.assert_allclose(arm.inverse_dynamics(q, zero, zero), robot.gravload(q),
                                        atol=TORQUE_TOL)
-            for link in robot.links:
-                link.Jm = 0.0  # the toolbox adds G²·Jm to its mass matrix; armlab's links carry no drive train
+            # the toolbox adds G²·Jm to its mass matrix: so does armlab for an arm with a drive train (the Puma's)
+            if arm.drives is None:
+                for link in robot.links:
+                    link.Jm = 0.0
             M = np.array([arm.inverse_dynamics(q, zero, e, gravity="off") for e in np.eye(arm.n)]).T
             bound = {"puma560": 0.0075, "ur5": 1.4e-4, "ur10": 1e-4, "stanford": 0.0026}[name]
             assert np.abs(M - robot.inertia(q)).max() <= bound * (1 + 1e-9)
@@ -241,12 +243,12 @@ def test_against_the_robotics_toolbox(name: str, rng: np.random.Generator) -> No
 @pytest.mark.parametrize("name", [n for n in LIBRARY if library_arm(n).has_dynamics])
 def test_against_pinocchio_reading_armlabs_urdf(name: str, rng: np.random.Generator) -> None:
     """Pinocchio's RNEA, FK and Jacobian of armlab's URDF equal armlab's to round-off. urdfdom (Pinocchio's URDF
-    reader) requires an effort limit where armlab writes none (unknown): 0 is filled in, which no algorithm here
-    reads."""
+    reader) requires an effort limit where armlab writes none (unknown): ROS's 0 ("none") is written, which no
+    algorithm here reads. The rigid arm: Pinocchio's RNEA has no drive train (the Puma's is checked in
+    tests/test_drive_model.py)."""
     pin = pytest.importorskip("pinocchio", reason="Pinocchio (pin, the test extra) is not installed")
-    arm = get_arm(name)
-    text = re.sub(r"<limit (?![^>]*effort)", '<limit effort="0" velocity="0" ', arm.urdf())
-    model = pin.buildModelFromXML(text)
+    arm = get_arm(name).with_drives(None)
+    model = pin.buildModelFromXML(arm.urdf(ros_limits=True))
     model.gravity.linear = np.array(arm.gravity)
     data = model.createData()
     tool = model.getFrameId(arm.tool_name)
