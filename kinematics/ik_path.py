@@ -1,0 +1,174 @@
+"""Inverse kinematics along a tool path on one continuous branch: q(s), q'(s), q''(s) at the path's samples.
+
+The joints at the first sample come from the caller (the start configuration, or the IK solution
+:func:`armlab.kinematics.ik.solve` or :func:`~armlab.kinematics.ik.solve_branch` picked). Each following block
+of :data:`BLOCK` samples is seeded by the first-order prediction q_i + J⁺(q_i)·Δx from the last solved sample
+and solved by Gauss–Newton steps on the whole block at once (numpy, batched FK and Jacobian) until the tool is
+on the path to :data:`PATH_TOL` m (and rad); a block that does not converge is redone sample by sample from
+its predecessor. The tasks are the tool position (3 rows; a planar arm's out-of-plane row is zero) and, when an
+orientation is given, the tool rotation (3 more rows, world frame).
+
+Then q' = J⁺ x' and q'' = J⁺ (x'' − J̇ q') (J̇ q' is the tool's acceleration at q̈ = 0, :func:`tool_motion`).
+
+Failures name the path parameter s and the point: the target leaves the reach (Gauss–Newton does not
+converge), the path passes a singularity (σ_min of the task Jacobian below :data:`SINGULAR_TOL`), a joint
+leaves its limits, or a joint steps further between two samples than the path step allows (a jump between
+branches: more than :data:`STEP_FACTOR` times the first-order step J⁺Δx).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from armlab.kinematics.differential import jacobian, tool_motion
+from armlab.kinematics.ik_target import pose_error, rotation_log
+
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
+
+__all__ = ["BLOCK", "PATH_TOL", "SINGULAR_TOL", "STEP_FACTOR", "PathJoints", "solve_path"]
+
+#: Samples solved together (seeded from the last solved sample).
+BLOCK = 64
+#: The tool is on the path when its position error is ≤ this (m) and its orientation error ≤ this (rad).
+PATH_TOL = 1e-10
+#: The path passes a singularity where the task Jacobian's smallest singular value is below this (m/rad).
+SINGULAR_TOL = 1e-6
+#: A joint step between samples larger than this many times the first-order step (plus 1e-9) is a branch jump.
+STEP_FACTOR = 3.0
+#: Gauss–Newton steps at most per block.
+ITERATIONS = 30
+
+
+class PathJoints:
+    """The joints along a path: ``s`` ``(m,)``, ``q``, ``dq`` (dq/ds), ``ddq`` (d²q/ds²), each ``(m, n)``."""
+
+    def __init__(self, s: NDArray, q: NDArray, dq: NDArray, ddq: NDArray) -> None:
+        self.s, self.q, self.dq, self.ddq = s, q, dq, ddq
+
+
+def _task_error(arm: Arm, p: NDArray, R: NDArray | None, q: NDArray) -> NDArray[np.float64]:
+    return pose_error(arm, p, R, q)
+
+
+def _task_jacobian(arm: Arm, q: NDArray, rows: int) -> NDArray[np.float64]:
+    return jacobian(arm, q)[..., :rows, :]
+
+
+def _pinv_solve(J: NDArray, b: NDArray) -> NDArray[np.float64]:
+    """J⁺ b per sample: J ``(m, r, n)``, b ``(m, r)`` → ``(m, n)`` (least squares, minimum norm)."""
+    return np.einsum("mnr,mr->mn", np.linalg.pinv(J, rcond=1e-12), b)
+
+
+def _newton(arm: Arm, p: NDArray, R: NDArray | None, q: NDArray, rows: int) -> tuple[NDArray, NDArray]:
+    """Gauss–Newton from ``q`` ``(m, n)`` onto the targets; (q, converged per sample)."""
+    q = q.copy()
+    for _ in range(ITERATIONS):
+        error = _task_error(arm, p, R, q)
+        done = np.max(np.abs(error), axis=-1) <= PATH_TOL
+        if done.all():
+            return q, done
+        active = ~done
+        q[active] += _pinv_solve(_task_jacobian(arm, q[active], rows), error[active])
+    return q, np.max(np.abs(_task_error(arm, p, R, q)), axis=-1) <= PATH_TOL
+
+
+def _point(p: NDArray) -> str:
+    return "(" + ", ".join(f"{v:.4g}" for v in p) + ") m"
+
+
+def _delta(p: NDArray, R: NDArray | None, i: int, js: NDArray) -> NDArray[np.float64]:
+    """Task differences x_j − x_i ``(len(js), rows)``: position, and the rotation vector log(R_j R_iᵀ)."""
+    d = p[js] - p[i]
+    if R is None:
+        return d
+    return np.concatenate([d, rotation_log(R[js] @ R[i].T)], axis=-1)
+
+
+def solve_path(arm: Arm, what: str, s: NDArray, p: NDArray, dp: NDArray, ddp: NDArray, q_start: NDArray,
+               R: NDArray | None = None, w: NDArray | None = None, dw: NDArray | None = None) -> PathJoints:
+    """The joints along a sampled tool path on the branch of ``q_start`` ``(n,)`` (the joints at ``s[0]``).
+
+    ``s`` ``(m,)`` the path parameter; ``p``, ``dp``, ``ddp`` ``(m, 3)``: the tool point (m) and its first and
+    second derivatives in s; ``R`` ``(m, 3, 3)`` the tool rotation with its angular rate ``w`` and its derivative
+    ``dw`` ``(m, 3)`` per unit s (world frame), or ``None`` (position only). ``what`` names the path in messages
+    ("the line"). ``ValueError`` (with s and the point) where the path leaves the reach, passes a singularity,
+    leaves a joint's limits or would jump between IK branches (module docstring).
+    """
+    m, n = s.size, arm.n
+    rows = 3 if R is None else 6
+    q = np.empty((m, n))
+    first, ok = _newton(arm, p[:1], None if R is None else R[:1], q_start[None, :], rows)
+    if not ok[0]:
+        raise ValueError(f"{what} does not start at the start configuration's tool point: {_point(p[0])}")
+    q[0] = first[0]
+    # the task's dimension the arm moves in (a planar arm: 2 of the 3 position rows), from the start
+    start_sigma = np.linalg.svd(_task_jacobian(arm, q[0], rows), compute_uv=False)
+    rank = int(np.count_nonzero(start_sigma >= SINGULAR_TOL))
+    if rank < min(rows, n) and rank < int(np.count_nonzero(start_sigma > 1e-12 * start_sigma[0])):
+        raise ValueError(f"{what} starts at a singularity of {arm.name}, {_point(p[0])}")
+    if rank == 0:
+        raise ValueError(f"{what} starts at a singularity of {arm.name}, {_point(p[0])}")
+    i = 0
+    while i < m - 1:
+        js = np.arange(i + 1, min(i + 1 + BLOCK, m))
+        seed = q[i] + _pinv_solve(np.broadcast_to(_task_jacobian(arm, q[i], rows), (js.size, rows, n)),
+                                  _delta(p, R, i, js))
+        solved, ok = _newton(arm, p[js], None if R is None else R[js], seed, rows)
+        if not ok.all():  # sample by sample from the last good one
+            for j in js:
+                seed = q[j - 1] + _pinv_solve(_task_jacobian(arm, q[j - 1], rows)[None], _delta(p, R, j - 1,
+                                                                                                 np.array([j])))
+                one, good = _newton(arm, p[j:j + 1], None if R is None else R[j:j + 1], seed, rows)
+                if not good[0]:
+                    _fail(arm, what, s[j], p[j], q[j - 1], rows, rank)
+                q[j] = one[0]
+        else:
+            q[js] = solved
+        i = int(js[-1])
+    _check(arm, what, s, p, R, q, rows, rank)
+    J = _task_jacobian(arm, q, rows)
+    xd = dp if w is None else np.concatenate([dp, w], axis=-1)
+    xdd = ddp if dw is None else np.concatenate([ddp, dw], axis=-1)
+    dq = _pinv_solve(J, xd)
+    _, bias = tool_motion(arm, q, dq, np.zeros_like(dq))
+    ddq = _pinv_solve(J, xdd - bias[:, :rows])
+    return PathJoints(s, q, dq, ddq)
+
+
+def _fail(arm: Arm, what: str, s: float, p: NDArray, q_near: NDArray, rows: int, rank: int) -> None:
+    """``ValueError`` for a sample the IK could not reach from ``q_near``: a singularity or the end of the reach."""
+    sigma = np.linalg.svd(_task_jacobian(arm, q_near, rows), compute_uv=False)
+    if sigma[rank - 1] < SINGULAR_TOL:
+        raise ValueError(f"{what} passes a singularity of {arm.name} at s = {s:.4g}, {_point(p)}")
+    raise ValueError(f"{what} leaves {arm.name}'s reach at s = {s:.4g}, {_point(p)}")
+
+
+def _check(arm: Arm, what: str, s: NDArray, p: NDArray, R: NDArray | None, q: NDArray, rows: int,
+           rank: int) -> None:
+    """Joint limits, singularities and branch jumps over the solved samples; ``ValueError`` at the first."""
+    lower, upper = arm.limit_arrays()
+    outside = np.argwhere((q < lower) | (q > upper))
+    if outside.size:
+        j, k = outside[0]
+        raise ValueError(f"{what} takes joint {arm.joint_names[k]} of {arm.name} out of its limits "
+                         f"[{lower[k]:.4g}, {upper[k]:.4g}] at s = {s[j]:.4g}, {_point(p[j])} "
+                         f"({arm.joint_names[k]} = {q[j, k]:.6g})")
+    J = _task_jacobian(arm, q, rows)
+    sigma = np.linalg.svd(J, compute_uv=False)
+    singular = np.flatnonzero(sigma[:, rank - 1] < SINGULAR_TOL)
+    if singular.size:
+        j = singular[0]
+        raise ValueError(f"{what} passes a singularity of {arm.name} at s = {s[j]:.4g}, {_point(p[j])}")
+    predicted = np.abs(_pinv_solve(J[:-1], np.concatenate([np.diff(p, axis=0)] + (
+        [] if R is None else [rotation_log(R[1:] @ np.swapaxes(R[:-1], -1, -2))]), axis=-1)))
+    step = np.abs(np.diff(q, axis=0))
+    jump = np.argwhere(step > STEP_FACTOR * predicted.max(axis=-1, keepdims=True) + 1e-9)
+    if jump.size:
+        j, k = jump[0]
+        raise ValueError(f"{what}: the IK of {arm.name} jumps between branches at s = {s[j + 1]:.4g}, "
+                         f"{_point(p[j + 1])} (joint {arm.joint_names[k]} steps {step[j, k]:.3g}); sample the path "
+                         "more densely or start on another branch")
