@@ -172,12 +172,12 @@ def joint_path(joints: PathJoints) -> PiecewisePolynomial:
     from pydrake.trajectories import PiecewisePolynomial
 
     s, q, dq, ddq = joints.s, joints.q, joints.dq, joints.ddq
+    c = hermite_coefficients(q[:-1], dq[:-1], ddq[:-1], q[1:], dq[1:], ddq[1:], np.diff(s))  # (m − 1, n, 6)
+    low = np.ascontiguousarray(c[..., ::-1])
     matrices = []
-    for k in range(s.size - 1):
-        c = hermite_coefficients(q[k], dq[k], ddq[k], q[k + 1], dq[k + 1], ddq[k + 1], float(s[k + 1] - s[k]))
+    for piece in low:
         m = np.empty((q.shape[1], 1), dtype=object)
-        for i in range(q.shape[1]):
-            m[i, 0] = Polynomial(np.ascontiguousarray(c[i, ::-1]))
+        m[:, 0] = [Polynomial(row) for row in piece]
         matrices.append(m)
     return PiecewisePolynomial(matrices, s.tolist())
 

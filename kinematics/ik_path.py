@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.kinematics.differential import jacobian, tool_motion
+from armlab.kinematics.ik import solve
 from armlab.kinematics.ik_target import pose_error, rotation_log
 
 if TYPE_CHECKING:
@@ -50,42 +51,51 @@ class PathJoints:
         self.s, self.q, self.dq, self.ddq = s, q, dq, ddq
 
 
-def _task_error(arm: Arm, p: NDArray, R: NDArray | None, q: NDArray) -> NDArray[np.float64]:
-    return pose_error(arm, p, R, q)
+def _task_error(arm: Arm, p: NDArray, R: NDArray | None, q: NDArray, rows: NDArray) -> NDArray[np.float64]:
+    """The task rows ``rows`` of the tool's pose error [p* − p(q); log(R* R(q)ᵀ)], ``(m, len(rows))``."""
+    return pose_error(arm, p, R, q)[..., rows]
 
 
-def _task_jacobian(arm: Arm, q: NDArray, rows: int) -> NDArray[np.float64]:
-    return jacobian(arm, q)[..., :rows, :]
+def _task_jacobian(arm: Arm, q: NDArray, rows: NDArray) -> NDArray[np.float64]:
+    """The task rows ``rows`` of the tool Jacobian [v; ω], ``(..., len(rows), n)``."""
+    return jacobian(arm, q)[..., rows, :]
 
 
 def _pinv_solve(J: NDArray, b: NDArray) -> NDArray[np.float64]:
-    """J⁺ b per sample: J ``(m, r, n)``, b ``(m, r)`` → ``(m, n)`` (least squares, minimum norm)."""
-    return np.einsum("mnr,mr->mn", np.linalg.pinv(J, rcond=1e-12), b)
+    """J⁺ b per sample: J ``(m, r, n)``, b ``(m, r)`` → ``(m, n)`` (least squares, minimum norm): by the normal
+    equations of a full-rank J (Jᵀ (J Jᵀ)⁻¹ b for r ≤ n, (JᵀJ)⁻¹ Jᵀ b for r > n), by the SVD where it is not."""
+    Jt = np.swapaxes(J, -1, -2)
+    try:
+        if J.shape[-2] <= J.shape[-1]:
+            return np.einsum("mnr,mr->mn", Jt, np.linalg.solve(J @ Jt, b[..., None])[..., 0])
+        return np.linalg.solve(Jt @ J, np.einsum("mnr,mr->mn", Jt, b)[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        return np.einsum("mnr,mr->mn", np.linalg.pinv(J, rcond=1e-12), b)
 
 
-def _newton(arm: Arm, p: NDArray, R: NDArray | None, q: NDArray, rows: int) -> tuple[NDArray, NDArray]:
+def _newton(arm: Arm, p: NDArray, R: NDArray | None, q: NDArray, rows: NDArray) -> tuple[NDArray, NDArray]:
     """Gauss–Newton from ``q`` ``(m, n)`` onto the targets; (q, converged per sample)."""
     q = q.copy()
     for _ in range(ITERATIONS):
-        error = _task_error(arm, p, R, q)
+        error = _task_error(arm, p, R, q, rows)
         done = np.max(np.abs(error), axis=-1) <= PATH_TOL
         if done.all():
             return q, done
         active = ~done
         q[active] += _pinv_solve(_task_jacobian(arm, q[active], rows), error[active])
-    return q, np.max(np.abs(_task_error(arm, p, R, q)), axis=-1) <= PATH_TOL
+    return q, np.max(np.abs(_task_error(arm, p, R, q, rows)), axis=-1) <= PATH_TOL
 
 
 def _point(p: NDArray) -> str:
     return "(" + ", ".join(f"{v:.4g}" for v in p) + ") m"
 
 
-def _delta(p: NDArray, R: NDArray | None, i: int, js: NDArray) -> NDArray[np.float64]:
-    """Task differences x_j − x_i ``(len(js), rows)``: position, and the rotation vector log(R_j R_iᵀ)."""
+def _delta(p: NDArray, R: NDArray | None, i: int, js: NDArray, rows: NDArray) -> NDArray[np.float64]:
+    """Task differences x_j − x_i ``(len(js), len(rows))``: position, and the rotation vector log(R_j R_iᵀ)."""
     d = p[js] - p[i]
     if R is None:
-        return d
-    return np.concatenate([d, rotation_log(R[js] @ R[i].T)], axis=-1)
+        return d[:, rows]
+    return np.concatenate([d, rotation_log(R[js] @ R[i].T)], axis=-1)[:, rows]
 
 
 def solve_path(arm: Arm, what: str, s: NDArray, p: NDArray, dp: NDArray, ddp: NDArray, q_start: NDArray,
@@ -99,55 +109,57 @@ def solve_path(arm: Arm, what: str, s: NDArray, p: NDArray, dp: NDArray, ddp: ND
     leaves a joint's limits or would jump between IK branches (module docstring).
     """
     m, n = s.size, arm.n
-    rows = 3 if R is None else 6
+    rows = np.arange(3 if R is None else 6)
     q = np.empty((m, n))
     first, ok = _newton(arm, p[:1], None if R is None else R[:1], q_start[None, :], rows)
     if not ok[0]:
         raise ValueError(f"{what} does not start at the start configuration's tool point: {_point(p[0])}")
     q[0] = first[0]
-    # the task's dimension the arm moves in (a planar arm: 2 of the 3 position rows), from the start
-    start_sigma = np.linalg.svd(_task_jacobian(arm, q[0], rows), compute_uv=False)
-    rank = int(np.count_nonzero(start_sigma >= SINGULAR_TOL))
-    if rank < min(rows, n) and rank < int(np.count_nonzero(start_sigma > 1e-12 * start_sigma[0])):
-        raise ValueError(f"{what} starts at a singularity of {arm.name}, {_point(p[0])}")
-    if rank == 0:
+    rows = rows[np.abs(_task_jacobian(arm, q[0], rows)).max(axis=1) > 1e-12]  # a planar arm: not the normal's
+    rank = min(rows.size, n)  # the task's dimension the arm moves in
+    if np.linalg.svd(_task_jacobian(arm, q[0], rows), compute_uv=False)[rank - 1] < SINGULAR_TOL:
         raise ValueError(f"{what} starts at a singularity of {arm.name}, {_point(p[0])}")
     i = 0
     while i < m - 1:
         js = np.arange(i + 1, min(i + 1 + BLOCK, m))
-        seed = q[i] + _pinv_solve(np.broadcast_to(_task_jacobian(arm, q[i], rows), (js.size, rows, n)),
-                                  _delta(p, R, i, js))
+        seed = q[i] + _pinv_solve(np.broadcast_to(_task_jacobian(arm, q[i], rows), (js.size, rows.size, n)),
+                                  _delta(p, R, i, js, rows))
         solved, ok = _newton(arm, p[js], None if R is None else R[js], seed, rows)
         if not ok.all():  # sample by sample from the last good one
             for j in js:
-                seed = q[j - 1] + _pinv_solve(_task_jacobian(arm, q[j - 1], rows)[None], _delta(p, R, j - 1,
-                                                                                                 np.array([j])))
+                seed = q[j - 1] + _pinv_solve(_task_jacobian(arm, q[j - 1], rows)[None],
+                                              _delta(p, R, j - 1, np.array([j]), rows))
                 one, good = _newton(arm, p[j:j + 1], None if R is None else R[j:j + 1], seed, rows)
                 if not good[0]:
-                    _fail(arm, what, s[j], p[j], q[j - 1], rows, rank)
+                    _fail(arm, what, s[j], p[j], None if R is None else R[j])
                 q[j] = one[0]
         else:
             q[js] = solved
         i = int(js[-1])
     _check(arm, what, s, p, R, q, rows, rank)
     J = _task_jacobian(arm, q, rows)
-    xd = dp if w is None else np.concatenate([dp, w], axis=-1)
-    xdd = ddp if dw is None else np.concatenate([ddp, dw], axis=-1)
+    xd = (dp if w is None else np.concatenate([dp, w], axis=-1))[:, rows]
+    xdd = (ddp if dw is None else np.concatenate([ddp, dw], axis=-1))[:, rows]
     dq = _pinv_solve(J, xd)
     _, bias = tool_motion(arm, q, dq, np.zeros_like(dq))
-    ddq = _pinv_solve(J, xdd - bias[:, :rows])
+    ddq = _pinv_solve(J, xdd - bias[:, rows])
     return PathJoints(s, q, dq, ddq)
 
 
-def _fail(arm: Arm, what: str, s: float, p: NDArray, q_near: NDArray, rows: int, rank: int) -> None:
-    """``ValueError`` for a sample the IK could not reach from ``q_near``: a singularity or the end of the reach."""
-    sigma = np.linalg.svd(_task_jacobian(arm, q_near, rows), compute_uv=False)
-    if sigma[rank - 1] < SINGULAR_TOL:
-        raise ValueError(f"{what} passes a singularity of {arm.name} at s = {s:.4g}, {_point(p)}")
-    raise ValueError(f"{what} leaves {arm.name}'s reach at s = {s:.4g}, {_point(p)}")
+def _fail(arm: Arm, what: str, s: float, p: NDArray, R: NDArray | None) -> None:
+    """``ValueError`` for a sample the IK could not follow the branch to: where the point (and rotation) is
+    reachable at all (:func:`armlab.kinematics.ik.solve`'s multi-start search or closed form), the branch ends
+    at a singularity there; else the path leaves the reach."""
+    target = p if R is None else np.block([[R, p[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
+    try:
+        solve(arm, target)
+    except ValueError:
+        raise ValueError(f"{what} leaves {arm.name}'s reach at s = {s:.4g}, {_point(p)}") from None
+    raise ValueError(f"{what} passes a singularity of {arm.name} at s = {s:.4g}, {_point(p)}: the IK branch ends "
+                     "there (the point is reachable on another branch only)")
 
 
-def _check(arm: Arm, what: str, s: NDArray, p: NDArray, R: NDArray | None, q: NDArray, rows: int,
+def _check(arm: Arm, what: str, s: NDArray, p: NDArray, R: NDArray | None, q: NDArray, rows: NDArray,
            rank: int) -> None:
     """Joint limits, singularities and branch jumps over the solved samples; ``ValueError`` at the first."""
     lower, upper = arm.limit_arrays()
@@ -164,7 +176,7 @@ def _check(arm: Arm, what: str, s: NDArray, p: NDArray, R: NDArray | None, q: ND
         j = singular[0]
         raise ValueError(f"{what} passes a singularity of {arm.name} at s = {s[j]:.4g}, {_point(p[j])}")
     predicted = np.abs(_pinv_solve(J[:-1], np.concatenate([np.diff(p, axis=0)] + (
-        [] if R is None else [rotation_log(R[1:] @ np.swapaxes(R[:-1], -1, -2))]), axis=-1)))
+        [] if R is None else [rotation_log(R[1:] @ np.swapaxes(R[:-1], -1, -2))]), axis=-1)[:, rows]))
     step = np.abs(np.diff(q, axis=0))
     jump = np.argwhere(step > STEP_FACTOR * predicted.max(axis=-1, keepdims=True) + 1e-9)
     if jump.size:

@@ -187,14 +187,18 @@ def trapezoidal(arm: Arm, q0: ArrayLike, qf: ArrayLike, velocity: float | ArrayL
 
 
 def hermite_coefficients(q0: NDArray, v0: NDArray, a0: NDArray, q1: NDArray, v1: NDArray, a1: NDArray,
-                         tf: float) -> NDArray[np.float64]:
-    """[a1 … a6] ``(n, 6)`` of the quintic with q, q̇, q̈ = (q0, v0, a0) at τ = 0 and (q1, v1, a1) at τ = tf, each
-    ``(n,)``; with a0 = a1 = 0 and degree ≤ 3 requested by the caller's values it is the cubic Hermite's."""
-    T = tf
-    A = np.array([[0, 0, 0, 0, 0, 1], [0, 0, 0, 0, 1, 0], [0, 0, 0, 2, 0, 0],
-                  [T**5, T**4, T**3, T**2, T, 1], [5 * T**4, 4 * T**3, 3 * T**2, 2 * T, 1, 0],
-                  [20 * T**3, 12 * T**2, 6 * T, 2, 0, 0]], dtype=float)
-    return np.linalg.solve(A, np.stack([q0, v0, a0, q1, v1, a1])).T
+                         tf: float | NDArray) -> NDArray[np.float64]:
+    """[a1 … a6] ``(..., n, 6)`` of the quintics with q, q̇, q̈ = (q0, v0, a0) at τ = 0 and (q1, v1, a1) at τ = tf:
+    the values ``(..., n)``, the durations ``tf`` (s) a scalar or ``(...)`` (one per leading index)."""
+    T = np.asarray(tf, dtype=float)[..., None, None]
+    zero, one = np.zeros_like(T), np.ones_like(T)
+    A = np.concatenate([np.concatenate(row, axis=-1) for row in (
+        (zero, zero, zero, zero, zero, one), (zero, zero, zero, zero, one, zero),
+        (zero, zero, zero, 2 * one, zero, zero), (T**5, T**4, T**3, T**2, T, one),
+        (5 * T**4, 4 * T**3, 3 * T**2, 2 * T, one, zero), (20 * T**3, 12 * T**2, 6 * T, 2 * one, zero, zero))],
+        axis=-2)  # (..., 6, 6)
+    b = np.stack(np.broadcast_arrays(q0, v0, a0, q1, v1, a1), axis=-2)  # (..., 6, n)
+    return np.swapaxes(np.linalg.solve(A, b), -1, -2)
 
 
 def _cubic_coefficients(q0: NDArray, v0: NDArray, q1: NDArray, v1: NDArray, tf: float) -> NDArray[np.float64]:
