@@ -19,7 +19,19 @@ from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, through
+    from armlab.api import (
+        arc,
+        constant_rate,
+        fastest,
+        line,
+        load,
+        paper_motion,
+        quintic,
+        read_segments,
+        simulate,
+        through,
+        trapezoidal,
+    )
     from armlab.diagrams.run import Run
     from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
     from armlab.models.arm import Arm
@@ -36,6 +48,7 @@ _EXPORTS = {
     "Run": "armlab.diagrams.run",
     **{name: "armlab.api" for name in ("constant_rate", "load", "paper_motion", "quintic", "read_segments",
                                        "simulate", "through")},
+    **{name: "armlab.api" for name in ("arc", "fastest", "line", "trapezoidal")},  # issue 20: motions as planned
 }
 
 __all__ = [  # the names of _EXPORTS, listed for readers and linters
@@ -45,13 +58,17 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "QuinticSegment",
     "Run",
     "__version__",
+    "arc",
     "constant_rate",
+    "fastest",
+    "line",
     "load",
     "paper_motion",
     "quintic",
     "read_segments",
     "simulate",
     "through",
+    "trapezoidal",
 ]
 
 

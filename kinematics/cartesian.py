@@ -27,15 +27,26 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.kinematics.ik import solve, solve_branch
 from armlab.kinematics.ik_path import PathJoints, solve_path
 from armlab.kinematics.ik_target import check_pose, rotation_log
-from armlab.kinematics.profiles import Profile, hermite_coefficients, minimum_jerk_profile
+from armlab.kinematics.profiles import (
+    Profile,
+    cubic_profile,
+    hermite_coefficients,
+    minimum_jerk_profile,
+    trapezoid_profile,
+)
 from armlab.kinematics.quintic import Motion, TrajectorySegment
+from armlab.limits import check_positive
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial
 
     from armlab.models.arm import Arm
 
-__all__ = ["DEFAULT_SAMPLES", "ToolPath", "arc_path", "arc_through", "joint_path", "line_path", "tool_motion_along"]
+__all__ = ["DEFAULT_SAMPLES", "PROFILES", "ToolPath", "arc_path", "arc_through", "joint_path", "line_path",
+           "path_profile", "tool_motion_along"]
+
+#: The time profiles a tool path takes by name.
+PROFILES = ("minimum-jerk", "cubic", "trapezoid")
 
 #: Samples of s along a path by default (the IK is exact at each; between them the quintic Hermite interpolant).
 DEFAULT_SAMPLES = 201
@@ -180,6 +191,28 @@ def joint_path(joints: PathJoints) -> PiecewisePolynomial:
         m[:, 0] = [Polynomial(row) for row in piece]
         matrices.append(m)
     return PiecewisePolynomial(matrices, s.tolist())
+
+
+def path_profile(path: ToolPath, kind: str = "minimum-jerk", duration: float | None = None,
+                 speed: float | None = None, acceleration: float | None = None) -> Profile:
+    """The time profile of a tool path by name (:data:`PROFILES`): minimum jerk or cubic over ``duration`` s, or a
+    trapezoid of the tool's peak ``speed`` (m/s) and ``acceleration`` (m/s²) along the path, or of a duration."""
+    if kind not in PROFILES:
+        raise ValueError(f"profile {kind!r} is not allowed: one of {', '.join(PROFILES)}")
+    if kind == "trapezoid":
+        L = path.length
+        return trapezoid_profile(None if speed is None else _tool_rate(speed, "peak speed", "m/s") / L,
+                                 None if acceleration is None else _tool_rate(acceleration, "peak acceleration",
+                                                                              "m/s²") / L, duration)
+    if speed is not None or acceleration is not None:
+        raise ValueError(f"a peak speed or acceleration applies to the trapezoid profile, not {kind!r}")
+    if duration is None:
+        raise ValueError(f"the {kind} profile needs a duration (s)")
+    return minimum_jerk_profile(duration) if kind == "minimum-jerk" else cubic_profile(duration)
+
+
+def _tool_rate(value: float, what: str, unit: str) -> float:
+    return check_positive(value, what, unit, f"a {what} must be a positive finite number")
 
 
 def start_joints(arm: Arm, path: ToolPath, q0: ArrayLike | None, branch: int | None) -> NDArray[np.float64]:
