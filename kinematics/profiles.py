@@ -236,7 +236,10 @@ def spline(arm: Arm, waypoints: ArrayLike, durations: float | Sequence[float], d
     if points.ndim != 2 or points.shape[0] < 2 or points.shape[1] != arm.n:
         raise ValueError(f"waypoints have shape {points.shape}; give at least two rows of {arm.n} joint values")
     for k, q in enumerate(points):
-        _joints(arm, q, f"waypoint {k + 1}")
+        try:
+            _joints(arm, q, f"waypoint {k + 1}")
+        except ValueError as error:
+            raise ValueError(f"waypoint {k + 1}: {error}") from None
     if degree not in (3, 5):
         raise ValueError(f"degree {degree!r} is not allowed: 3 (cubic) or 5 (quintic)")
     m = points.shape[0] - 1

@@ -534,7 +534,7 @@ class Motion:
                 continue
             i = outside[0]
             where = ("start" if tau[i] == 0.0 else "end" if tau[i] == self.segments[k].duration  # exact: the ends
-                     else f"t = {start + tau[i]:.6g} s")
+                     else f"at t = {start + tau[i]:.6g} s")
             try:
                 arm.check_q(q[i])
             except ValueError as error:

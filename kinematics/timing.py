@@ -194,8 +194,9 @@ def _infeasible(arm: Arm, s: NDArray, a: NDArray, b: NDArray, c: NDArray, lo: ND
     if where.size:
         i, k = where[0]
         limit = hi[k] if c[i, k] > hi[k] else lo[k]
-        return ValueError(f"the limits cannot be met: {names[k]} needs {c[i, k]:.6g} against gravity at s = {s[i]:.4g}"
-                          f" of the path, beyond its limit {limit:.6g}")
+        unit = "N·m" if arm.revolute[k % arm.n] else "N"
+        return ValueError(f"the limits cannot be met: {names[k]} needs {c[i, k]:.6g} {unit} against gravity at "
+                          f"s = {s[i]:.4g} of the path, beyond its limit {limit:.6g} {unit}")
     return ValueError(f"the limits cannot be met anywhere on the path by Toppra ({arm.name}); raise the acceleration "
                       "or effort limits")
 
