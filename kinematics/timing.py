@@ -44,6 +44,9 @@ __all__ = ["ACTIVE_TOL", "DEFAULT_GRID", "Fastest", "Limits", "fastest", "limit_
 
 #: Grid points of s by default.
 DEFAULT_GRID = 500
+#: Toppra's constraint relaxations tried in turn (its LP at a knot can be numerically challenging where a joint's
+#: path velocity crosses zero; Drake's message advises a slight relaxation).
+RELAXATIONS = (0.0, 1e-8, 1e-6)
 #: A constraint is active where its slack is at most this fraction of its range.
 ACTIVE_TOL = 2e-3
 
@@ -223,20 +226,24 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
     q_path = _path_of(path)
     s = np.linspace(q_path.start_time(), q_path.end_time(), grid)
     plant = make_plant(arm, PlantOptions(gravity=gravity, payload=payload, ideal_drives=True))
-    toppra = Toppra(q_path, plant, s)
-    if np.any(np.isfinite(limits.velocity)):
-        toppra.AddJointVelocityLimit(-limits.velocity, limits.velocity)
-    if np.any(np.isfinite(limits.acceleration)):
-        toppra.AddJointAccelerationLimit(-limits.acceleration, limits.acceleration,
-                                         ToppraDiscretization.kInterpolation)
-    if np.any(np.isfinite(limits.effort)):
-        toppra.AddJointTorqueLimit(-limits.effort, limits.effort, ToppraDiscretization.kInterpolation)
     a, b, c, lo, hi, names = _constraints(arm, q_path, s, limits, gravity, payload)
     drake_log = logging.getLogger("drake")
     level = drake_log.level
     drake_log.setLevel(logging.CRITICAL)  # an infeasible problem is our one-line error, not Drake's log line
     try:
-        scaling = toppra.SolvePathParameterization()
+        for relaxation in RELAXATIONS:  # Drake's advice where its LP at a knot is numerically challenging
+            toppra = Toppra(q_path, plant, s)
+            toppra.set_constraint_relaxation(relaxation)
+            if np.any(np.isfinite(limits.velocity)):
+                toppra.AddJointVelocityLimit(-limits.velocity, limits.velocity)
+            if np.any(np.isfinite(limits.acceleration)):
+                toppra.AddJointAccelerationLimit(-limits.acceleration, limits.acceleration,
+                                                 ToppraDiscretization.kInterpolation)
+            if np.any(np.isfinite(limits.effort)):
+                toppra.AddJointTorqueLimit(-limits.effort, limits.effort, ToppraDiscretization.kInterpolation)
+            scaling = toppra.SolvePathParameterization()
+            if scaling is not None:
+                break
     finally:
         drake_log.setLevel(level)
     if scaling is None:
