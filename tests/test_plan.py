@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -304,3 +306,61 @@ def test_profiles_by_name():
     arm = get_arm("rr")
     motion = tool_motion_along(arm, path, profile=trapezoid, samples=101)
     np.testing.assert_allclose(motion.duration, trapezoid.duration, rtol=1e-12)
+
+
+# ------------------------------------------------------------------------------------ the command line
+@pytest.fixture
+def box(tmp_path, monkeypatch, capsys):
+    from contract import Sandbox
+
+    return Sandbox(tmp_path, monkeypatch, capsys)
+
+
+def test_cli_plan_line_fastest(box):
+    from contract import check
+
+    outcome = box.main("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--fastest",
+                       "--acceleration", "5", "--json", "--plot", "rate.png")
+    check(outcome, 0)
+    summary = json.loads(outcome.out)
+    best = fastest(get_arm("rr"), armlab.line(get_arm("rr"), [0.5, 0.3], [0.3, 0.5], tf=2.0), acceleration=5.0)
+    np.testing.assert_allclose(summary["fastest"]["duration"], best.duration, rtol=1e-9)
+    assert summary["fastest"]["most_active"].endswith("acceleration")
+    assert (box.cwd / "rate.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"  # exact: the PNG signature
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.5,0.3", "--tf", "2"], "zero length"),
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "1.5,0.3", "--tf", "2"], "leaves rr's reach at s = "),
+    (["plan", "rr", "arc", "--through", "0.1,0.1", "0.2,0.2", "0.3,0.3", "--tf", "2"], "collinear"),
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--profile", "trapezoid", "--speed", "-1",
+      "--tool-acceleration", "1"], "peak speed"),
+    (["plan", "rr", "line", "--from", "0.5,nan", "--to", "0.3,0.5", "--tf", "2"], "nan"),
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--fastest", "--effort", "0.1"],
+     "joint1 torque needs"),
+])
+def test_cli_plan_bad_input(box, argv, fragment):
+    from contract import check
+
+    check(box.main(*argv), 2, fragment)
+
+
+def test_segments_file_takes_lines_arcs_and_trapezoids(tmp_path):
+    from armlab.diagrams.motions import read_segments
+
+    path = tmp_path / "seg.json"
+    path.write_text(json.dumps({"segments": [
+        {"from_point": [0.5, 0.3], "from_branch": 0, "line_to": [0.3, 0.5], "tf": 2.0, "label": "line"},
+        {"arc_through": [[0.35, 0.3], [0.5, 0.2]], "tf": 2.0, "profile": "trapezoid", "label": "arc"},
+        {"to": [0.0, 1.0], "profile": "trapezoid", "velocity": 1.0, "acceleration": 2.0, "label": "trap"}]}))
+    arm = get_arm("rr")
+    motion = read_segments(arm, path)
+    assert all(motion.joins()) and len(motion.runs()) == 1  # one continuous run: the paths start where it is
+    line = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0, branch=0)
+    t = np.linspace(0.0, 2.0, 51)
+    np.testing.assert_allclose(motion.evaluate(t)[0], line.evaluate(t)[0], atol=1e-12)
+    p = arm.forward(motion.evaluate(motion.breaks[2:3])[0]).tool[0, :2, 3]
+    np.testing.assert_allclose(p, [0.5, 0.2], atol=1e-9)
+    path.write_text(json.dumps({"segments": [{"from": [0, 1], "line_to": [0.3, 0.5], "to": [0, 0], "tf": 1}]}))
+    with pytest.raises(ValueError, match="give one tool path"):
+        read_segments(arm, path)
