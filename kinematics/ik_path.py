@@ -164,7 +164,7 @@ def solve_path(arm: Arm, what: str, s: NDArray, p: NDArray, dp: NDArray, ddp: ND
                 _predicted(arm, q[i], _task_jacobian(arm, q[i], rows), _delta(p, R, i, js, rows)))
         solved, ok = _newton(arm, p[js], None if R is None else R[js], seed, rows)
         if not ok.all():  # sample by sample from the last good one
-            for j in js:
+            for j in map(int, js):
                 seed = (_extrapolated(s, q, j - 1, np.array([j])) if j >= 3 else
                         _predicted(arm, q[j - 1], _task_jacobian(arm, q[j - 1], rows),
                                    _delta(p, R, j - 1, np.array([j]), rows)))

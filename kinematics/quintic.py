@@ -26,7 +26,7 @@ exactly the same polynomials, when every segment is a polynomial).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -286,7 +286,7 @@ def _shifted(trajectory: Trajectory, start: float) -> Trajectory:
 
     offset = start - trajectory.start_time()
     if isinstance(trajectory, PiecewisePolynomial):
-        moved = trajectory.Clone()
+        moved = cast("PiecewisePolynomial", trajectory.Clone())
         moved.shiftRight(offset)
         return moved
     if isinstance(trajectory, PathParameterizedTrajectory):
@@ -354,7 +354,8 @@ class TrajectorySegment:
         """q, q̇, q̈ (the first ``orders``) at local times ``tau`` ``(m,)``, each ``(m, n)``, by Drake's trajectory
         and its derivative trajectories."""
         sources = (self.trajectory, *self._derivatives)[:orders]
-        return tuple(np.asarray(s.vector_values(np.ascontiguousarray(tau)), dtype=float).T for s in sources)
+        times = np.asarray(tau, dtype=np.float64).tolist()
+        return tuple(np.asarray(s.vector_values(times), dtype=np.float64).T for s in sources)
 
     def knots(self) -> NDArray[np.float64]:
         """Local times where the trajectory's pieces meet (of its path for a path-parameterised one), with the ends."""
@@ -362,13 +363,13 @@ class TrajectorySegment:
 
         trajectory = self.trajectory
         if isinstance(trajectory, PathParameterizedTrajectory):
-            scaling = trajectory.time_scaling()
+            scaling = cast("PiecewisePolynomial", trajectory.time_scaling())
             t = np.asarray(scaling.get_segment_times())  # the path's knots in s, mapped back to t below
-            s_knots = np.asarray(trajectory.path().get_segment_times())
-            s_of_t = np.asarray(scaling.vector_values(t))[0]
+            s_knots = np.asarray(cast("PiecewisePolynomial", trajectory.path()).get_segment_times())
+            s_of_t = np.asarray(scaling.vector_values(t.tolist()))[0]
             # s(t) is monotone: the time of each path knot by interpolation, refined on the time scaling's knots
             return np.unique(np.concatenate([t, np.interp(s_knots, s_of_t, t)]))
-        return np.asarray(trajectory.get_segment_times(), dtype=float)
+        return np.asarray(cast("PiecewisePolynomial", trajectory).get_segment_times(), dtype=np.float64)
 
 
 Segment = PolynomialKind | TrajectorySegment

@@ -114,9 +114,10 @@ def _constraints(arm: Arm, path: Trajectory, s: NDArray, limits: Limits, gravity
                  payload: float) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, list[str]]:
     """Every constraint as a s̈ + b ṡ² + c ∈ [lo, hi] at grid points ``s`` ``(m,)``: a, b, c ``(m, K)``, lo, hi
     ``(K,)`` and a name each (velocity rows as b ṡ² ≤ v² with a = 0)."""
-    q = np.asarray(path.vector_values(s)).T
-    d1 = np.asarray(path.MakeDerivative(1).vector_values(s)).T
-    d2 = np.asarray(path.MakeDerivative(2).vector_values(s)).T
+    grid = s.tolist()
+    q = np.asarray(path.vector_values(grid)).T
+    d1 = np.asarray(path.MakeDerivative(1).vector_values(grid)).T
+    d2 = np.asarray(path.MakeDerivative(2).vector_values(grid)).T
     zero = np.zeros_like(q)
     g_tau = inverse_dynamics(arm, q, zero, zero, gravity, payload)  # −τ_g: the torque holding the arm still
     m_tau = inverse_dynamics(arm, q, zero, d1, "off", payload)  # M q'
@@ -251,7 +252,7 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
     trajectory = PathParameterizedTrajectory(q_path, scaling)
     motion = Motion((TrajectorySegment(trajectory, "time-optimal"),),
                     f"time-optimal timing (Toppra) of {path.description if isinstance(path, Motion) else 'a path'}")
-    times = np.asarray(scaling.get_segment_times())
+    times = list(scaling.get_segment_times())
     s_at = np.asarray(scaling.vector_values(times))[0]
     sd_at = np.asarray(scaling.MakeDerivative(1).vector_values(times))[0]
     sd = np.interp(s, s_at, sd_at)

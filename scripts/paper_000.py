@@ -188,7 +188,9 @@ def _true_arc(arm: Any, centre: np.ndarray, tau: np.ndarray) -> tuple[Any, dict[
     for label in SEGMENTS:
         motion = arc(arm, centre=np.append(centre, 0.0), axis=[0.0, 0.0, 1.0], start=ABCD_POINTS[label[0]],
                      angle=np.pi / 2, tf=SEGMENT_TIME, q0=q0, branch=0 if q0 is None else None, samples=ARC_SAMPLES)
-        segments.append(TrajectorySegment(motion.segments[0].trajectory, label))
+        (piece,) = motion.segments
+        assert isinstance(piece, TrajectorySegment)  # a tool path is one trajectory segment
+        segments.append(TrajectorySegment(piece.trajectory, label))
         q0 = segments[-1].q_end
     circle = Motion(tuple(segments), "the tool along the circle A-B-C-D-A (true arcs, IK branch 0)")
     out: dict[str, list[np.ndarray]] = {key: [] for key in ("q", "qd", "qdd", "M")}
