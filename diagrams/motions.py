@@ -206,14 +206,19 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
         raise ValueError(f"--segments {path}: \"deg\" = {json.dumps(deg)} must be true or false")
     segments: list[Segment] = []
     known = {"label", "tf", "from", "from_point", "from_branch", "from_pitch", "to", "to_point", "to_branch",
-             "to_pitch", "rate", "profile", "velocity", "acceleration", "speed", "samples", *_TOOL_PATH_KEYS}
+             "to_pitch", "rate", "profile"}
     for k, spec in enumerate(data["segments"], start=1):
         where = f"--segments {path.name} segment {k}"
         if not isinstance(spec, dict):
             raise ValueError(f"{where}: expected an object, got {spec!r}")
-        unknown = sorted(set(spec) - known)
+        tool_path = any(key in spec for key in _TOOL_PATH_KEYS)
+        allowed = known | ({"speed", "acceleration", "samples", *_TOOL_PATH_KEYS} if tool_path
+                           else {"velocity", "acceleration"} if spec.get("profile") == "trapezoid" else set())
+        unknown = sorted(set(spec) - allowed)
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(known))}")
+            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))} "
+                             f"(a tool path also: {', '.join(_TOOL_PATH_KEYS)}, speed, acceleration, samples; a "
+                             "trapezoid: velocity, acceleration)")
         label = str(spec.get("label", k))
         previous = segments[-1].q_end if segments else None
         q0 = _end(arm, spec, "from", deg, previous, where)
@@ -221,7 +226,7 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
             if previous is None:
                 raise ValueError(f"{where}: the first segment needs \"from\" or \"from_point\"")
             q0 = previous
-        if any(key in spec for key in _TOOL_PATH_KEYS):
+        if tool_path:
             segments.extend(_tool_path(arm, spec, q0, deg, label, where).segments)
             continue
         qf = _end(arm, spec, "to", deg, q0, where)

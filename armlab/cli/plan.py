@@ -9,6 +9,7 @@ limit curve (``--plot``). ``armlab simulate --segments`` runs the same paths fro
 from __future__ import annotations
 
 import argparse
+import io
 import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -16,8 +17,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.cli.args import ARM_HELP
+from armlab.files import write_file
 from armlab.kinematics.cartesian import DEFAULT_SAMPLES, PROFILES
 from armlab.models import get_arm
+from armlab.scripts.figures import DPI, new_figure
 from armlab.values import joint_values, parse_floats
 
 if TYPE_CHECKING:
@@ -66,12 +69,7 @@ def _limits(arm: Arm, text: str | None, name: str) -> float | np.ndarray | None:
 
 def _plot(best: Fastest, arm: Arm, path: str) -> None:
     # lazy: matplotlib, only for --plot
-    import io
-
     import matplotlib.pyplot as plt
-
-    from armlab.files import write_file
-    from armlab.scripts.figures import DPI, new_figure
 
     kind = Path(path).suffix.lower().lstrip(".")
     if kind not in ("png", "svg"):
