@@ -320,12 +320,15 @@ def test_cli_plan_line_fastest(box):
     from contract import check
 
     outcome = box.main("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--fastest",
-                       "--acceleration", "5", "--json", "--plot", "rate.png")
+                       "--acceleration", "5", "--json", "--plot", "rate.png", "--simulate", "run")
     check(outcome, 0)
     summary = json.loads(outcome.out)
     best = fastest(get_arm("rr"), armlab.line(get_arm("rr"), [0.5, 0.3], [0.3, 0.5], tf=2.0), acceleration=5.0)
     np.testing.assert_allclose(summary["fastest"]["duration"], best.duration, rtol=1e-9)
     assert summary["fastest"]["most_active"].endswith("acceleration")
+    assert max(summary["simulation"]["max_tracking_error"]) < 1e-3  # the simulated run tracks the fastest motion
+    logged = json.loads((box.cwd / "run" / "summary.json").read_text())
+    np.testing.assert_allclose(logged["duration"], best.duration, rtol=1e-12)
     assert (box.cwd / "rate.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"  # exact: the PNG signature
 
 

@@ -1,9 +1,9 @@
 """``armlab plan``: a tool line or arc by IK along it, timed by a profile or as fast as the limits allow.
 
 A thin layer over :func:`armlab.line`, :func:`armlab.arc` and :func:`armlab.fastest` (:mod:`armlab.api`): it
-parses the points, prints the plan (duration, the tool's largest distance from the path, the joint ranges and,
-with ``--fastest``, the minimum duration and the constraint active along the path) and may plot ṡ against its
-limit curve (``--plot``). ``armlab simulate --segments`` runs the same paths from a file.
+parses the points, prints the plan (duration, the joints at both ends and, with ``--fastest``, the minimum duration
+and the constraint active along the path), may plot ṡ against its limit curve (``--plot``) and simulate it
+(``--simulate DIR``, :func:`armlab.simulate`). ``armlab simulate --segments`` runs the same paths from a file.
 """
 
 from __future__ import annotations
@@ -113,18 +113,31 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                               "effort_limits": best.limits.effort.tolist()}
         if args.plot:
             _plot(best, arm, args.plot)
+        motion = best.motion
     elif args.plot:
         raise ValueError("--plot draws the time-optimal path rate: give --fastest too")
+    if args.simulate:
+        # lazy: the simulation loads Drake's systems
+        from armlab.api import simulate
+
+        run = simulate(arm, motion)
+        summary["simulation"] = {"out": args.simulate, "written": run.save(args.simulate),
+                                 "max_tracking_error": run.summary["max_tracking_error"],
+                                 "max_abs_torque": run.summary["max_abs_torque"]}
     if args.json:
         print(json.dumps(summary, indent=2, default=lambda v: None))
         return 0
-    print(f"{arm.name}: {motion.description}: {motion.duration:.6g} s")
+    print(f"{arm.name}: {summary['motion']}: {summary['duration']:.6g} s")
     print("joints from  " + "  ".join(f"{v:+.6f}" for v in summary["q_start"]))
     print("joints to    " + "  ".join(f"{v:+.6f}" for v in summary["q_end"]))
     if args.fastest:
         f = summary["fastest"]
         print(f"time-optimal (Toppra, {args.grid} grid points): {f['duration']:.6g} s; a limit is active on "
               f"{f['active_fraction']:.0%} of the path, mostly {f['most_active'] or 'none'}")
+    if args.simulate:
+        sim = summary["simulation"]
+        print(f"simulated{' the time-optimal motion' if args.fastest else ''}: max tracking error "
+              f"{max(sim['max_tracking_error']):.3g}; wrote {args.simulate}: {' '.join(sim['written'])}")
     return 0
 
 
@@ -154,6 +167,8 @@ def register(subparsers: Any) -> None:
     p.add_argument("--effort", help="--fastest: joint effort limits (default the file's)")
     p.add_argument("--grid", type=int, default=500, help="--fastest: Toppra's grid points (default 500)")
     p.add_argument("--plot", help="--fastest: write ṡ against its limit curve to this .png/.svg")
+    p.add_argument("--simulate", metavar="DIR", help="simulate the plan (the time-optimal one with --fastest) "
+                   "through paper 000's Fig. 6 diagram and write the run into DIR, as armlab simulate does")
     p.add_argument("--deg", action="store_true", help="--q0 and --angle in degrees")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_plan)
