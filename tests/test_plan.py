@@ -229,6 +229,7 @@ def _respects(arm, motion, velocity, acceleration, effort, tol):
             and np.all(np.abs(tau) <= effort * (1 + tol)))
 
 
+@pytest.mark.slow
 def test_fastest_is_time_optimal(rr_line):
     arm, line = rr_line
     velocity, acceleration, effort = np.array([10.0, 10.0]), np.array([5.0, 5.0]), np.array([100.0, 100.0])
@@ -316,6 +317,7 @@ def box(tmp_path, monkeypatch, capsys):
     return Sandbox(tmp_path, monkeypatch, capsys)
 
 
+@pytest.mark.slow
 def test_cli_plan_line_fastest(box):
     from contract import check
 
