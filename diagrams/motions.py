@@ -27,8 +27,8 @@ from armlab.kinematics.cartesian import (
     tool_motion_along,
 )
 from armlab.kinematics.ik import solve, solve_branch
-from armlab.kinematics.profiles import trapezoidal
-from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, Segment, check_duration
+from armlab.kinematics.profiles import spline, trapezoidal
+from armlab.kinematics.quintic import ConstantRate, Motion, PolynomialSegment, QuinticSegment, Segment, check_duration
 from armlab.models import paper_arms
 
 if TYPE_CHECKING:
@@ -57,7 +57,9 @@ A segments file is JSON: {"deg": false, "segments": [SEGMENT, ...]}. Each SEGMEN
            solution nearest the previous joints is taken. "profile": "trapezoid" makes a "to"
            segment a synchronised trapezoid (with "tf", or "velocity" and "acceleration" per joint
            instead), and times a tool path ("minimum-jerk" by default, "cubic", or "trapezoid" with
-           "tf", or the tool's "speed" m/s and "acceleration" m/s² instead).
+           "tf", or the tool's "speed" m/s and "acceleration" m/s² instead). "through": [[q1, ...],
+           ...] passes those joint values without stopping (quintics, or "degree": 3 cubics; via
+           velocities by Craig's rule; "tf" per piece or one for all).
 With "deg": true, revolute joint values and rates are in degrees (prismatic ones stay m)."""
 
 
@@ -195,6 +197,28 @@ def _tool_path(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: 
         raise ValueError(f"{where}: {error}") from None
 
 
+def _through(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bool, label: str,
+             where: str) -> Motion:
+    """Splines from ``q0`` through the joint values ``"through"`` without stopping (:func:`armlab.kinematics.profiles
+    .spline`: "degree" 5, quintics, or 3, cubics; "tf" one duration per piece or one for all)."""
+    raw = spec["through"]
+    if not isinstance(raw, list) or not raw:
+        raise ValueError(f"{where} through = {json.dumps(raw)} must be a list of joint-value lists")
+    points = [q0, *(_values(arm, q, deg, f"{where} through point {k + 1}") for k, q in enumerate(raw))]
+    if "tf" not in spec:
+        raise ValueError(f"{where}: needs \"tf\" (s): one duration per piece, or one for all")
+    tf = spec["tf"]
+    durations = ([json_number(t, f"{where} tf") for t in tf] if isinstance(tf, list)
+                 else json_number(tf, f"{where} tf"))
+    degree = spec.get("degree", 5)
+    try:
+        motion = spline(arm, np.array(points), durations, degree)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+    return Motion(tuple(PolynomialSegment(s.coefficients(), s.duration, f"{label}.{k + 1}")
+                        for k, s in enumerate(motion.segments)), motion.description)
+
+
 def read_segments(arm: Arm, path: str | Path) -> Motion:
     """The motion in a segments file (JSON, :data:`SEGMENTS_FILE_HELP`), every end checked against the limits."""
     path = Path(path)
@@ -213,6 +237,7 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
             raise ValueError(f"{where}: expected an object, got {spec!r}")
         tool_path = any(key in spec for key in _TOOL_PATH_KEYS)
         allowed = known | ({"speed", "acceleration", "samples", *_TOOL_PATH_KEYS} if tool_path
+                           else {"through", "degree"} if "through" in spec
                            else {"velocity", "acceleration"} if spec.get("profile") == "trapezoid" else set())
         unknown = sorted(set(spec) - allowed)
         if unknown:
@@ -228,6 +253,9 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
             q0 = previous
         if tool_path:
             segments.extend(_tool_path(arm, spec, q0, deg, label, where).segments)
+            continue
+        if "through" in spec:
+            segments.extend(_through(arm, spec, q0, deg, label, where).segments)
             continue
         qf = _end(arm, spec, "to", deg, q0, where)
         rate = spec.get("rate")

@@ -357,9 +357,13 @@ def test_segments_file_takes_lines_arcs_and_trapezoids(tmp_path):
     path.write_text(json.dumps({"segments": [
         {"from_point": [0.5, 0.3], "from_branch": 0, "line_to": [0.3, 0.5], "tf": 2.0, "label": "line"},
         {"arc_through": [[0.35, 0.3], [0.5, 0.2]], "tf": 2.0, "profile": "trapezoid", "label": "arc"},
-        {"to": [0.0, 1.0], "profile": "trapezoid", "velocity": 1.0, "acceleration": 2.0, "label": "trap"}]}))
+        {"to": [0.0, 1.0], "profile": "trapezoid", "velocity": 1.0, "acceleration": 2.0, "label": "trap"},
+        {"through": [[0.5, 1.2], [1.0, 0.7]], "tf": 1.0, "label": "via"}]}))
     arm = get_arm("rr")
     motion = read_segments(arm, path)
+    via = armlab.through(arm, [[0.0, 1.0], [0.5, 1.2], [1.0, 0.7]], 1.0, stop=False)
+    tail = np.linspace(0.0, 2.0, 21)
+    np.testing.assert_allclose(motion.evaluate(motion.breaks[-3] + tail)[1], via.evaluate(tail)[1], atol=1e-12)
     assert all(motion.joins()) and len(motion.runs()) == 1  # one continuous run: the paths start where it is
     line = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0, branch=0)
     t = np.linspace(0.0, 2.0, 51)
