@@ -215,8 +215,9 @@ def _through(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bo
         motion = spline(arm, np.array(points), durations, degree)
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
-    return Motion(tuple(PolynomialSegment(s.coefficients(), s.duration, f"{label}.{k + 1}")
-                        for k, s in enumerate(motion.segments)), motion.description)
+    return Motion(tuple(PolynomialSegment(c, s.duration, f"{label}.{k + 1}")
+                        for k, (c, s) in enumerate(zip(motion.coefficients(), motion.segments, strict=True))),
+                  motion.description)
 
 
 def read_segments(arm: Arm, path: str | Path) -> Motion:
