@@ -58,6 +58,7 @@ bench: setup
 	$(BIN)/python scripts/bench_kinematics.py
 	$(BIN)/python scripts/bench_ik.py
 	$(BIN)/python scripts/bench_simulate.py
+	$(BIN)/python scripts/bench_plan.py
 	$(BIN)/python scripts/bench_analysis.py
 	$(BIN)/python scripts/bench_reproduce.py
 

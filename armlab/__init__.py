@@ -19,7 +19,19 @@ from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, through
+    from armlab.api import (
+        arc,
+        constant_rate,
+        fastest,
+        line,
+        load,
+        paper_motion,
+        quintic,
+        read_segments,
+        simulate,
+        through,
+        trapezoidal,
+    )
     from armlab.diagrams.run import Run
     from armlab.drives.train import DriveTrain
     from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
@@ -40,6 +52,7 @@ _EXPORTS = {
     "export": "armlab.models.export",
     **{name: "armlab.api" for name in ("constant_rate", "load", "paper_motion", "quintic", "read_segments",
                                        "simulate", "through")},
+    **{name: "armlab.api" for name in ("arc", "fastest", "line", "trapezoidal")},  # tool paths, profiles, timing
 }
 
 __all__ = [  # the names of _EXPORTS, listed for readers and linters
@@ -50,14 +63,18 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "QuinticSegment",
     "Run",
     "__version__",
+    "arc",
     "constant_rate",
     "export",
+    "fastest",
+    "line",
     "load",
     "paper_motion",
     "quintic",
     "read_segments",
     "simulate",
     "through",
+    "trapezoidal",
 ]
 
 

@@ -38,14 +38,27 @@ from armlab.diagrams.simulate import (
 )
 from armlab.diagrams.simulate import simulate as run_diagram
 from armlab.drives.read import with_drives
+from armlab.kinematics.cartesian import (
+    DEFAULT_SAMPLES,
+    arc_path,
+    arc_through,
+    line_path,
+    path_profile,
+    tool_motion_along,
+)
+from armlab.kinematics.profiles import spline
+from armlab.kinematics.profiles import trapezoidal as joint_trapezoid
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, check_duration
+from armlab.kinematics.timing import DEFAULT_GRID, Fastest
+from armlab.kinematics.timing import fastest as time_optimal
 from armlab.models import get_arm
 
 if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
     from armlab.models.arm import Arm
 
-__all__ = ["constant_rate", "load", "paper_motion", "quintic", "read_segments", "simulate", "through"]
+__all__ = ["arc", "constant_rate", "fastest", "line", "load", "paper_motion", "quintic", "read_segments", "simulate",
+           "through", "trapezoidal"]
 
 
 def load(name: str | Path, *, drives: str | Path | DriveTrain | None = None, tool: str | None = None,
@@ -72,11 +85,18 @@ def quintic(arm: Arm, q0: ArrayLike, qf: ArrayLike, tf: float, label: str = "") 
     return quintic_motion(arm, q0, qf, tf, label or "rest-to-rest quintic")
 
 
-def through(arm: Arm, waypoints: ArrayLike, tf: float | Sequence[float]) -> Motion:
-    """Rest-to-rest quintics through ``waypoints`` ``(k + 1, n)``: k segments of ``tf`` s each (or one tf each).
+def through(arm: Arm, waypoints: ArrayLike, tf: float | Sequence[float], stop: bool = True, degree: int = 5,
+            velocities: ArrayLike | None = None, accelerations: ArrayLike | None = None) -> Motion:
+    """Quintics through ``waypoints`` ``(k + 1, n)``: k segments of ``tf`` s each (or one tf each).
 
-    The arm stops at every waypoint, as paper 000's A → B → C → D → A does.
+    ``stop=True``: rest to rest, the arm stops at every waypoint, as paper 000's A → B → C → D → A does.
+    ``stop=False``: through the via points without stopping (MATLAB ``quinticpolytraj`` / ``cubicpolytraj``,
+    ``degree`` 5 or 3): ``velocities`` (and ``accelerations``) at the waypoints, default Craig's rule
+    (:func:`armlab.kinematics.profiles.via_rule`: the mean of the adjacent segments' slopes, 0 where they differ
+    in sign; at rest at both ends).
     """
+    if not stop:
+        return spline(arm, waypoints, tf, degree, velocities, accelerations)
     points = np.asarray(waypoints, dtype=float)
     if points.ndim != 2 or points.shape[0] < 2:
         raise ValueError(f"waypoints have shape {points.shape}; give at least two rows of {arm.n} joint values")
@@ -98,6 +118,69 @@ def constant_rate(arm: Arm, q0: ArrayLike, rate: ArrayLike, tf: float) -> Motion
     motion = Motion((ConstantRate(start, omega, check_duration(tf), "constant-rate"),), "constant joint rates")
     motion.check_limits(arm)
     return motion
+
+
+def trapezoidal(arm: Arm, q0: ArrayLike, qf: ArrayLike, velocity: float | ArrayLike | None = None,
+                acceleration: float | ArrayLike | None = None, tf: float | None = None) -> Motion:
+    """A synchronised trapezoidal velocity profile from ``q0`` to ``qf`` (RTB ``trapezoidal``/``mtraj``, MATLAB
+    ``trapveltraj``): each joint's peak ``velocity`` and ``acceleration`` (one value or one per joint), or a
+    duration ``tf`` (s; peak rate 1.5 × the mean, RTB's default); every joint arrives at the same time."""
+    return joint_trapezoid(arm, q0, qf, velocity, acceleration, tf)
+
+
+def line(arm: Arm, start: ArrayLike | None, end: ArrayLike, tf: float | None = None, profile: str = "minimum-jerk",
+         speed: float | None = None, acceleration: float | None = None, q0: ArrayLike | None = None,
+         branch: int | None = None, samples: int = DEFAULT_SAMPLES) -> Motion:
+    """The tool along the straight line from ``start`` to ``end`` (RTB ``ctraj``, MATLAB ``transformtraj``).
+
+    ``start``, ``end``: points (x, y, z) m (rr: (x, y)) or 4×4 poses (a 6-joint arm then slerps the rotation);
+    ``start=None``: the tool point at ``q0``. Timing ``profile``: ``"minimum-jerk"`` or ``"cubic"`` over ``tf`` s,
+    or ``"trapezoid"`` with the tool's peak ``speed`` (m/s) and ``acceleration`` (m/s²) or ``tf``. The joints by
+    IK at ``samples`` points on one branch, starting at ``q0``, closed-form IK ``branch`` or the IK solution
+    nearest zero; ``ValueError`` with the path parameter s and the point where the line leaves the reach, a
+    joint limit or passes a singularity.
+    """
+    if start is None:
+        if q0 is None:
+            raise ValueError("give the line's start point, or the start configuration q0")
+        start = arm.fk(q0)[:3, 3] if arm.n < 6 else arm.fk(q0)
+    path = line_path(start, end)
+    return tool_motion_along(arm, path, profile=path_profile(path, profile, tf, speed, acceleration), q0=q0,
+                             branch=branch, samples=samples)
+
+
+def arc(arm: Arm, through: Sequence[ArrayLike] | None = None, tf: float | None = None,
+        centre: ArrayLike | None = None, axis: ArrayLike | None = None, start: ArrayLike | None = None,
+        angle: float | None = None, profile: str = "minimum-jerk", speed: float | None = None,
+        acceleration: float | None = None, q0: ArrayLike | None = None, branch: int | None = None,
+        samples: int = DEFAULT_SAMPLES) -> Motion:
+    """The tool along a circular arc: ``through`` three points (from the first by the second to the third), or
+    about ``centre`` and ``axis`` by ``angle`` (rad, right-handed) from ``start``. Timing and IK as :func:`line`."""
+    if through is not None:
+        if centre is not None or axis is not None or angle is not None:
+            raise ValueError("give an arc three points, or a centre, axis, start and angle, not both")
+        if len(through) != 3:
+            raise ValueError(f"an arc through points needs 3 of them, got {len(through)}")
+        path = arc_through(*through)
+    else:
+        if centre is None or axis is None or start is None or angle is None:
+            raise ValueError("give an arc three points (through=), or its centre, axis, start and angle")
+        path = arc_path(centre, axis, start, angle)
+    return tool_motion_along(arm, path, profile=path_profile(path, profile, tf, speed, acceleration), q0=q0,
+                             branch=branch, samples=samples)
+
+
+def fastest(arm: Arm, path: Motion, velocity: float | ArrayLike | None = None,
+            acceleration: float | ArrayLike | None = None, effort: float | ArrayLike | None = None,
+            drives: DriveTrain | None = None, motor_speed: float | ArrayLike | None = None,
+            motor_torque: float | ArrayLike | None = None, grid: int = DEFAULT_GRID, payload: float = 0.0) -> Fastest:
+    """The fastest timing of ``path`` (any motion, its geometric path kept; a tool line or arc) within the joint
+    limits, by Drake's ``Toppra`` (MATLAB ``contopptraj``, plus torque limits): the arm file's velocity and effort
+    limits unless given, an ``acceleration`` limit if given, motor-side limits through ``drives``. Returns a
+    :class:`~armlab.kinematics.timing.Fastest`: ``.motion`` (what :func:`simulate` takes), ``.duration`` (s),
+    ``.active`` (the constraint active along the path) and ṡ against its limit curve."""
+    return time_optimal(arm, path, velocity, acceleration, effort, drives, motor_speed, motor_torque, grid,
+                        payload=payload)
 
 
 def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> Motion:

@@ -40,7 +40,7 @@ from armlab.controllers.inverse_dynamics import (
     gain_vector,
 )
 from armlab.diagrams.plant import add_arm_plant
-from armlab.kinematics.quintic import Motion, to_piecewise_polynomial
+from armlab.kinematics.quintic import Motion, to_trajectory
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
@@ -120,7 +120,7 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     model = plant  # the exact model: the controller evaluates the plant itself, on a context of its own
 
     source = builder.AddNamedSystem(
-        "TrajectorySource", TrajectorySource(to_piecewise_polynomial(motion), output_derivative_order=2)
+        "TrajectorySource", TrajectorySource(to_trajectory(motion), output_derivative_order=2)
     )
     split = builder.AddNamedSystem("reference_split", Demultiplexer([2 * n, n]))
     builder.Connect(source.get_output_port(), split.get_input_port())

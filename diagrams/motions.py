@@ -18,8 +18,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.files import is_json_number, json_number, read_json
+from armlab.kinematics.cartesian import (
+    DEFAULT_SAMPLES,
+    arc_path,
+    arc_through,
+    line_path,
+    path_profile,
+    tool_motion_along,
+)
 from armlab.kinematics.ik import solve, solve_branch
-from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, Segment, check_duration
+from armlab.kinematics.profiles import spline, trapezoidal
+from armlab.kinematics.quintic import ConstantRate, Motion, PolynomialSegment, QuinticSegment, Segment, check_duration
 from armlab.models import paper_arms
 
 if TYPE_CHECKING:
@@ -39,9 +48,18 @@ A segments file is JSON: {"deg": false, "segments": [SEGMENT, ...]}. Each SEGMEN
            segment ends (the first segment then needs one);
   an end:  "to": [q1, ...] or "to_point": [x, y(, z)] (a quintic, rest to rest), or "rate": [w1, ...]
            (constant rates, q = q0 + w t);
+  or a tool path from the start's tool point: "line_to": [x, y(, z)] (a straight line),
+           "arc_through": [[x, y(, z)], [x, y(, z)]] (the circle through the start, a via point and
+           the end), or "arc_centre", "arc_axis" and "arc_angle" (rad; deg with "deg"), by IK along it
+           ("samples", default 201) on the start's branch;
   options: "label"; for points "from_branch"/"to_branch" (rr only: 0 for θ2 ≥ 0, 1 for θ2 ≤ 0),
            "from_pitch"/"to_pitch" (arm4r: the tool pitch θ2+θ3+θ4). Without a branch the IK
-           solution nearest the previous joints is taken.
+           solution nearest the previous joints is taken. "profile": "trapezoid" makes a "to"
+           segment a synchronised trapezoid (with "tf", or "velocity" and "acceleration" per joint
+           instead), and times a tool path ("minimum-jerk" by default, "cubic", or "trapezoid" with
+           "tf", or the tool's "speed" m/s and "acceleration" m/s² instead). "through": [[q1, ...],
+           ...] passes those joint values without stopping (quintics, or "degree": 3 cubics; via
+           velocities by Craig's rule; "tf" per piece or one for all).
 With "deg": true, revolute joint values and rates are in degrees (prismatic ones stay m)."""
 
 
@@ -127,6 +145,81 @@ def _end(arm: Arm, spec: Mapping[str, Any], which: str, deg: bool, near: NDArray
         raise ValueError(f"{where} {which}_point: {error}") from None
 
 
+#: The keys that make a segment a tool path.
+_TOOL_PATH_KEYS = ("line_to", "arc_through", "arc_centre", "arc_axis", "arc_angle")
+
+
+def _rates(arm: Arm, spec: Mapping[str, Any], key: str, deg: bool, where: str) -> NDArray[np.float64] | None:
+    """A joint trapezoid's peak ``key`` ("velocity", "acceleration"): one number or one per joint (deg with deg)."""
+    raw = spec.get(key)
+    if raw is None:
+        return None
+    values = _numbers(raw if isinstance(raw, list) else [raw], f"{where} {key}")
+    values = np.broadcast_to(values, (arm.n,)) if values.size == 1 else values
+    if values.shape != (arm.n,):
+        raise ValueError(f"{where} {key} has {values.size} values; give one, or one per joint ({arm.n})")
+    return np.where(arm.revolute, np.radians(values), values) if deg else values
+
+
+def _tool_path(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bool, label: str,
+               where: str) -> Motion:
+    """The tool along a line or an arc from its point at ``q0`` (:mod:`armlab.kinematics.cartesian`)."""
+    start = arm.forward(q0).tool
+    point = start[:3, 3] if arm.n < 6 else start
+    kinds = [key for key in ("line_to", "arc_through", "arc_centre") if key in spec]
+    if len(kinds) != 1 or any(key in spec for key in ("to", "to_point", "rate")):
+        raise ValueError(f"{where}: give one tool path (\"line_to\", \"arc_through\" or \"arc_centre\" with "
+                         "\"arc_axis\" and \"arc_angle\"), and no \"to\", \"to_point\" or \"rate\"")
+    try:
+        if kinds[0] == "line_to":
+            end = _numbers(spec["line_to"], f"{where} line_to")
+            path = line_path(point, end if arm.n < 6 or end.size != 3 else np.block(
+                [[start[:3, :3], end[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]]))
+        elif kinds[0] == "arc_through":
+            raw = spec["arc_through"]
+            if not isinstance(raw, list) or len(raw) != 2:
+                raise ValueError(f"arc_through = {json.dumps(raw)} must be two points: a via point and the end")
+            path = arc_through(point, *(_numbers(p, f"{where} arc_through") for p in raw))
+        else:
+            if "arc_axis" not in spec or "arc_angle" not in spec:
+                raise ValueError("an arc about a centre needs \"arc_axis\" and \"arc_angle\"")
+            angle = json_number(spec["arc_angle"], f"{where} arc_angle")
+            path = arc_path(_numbers(spec["arc_centre"], f"{where} arc_centre"),
+                            _numbers(spec["arc_axis"], f"{where} arc_axis"), point,
+                            float(np.radians(angle)) if deg else angle)
+        numbers = {key: None if spec.get(key) is None else json_number(spec[key], f"{where} {key}")
+                   for key in ("tf", "speed", "acceleration")}
+        profile = path_profile(path, str(spec.get("profile", "minimum-jerk")), numbers["tf"], numbers["speed"],
+                               numbers["acceleration"])
+        samples = spec.get("samples", DEFAULT_SAMPLES)
+        return tool_motion_along(arm, path, profile=profile, q0=q0, samples=samples, label=label)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+
+
+def _through(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bool, label: str,
+             where: str) -> Motion:
+    """Splines from ``q0`` through the joint values ``"through"`` without stopping (:func:`armlab.kinematics.profiles
+    .spline`: "degree" 5, quintics, or 3, cubics; "tf" one duration per piece or one for all)."""
+    raw = spec["through"]
+    if not isinstance(raw, list) or not raw:
+        raise ValueError(f"{where} through = {json.dumps(raw)} must be a list of joint-value lists")
+    points = [q0, *(_values(arm, q, deg, f"{where} through point {k + 1}") for k, q in enumerate(raw))]
+    if "tf" not in spec:
+        raise ValueError(f"{where}: needs \"tf\" (s): one duration per piece, or one for all")
+    tf = spec["tf"]
+    durations = ([json_number(t, f"{where} tf") for t in tf] if isinstance(tf, list)
+                 else json_number(tf, f"{where} tf"))
+    degree = spec.get("degree", 5)
+    try:
+        motion = spline(arm, np.array(points), durations, degree)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+    return Motion(tuple(PolynomialSegment(c, s.duration, f"{label}.{k + 1}")
+                        for k, (c, s) in enumerate(zip(motion.coefficients(), motion.segments, strict=True))),
+                  motion.description)
+
+
 def read_segments(arm: Arm, path: str | Path) -> Motion:
     """The motion in a segments file (JSON, :data:`SEGMENTS_FILE_HELP`), every end checked against the limits."""
     path = Path(path)
@@ -138,16 +231,20 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
         raise ValueError(f"--segments {path}: \"deg\" = {json.dumps(deg)} must be true or false")
     segments: list[Segment] = []
     known = {"label", "tf", "from", "from_point", "from_branch", "from_pitch", "to", "to_point", "to_branch",
-             "to_pitch", "rate"}
+             "to_pitch", "rate", "profile"}
     for k, spec in enumerate(data["segments"], start=1):
         where = f"--segments {path.name} segment {k}"
         if not isinstance(spec, dict):
             raise ValueError(f"{where}: expected an object, got {spec!r}")
-        unknown = sorted(set(spec) - known)
+        tool_path = any(key in spec for key in _TOOL_PATH_KEYS)
+        allowed = known | ({"speed", "acceleration", "samples", *_TOOL_PATH_KEYS} if tool_path
+                           else {"through", "degree"} if "through" in spec
+                           else {"velocity", "acceleration"} if spec.get("profile") == "trapezoid" else set())
+        unknown = sorted(set(spec) - allowed)
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(known))}")
-        if "tf" not in spec:
-            raise ValueError(f"{where}: needs \"tf\" (s)")
+            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))} "
+                             f"(a tool path also: {', '.join(_TOOL_PATH_KEYS)}, speed, acceleration, samples; a "
+                             "trapezoid: velocity, acceleration)")
         label = str(spec.get("label", k))
         previous = segments[-1].q_end if segments else None
         q0 = _end(arm, spec, "from", deg, previous, where)
@@ -155,10 +252,31 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
             if previous is None:
                 raise ValueError(f"{where}: the first segment needs \"from\" or \"from_point\"")
             q0 = previous
+        if tool_path:
+            segments.extend(_tool_path(arm, spec, q0, deg, label, where).segments)
+            continue
+        if "through" in spec:
+            segments.extend(_through(arm, spec, q0, deg, label, where).segments)
+            continue
         qf = _end(arm, spec, "to", deg, q0, where)
         rate = spec.get("rate")
         if (qf is None) == (rate is None):
-            raise ValueError(f"{where}: give exactly one of \"to\", \"to_point\" or \"rate\"")
+            raise ValueError(f"{where}: give exactly one of \"to\", \"to_point\" or \"rate\" (or a tool path: "
+                             "\"line_to\", \"arc_through\" or \"arc_centre\")")
+        if spec.get("profile") == "trapezoid" and qf is not None:
+            try:
+                segments.extend(trapezoidal(arm, q0, qf, _rates(arm, spec, "velocity", deg, where),
+                                            _rates(arm, spec, "acceleration", deg, where),
+                                            None if "tf" not in spec else json_number(spec["tf"], f"{where} tf"))
+                                .segments)
+            except ValueError as error:
+                raise ValueError(f"{where}: {error}") from None
+            continue
+        if "profile" in spec:
+            raise ValueError(f"{where}: \"profile\" = {json.dumps(spec['profile'])} is not allowed here: a joint "
+                             "segment takes \"trapezoid\" (a tool path takes minimum-jerk, cubic or trapezoid)")
+        if "tf" not in spec:
+            raise ValueError(f"{where}: needs \"tf\" (s)")
         json_number(spec["tf"], f"{where} tf")  # a JSON number: not "2", true or null
         tf = check_duration(spec["tf"], f"{where} tf")
         if qf is None:  # then "rate" is given (checked above)

@@ -461,8 +461,9 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
 
     ``max_abs_torque``, ``rms_torque``, ``max_tracking_error``: per joint (N·m or N; rad or m);
     ``peak_power``: max over time of |Σ τ_i q̇_i| (W); ``drive_train``: the arm's (``None``: ideal drives), its
-    parameters per joint; ``quintic_coefficients``: per segment, per
-    joint, [a1 … a6] of θ(τ) = a1 τ⁵ + … + a6 in the segment's local time τ (paper 000 eqs. 3–6).
+    parameters per joint; ``quintic_coefficients``: per segment, per joint, [a1 … a6] of θ(τ) = a1 τ⁵ + … + a6 in
+    the segment's local time τ (paper 000 eqs. 3–6), ``None`` for a motion with a trajectory segment (a tool path,
+    a time-optimal timing), which has no such coefficients.
     """
     arm, motion = log.arm, log.motion
     joins = motion.joins()
@@ -499,7 +500,7 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
         "log_period": log.log_period,
         "integrator": {"scheme": DEFAULT_INTEGRATOR, "target_accuracy": log.accuracy, "max_step": max_step(log.mode)},
         **_stats(log, np.ones(log.t.shape, dtype=bool)),
-        "quintic_coefficients": motion.coefficients().tolist(),
+        "quintic_coefficients": motion.coefficients().tolist() if motion.polynomial else None,
         "segments": segments,
         "runs": {
             "count": len(log.run_starts),

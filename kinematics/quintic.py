@@ -9,18 +9,24 @@ acceleration at both ends (§3, so a4 = a5 = 0). :func:`quintic_coefficients` so
 6 × 6 system. The RRRR run of Figs. 18–19, 24–25 turns its joints at constant rates,
 q = q0 + ω t, which is the same polynomial form with a1 … a4 = 0, a5 = ω, a6 = q0.
 
-A :class:`Motion` is a sequence of segments laid end to end in time, each a :class:`QuinticSegment`
-or a :class:`ConstantRate`, each in its own local time τ = t − t_start (the paper's t of each
-section A–B, B–C, …). Consecutive segments need not join in joint space (paper 000's Table 2 leaves
-C on another IK branch than it reaches it on): :meth:`Motion.runs` splits a motion into the
-continuous pieces that can be simulated as one run each. :func:`to_piecewise_polynomial` gives
-Drake's ``PiecewisePolynomial`` with exactly the same polynomials.
+A :class:`Motion` is a sequence of segments laid end to end in time, each in its own local time
+τ = t − t_start (the paper's t of each section A–B, B–C, …): any trajectory armlab plans is one.
+A segment is a :class:`QuinticSegment` (rest to rest), a :class:`ConstantRate`, a
+:class:`PolynomialSegment` (any degree-≤5 polynomial per joint, which may start and end moving: the
+profiles and via-point splines of :mod:`armlab.kinematics.profiles`) or a :class:`TrajectorySegment`
+(a Drake ``Trajectory``: a ``PiecewisePolynomial`` or a ``PathParameterizedTrajectory``, e.g. a tool
+path by IK, :mod:`armlab.kinematics.cartesian`, or Toppra's timing, :mod:`armlab.kinematics.timing`).
+Consecutive segments need not join in joint space (paper 000's Table 2 leaves C on another IK branch
+than it reaches it on): :meth:`Motion.joins` checks q and q̇ where they meet (to :data:`JOIN_TOL`) and
+:meth:`Motion.runs` splits a motion into the continuous pieces that can be simulated as one run each.
+:func:`to_trajectory` gives the Drake ``Trajectory`` of a motion (:func:`to_piecewise_polynomial`,
+exactly the same polynomials, when every segment is a polynomial).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -29,20 +35,30 @@ from armlab.kinematics.batch import as_batch
 from armlab.limits import check_positive, check_range
 
 if TYPE_CHECKING:
-    from pydrake.trajectories import PiecewisePolynomial
+    from pydrake.trajectories import PiecewisePolynomial, Trajectory
 
     from armlab.models.arm import Arm
 
 __all__ = [
+    "JOIN_TOL",
     "ConstantRate",
     "Motion",
+    "PolynomialSegment",
     "QuinticSegment",
     "Segment",
+    "TrajectorySegment",
     "check_duration",
     "evaluate_coefficients",
     "quintic_coefficients",
     "to_piecewise_polynomial",
+    "to_trajectory",
 ]
+
+#: Two segments join where q and q̇ agree to this, relative to max(1, |value|) (rad, m, rad/s, m/s): the
+#: ends of segments computed independently (a via-point spline's pieces) differ by round-off only.
+JOIN_TOL = 1e-9
+#: A trajectory segment's limits are checked at its knots and this many points between each two.
+KNOT_SAMPLES = 8
 
 #: Powers of τ for the coefficients [a1 … a6]: θ = Σ a_k τ^(6 − k).
 _POWERS = np.arange(5, -1, -1)
@@ -212,12 +228,180 @@ class ConstantRate:
         return c
 
 
-Segment = QuinticSegment | ConstantRate
+@dataclass(frozen=True)
+class PolynomialSegment:
+    """Any polynomial of degree ≤ 5 per joint in local time τ ∈ [0, ``duration``]: coefficients [a1 … a6] of
+    θ(τ) = a1 τ⁵ + … + a6, shape ``(n, 6)`` (paper 000's order; a lower degree has leading zeros).
+
+    It may start and end moving: the pieces of a trapezoidal profile, a via-point spline's segments
+    (:mod:`armlab.kinematics.profiles`).
+    """
+
+    poly: NDArray[np.float64]
+    duration: float
+    label: str = ""
+
+    def __post_init__(self) -> None:
+        name = f"segment {self.label}" if self.label else "polynomial segment"
+        c = np.asarray(self.poly, dtype=float)
+        if c.ndim != 2 or c.shape[0] == 0 or c.shape[1] != 6:
+            raise ValueError(f"{name}: coefficients have shape {c.shape}; expected (joints, 6): [a1 … a6] per joint")
+        if not np.all(np.isfinite(c)):
+            raise ValueError(f"{name}: coefficients {c.tolist()} have a value that is not a finite number")
+        object.__setattr__(self, "poly", c)
+        object.__setattr__(self, "duration", check_duration(self.duration, f"{name}: duration"))
+
+    @property
+    def q_start(self) -> NDArray[np.float64]:
+        """Joint values at the start (a6)."""
+        return self.poly[:, 5].copy()
+
+    @property
+    def q_end(self) -> NDArray[np.float64]:
+        """Joint values at the end."""
+        return evaluate_coefficients(self.poly, np.asarray(self.duration))
+
+    @property
+    def v_start(self) -> NDArray[np.float64]:
+        """Joint velocities at the start (a5)."""
+        return self.poly[:, 4].copy()
+
+    @property
+    def v_end(self) -> NDArray[np.float64]:
+        """Joint velocities at the end."""
+        return evaluate_coefficients(self.poly, np.asarray(self.duration), 1)
+
+    def coefficients(self) -> NDArray[np.float64]:
+        """[a1 … a6] per joint, shape ``(n, 6)``."""
+        return self.poly
+
+
+PolynomialKind = QuinticSegment | ConstantRate | PolynomialSegment
+
+
+def _shifted(trajectory: Trajectory, start: float) -> Trajectory:
+    """``trajectory`` moved in time to begin at ``start`` (a ``PiecewisePolynomial`` or a
+    ``PathParameterizedTrajectory``, whose time scaling is moved)."""
+    from pydrake.trajectories import PathParameterizedTrajectory, PiecewisePolynomial
+
+    offset = start - trajectory.start_time()
+    if isinstance(trajectory, PiecewisePolynomial):
+        moved = cast("PiecewisePolynomial", trajectory.Clone())
+        moved.shiftRight(offset)
+        return moved
+    if isinstance(trajectory, PathParameterizedTrajectory):
+        scaling = trajectory.time_scaling()
+        if not isinstance(scaling, PiecewisePolynomial):
+            raise ValueError(f"a path-parameterised segment needs a PiecewisePolynomial time scaling, not "
+                             f"{type(scaling).__name__}")
+        return PathParameterizedTrajectory(trajectory.path(), _shifted(scaling, scaling.start_time() + offset))
+    raise ValueError(f"a trajectory segment takes a PiecewisePolynomial or a PathParameterizedTrajectory, not "
+                     f"{type(trajectory).__name__}")
+
+
+@dataclass(frozen=True)
+class TrajectorySegment:
+    """A segment given by a Drake ``Trajectory`` of the joints, ``(n, 1)`` values, over its own
+    [start_time, end_time]: a ``PiecewisePolynomial`` or a ``PathParameterizedTrajectory`` q(s(t)) (a tool
+    path by IK timed by a profile, :mod:`armlab.kinematics.cartesian`; Toppra's timing of a path,
+    :mod:`armlab.kinematics.timing`). Local time τ = 0 is the trajectory's start time.
+    """
+
+    trajectory: Trajectory
+    label: str = ""
+    _derivatives: tuple[Trajectory, ...] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        name = f"segment {self.label}" if self.label else "trajectory segment"
+        trajectory = _shifted(self.trajectory, 0.0)  # checks the kind; local time from 0
+        if trajectory.cols() != 1 or trajectory.rows() == 0:
+            raise ValueError(f"{name}: the trajectory has {trajectory.rows()} × {trajectory.cols()} values; "
+                             "expected a column of joint values")
+        check_duration(trajectory.end_time(), f"{name}: duration")
+        object.__setattr__(self, "trajectory", trajectory)
+        object.__setattr__(self, "_derivatives", (trajectory.MakeDerivative(1), trajectory.MakeDerivative(2)))
+
+    @property
+    def duration(self) -> float:
+        """Length of the segment in seconds."""
+        return float(self.trajectory.end_time())
+
+    def _at(self, tau: float, derivative: int = 0) -> NDArray[np.float64]:
+        source = self.trajectory if derivative == 0 else self._derivatives[derivative - 1]
+        return np.asarray(source.value(tau), dtype=float)[:, 0]
+
+    @property
+    def q_start(self) -> NDArray[np.float64]:
+        """Joint values at the start."""
+        return self._at(0.0)
+
+    @property
+    def q_end(self) -> NDArray[np.float64]:
+        """Joint values at the end."""
+        return self._at(self.duration)
+
+    @property
+    def v_start(self) -> NDArray[np.float64]:
+        """Joint velocities at the start."""
+        return self._at(0.0, 1)
+
+    @property
+    def v_end(self) -> NDArray[np.float64]:
+        """Joint velocities at the end."""
+        return self._at(self.duration, 1)
+
+    def evaluate(self, tau: NDArray[np.float64], orders: int = 3) -> tuple[NDArray[np.float64], ...]:
+        """q, q̇, q̈ (the first ``orders``) at local times ``tau`` ``(m,)``, each ``(m, n)``, by Drake's trajectory
+        and its derivative trajectories."""
+        sources = (self.trajectory, *self._derivatives)[:orders]
+        times = np.asarray(tau, dtype=np.float64).tolist()
+        return tuple(np.asarray(s.vector_values(times), dtype=np.float64).T for s in sources)
+
+    def knots(self) -> NDArray[np.float64]:
+        """Local times where the trajectory's pieces meet (of its path for a path-parameterised one), with the ends."""
+        from pydrake.trajectories import PathParameterizedTrajectory
+
+        trajectory = self.trajectory
+        if isinstance(trajectory, PathParameterizedTrajectory):
+            scaling = cast("PiecewisePolynomial", trajectory.time_scaling())
+            t = np.asarray(scaling.get_segment_times())  # the path's knots in s, mapped back to t below
+            s_knots = np.asarray(cast("PiecewisePolynomial", trajectory.path()).get_segment_times())
+            s_of_t = np.asarray(scaling.vector_values(t.tolist()))[0]
+            # s(t) is monotone: the time of each path knot by interpolation, refined on the time scaling's knots
+            return np.unique(np.concatenate([t, np.interp(s_knots, s_of_t, t)]))
+        return np.asarray(cast("PiecewisePolynomial", trajectory).get_segment_times(), dtype=np.float64)
+
+
+Segment = PolynomialKind | TrajectorySegment
+
+
+def _polynomial_values(c: NDArray[np.float64], tau: NDArray[np.float64], orders: int) -> tuple[NDArray, ...]:
+    """θ and its first ``orders − 1`` derivatives at ``tau`` ``(m,)`` for coefficients [a1 … a6] ``(n, 6)``,
+    each ``(m, n)``, by Horner's rule (numpy's ``polyval``), as Drake's ``PiecewisePolynomial`` evaluates them."""
+    # lazy: armlab --help loads this module but not numpy.polynomial (start-up time)
+    from numpy.polynomial.polynomial import polyder, polyval
+
+    low = c[:, ::-1].T  # (6, n), lowest power first
+    return tuple(polyval(tau, polyder(low, d)).T for d in range(orders))
+
+
+def _extreme_times(c: NDArray[np.float64], duration: float) -> NDArray[np.float64]:
+    """The local times in [0, ``duration``] where some joint of coefficients ``(n, 6)`` may reach its extremes:
+    the ends and the real roots of θ̇ inside (each joint's polynomial is monotone between them)."""
+    times = [0.0, duration]
+    for row in c:
+        derivative = np.polyder(np.trim_zeros(row, "f") if np.any(row) else np.zeros(1))
+        if derivative.size > 1:
+            roots = np.roots(derivative)
+            real = roots[np.abs(roots.imag) <= 1e-12 * max(1.0, duration)].real
+            inside = (real > 1e-9 * duration) & (real < duration * (1 - 1e-9))  # the ends are in already
+            times.extend(real[inside].tolist())
+    return np.unique(np.asarray(times))
 
 
 @dataclass(frozen=True)
 class Motion:
-    """Segments laid end to end in time, from t = 0; each is a polynomial in its own local time.
+    """Segments laid end to end in time, from t = 0; each in its own local time.
 
     ``description`` says what the motion is (shown in summaries and plot titles); ``figures``
     names the paper figures the motion reproduces, if any.
@@ -258,9 +442,18 @@ class Motion:
         """Segment labels (``"1"``, ``"2"``, … where a segment has none)."""
         return [s.label or str(k + 1) for k, s in enumerate(self.segments)]
 
+    @property
+    def polynomial(self) -> bool:
+        """Whether every segment is a polynomial of degree ≤ 5 (then :meth:`coefficients` gives them all)."""
+        return all(not isinstance(s, TrajectorySegment) for s in self.segments)
+
     def coefficients(self) -> NDArray[np.float64]:
-        """[a1 … a6] per segment and joint, shape ``(k, n, 6)``, each in its segment's local time."""
-        return np.stack([s.coefficients() for s in self.segments])
+        """[a1 … a6] per segment and joint, shape ``(k, n, 6)``, each in its segment's local time; ``ValueError``
+        for a motion with a trajectory segment (see :attr:`polynomial`)."""
+        polynomials = [s for s in self.segments if not isinstance(s, TrajectorySegment)]
+        if len(polynomials) != len(self.segments):
+            raise ValueError(f"motion {self.description!r} has segments that are not polynomials of degree ≤ 5")
+        return np.stack([s.coefficients() for s in polynomials])
 
     def segment_index(self, t: ArrayLike) -> NDArray[np.intp]:
         """Index of the segment holding each time: breaks[i] ≤ t < breaks[i+1] (the last one closed)."""
@@ -268,28 +461,33 @@ class Motion:
                        0, len(self.segments) - 1)
 
     def evaluate(self, t: ArrayLike, orders: int = 3) -> tuple[NDArray[np.float64], ...]:
-        """q, q̇, q̈ at times ``t`` (shape ``(m,)``), each ``(m, n)``, from the closed-form polynomials.
+        """q, q̇, q̈ at times ``t`` (shape ``(m,)``), each ``(m, n)``.
 
-        Each segment's θ(τ) = Σ a_k τ^(6−k) and its derivatives in the segment's local time τ, by Horner's
-        rule (numpy's ``polyval``), as Drake's ``PiecewisePolynomial`` evaluates them. ``orders``: how many
-        of q, q̇, q̈ to return (1 to 3).
+        A polynomial segment's θ(τ) = Σ a_k τ^(6−k) and its derivatives in the segment's local time τ, by Horner's
+        rule (numpy's ``polyval``), as Drake's ``PiecewisePolynomial`` evaluates them; a trajectory segment by its
+        Drake trajectory. ``orders``: how many of q, q̇, q̈ to return (1 to 3).
         """
-        # lazy: armlab --help loads this module but not numpy.polynomial (start-up time)
-        from numpy.polynomial.polynomial import polyder, polyval
-
         t = np.atleast_1d(np.asarray(t, dtype=float))
         out = tuple(np.empty((t.size, self.n)) for _ in range(orders))
         index = self.segment_index(t)
-        for k, (start, c) in enumerate(zip(self.breaks, self.coefficients(), strict=False)):
+        for k, (start, segment) in enumerate(zip(self.breaks, self.segments, strict=False)):
             rows = index == k
-            low = c[:, ::-1].T  # (6, n), lowest power first
+            if not rows.any():
+                continue
+            tau = t[rows] - start
+            values = (segment.evaluate(tau, orders) if isinstance(segment, TrajectorySegment)
+                      else _polynomial_values(segment.coefficients(), tau, orders))
             for d in range(orders):
-                out[d][rows] = polyval(t[rows] - start, polyder(low, d)).T
+                out[d][rows] = values[d]
         return out
 
     def joins(self) -> list[bool]:
-        """For each segment after the first: does it start where (q and q̇) the previous one ends, exactly?"""
-        return [bool(np.array_equal(a.q_end, b.q_start) and np.array_equal(a.v_end, b.v_start))
+        """For each segment after the first: does it start where (q and q̇) the previous one ends, to
+        :data:`JOIN_TOL` relative to max(1, |value|)?"""
+        def close(a: NDArray, b: NDArray) -> bool:
+            return bool(np.all(np.abs(a - b) <= JOIN_TOL * np.maximum(1.0, np.maximum(np.abs(a), np.abs(b)))))
+
+        return [close(a.q_end, b.q_start) and close(a.v_end, b.v_start)
                 for a, b in zip(self.segments[:-1], self.segments[1:], strict=True)]
 
     def runs(self) -> list[tuple[float, Motion]]:
@@ -309,35 +507,75 @@ class Motion:
         return [(float(breaks[g[0]]), Motion(tuple(self.segments[k] for k in g), self.description, self.figures))
                 for g in groups]
 
-    def check_limits(self, arm: Arm) -> None:
-        """``ValueError`` if a segment starts or ends outside ``arm``'s joint limits.
+    def check_times(self, k: int) -> NDArray[np.float64]:
+        """Local times of segment ``k`` that bound its joint values: for a polynomial the ends and the roots of
+        θ̇ (exact); for a trajectory its knots and :data:`KNOT_SAMPLES` points between each two."""
+        segment = self.segments[k]
+        if not isinstance(segment, TrajectorySegment):
+            return _extreme_times(segment.coefficients(), segment.duration)
+        knots = segment.knots()
+        fill = knots[:-1, None] + np.diff(knots)[:, None] * np.arange(1, KNOT_SAMPLES + 1) / (KNOT_SAMPLES + 1)
+        return np.unique(np.concatenate([knots, fill.ravel()]))
 
-        A rest-to-rest quintic is monotone between its ends and a constant rate is linear, so
-        the ends bound the whole segment.
+    def check_limits(self, arm: Arm) -> None:
+        """``ValueError`` if the motion leaves ``arm``'s joint limits anywhere, naming the segment and the time.
+
+        Each segment is checked where its joints can reach their extremes (:meth:`check_times`): a polynomial
+        is monotone between the roots of its θ̇, so those and its ends bound it exactly (a rest-to-rest quintic:
+        its ends); a trajectory segment at its knots and between them.
         """
         if self.n != arm.n:
             raise ValueError(f"the motion has {self.n} joints; {arm.name} has {arm.n}")
-        for label, s in zip(self.labels, self.segments, strict=True):
-            for where, q in (("start", s.q_start), ("end", s.q_end)):
-                try:
-                    arm.check_q(q)
-                except ValueError as error:
-                    raise ValueError(f"segment {label} {where}: {error}") from None
+        lower, upper = arm.limit_arrays()
+        for k, (label, start) in enumerate(zip(self.labels, self.breaks, strict=False)):
+            tau = self.check_times(k)
+            q = self.evaluate(start + np.clip(tau, 0.0, self.segments[k].duration), 1)[0]
+            outside = np.flatnonzero(np.any((q < lower) | (q > upper), axis=1) | ~np.all(np.isfinite(q), axis=1))
+            if outside.size == 0:
+                continue
+            i = outside[0]
+            where = ("start" if tau[i] == 0.0 else "end" if tau[i] == self.segments[k].duration  # exact: the ends
+                     else f"at t = {start + tau[i]:.6g} s")
+            try:
+                arm.check_q(q[i])
+            except ValueError as error:
+                raise ValueError(f"segment {label} {where}: {error}") from None
+
+
+def _polynomial_matrix(c: NDArray[np.float64]) -> NDArray[np.object_]:
+    """Drake ``Polynomial`` s of coefficients [a1 … a6] per joint ``(n, 6)``, an ``(n, 1)`` matrix (lowest power
+    first, as Drake wants)."""
+    from pydrake.polynomial import Polynomial
+
+    m = np.empty((c.shape[0], 1), dtype=object)
+    for i in range(c.shape[0]):
+        m[i, 0] = Polynomial(np.ascontiguousarray(c[i, ::-1]))
+    return m
 
 
 def to_piecewise_polynomial(motion: Motion) -> PiecewisePolynomial:
-    """Drake's ``PiecewisePolynomial`` of ``motion``: one ``(n, 1)`` Polynomial matrix per segment.
+    """Drake's ``PiecewisePolynomial`` of a polynomial ``motion``: one ``(n, 1)`` Polynomial matrix per segment.
 
     Drake evaluates segment i in local time t − breaks[i], as the paper's polynomials are
     written, so the coefficients are passed unchanged (lowest power first, as Drake wants).
     """
-    from pydrake.polynomial import Polynomial
     from pydrake.trajectories import PiecewisePolynomial
 
-    matrices = []
-    for c in motion.coefficients():
-        m = np.empty((motion.n, 1), dtype=object)
-        for i in range(motion.n):
-            m[i, 0] = Polynomial(np.ascontiguousarray(c[i, ::-1]))
-        matrices.append(m)
-    return PiecewisePolynomial(matrices, motion.breaks.tolist())
+    return PiecewisePolynomial([_polynomial_matrix(c) for c in motion.coefficients()], motion.breaks.tolist())
+
+
+def to_trajectory(motion: Motion) -> Trajectory:
+    """The Drake ``Trajectory`` of ``motion`` over [0, duration]: :func:`to_piecewise_polynomial` when every
+    segment is a polynomial, else a ``CompositeTrajectory`` of the segments' trajectories, each moved to its
+    start time (what Drake's ``TrajectorySource`` and ``Toppra`` take)."""
+    from pydrake.trajectories import CompositeTrajectory, PiecewisePolynomial
+
+    if motion.polynomial:
+        return to_piecewise_polynomial(motion)
+    pieces = []
+    for start, end, segment in zip(motion.breaks[:-1], motion.breaks[1:], motion.segments, strict=True):
+        if isinstance(segment, TrajectorySegment):
+            pieces.append(_shifted(segment.trajectory, float(start)))
+        else:
+            pieces.append(PiecewisePolynomial([_polynomial_matrix(segment.coefficients())], [start, end]))
+    return CompositeTrajectory(pieces)

@@ -105,14 +105,14 @@ def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.
                 f"a2 = {p['a2']:g}, a3 = {p['a3']:g}, d2 = {p['d2']:g} m; with d2 = {D2_PROBE:g} m the modified "
                 f"reading still gives eq. (6) (to {modified:.1e}), the standard one is off by {standard:.3g}; "
                 "tolerance 1e-12"))
-    start = arm.forward(motion.segments[0].q0).tool[:3, 3]
+    start = arm.forward(motion.segments[0].q_start).tool[:3, 3]
     miss = float(np.linalg.norm(start - PAPER_START))
     out.add(Row(PAPER, "§3: start (2, 0, 0) m reached stretched horizontally (θ = 0), |miss| [m]",
                 "(2, 0, 0)", f"({start[0]:.6g}, {start[1]:.6g}, {start[2]:.6g})", miss,
                 (matches("by construction: a2 + a3 = 2 and d2 = 0 were chosen from this sentence") if miss <= 1e-9
                  else differs(f"θ = 0 puts the tool {miss:.3g} m away")),
                 "forward kinematics at the start's IK solution; tolerance 1e-9 m"))
-    q0 = motion.segments[0].q0
+    q0 = motion.segments[0].q_start
     pitch = float(q0[1] + q0[2] + q0[3])
     solutions = solve(arm, PAPER_TARGET, pitch=pitch, near=q0, all_solutions=True)
     hits = np.array([arm.forward(q).tool[:3, 3] for q in solutions])
@@ -240,7 +240,8 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
     _dynamics(out, arm, motion, 0.02 if fast else DEFAULT_LOG_PERIOD)
     out.chosen_parameters(arm, ("a2", "a3", "d2", "m1", "m2", "m3", "m4"))
     out.chosen("motion", "rest-to-rest quintic per joint in 2 s", "the Robotics Toolbox's jtraj is a quintic; §3's 2 s")
-    out.chosen("target orientation", f"pitch θ2+θ3+θ4 = {np.degrees(sum(motion.segments[0].q0[1:])):g}° (the start's)",
+    pitch = np.degrees(sum(motion.segments[0].q_start[1:]))
+    out.chosen("target orientation", f"pitch θ2+θ3+θ4 = {pitch:g}° (the start's)",
                "the stop values are garbled; 'the state is the same with the original state'")
     return out.finish()
 

@@ -31,7 +31,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The ``armlab`` argument parser with every subcommand."""
     # lazy: the command modules (and the library they load: numpy, the arms …) are imported here, not at the top, so
     # that main's stop-signal handlers are in place first: a Ctrl-C during the start-up is handled like any other.
-    from armlab.cli import analysis, draw, export, kinematics, reproduce, simulate, view
+    from armlab.cli import analysis, draw, export, kinematics, plan, reproduce, simulate, view
 
     parser = Parser(prog="armlab", description="Serial robot arms modelled, checked and simulated with Drake.",
                     epilog="'armlab COMMAND --help' explains a command. 'armlab' alone prints this help and "
@@ -42,6 +42,7 @@ def build_parser() -> argparse.ArgumentParser:
                                 metavar="COMMAND", help="what to do (below); 'armlab COMMAND --help' for its options")
     kinematics.register(sub)
     simulate.register(sub)
+    plan.register(sub)
     view.register(sub)
     draw.register(sub)
     reproduce.register(sub)

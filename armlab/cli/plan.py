@@ -1,0 +1,174 @@
+"""``armlab plan``: a tool line or arc by IK along it, timed by a profile or as fast as the limits allow.
+
+A thin layer over :func:`armlab.line`, :func:`armlab.arc` and :func:`armlab.fastest` (:mod:`armlab.api`): it
+parses the points, prints the plan (duration, the joints at both ends and, with ``--fastest``, the minimum duration
+and the constraint active along the path), may plot ṡ against its limit curve (``--plot``) and simulate it
+(``--simulate DIR``, :func:`armlab.simulate`). ``armlab simulate --segments`` runs the same paths from a file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from armlab.cli.args import ARM_HELP
+from armlab.files import write_file
+from armlab.kinematics.cartesian import DEFAULT_SAMPLES, PROFILES
+from armlab.models import get_arm
+from armlab.scripts.figures import DPI, new_figure
+from armlab.values import joint_values, parse_floats
+
+if TYPE_CHECKING:
+    from armlab.kinematics.quintic import Motion
+    from armlab.kinematics.timing import Fastest
+    from armlab.models.arm import Arm
+
+__all__ = ["register"]
+
+
+def _point(text: str, name: str) -> list[float]:
+    values = parse_floats(text, name)
+    if len(values) not in (2, 3):
+        raise ValueError(f"{name} {text!r} must be a point x,y or x,y,z in m")
+    return values
+
+
+def _motion(arm: Arm, args: argparse.Namespace) -> Motion:
+    # lazy: the API loads the IK and the plant's modules (armlab --help stays fast)
+    from armlab.api import arc, line
+
+    q0 = None if args.q0 is None else joint_values(arm, args.q0, args.deg, "--q0")
+    timing = {"tf": args.tf, "profile": args.profile, "speed": args.speed, "acceleration": args.tool_acceleration,
+              "q0": q0, "branch": args.branch, "samples": args.samples}
+    if args.path == "line":
+        start = None if args.start is None else _point(args.start, "--from")
+        return line(arm, start, _point(args.end, "--to"), **timing)
+    if args.through is not None:
+        return arc(arm, through=[_point(text, "--through") for text in args.through], **timing)
+    if args.centre is None or args.axis is None or args.start is None or args.angle is None:
+        raise ValueError("an arc needs --through P1 P2 P3, or --centre, --axis, --from and --angle")
+    angle = float(np.radians(args.angle)) if args.deg else args.angle
+    return arc(arm, centre=_point(args.centre, "--centre"), axis=parse_floats(args.axis, "--axis"),
+               start=_point(args.start, "--from"), angle=angle, **timing)
+
+
+def _limits(arm: Arm, text: str | None, name: str) -> float | np.ndarray | None:
+    """A limit option: one value for every joint, or one per joint."""
+    if text is None:
+        return None
+    values = np.array(parse_floats(text, name))
+    if values.size not in (1, arm.n):
+        raise ValueError(f"{name} has {values.size} values; give one, or one per joint ({arm.n})")
+    return float(values[0]) if values.size == 1 else values
+
+
+def _plot(best: Fastest, arm: Arm, path: str) -> None:
+    # lazy: matplotlib, only for --plot
+    import matplotlib.pyplot as plt
+
+    kind = Path(path).suffix.lower().lstrip(".")
+    if kind not in ("png", "svg"):
+        raise ValueError(f"--plot {path}: the file must end in .png or .svg")
+
+    fig, ax = new_figure(f"{arm.name}: time-optimal path rate against its limit ({best.duration:.4g} s, Toppra)",
+                         size=(7, 4.5))
+    ax.plot(best.s, best.limit, "-", color="0.6", lw=3, label="limit curve (largest feasible ṡ)")
+    ax.plot(best.s, best.sd, "k-", lw=1.2, label="time-optimal ṡ(s)")
+    ax.set_xlabel("s, fraction of the path [1]")
+    ax.set_ylabel("ṡ [1/s]")
+    finite = best.limit[np.isfinite(best.limit)]
+    ax.set_ylim(0.0, 1.15 * max(float(finite.max()) if finite.size else 0.0, float(best.sd.max())))
+    ax.legend(loc="lower center")
+    data = io.BytesIO()
+    fig.savefig(data, format=kind, dpi=DPI)
+    plt.close(fig)
+    write_file(path, data.getvalue())  # complete or not at all
+
+
+def _cmd_plan(args: argparse.Namespace) -> int:
+    arm = get_arm(args.arm)
+    motion = _motion(arm, args)
+    t = np.linspace(0.0, motion.duration, 4 * args.samples + 1)
+    q = motion.evaluate(t, 1)[0]
+    summary: dict[str, Any] = {"arm": arm.name, "motion": motion.description, "duration": motion.duration,
+                               "q_start": q[0].tolist(), "q_end": q[-1].tolist(),
+                               "q_min": q.min(axis=0).tolist(), "q_max": q.max(axis=0).tolist()}
+    if args.fastest:
+        # lazy: Drake's Toppra
+        from armlab.api import fastest
+
+        best = fastest(arm, motion, _limits(arm, args.velocity, "--velocity"),
+                       _limits(arm, args.acceleration, "--acceleration"), _limits(arm, args.effort, "--effort"),
+                       grid=args.grid)
+        named = [name for name in best.active if name]
+        summary["fastest"] = {"duration": best.duration, "active_fraction": best.active_fraction,
+                              "most_active": max(set(named), key=named.count) if named else None,
+                              "velocity_limits": best.limits.velocity.tolist(),
+                              "acceleration_limits": best.limits.acceleration.tolist(),
+                              "effort_limits": best.limits.effort.tolist()}
+        if args.plot:
+            _plot(best, arm, args.plot)
+        motion = best.motion
+    elif args.plot:
+        raise ValueError("--plot draws the time-optimal path rate: give --fastest too")
+    if args.simulate:
+        # lazy: the simulation loads Drake's systems
+        from armlab.api import simulate
+
+        run = simulate(arm, motion)
+        summary["simulation"] = {"out": args.simulate, "written": run.save(args.simulate),
+                                 "max_tracking_error": run.summary["max_tracking_error"],
+                                 "max_abs_torque": run.summary["max_abs_torque"]}
+    if args.json:
+        print(json.dumps(summary, indent=2, default=lambda v: None))
+        return 0
+    print(f"{arm.name}: {summary['motion']}: {summary['duration']:.6g} s")
+    print("joints from  " + "  ".join(f"{v:+.6f}" for v in summary["q_start"]))
+    print("joints to    " + "  ".join(f"{v:+.6f}" for v in summary["q_end"]))
+    if args.fastest:
+        f = summary["fastest"]
+        print(f"time-optimal (Toppra, {args.grid} grid points): {f['duration']:.6g} s; a limit is active on "
+              f"{f['active_fraction']:.0%} of the path, mostly {f['most_active'] or 'none'}")
+    if args.simulate:
+        sim = summary["simulation"]
+        print(f"simulated{' the time-optimal motion' if args.fastest else ''}: max tracking error "
+              f"{max(sim['max_tracking_error']):.3g}; wrote {args.simulate}: {' '.join(sim['written'])}")
+    return 0
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``plan`` subcommand to the ``armlab`` CLI's subparsers."""
+    p = subparsers.add_parser("plan", help="a straight line or circular arc of the tool, timed or time-optimal")
+    p.add_argument("arm", help=ARM_HELP)
+    p.add_argument("path", choices=("line", "arc"), help="the tool's path")
+    p.add_argument("--from", dest="start", help="start point x,y(,z) m (line: default the tool at --q0; arc: with "
+                   "--centre)")
+    p.add_argument("--to", dest="end", help="line: end point x,y(,z) m")
+    p.add_argument("--through", nargs=3, metavar="P", help="arc: three points x,y(,z), from the first by the second "
+                   "to the third")
+    p.add_argument("--centre", help="arc: centre x,y(,z) m")
+    p.add_argument("--axis", help="arc: axis x,y,z (right-handed)")
+    p.add_argument("--angle", type=float, help="arc: angle (rad; deg with --deg)")
+    p.add_argument("--tf", type=float, help="duration (s) of the profile")
+    p.add_argument("--profile", default="minimum-jerk", choices=PROFILES, help="time profile (default minimum-jerk)")
+    p.add_argument("--speed", type=float, help="trapezoid: the tool's peak speed along the path (m/s)")
+    p.add_argument("--tool-acceleration", type=float, help="trapezoid: the tool's peak acceleration (m/s²)")
+    p.add_argument("--q0", help="start joints v1,v2,… (default: the IK solution nearest zero, or --branch)")
+    p.add_argument("--branch", type=int, help="closed-form IK branch at the start (rr: 0 θ2 ≥ 0, 1 θ2 ≤ 0)")
+    p.add_argument("--samples", type=int, default=DEFAULT_SAMPLES, help=f"IK samples (default {DEFAULT_SAMPLES})")
+    p.add_argument("--fastest", action="store_true", help="time-optimal timing by Drake's Toppra within the limits")
+    p.add_argument("--velocity", help="--fastest: joint velocity limits (one, or one per joint; default the file's)")
+    p.add_argument("--acceleration", help="--fastest: joint acceleration limits (default none)")
+    p.add_argument("--effort", help="--fastest: joint effort limits (default the file's)")
+    p.add_argument("--grid", type=int, default=500, help="--fastest: Toppra's grid points (default 500)")
+    p.add_argument("--plot", help="--fastest: write ṡ against its limit curve to this .png/.svg")
+    p.add_argument("--simulate", metavar="DIR", help="simulate the plan (the time-optimal one with --fastest) "
+                   "through paper 000's Fig. 6 diagram and write the run into DIR, as armlab simulate does")
+    p.add_argument("--deg", action="store_true", help="--q0 and --angle in degrees")
+    p.add_argument("--json", action="store_true", help="JSON output")
+    p.set_defaults(func=_cmd_plan)

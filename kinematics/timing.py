@@ -1,0 +1,265 @@
+"""The fastest timing of a path within joint velocity, acceleration and torque limits: Drake's ``Toppra``.
+
+Given a joint path q(s) (the path of a tool line or arc, :mod:`armlab.kinematics.cartesian`, or any
+:class:`~armlab.kinematics.quintic.Motion` taken as a path in its own time) and limits per joint, Drake's
+``Toppra`` (time-optimal path parameterisation by reachability analysis, Pham & Pham 2018) finds s(t) with the
+shortest duration such that, at every grid point of s,
+
+* |q'(s) ṡ| ≤ v_max (velocity),
+* |q'(s) s̈ + q''(s) ṡ²| ≤ a_max (acceleration),
+* τ_min ≤ M(q)(q' s̈ + q'' ṡ²) + C(q, q'ṡ) q'ṡ − τ_g(q) ≤ τ_max (torque, Drake's inverse dynamics of the
+  arm's plant, :func:`armlab.diagrams.plant.make_plant`),
+
+from rest to rest. The limits default to the arm's file (URDF ``<limit velocity effort>``; a URDF has no
+acceleration limit, so none unless given); a :class:`~armlab.drives.train.DriveTrain` with motor-side limits
+turns them into joint-side ones (speed ω_m,max/|G|, torque τ_m,max·|G|·η).
+
+Each constraint, written a_i(s) s̈ + b_i(s) ṡ² + c_i(s) ∈ [lo_i, hi_i], bounds ṡ² at every s: the largest ṡ
+for which some s̈ is feasible is the *maximum velocity curve* (:func:`limit_curve`, a two-variable linear
+program per grid point solved by its vertices). :class:`Fastest` reports the minimum duration, ṡ along s
+against that curve, and the constraint active at each grid point.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armlab.diagrams.plant import PlantOptions, make_plant
+from armlab.kinematics.quintic import Motion, TrajectorySegment, to_trajectory
+from armlab.kinematics.rnea import inverse_dynamics
+from armlab.limits import check_positive
+
+if TYPE_CHECKING:
+    from pydrake.trajectories import Trajectory
+
+    from armlab.drives.train import DriveTrain
+    from armlab.models.arm import Arm
+
+__all__ = ["ACTIVE_TOL", "DEFAULT_GRID", "Fastest", "Limits", "fastest", "limit_curve"]
+
+#: Grid points of s by default.
+DEFAULT_GRID = 500
+#: Toppra's constraint relaxations tried in turn (its LP at a knot can be numerically challenging where a joint's
+#: path velocity crosses zero; Drake's message advises a slight relaxation).
+RELAXATIONS = (0.0, 1e-8, 1e-6)
+#: A constraint is active where its slack is at most this fraction of its range.
+ACTIVE_TOL = 2e-3
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Symmetric joint limits ``(n,)`` each, ``inf`` where a joint has none: velocity (rad/s or m/s), acceleration
+    (rad/s² or m/s²), effort (N·m or N)."""
+
+    velocity: NDArray[np.float64]
+    acceleration: NDArray[np.float64]
+    effort: NDArray[np.float64]
+
+
+def _limit(value: float | ArrayLike | None, default: NDArray[np.float64], name: str, unit: str) -> NDArray:
+    if value is None:
+        return default
+    a = np.broadcast_to(np.asarray(value, dtype=float), default.shape) if np.ndim(value) == 0 \
+        else np.asarray(value, dtype=float)
+    if a.shape != default.shape:
+        raise ValueError(f"{name} limits have {a.size} values; give one, or one per joint ({default.size})")
+    for v in a:
+        if not np.isinf(v):
+            check_positive(float(v), f"{name} limit", unit, f"a {name} limit must be a positive number (or inf)")
+    return a.astype(float)
+
+
+def arm_limits(arm: Arm, velocity: float | ArrayLike | None = None, acceleration: float | ArrayLike | None = None,
+               effort: float | ArrayLike | None = None, drives: DriveTrain | None = None,
+               motor_speed: float | ArrayLike | None = None, motor_torque: float | ArrayLike | None = None) -> Limits:
+    """The limits :func:`fastest` enforces: the arm file's velocity and effort (no acceleration limit), each
+    overridden where given; with ``drives`` and motor-side ``motor_speed`` (rad/s) / ``motor_torque`` (N·m) the
+    tighter of those and the joint-side ones (ω_m,max/|G|, τ_m,max·|G|·η)."""
+    n = arm.n
+    velocity_file = np.array([np.inf if lim.velocity is None else lim.velocity for lim in arm.limits])
+    effort_file = np.array([np.inf if lim.effort is None else lim.effort for lim in arm.limits])
+    v = _limit(velocity, velocity_file, "velocity", "rad/s")
+    a = _limit(acceleration, np.full(n, np.inf), "acceleration", "rad/s²")
+    e = _limit(effort, effort_file, "effort", "N·m")
+    if (motor_speed is not None or motor_torque is not None) and drives is None:
+        raise ValueError("motor-side limits need the drive train (its gear ratios and efficiencies)")
+    if drives is not None:
+        if drives.n != n:
+            raise ValueError(f"the drive train has {drives.n} joints; {arm.name} has {n}")
+        g = np.abs(drives.gear_ratio)
+        v = np.minimum(v, _limit(motor_speed, np.full(n, np.inf), "motor speed", "rad/s") / g)
+        e = np.minimum(e, _limit(motor_torque, np.full(n, np.inf), "motor torque", "N·m") * g * drives.efficiency)
+    return Limits(v, a, e)
+
+
+def _path_of(motion_or_path: Motion | Trajectory) -> Trajectory:
+    """The joint path q(s) to time: a tool path's own (a path-parameterised segment), or the motion in its time."""
+    from pydrake.trajectories import PathParameterizedTrajectory
+
+    if isinstance(motion_or_path, Motion):
+        segments = motion_or_path.segments
+        if len(segments) == 1 and isinstance(segments[0], TrajectorySegment) and isinstance(
+                segments[0].trajectory, PathParameterizedTrajectory):
+            return segments[0].trajectory.path()
+        return to_trajectory(motion_or_path)
+    return motion_or_path
+
+
+def _constraints(arm: Arm, path: Trajectory, s: NDArray, limits: Limits, gravity: str | ArrayLike | None,
+                 payload: float) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, list[str]]:
+    """Every constraint as a s̈ + b ṡ² + c ∈ [lo, hi] at grid points ``s`` ``(m,)``: a, b, c ``(m, K)``, lo, hi
+    ``(K,)`` and a name each (velocity rows as b ṡ² ≤ v² with a = 0)."""
+    grid = s.tolist()
+    q = np.asarray(path.vector_values(grid)).T
+    d1 = np.asarray(path.MakeDerivative(1).vector_values(grid)).T
+    d2 = np.asarray(path.MakeDerivative(2).vector_values(grid)).T
+    zero = np.zeros_like(q)
+    g_tau = inverse_dynamics(arm, q, zero, zero, gravity, payload)  # −τ_g: the torque holding the arm still
+    m_tau = inverse_dynamics(arm, q, zero, d1, "off", payload)  # M q'
+    b_tau = inverse_dynamics(arm, q, d1, d2, "off", payload)  # M q'' + C(q, q') q'
+    names = [*(f"{j} velocity" for j in arm.joint_names), *(f"{j} acceleration" for j in arm.joint_names),
+             *(f"{j} torque" for j in arm.joint_names)]
+    a = np.concatenate([zero, d1, m_tau], axis=1)
+    b = np.concatenate([d1**2, d2, b_tau], axis=1)
+    c = np.concatenate([zero, zero, g_tau], axis=1)
+    hi = np.concatenate([limits.velocity**2, limits.acceleration, limits.effort])
+    lo = np.concatenate([np.full(arm.n, -np.inf), -limits.acceleration, -limits.effort])
+    return a, b, c, lo, hi, names
+
+
+def limit_curve(a: NDArray, b: NDArray, c: NDArray, lo: NDArray, hi: NDArray) -> NDArray[np.float64]:
+    """The largest ṡ at each grid point for which some s̈ satisfies every constraint ``lo ≤ a s̈ + b ṡ² + c ≤ hi``
+    (``a``, ``b``, ``c`` ``(m, K)``, ``lo``, ``hi`` ``(K,)``); ``inf`` where nothing bounds ṡ, NaN where even
+    ṡ = 0 is infeasible.
+
+    With x = ṡ², a row with a ≠ 0 bounds s̈ between two lines in x, L_i(x) ≤ s̈ ≤ U_i(x); some s̈ exists iff
+    L_i(x) ≤ U_j(x) for every pair i, j (intervals on a line meet iff they meet pairwise), each a half-line of
+    x; a row with a = 0 bounds x itself. The curve is √ of the least upper bound, where it is above the lower.
+    """
+    m = a.shape[0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        moving = np.abs(a) > 1e-12 * np.maximum(1.0, np.abs(b))
+        # rows on s̈: L = (lo − c − b x)/a, U = (hi − c − b x)/a, swapped where a < 0: L = α + β x, U = γ + δ x
+        scale = np.where(moving, a, 1.0)
+        low_const, high_const = (lo - c) / scale, (hi - c) / scale
+        slope = -b / scale
+        negative = a < 0
+        alpha = np.where(negative, high_const, low_const)
+        gamma = np.where(negative, low_const, high_const)
+        # each pair (i lower, j upper): (α_i − γ_j) + (β_i − δ_j) x ≤ 0, with β = δ = slope
+        A0 = alpha[:, :, None] - gamma[:, None, :]
+        A1 = slope[:, :, None] - slope[:, None, :]
+        pair = moving[:, :, None] & moving[:, None, :] & np.isfinite(A0)
+        bound = -A0 / np.where(A1 == 0, 1.0, A1)
+        upper = np.where(pair & (A1 > 0), bound, np.inf).reshape(m, -1).min(axis=1)
+        lower = np.where(pair & (A1 < 0), bound, -np.inf).reshape(m, -1).max(axis=1)
+        never = (pair & (A1 == 0) & (A0 > 0)).reshape(m, -1).any(axis=1)
+        # rows with a = 0: lo − c ≤ b x ≤ hi − c
+        fixed = ~moving & (b != 0)
+        bx_hi, bx_lo = np.where(b > 0, (hi - c) / b, (lo - c) / b), np.where(b > 0, (lo - c) / b, (hi - c) / b)
+        upper = np.minimum(upper, np.where(fixed & ~np.isnan(bx_hi), bx_hi, np.inf).min(axis=1))
+        lower = np.maximum(lower, np.where(fixed & ~np.isnan(bx_lo), bx_lo, -np.inf).max(axis=1))
+        never |= (~moving & (b == 0) & ((c > hi) | (c < lo))).any(axis=1)
+    infeasible = never | (upper < np.maximum(lower, 0.0)) | (upper < 0)
+    return np.where(infeasible, np.nan, np.sqrt(np.maximum(upper, 0.0)))
+
+
+@dataclass(frozen=True)
+class Fastest:
+    """The time-optimal timing of a path: ``motion`` (q(s(t)), one trajectory segment), ``duration`` (s), at the
+    grid points ``s`` ``(m,)`` the path rate ``sd`` (ṡ, 1/s), its limit curve ``limit`` (:func:`limit_curve`), and
+    the constraint active there (``active``, its name, or ``""``), and the ``limits`` enforced."""
+
+    motion: Motion
+    duration: float
+    s: NDArray[np.float64]
+    sd: NDArray[np.float64]
+    limit: NDArray[np.float64]
+    active: tuple[str, ...]
+    limits: Limits
+
+    @property
+    def active_fraction(self) -> float:
+        """The fraction of the grid where some constraint is active (bang–bang: most of it)."""
+        return float(np.mean([bool(name) for name in self.active]))
+
+
+def _infeasible(arm: Arm, s: NDArray, a: NDArray, b: NDArray, c: NDArray, lo: NDArray, hi: NDArray,
+                names: list[str]) -> ValueError:
+    """The one-line error for limits no timing meets: where even standing still on the path breaks one."""
+    del a, b
+    still = (c > hi + 1e-12) | (c < lo - 1e-12)
+    where = np.argwhere(still)
+    if where.size:
+        i, k = where[0]
+        limit = hi[k] if c[i, k] > hi[k] else lo[k]
+        unit = "N·m" if arm.revolute[k % arm.n] else "N"
+        return ValueError(f"the limits cannot be met: {names[k]} needs {c[i, k]:.6g} {unit} against gravity at "
+                          f"s = {s[i]:.4g} of the path, beyond its limit {limit:.6g} {unit}")
+    return ValueError(f"the limits cannot be met anywhere on the path by Toppra ({arm.name}); raise the acceleration "
+                      "or effort limits")
+
+
+def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | None = None,
+            acceleration: float | ArrayLike | None = None, effort: float | ArrayLike | None = None,
+            drives: DriveTrain | None = None, motor_speed: float | ArrayLike | None = None,
+            motor_torque: float | ArrayLike | None = None, grid: int = DEFAULT_GRID,
+            gravity: str | ArrayLike | None = None, payload: float = 0.0) -> Fastest:
+    """The fastest rest-to-rest timing of ``path`` (a motion, taken as a path; or a Drake ``Trajectory`` q(s))
+    within the limits (:func:`arm_limits`), by Drake's ``Toppra`` on ``grid`` uniform points of s.
+
+    ``gravity``, ``payload``: as the plant's (:class:`~armlab.diagrams.plant.PlantOptions`). ``ValueError`` for a
+    bad limit, or limits no timing meets (naming the joint, the point and the two numbers).
+    """
+    from pydrake.multibody.optimization import Toppra, ToppraDiscretization
+    from pydrake.trajectories import PathParameterizedTrajectory
+
+    if not isinstance(grid, int) or isinstance(grid, bool) or grid < 3:
+        raise ValueError(f"grid = {grid!r} is not allowed: a whole number ≥ 3")
+    limits = arm_limits(arm, velocity, acceleration, effort, drives, motor_speed, motor_torque)
+    if np.all(np.isinf(np.concatenate([limits.velocity, limits.acceleration, limits.effort]))):
+        raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give some")
+    q_path = _path_of(path)
+    s = np.linspace(q_path.start_time(), q_path.end_time(), grid)
+    plant = make_plant(arm, PlantOptions(gravity=gravity, payload=payload, ideal_drives=True))
+    a, b, c, lo, hi, names = _constraints(arm, q_path, s, limits, gravity, payload)
+    drake_log = logging.getLogger("drake")
+    level = drake_log.level
+    drake_log.setLevel(logging.CRITICAL)  # an infeasible problem is our one-line error, not Drake's log line
+    try:
+        for relaxation in RELAXATIONS:  # Drake's advice where its LP at a knot is numerically challenging
+            toppra = Toppra(q_path, plant, s)
+            toppra.set_constraint_relaxation(relaxation)
+            if np.any(np.isfinite(limits.velocity)):
+                toppra.AddJointVelocityLimit(-limits.velocity, limits.velocity)
+            if np.any(np.isfinite(limits.acceleration)):
+                toppra.AddJointAccelerationLimit(-limits.acceleration, limits.acceleration,
+                                                 ToppraDiscretization.kInterpolation)
+            if np.any(np.isfinite(limits.effort)):
+                toppra.AddJointTorqueLimit(-limits.effort, limits.effort, ToppraDiscretization.kInterpolation)
+            scaling = toppra.SolvePathParameterization()
+            if scaling is not None:
+                break
+    finally:
+        drake_log.setLevel(level)
+    if scaling is None:
+        raise _infeasible(arm, s, a, b, c, lo, hi, names)
+    trajectory = PathParameterizedTrajectory(q_path, scaling)
+    motion = Motion((TrajectorySegment(trajectory, "time-optimal"),),
+                    f"time-optimal timing (Toppra) of {path.description if isinstance(path, Motion) else 'a path'}")
+    times = list(scaling.get_segment_times())
+    s_at = np.asarray(scaling.vector_values(times))[0]
+    sd_at = np.asarray(scaling.MakeDerivative(1).vector_values(times))[0]
+    sd = np.interp(s, s_at, sd_at)
+    sdd = np.interp(s, s_at, np.asarray(scaling.MakeDerivative(2).vector_values(times))[0])
+    value = a * sdd[:, None] + b * (sd**2)[:, None] + c
+    span = np.where(np.isfinite(hi - lo), hi - lo, np.where(np.isfinite(hi), np.abs(hi), 1.0))
+    slack = np.minimum(hi - value, value - lo) / np.maximum(span, 1e-300)
+    tight = np.argmin(np.where(np.isfinite(slack), slack, np.inf), axis=1)
+    active = tuple(names[k] if slack[i, k] <= ACTIVE_TOL else "" for i, k in enumerate(tight))
+    return Fastest(motion, float(scaling.end_time()), s, sd, limit_curve(a, b, c, lo, hi), active, limits)

@@ -1,0 +1,375 @@
+"""Issue 20: motions as people plan them — profiles, via points, tool lines and arcs, time-optimal timing."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import armlab
+from armlab.kinematics.cartesian import arc_through, line_path, path_profile, tool_motion_along
+from armlab.kinematics.profiles import (
+    minimum_jerk_profile,
+    spline,
+    trapezoid_profile,
+    trapezoidal,
+    via_rule,
+)
+from armlab.kinematics.quintic import (
+    Motion,
+    PolynomialSegment,
+    QuinticSegment,
+    TrajectorySegment,
+    quintic_coefficients,
+    to_trajectory,
+)
+from armlab.kinematics.timing import fastest, limit_curve
+from armlab.models import get_arm
+
+
+def _finite_differences(motion: Motion, t: np.ndarray, h: float = 1e-6) -> None:
+    """q̇ and q̈ against central differences of q and q̇ (relative 1e-9 of the values' scale, plus h² terms)."""
+    _, qd, qdd = motion.evaluate(t)
+    ahead, behind = motion.evaluate(t + h), motion.evaluate(t - h)
+    for k, exact in ((0, qd), (1, qdd)):
+        fd = (ahead[k] - behind[k]) / (2 * h)
+        np.testing.assert_allclose(exact, fd, rtol=0, atol=1e-9 * max(1.0, np.abs(exact).max()) + 1e-8)
+
+
+# ------------------------------------------------------------------------------------------------ profiles
+def test_trapezoid_against_its_closed_form():
+    arm = get_arm("rr")
+    q0, qf = np.array([0.0, 0.5]), np.array([1.0, 1.5])
+    v, a = np.array([1.0, 2.0]), np.array([2.0, 3.0])
+    motion = trapezoidal(arm, q0, qf, v, a)
+    # joint 1 is the slower one (Δ/v = 1 s vs 0.5 s); its blend v/a = 0.5 s, T = Δ/v + v/a = 1.5 s
+    np.testing.assert_allclose(motion.duration, 1.5, rtol=1e-12)
+    t = np.linspace(0.0, motion.duration, 3001)
+    q, qd, qdd = motion.evaluate(t)
+    np.testing.assert_allclose(np.abs(qd).max(axis=0)[0], 1.0, rtol=1e-12)  # the pace-setting joint at its peak
+    assert np.all(np.abs(qd).max(axis=0) <= v * (1 + 1e-12))
+    assert np.all(np.abs(qdd).max(axis=0) <= a * (1 + 1e-12))
+    # the area under q̇ is the displacement (trapezoid rule exact to the sampling; the pieces are ≤ quadratic)
+    np.testing.assert_allclose(np.trapezoid(qd, t, axis=0), qf - q0, rtol=1e-6)
+    np.testing.assert_allclose(q[-1], qf, atol=1e-12)
+    assert all(motion.joins())  # q and q̇ continuous where the pieces meet
+    _finite_differences(motion, np.linspace(0.01, 1.49, 37))
+
+
+def test_trapezoid_triangle_and_duration_forms():
+    triangle = trapezoid_profile(10.0, 1.0)  # never reaches 10/s: t_b = √(1/a) = 1 s, T = 2 s
+    np.testing.assert_allclose(triangle.duration, 2.0, rtol=1e-12)
+    timed = trapezoid_profile(duration=3.0)  # RTB's default: peak 1.5/T, blends T/3
+    np.testing.assert_allclose(timed.durations, (1.0, 1.0, 1.0), rtol=1e-12)
+    s = Motion(timed.joint_segments(np.zeros(1), np.ones(1)))
+    np.testing.assert_allclose(s.evaluate([1.5], 2)[1][0, 0], 0.5, rtol=1e-12)  # 1.5/T
+
+
+def test_minimum_jerk_is_the_rest_to_rest_quintic():
+    profile = minimum_jerk_profile(2.0)
+    segment = profile.joint_segments(np.array([0.1, -0.3]), np.array([1.2, 0.4]))[0]
+    np.testing.assert_allclose(segment.coefficients(), quintic_coefficients([0.1, -0.3], [1.2, 0.4], 2.0),
+                               rtol=1e-12, atol=1e-14)
+
+
+@pytest.mark.parametrize("degree", [3, 5])
+def test_via_points_without_stopping(degree):
+    arm = get_arm("rr")
+    points = np.array([[0.0, 0.5], [0.5, 1.0], [1.0, 1.2], [0.2, 0.2]])
+    motion = armlab.through(arm, points, [1.0, 0.8, 1.2], stop=False, degree=degree)
+    ends = motion.evaluate(motion.breaks * (1 - 1e-15))[0]
+    np.testing.assert_allclose(ends, points, atol=1e-12)
+    assert all(motion.joins())  # q, q̇ continuous at the vias
+    for a, b in zip(motion.segments[:-1], motion.segments[1:], strict=True):
+        if degree == 5:  # q̈ continuous too
+            tail = Motion((a,)).evaluate([a.duration])[2][0]
+            head = Motion((b,)).evaluate([0.0])[2][0]
+            np.testing.assert_allclose(tail, head, atol=1e-9)
+    # Craig's rule: the mean of the adjacent slopes where they agree in sign, 0 where they do not
+    v = motion.evaluate(motion.breaks[1:3])[1]
+    slopes = np.diff(points, axis=0) / np.array([1.0, 0.8, 1.2])[:, None]
+    np.testing.assert_allclose(v[0], 0.5 * (slopes[0] + slopes[1]), atol=1e-12)  # both joints keep rising
+    np.testing.assert_allclose(v[1], 0.0, atol=1e-12)  # both turn back at the third point
+    np.testing.assert_allclose(via_rule(points, np.array([1.0, 0.8, 1.2]))[1], v[0], atol=1e-12)
+    _finite_differences(motion, np.linspace(0.05, 2.9, 41))
+
+
+def test_given_via_velocities_are_kept():
+    arm = get_arm("rr")
+    points = np.array([[0.0, 0.5], [0.5, 1.0], [1.0, 1.2]])
+    velocities = np.array([[0.0, 0.0], [0.3, -0.2], [0.0, 0.0]])
+    motion = spline(arm, points, 1.0, 3, velocities)
+    np.testing.assert_allclose(motion.evaluate([1.0])[1][0], [0.3, -0.2], atol=1e-12)
+
+
+def test_limits_are_checked_between_the_ends():
+    """A segment that is not monotone may leave the limits inside: the roots of θ̇ find it."""
+    arm = get_arm("rr")
+    upper = arm.limit_arrays()[1][0]
+    c = np.zeros((2, 6))
+    c[0, 3], c[0, 4], c[0, 5] = -4.0, 4.0, upper - 0.5  # θ1 = upper − 0.5 + 4τ − 4τ², peak upper + 0.5 at τ = 0.5
+    c[1, 5] = 1.0
+    motion = Motion((PolynomialSegment(c, 1.0, "bump"),))
+    with pytest.raises(ValueError, match=r"segment bump at t = 0\.5 s"):
+        motion.check_limits(arm)
+
+
+def test_trajectory_segment_evaluates_as_drake():
+    from pydrake.trajectories import PiecewisePolynomial
+
+    pp = PiecewisePolynomial.CubicShapePreserving([0.0, 0.5, 1.5], np.array([[0.0, 0.4, 0.1], [1.0, 0.8, 1.3]]),
+                                                  True)
+    motion = Motion((QuinticSegment(np.array([0.3, 0.3]), np.array([0.0, 1.0]), 1.0), TrajectorySegment(pp, "pp")))
+    assert motion.joins() == [True]
+    t = np.linspace(1.0, 2.5, 31)
+    q = motion.evaluate(t)[0]
+    np.testing.assert_allclose(q, pp.vector_values(t - 1.0).T, atol=1e-15)
+    np.testing.assert_allclose(to_trajectory(motion).vector_values(t).T, q, atol=1e-15)
+
+
+# ---------------------------------------------------------------------------------------- lines and arcs
+def test_line_of_the_rr_tool_to_1e9():
+    arm = get_arm("rr")
+    motion = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0, samples=401)
+    t = np.linspace(0.0, 2.0, 2001)  # five times denser than the IK samples: between them too
+    q, qd, _ = motion.evaluate(t)
+    p = arm.forward(q).tool[:, :3, 3]
+    direction = np.array([-0.2, 0.2, 0.0]) / np.hypot(0.2, 0.2)
+    off = np.linalg.norm(np.cross(p - [0.5, 0.3, 0.0], direction), axis=1)
+    assert off.max() <= 1e-9
+    np.testing.assert_allclose(p[[0, -1], :2], [[0.5, 0.3], [0.3, 0.5]], atol=1e-9)
+    # the tool's speed by the Jacobian is the minimum-jerk speed along the line: 30 L τ²(1−τ)²/T
+    tau = t / 2.0
+    speed = np.linalg.norm(arm.tool_motion(q, qd, np.zeros_like(qd))[0][:, :3], axis=1)
+    np.testing.assert_allclose(speed, 30 * np.hypot(0.2, 0.2) * tau**2 * (1 - tau) ** 2 / 2.0, atol=1e-8)
+    # one branch: no joint steps more than the path step allows
+    assert np.abs(np.diff(q, axis=0)).max() < 0.01
+    _finite_differences(motion, np.linspace(0.05, 1.95, 23))
+
+
+def test_line_with_orientation_slerped_for_urm6():
+    arm = get_arm("urm6")
+    q0 = np.array([1.14594114, -1.78069309, -1.09635936, 1.30034083, 0.46536681, 0.04729932])
+    T0 = arm.fk(q0)
+    T1 = T0.copy()
+    T1[:3, 3] += [0.02, 0.0, 0.01]
+    c, s = np.cos(0.1), np.sin(0.1)
+    T1[:3, :3] = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ T0[:3, :3]
+    motion = armlab.line(arm, T0, T1, tf=1.0, q0=q0, samples=201)
+    t = np.linspace(0.0, 1.0, 201)
+    T = arm.forward(motion.evaluate(t)[0]).tool
+    sigma = minimum_jerk_profile(1.0).piecewise().vector_values(t)[0]
+    p = T0[:3, 3] + sigma[:, None] * (T1[:3, 3] - T0[:3, 3])
+    assert np.abs(T[:, :3, 3] - p).max() <= 1e-9
+    from armlab.kinematics.ik_target import rotation_log
+
+    expected = np.array([[[np.cos(0.1 * x), -np.sin(0.1 * x), 0], [np.sin(0.1 * x), np.cos(0.1 * x), 0], [0, 0, 1]]
+                         for x in sigma]) @ T0[:3, :3]
+    assert np.linalg.norm(rotation_log(expected @ np.swapaxes(T[:, :3, :3], 1, 2)), axis=1).max() <= 1e-9
+
+
+def test_arc_through_three_points_is_a_circle():
+    arm = get_arm("rr")
+    a, b, c = np.array([0.6, 0.0, 0.0]), np.array([0.5, 0.3, 0.0]), np.array([0.3, 0.4, 0.0])
+    path = arc_through(a, b, c)
+    np.testing.assert_allclose(path.centre, [0.25, 0.05, 0.0], atol=1e-12)  # |a − m| = |b − m| = |c − m|
+    motion = armlab.arc(arm, through=[a[:2], b[:2], c[:2]], tf=2.0)
+    q = motion.evaluate(np.linspace(0.0, 2.0, 1501))[0]
+    p = arm.forward(q).tool[:, :3, 3]
+    radius = np.linalg.norm(a - path.centre)
+    assert np.abs(np.linalg.norm(p - path.centre, axis=1) - radius).max() <= 1e-9
+    assert np.linalg.norm(p - b, axis=1).min() < 1e-3  # it passes b (sampled)
+    np.testing.assert_allclose(p[-1], c, atol=1e-9)
+
+
+def test_centre_axis_angle_arc_matches_the_three_point_one():
+    path = arc_through([0.6, 0.0, 0.0], [0.5, 0.3, 0.0], [0.3, 0.4, 0.0])
+    s = np.linspace(0.0, 1.0, 11)
+    from armlab.kinematics.cartesian import arc_path
+
+    other = arc_path(path.centre, path.axis, path.start, path.angle)
+    np.testing.assert_allclose(other.points(s)[0], path.points(s)[0], atol=1e-15)
+    h = 1e-6  # d p/ds and d²p/ds² against finite differences
+    _, dp, ddp = path.points(s[1:-1])
+    np.testing.assert_allclose(dp, (path.points(s[1:-1] + h)[0] - path.points(s[1:-1] - h)[0]) / (2 * h), atol=1e-8)
+    np.testing.assert_allclose(ddp, (path.points(s[1:-1] + h)[1] - path.points(s[1:-1] - h)[1]) / (2 * h), atol=1e-8)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda arm: armlab.line(arm, [0.5, 0.3], [0.5, 0.3], tf=1.0), "zero length"),
+    (lambda arm: armlab.arc(arm, through=[[0.1, 0.1], [0.2, 0.2], [0.3, 0.3]], tf=1.0), "collinear"),
+    (lambda arm: armlab.line(arm, [0.5, 0.3], [0.3, 0.5], profile="trapezoid", speed=0.0, acceleration=1.0),
+     "peak speed = 0"),
+    (lambda arm: armlab.trapezoidal(arm, [0, 0], [1, 1], velocity=-1.0, acceleration=1.0), "peak velocity"),
+    (lambda arm: armlab.trapezoidal(arm, [0, 0], [1, 1], velocity=1.0, acceleration=float("nan")),
+     "peak acceleration"),
+    (lambda arm: armlab.line(arm, [0.5, float("nan")], [0.3, 0.5], tf=1.0), "finite|must be a point"),
+    (lambda arm: armlab.through(arm, [[0, 0], [9.0, 0], [0, 0]], 1.0, stop=False), "waypoint 2"),
+    (lambda arm: armlab.line(arm, [0.5, 0.3], [1.5, 0.5], tf=1.0), r"leaves rr's reach at s = 0\.\d+, \(0\.\d+"),
+])
+def test_bad_input_is_one_line(call, message):
+    with pytest.raises(ValueError, match=message) as error:
+        call(get_arm("rr"))
+    assert "\n" not in str(error.value)
+
+
+# -------------------------------------------------------------------------------------------- time-optimal
+@pytest.fixture(scope="module")
+def rr_line():
+    arm = get_arm("rr")
+    return arm, armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0)
+
+
+def _respects(arm, motion, velocity, acceleration, effort, tol):
+    t = np.linspace(0.0, motion.duration, 4001)
+    q, qd, qdd = motion.evaluate(t)
+    tau = arm.inverse_dynamics(q, qd, qdd)
+    return (np.all(np.abs(qd) <= velocity * (1 + tol)) and np.all(np.abs(qdd) <= acceleration * (1 + tol))
+            and np.all(np.abs(tau) <= effort * (1 + tol)))
+
+
+@pytest.mark.slow
+def test_fastest_is_time_optimal(rr_line):
+    arm, line = rr_line
+    velocity, acceleration, effort = np.array([10.0, 10.0]), np.array([5.0, 5.0]), np.array([100.0, 100.0])
+    result = fastest(arm, line, acceleration=acceleration)
+    # every limit at every sample, to 1 % (Toppra enforces them at its 500 grid points; between them interpolated)
+    assert _respects(arm, result.motion, velocity, acceleration, effort, 0.01)
+    assert result.active_fraction > 0.7  # bang–bang: some limit is active over most of the path
+    path = result.motion.segments[0].trajectory.path()
+    # the best uniformly time-scaled quintic (minimum jerk) of the same path within the same limits, by bisection
+    from pydrake.trajectories import PathParameterizedTrajectory
+
+    def scaled(T):
+        return Motion((TrajectorySegment(PathParameterizedTrajectory(path, minimum_jerk_profile(T).piecewise())),))
+
+    low, high = 0.01, 20.0
+    for _ in range(40):
+        middle = 0.5 * (low + high)
+        low, high = (low, middle) if _respects(arm, scaled(middle), velocity, acceleration, effort, 0.0) \
+            else (middle, high)
+    assert result.duration < high
+    # ṡ stays under its limit curve (to the grid's interpolation)
+    assert np.all(result.sd <= result.limit * (1 + 1e-3) + 1e-9)
+
+
+def test_fastest_simulated_run_tracks_it(rr_line):
+    arm, line = rr_line
+    result = fastest(arm, line, acceleration=5.0)
+    run = armlab.simulate(arm, result.motion)
+    assert max(run.summary["max_tracking_error"]) < 1e-3
+    np.testing.assert_allclose(run.summary["duration"], result.duration, rtol=1e-12)
+
+
+def test_limit_curve_against_a_brute_force_search(rng):
+    a, b, c = rng.normal(size=(5, 4)), rng.normal(size=(5, 4)), 0.1 * rng.normal(size=(5, 4))
+    lo, hi = -np.ones(4), np.ones(4)
+    curve = limit_curve(a, b, c, lo, hi)
+    u = np.linspace(-50, 50, 20001)
+    for i in range(5):
+        def feasible(x, i=i):
+            values = a[i] * u[:, None] + b[i] * x + c[i]
+            return bool(np.any(np.all((values >= lo) & (values <= hi), axis=1)))
+
+        assert feasible(0.0)
+        x = curve[i] ** 2
+        assert feasible(x * 0.99)
+        assert not feasible(x * 1.01 + 1e-6)
+
+
+def test_fastest_infeasible_names_joint_point_and_numbers(rr_line):
+    arm, line = rr_line
+    with pytest.raises(ValueError, match=r"joint1 torque needs \d+\.\d+ N·m against gravity at s = 0 .* "
+                                         r"beyond its limit 0\.1 N·m"):
+        fastest(arm, line, effort=0.1)
+
+
+def test_fastest_motor_side_limits():
+    from armlab.drives.train import DriveTrain
+
+    arm = get_arm("rr")
+    drives = DriveTrain(np.array([50.0, 20.0]), np.zeros(2), np.array([0.9, 0.8]), np.zeros(2), np.zeros(2))
+    from armlab.kinematics.timing import arm_limits
+
+    limits = arm_limits(arm, drives=drives, motor_speed=100.0, motor_torque=1.0)
+    np.testing.assert_allclose(limits.velocity, [2.0, 5.0], rtol=1e-12)  # ω_m/|G| (file: 10 rad/s)
+    np.testing.assert_allclose(limits.effort, [45.0, 16.0], rtol=1e-12)  # τ_m·|G|·η (file: 100 N·m)
+
+
+def test_profiles_by_name():
+    path = line_path([0.5, 0.3, 0.0], [0.3, 0.5, 0.0])
+    trapezoid = path_profile(path, "trapezoid", speed=0.1, acceleration=0.2)
+    L = np.hypot(0.2, 0.2)
+    np.testing.assert_allclose(trapezoid.duration, L / 0.1 + 0.1 / 0.2, rtol=1e-12)
+    with pytest.raises(ValueError, match="profile 'bang' is not allowed"):
+        path_profile(path, "bang", 1.0)
+    arm = get_arm("rr")
+    motion = tool_motion_along(arm, path, profile=trapezoid, samples=101)
+    np.testing.assert_allclose(motion.duration, trapezoid.duration, rtol=1e-12)
+
+
+# ------------------------------------------------------------------------------------ the command line
+@pytest.fixture
+def box(tmp_path, monkeypatch, capsys):
+    from contract import Sandbox
+
+    return Sandbox(tmp_path, monkeypatch, capsys)
+
+
+@pytest.mark.slow
+def test_cli_plan_line_fastest(box):
+    from contract import check
+
+    outcome = box.main("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--fastest",
+                       "--acceleration", "5", "--json", "--plot", "rate.png", "--simulate", "run")
+    check(outcome, 0)
+    summary = json.loads(outcome.out)
+    best = fastest(get_arm("rr"), armlab.line(get_arm("rr"), [0.5, 0.3], [0.3, 0.5], tf=2.0), acceleration=5.0)
+    np.testing.assert_allclose(summary["fastest"]["duration"], best.duration, rtol=1e-9)
+    assert summary["fastest"]["most_active"].endswith("acceleration")
+    assert max(summary["simulation"]["max_tracking_error"]) < 1e-3  # the simulated run tracks the fastest motion
+    logged = json.loads((box.cwd / "run" / "summary.json").read_text())
+    np.testing.assert_allclose(logged["duration"], best.duration, rtol=1e-12)
+    assert (box.cwd / "rate.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"  # exact: the PNG signature
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.5,0.3", "--tf", "2"], "zero length"),
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "1.5,0.3", "--tf", "2"], "leaves rr's reach at s = "),
+    (["plan", "rr", "arc", "--through", "0.1,0.1", "0.2,0.2", "0.3,0.3", "--tf", "2"], "collinear"),
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--profile", "trapezoid", "--speed", "-1",
+      "--tool-acceleration", "1"], "peak speed"),
+    (["plan", "rr", "line", "--from", "0.5,nan", "--to", "0.3,0.5", "--tf", "2"], "nan"),
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--fastest", "--effort", "0.1"],
+     "joint1 torque needs"),
+])
+def test_cli_plan_bad_input(box, argv, fragment):
+    from contract import check
+
+    check(box.main(*argv), 2, fragment)
+
+
+def test_segments_file_takes_lines_arcs_and_trapezoids(tmp_path):
+    from armlab.diagrams.motions import read_segments
+
+    path = tmp_path / "seg.json"
+    path.write_text(json.dumps({"segments": [
+        {"from_point": [0.5, 0.3], "from_branch": 0, "line_to": [0.3, 0.5], "tf": 2.0, "label": "line"},
+        {"arc_through": [[0.35, 0.3], [0.5, 0.2]], "tf": 2.0, "profile": "trapezoid", "label": "arc"},
+        {"to": [0.0, 1.0], "profile": "trapezoid", "velocity": 1.0, "acceleration": 2.0, "label": "trap"},
+        {"through": [[0.5, 1.2], [1.0, 0.7]], "tf": 1.0, "label": "via"}]}))
+    arm = get_arm("rr")
+    motion = read_segments(arm, path)
+    via = armlab.through(arm, [[0.0, 1.0], [0.5, 1.2], [1.0, 0.7]], 1.0, stop=False)
+    tail = np.linspace(0.0, 2.0, 21)
+    np.testing.assert_allclose(motion.evaluate(motion.breaks[-3] + tail)[1], via.evaluate(tail)[1], atol=1e-12)
+    assert all(motion.joins()) and len(motion.runs()) == 1  # one continuous run: the paths start where it is
+    line = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0, branch=0)
+    t = np.linspace(0.0, 2.0, 51)
+    np.testing.assert_allclose(motion.evaluate(t)[0], line.evaluate(t)[0], atol=1e-12)
+    p = arm.forward(motion.evaluate(motion.breaks[2:3])[0]).tool[0, :2, 3]
+    np.testing.assert_allclose(p, [0.5, 0.2], atol=1e-9)
+    path.write_text(json.dumps({"segments": [{"from": [0, 1], "line_to": [0.3, 0.5], "to": [0, 0], "tf": 1}]}))
+    with pytest.raises(ValueError, match="give one tool path"):
+        read_segments(arm, path)
