@@ -29,6 +29,7 @@ __all__ = [
     "SEGMENTS_FILE_HELP",
     "paper_motion",
     "point_to_joints",
+    "parse_segments",
     "quintic_motion",
     "read_segments",
 ]
@@ -136,11 +137,21 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
     deg = data.get("deg", False)
     if not isinstance(deg, bool):
         raise ValueError(f"--segments {path}: \"deg\" = {json.dumps(deg)} must be true or false")
+    return parse_segments(arm, data["segments"], deg, f"--segments {path.name}", f"segments from {path.name}")
+
+
+def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, description: str,
+                   start: NDArray[np.float64] | None = None) -> Motion:
+    """The motion of a list of SEGMENT objects (:data:`SEGMENTS_FILE_HELP`), read from JSON; ``where_file`` starts
+    every message (``"--segments f.json"``); ``start`` (n,): where a first segment without a start begins (else it
+    needs one). Every end is checked against the limits."""
+    if not isinstance(specs, list) or not specs:
+        raise ValueError(f"{where_file}: expected a non-empty list of segments")
     segments: list[Segment] = []
     known = {"label", "tf", "from", "from_point", "from_branch", "from_pitch", "to", "to_point", "to_branch",
              "to_pitch", "rate"}
-    for k, spec in enumerate(data["segments"], start=1):
-        where = f"--segments {path.name} segment {k}"
+    for k, spec in enumerate(specs, start=1):
+        where = f"{where_file} segment {k}"
         if not isinstance(spec, dict):
             raise ValueError(f"{where}: expected an object, got {spec!r}")
         unknown = sorted(set(spec) - known)
@@ -149,7 +160,7 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
         if "tf" not in spec:
             raise ValueError(f"{where}: needs \"tf\" (s)")
         label = str(spec.get("label", k))
-        previous = segments[-1].q_end if segments else None
+        previous = segments[-1].q_end if segments else start
         q0 = _end(arm, spec, "from", deg, previous, where)
         if q0 is None:
             if previous is None:
@@ -165,6 +176,6 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
             segments.append(ConstantRate(q0, _values(arm, rate, deg, f"{where} rate"), tf, label))
         else:
             segments.append(QuinticSegment(q0, qf, tf, label))
-    motion = Motion(tuple(segments), f"segments from {path.name}")
+    motion = Motion(tuple(segments), description)
     motion.check_limits(arm)
     return motion
