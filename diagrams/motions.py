@@ -28,8 +28,8 @@ if TYPE_CHECKING:
 __all__ = [
     "SEGMENTS_FILE_HELP",
     "paper_motion",
-    "point_to_joints",
     "parse_segments",
+    "point_to_joints",
     "quintic_motion",
     "read_segments",
 ]

@@ -177,8 +177,8 @@ def read_motors(path: str | Path | None = None) -> Motors:
     line = np.isnan(c["no_load_speed_rpm"]), np.isnan(c["stall_torque_Nm"])
     if np.any(line[0] != line[1]):
         k = int(np.argmax(line[0] != line[1]))
-        raise ValueError(f"{where} line {c['line'][k]} ({names[k]}): give no_load_speed_rpm and stall_torque_Nm together "
-                         "(the voltage line) or neither")
+        raise ValueError(f"{where} line {c['line'][k]} ({names[k]}): give no_load_speed_rpm and stall_torque_Nm "
+                         "together (the voltage line) or neither")
     return Motors(tuple(names), c["rated_torque_Nm"], c["peak_torque_Nm"], c["rated_speed_rpm"], c["max_speed_rpm"],
                   c["rotor_inertia_kgcm2"], c["mass_kg"], c["no_load_speed_rpm"], c["stall_torque_Nm"])
 

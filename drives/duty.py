@@ -33,8 +33,20 @@ from armlab.models.write_urdf import check_inertia
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["DEFAULT_RATE", "DUTY_FILE_HELP", "LOAD_CASES_HELP", "CycleSamples", "Dwell", "DutyCycle", "LoadCase",
-           "Move", "load_cases_of", "read_duty_cycle", "read_load_cases", "sample"]
+__all__ = [
+    "DEFAULT_RATE",
+    "DUTY_FILE_HELP",
+    "LOAD_CASES_HELP",
+    "CycleSamples",
+    "DutyCycle",
+    "Dwell",
+    "LoadCase",
+    "Move",
+    "load_cases_of",
+    "read_duty_cycle",
+    "read_load_cases",
+    "sample",
+]
 
 #: Samples per second of motion (each segment gets at least 16 intervals).
 DEFAULT_RATE = 500.0
@@ -88,7 +100,7 @@ class LoadCase:
 
 
 def load_cases_of(payloads: ArrayLike | LoadCase | list[LoadCase] | tuple[LoadCase, ...]) -> tuple[LoadCase, ...]:
-    """Load cases from point masses (kg, a number or a sequence) or :class:`LoadCase` objects; ``ValueError`` if none."""
+    """Load cases of point masses (kg, a number or a sequence) or :class:`LoadCase` objects; ``ValueError`` if none."""
     if isinstance(payloads, LoadCase):
         return (payloads,)
     if isinstance(payloads, list | tuple) and payloads and all(isinstance(p, LoadCase) for p in payloads):

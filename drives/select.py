@@ -267,7 +267,8 @@ class JointSelection:
 _UNITS = {"RMS": ("RMS", "rated", "N·m"), "RMS speed": ("mean speed", "rated speed", "rpm"),
           "peak": ("peak", "peak", "N·m"), "envelope": ("torque", "envelope", "N·m"),
           "speed": ("speed", "max", "rpm"), "gearbox RMS": ("output RMS", "gearbox rated", "N·m"),
-          "gearbox peak": ("output peak", "gearbox peak", "N·m"), "gearbox speed": ("input speed", "gearbox max", "rpm")}
+          "gearbox peak": ("output peak", "gearbox peak", "N·m"),
+          "gearbox speed": ("input speed", "gearbox max", "rpm")}
 
 
 def _failed(ev: Evaluation, c: int, safety: float) -> tuple[str, ...]:

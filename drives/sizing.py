@@ -15,7 +15,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
 
 from armlab.drives.duty import DEFAULT_RATE, CycleSamples, DutyCycle, LoadCase, sample
 from armlab.drives.loads import Loads, joint_loads, with_link_masses
