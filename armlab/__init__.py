@@ -19,7 +19,7 @@ from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, through
+    from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, size_drives, through
     from armlab.diagrams.run import Run
     from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
     from armlab.models.arm import Arm
@@ -35,7 +35,7 @@ _EXPORTS = {
     "QuinticSegment": "armlab.kinematics.quintic",
     "Run": "armlab.diagrams.run",
     **{name: "armlab.api" for name in ("constant_rate", "load", "paper_motion", "quintic", "read_segments",
-                                       "simulate", "through")},
+                                       "simulate", "size_drives", "through")},
 }
 
 __all__ = [  # the names of _EXPORTS, listed for readers and linters
@@ -51,6 +51,7 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "quintic",
     "read_segments",
     "simulate",
+    "size_drives",
     "through",
 ]
 
