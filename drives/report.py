@@ -80,8 +80,8 @@ def summary_lines(sizing: Sizing) -> list[str]:
         lines.append(f"{j.joint}: {_pair(c)}, {c.mass:.3g} kg, margin {c.margin:.1%}; worst case "
                      f"{s.cases[k].label}: RMS {c.stats['rms_torque'][k]:.3g} N·m, peak "
                      f"{c.stats['peak_torque'].max():.3g} N·m, {c.stats['peak_speed'].max() * RPM:.4g} rpm; "
-                     f"{j.feasible_count} feasible of {j.pairs} "
-                     f"({j.screened} past the screen)")
+                     f"{j.pairs} pairs, {j.screened} past the screen, "
+                     f"{j.checked} checked in order of {s.rank}, {j.feasible_count} feasible")
     mass = "mass iteration: " + (f"converged after {s.iterations} selections" if s.converged
                                  else f"stopped after {s.iterations} selection(s), not converged")
     lines.append(mass + (f"; total drive mass {s.drive_mass:.4g} kg" if s.feasible else "; no feasible drive set"))
@@ -105,7 +105,8 @@ def sizing_markdown(sizing: Sizing) -> str:
         out += [f"## {j.joint}", "",
                 f"{j.pairs} pairs; the screen (accelerating factor α = T²/J against the load factor β = "
                 f"{', '.join(f'{b:.4g}' for b in j.beta)} N²·m²/(kg·m²) per load case) kept {j.motors_screened} "
-                f"motors and {j.screened} pairs for the full check.", ""]
+                f"motors and {j.screened} pairs for the full check; {j.checked} were checked, in order of {s.rank} "
+                f"until no pair left could rank among the best, {j.feasible_count} of them feasible.", ""]
         c = j.chosen
         if c is not None:
             out += [f"Chosen: **{_pair(c)}**, {c.mass:.4g} kg, margin {c.margin:.2%}.", ""]

@@ -48,6 +48,8 @@ CHECKS = ("RMS", "RMS speed", "peak", "envelope", "speed", "gearbox RMS", "gearb
 RANKS = ("mass", "margin", "inertia")
 #: Candidates fully checked at a time (bounds the working arrays: load cases × samples × CHUNK).
 CHUNK = 512
+#: Pairs in the first batch of full checks (the next ones double, up to :data:`CHUNK`).
+FIRST = 64
 #: How many of the nearest infeasible pairs are reported.
 NEAREST = 5
 #: The screen's slack: a pair within this relative distance of its bound goes on to the full check (rounding).
@@ -88,16 +90,37 @@ class JointTask:
         return values @ self.weight / self.weight.sum()
 
 
+def motor_side(train: DriveTrain, tau: NDArray[np.float64], qd: NDArray[np.float64],
+               qdd: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Motor torque (N·m) and signed motor speed (rad/s) of load torques ``tau`` at rates ``qd``, ``qdd``, all
+    broadcast against the drive train's last axis: τ_m = :func:`motor_torque` of τ_L + G²·J·q̈ (+ its friction)."""
+    return motor_torque(train, tau + train.torque(qd, qdd), qd), motor_speed(train, qd)
+
+
+def _ratio(limit: NDArray, value: NDArray) -> NDArray:
+    """limit / value, +inf where the value is 0."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(value > 0, limit / value, np.inf)
+
+
+#: The per-load-case figures of a candidate (motor side; SI): peak and RMS |τ_m| (N·m), peak and mean |ω_m|
+#: (rad/s), peak power (W), energy delivered and regenerated per cycle (J), inertia ratio J_load/(G²·J) min/max.
+STATS = ("peak_torque", "rms_torque", "peak_speed", "mean_speed", "peak_power", "energy", "regenerated",
+         "inertia_ratio_min", "inertia_ratio_max")
+
+
 @dataclass(frozen=True)
 class Evaluation:
-    """Full checks of candidates ``C`` (pair indices ``motor``, ``gearbox`` ``(C,)``): ``stats`` name → ``(L, C)``
-    per load case (see :data:`STATS`); ``ratios`` ``(len(CHECKS), C)``, each check's worst limit/value over the
-    cases; ``values``, ``limits`` the same checks' value (with the safety factor) and limit at the worst case."""
+    """Full checks of candidates ``C`` (pair indices ``motor``, ``gearbox`` ``(C,)``): ``ratios``
+    ``(len(CHECKS), C)``, each check's worst limit/value over the load cases. With ``describe``: ``stats`` name →
+    ``(L, C)`` per load case (:data:`STATS`), and ``values``, ``limits`` ``(len(CHECKS), C)`` each check's value
+    (with the safety factor) and limit in its worst case, ``speeds`` ``(C,)`` the speed of the envelope's worst
+    operating point; else they are empty."""
 
     motor: NDArray[np.intp]
     gearbox: NDArray[np.intp]
-    stats: dict[str, NDArray[np.float64]]
     ratios: NDArray[np.float64]
+    stats: dict[str, NDArray[np.float64]]
     values: NDArray[np.float64]
     limits: NDArray[np.float64]
     speeds: NDArray[np.float64]
@@ -108,86 +131,71 @@ class Evaluation:
         return self.ratios.min(axis=0) - 1
 
 
-#: The per-load-case figures of a candidate (motor side; SI): peak and RMS |τ_m| (N·m), peak and mean |ω_m|
-#: (rad/s), peak power (W), energy delivered and regenerated per cycle (J), inertia ratio J_load/(G²·J) min/max.
-STATS = ("peak_torque", "rms_torque", "peak_speed", "mean_speed", "peak_power", "energy", "regenerated",
-         "inertia_ratio_min", "inertia_ratio_max")
-
-
-def motor_side(train: DriveTrain, tau: NDArray[np.float64], qd: NDArray[np.float64],
-               qdd: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Motor torque (N·m) and signed motor speed (rad/s) of load torques ``tau`` at rates ``qd``, ``qdd``, all
-    broadcast against the drive train's last axis: τ_m = :func:`motor_torque` of τ_L + G²·J·q̈ (+ its friction)."""
-    return motor_torque(train, tau + train.torque(qd, qdd), qd), motor_speed(train, qd)
-
-
-def _ratio(limit: NDArray, value: NDArray) -> NDArray:
-    with np.errstate(divide="ignore"):
-        return np.where(value > 0, limit / np.where(value > 0, value, 1.0), np.inf)
-
-
 def evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, motor: NDArray[np.intp],
-             gearbox: NDArray[np.intp], safety: float) -> Evaluation:
-    """Every check and figure of the candidates (``motor[c]``, ``gearbox[c]``) over every sample and load case."""
-    parts = [_evaluate(task, motors, gearboxes, motor[s:s + CHUNK], gearbox[s:s + CHUNK], safety)
+             gearbox: NDArray[np.intp], safety: float, describe: bool = False) -> Evaluation:
+    """Every check (and with ``describe`` every figure) of the candidates (``motor[c]``, ``gearbox[c]``) over every
+    sample and load case, :data:`CHUNK` candidates at a time."""
+    parts = [_evaluate(task, motors, gearboxes, motor[s:s + CHUNK], gearbox[s:s + CHUNK], safety, describe)
              for s in range(0, max(motor.size, 1), CHUNK)]
-    return Evaluation(motor, gearbox, {k: np.concatenate([p.stats[k] for p in parts], axis=1) for k in STATS},
-                      *(np.concatenate([getattr(p, f) for p in parts], axis=1)
-                        for f in ("ratios", "values", "limits", "speeds")))
+    return Evaluation(motor, gearbox, np.concatenate([p.ratios for p in parts], axis=1),
+                      {k: np.concatenate([p.stats[k] for p in parts], axis=1) for k in parts[0].stats},
+                      *(np.concatenate([getattr(p, f) for p in parts], axis=-1)
+                        for f in ("values", "limits", "speeds")))
 
 
 def _evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDArray[np.intp], ig: NDArray[np.intp],
-              safety: float) -> Evaluation:
-    C = im.size
+              safety: float, describe: bool) -> Evaluation:
+    L, C = task.tau.shape[0], im.size
     train = DriveTrain(gearboxes.ratio[ig], motors.rotor_inertia[im] + gearboxes.input_inertia[ig],
                        gearboxes.efficiency[ig], np.zeros(C), np.zeros(C))
     # (L, T, 1) and (T, 1) against the candidates (C,): τ_m (L, T, C), ω_m (T, C)
     tau_m, speed = motor_side(train, task.tau[:, :, None], task.qd[:, None], task.qdd[:, None])
     omega = np.abs(speed)
     abs_m = np.abs(tau_m)
-    power = tau_m * speed[None]
     w = task.weight
-    stats = {
-        "peak_torque": abs_m.max(axis=1),
-        "rms_torque": np.sqrt(np.einsum("ltc,t->lc", tau_m**2, w) / w.sum()),
-        "peak_speed": np.broadcast_to(omega.max(axis=0), (task.tau.shape[0], C)),
-        "mean_speed": np.broadcast_to(w @ omega / w.sum(), (task.tau.shape[0], C)),
-        "peak_power": power.max(axis=1),
-        "energy": np.einsum("ltc,t->lc", np.maximum(power, 0.0), w),
-        "regenerated": np.einsum("ltc,t->lc", np.maximum(-power, 0.0), w),
-    }
-    reflected = train.reflected_inertia  # G²·J (C,)
-    stats["inertia_ratio_min"] = task.inertia.min(axis=1)[:, None] / reflected
-    stats["inertia_ratio_max"] = task.inertia.max(axis=1)[:, None] / reflected
-    # the envelope: the worst operating point of each case
+    peak_speed, mean_speed = omega.max(axis=0), w @ omega / w.sum()  # (C,)
+    stats = {"peak_torque": abs_m.max(axis=1),
+             "rms_torque": np.sqrt(np.einsum("ltc,ltc,t->lc", tau_m, tau_m, w) / w.sum())}
     envelope = motors.envelope(im, omega)  # (T, C)
-    env_ratio = _ratio(envelope[None], safety * abs_m)  # (L, T, C)
-    worst_t = env_ratio.argmin(axis=1)  # (L, C)
-    take = np.take_along_axis
-    env_value = safety * take(abs_m, worst_t[:, None], axis=1)[:, 0]
-    env_limit = take(np.broadcast_to(envelope[None], abs_m.shape), worst_t[:, None], axis=1)[:, 0]
-    env_speed = take(np.broadcast_to(omega[None], abs_m.shape), worst_t[:, None], axis=1)[:, 0]
-    load_rms = np.sqrt(task.mean(task.tau**2))[:, None]  # (L, 1)
-    load_peak = np.abs(task.tau).max(axis=1)[:, None]
-    gb = gearboxes
-    one = np.ones((task.tau.shape[0], 1))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        use = abs_m / envelope  # (L, T, C): the share of the envelope used (inf where it gives nothing)
+    use[np.isnan(use)] = np.inf  # 0 N·m where the envelope is 0 (beyond the no-load speed)
+    env_use = use.max(axis=1)  # (L, C)
+    load_rms = np.sqrt(task.mean(task.tau**2))[:, None] * np.ones(C)  # (L, C)
+    load_peak = np.abs(task.tau).max(axis=1)[:, None] * np.ones(C)
+    gb, one = gearboxes, np.ones((L, 1))
     rows = [  # (value, limit) per check, each (L, C)
         (safety * stats["rms_torque"], one * motors.rated_torque[im]),
-        (stats["mean_speed"], one * motors.rated_speed[im]),
+        (one * mean_speed, one * motors.rated_speed[im]),
         (safety * stats["peak_torque"], one * motors.peak_torque[im]),
-        (env_value, env_limit),
-        (stats["peak_speed"], one * motors.max_speed[im]),
-        (safety * load_rms * np.ones(C), one * gb.rated_torque[ig]),
-        (safety * load_peak * np.ones(C), one * gb.peak_torque[ig]),
-        (stats["peak_speed"], one * gb.max_input_speed[ig]),
+        (safety * env_use, one),
+        (one * peak_speed, one * motors.max_speed[im]),
+        (safety * load_rms, one * gb.rated_torque[ig]),
+        (safety * load_peak, one * gb.peak_torque[ig]),
+        (one * peak_speed, one * gb.max_input_speed[ig]),
     ]
     ratio_rows = np.stack([_ratio(limit, value) for value, limit in rows])  # (checks, L, C)
-    worst = ratio_rows.argmin(axis=1)  # the worst case of each check (checks, C)
-    pick = lambda a: take(a, worst[:, None], axis=1)[:, 0]  # noqa: E731
-    values = pick(np.stack([np.broadcast_to(v, (task.tau.shape[0], C)) for v, _ in rows]))
-    limits = pick(np.stack([np.broadcast_to(lim, (task.tau.shape[0], C)) for _, lim in rows]))
-    speeds = take(env_speed, worst[3][None], axis=0)[0]
-    return Evaluation(im, ig, stats, ratio_rows.min(axis=1), values, limits, speeds[None])
+    ratios = ratio_rows.min(axis=1)
+    if not describe:
+        empty = np.empty((len(CHECKS), 0))
+        return Evaluation(im, ig, ratios, {}, empty, empty, np.empty(0))
+    power = tau_m * speed[None]
+    stats.update(
+        peak_speed=one * peak_speed, mean_speed=one * mean_speed, peak_power=power.max(axis=1),
+        energy=np.einsum("ltc,t->lc", np.maximum(power, 0.0), w),
+        regenerated=np.einsum("ltc,t->lc", np.maximum(-power, 0.0), w),
+        inertia_ratio_min=task.inertia.min(axis=1)[:, None] / train.reflected_inertia,
+        inertia_ratio_max=task.inertia.max(axis=1)[:, None] / train.reflected_inertia)
+    # the envelope check as torque against the envelope at its worst operating point
+    at = np.take_along_axis
+    worst_t = use.argmax(axis=1)  # (L, C)
+    worst_omega = at(np.broadcast_to(omega[None], use.shape), worst_t[:, None], axis=1)[:, 0]  # (L, C)
+    worst_limit = motors.envelope(im, worst_omega)
+    rows[3] = (safety * at(abs_m, worst_t[:, None], axis=1)[:, 0], worst_limit)
+    case = ratio_rows.argmin(axis=1)  # the worst case of each check (checks, C)
+    values = at(np.stack([np.broadcast_to(v, (L, C)) for v, _ in rows]), case[:, None], axis=1)[:, 0]
+    limits = at(np.stack([np.broadcast_to(lim, (L, C)) for _, lim in rows]), case[:, None], axis=1)[:, 0]
+    return Evaluation(im, ig, ratios, stats, values, limits, at(worst_omega, case[3][None], axis=0)[0])
 
 
 def screen(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float) -> tuple[NDArray, NDArray, NDArray]:
@@ -245,9 +253,9 @@ class Candidate:
 
 @dataclass(frozen=True)
 class JointSelection:
-    """One joint's selection: the best ``feasible`` pairs ranked (best first; ``feasible_count`` in all), the
-    ``nearest`` infeasible ones (closest first) and the screen's counts: ``pairs`` in all, ``motors_screened``
-    (passing stage 1), ``screened`` (stage 2), the load factors ``beta`` (L,)."""
+    """One joint's selection: the best ``feasible`` pairs ranked (best first; ``feasible_count`` found feasible
+    among the ``checked``), the ``nearest`` infeasible ones (closest first) and the screen's counts: ``pairs`` in
+    all, ``motors_screened`` (passing stage 1), ``screened`` (stage 2), the load factors ``beta`` (L,)."""
 
     joint: str
     feasible: tuple[Candidate, ...]
@@ -256,6 +264,7 @@ class JointSelection:
     pairs: int
     motors_screened: int
     screened: int
+    checked: int
     beta: NDArray[np.float64]
 
     @property
@@ -280,7 +289,7 @@ def _failed(ev: Evaluation, c: int, safety: float) -> tuple[str, ...]:
         what, limit_name, unit = _UNITS[check]
         scale = rpm if unit == "rpm" else 1.0
         factor = f"{safety:g}×" if unit == "N·m" and safety != 1 else ""
-        where = f" at {ev.speeds[0, c] * rpm:.4g} rpm" if check == "envelope" else ""
+        where = f" at {ev.speeds[c] * rpm:.4g} rpm" if check == "envelope" else ""
         out.append(f"{factor}{what} {ev.values[k, c] * scale:.3g} {unit}{where} > {limit_name} "
                    f"{ev.limits[k, c] * scale:.3g} {unit}")
     return tuple(out)
@@ -296,31 +305,64 @@ def _candidates(ev: Evaluation, order: NDArray[np.intp], motors: Motors, gearbox
                  for c in order)
 
 
+def _order(rank: str, survivors: NDArray[np.intp], flat: NDArray, mass: NDArray, inertia: NDArray
+           ) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+    """The survivors in the order they are fully checked, and each pair's rank key's lower bound (smaller is
+    better): the exact mass or inertia ratio, and for ``margin`` −(screen ratio − 1) ≤ −margin."""
+    if rank == "mass":
+        return survivors[np.lexsort((-flat[survivors], mass[survivors]))], mass
+    if rank == "inertia":
+        return survivors[np.lexsort((mass[survivors], inertia[survivors]))], inertia
+    return survivors[np.argsort(-flat[survivors], kind="stable")], 1 - flat
+
+
 def select_joint(joint: str, task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float = 1.0,
                  rank: str = "mass", keep: int = 10) -> JointSelection:
-    """The feasible pairs of one joint, ranked by ``rank`` (:data:`RANKS`; the best ``keep`` kept), and the
-    :data:`NEAREST` infeasible ones with the checks they fail (see the module docstring)."""
+    """The best ``keep`` feasible pairs of one joint by ``rank`` (:data:`RANKS`) and the :data:`NEAREST` infeasible
+    ones with the checks they fail (see the module docstring).
+
+    The pairs past the screen are fully checked in the order of their rank key (mass and inertia ratio are known
+    before the check; the margin is bounded above by the screen), :data:`FIRST` first, then twice as many each time
+    up to :data:`CHUNK`, until ``keep`` feasible ones are found and no pair left could rank before them (branch and
+    bound): the best pairs are the ones a check of every pair would give, without checking the many heavier ones."""
     safety, rank = check_safety_factor(safety), check_rank(rank)
     ratio, alpha_max, beta = screen(task, motors, gearboxes, safety)
+    B = len(gearboxes)
     flat = ratio.ravel()
+    mass = (motors.mass[:, None] + gearboxes.mass[None, :]).ravel()
+    reflected = gearboxes.ratio[None, :] ** 2 * (motors.rotor_inertia[:, None] + gearboxes.input_inertia[None, :])
+    inertia = (task.inertia.max() / reflected).ravel()  # the largest inertia ratio of each pair
     survivors = np.flatnonzero(flat >= 1 - SLACK)
+    order, bound = _order(rank, survivors, flat, mass, inertia)
+    checked, margins = [], []
+    start, size = 0, FIRST
+    while start < order.size:
+        part = order[start:start + size]
+        size = min(2 * size, CHUNK)
+        checked.append(part)
+        margins.append(evaluate(task, motors, gearboxes, part // B, part % B, safety).margin)
+        start += part.size
+        so_far = np.concatenate(margins)
+        ok = np.concatenate(checked)[so_far >= 0]
+        if ok.size >= keep and start < order.size:
+            true = -so_far[so_far >= 0] if rank == "margin" else bound[ok]  # the rank keys found
+            if bound[order[start]] > np.sort(true)[keep - 1]:  # no pair left can rank among the best keep
+                break
+    done = np.concatenate(checked) if checked else np.empty(0, dtype=np.intp)
+    margin = np.concatenate(margins) if margins else np.empty(0)
+    ok, bad = done[margin >= 0], done[margin < 0]
     dropped = np.flatnonzero(flat < 1 - SLACK)
     near = dropped[np.argsort(-flat[dropped], kind="stable")[:NEAREST]]
-    checked = np.concatenate([survivors, near])
-    B = len(gearboxes)
-    ev = evaluate(task, motors, gearboxes, checked // B, checked % B, safety)
-    margin = ev.margin
-    ok = np.flatnonzero(margin >= 0)
-    mass = motors.mass[ev.motor] + gearboxes.mass[ev.gearbox]
-    if rank == "mass":
-        keys: tuple[NDArray, ...] = (-margin[ok], mass[ok])
-    elif rank == "margin":
-        keys = (mass[ok], -margin[ok])
-    else:
-        keys = (mass[ok], ev.stats["inertia_ratio_max"].max(axis=0)[ok])
-    best = ok[np.lexsort(keys)[:keep]]
-    bad = np.flatnonzero(margin < 0)
-    nearest = bad[np.argsort(-margin[bad], kind="stable")[:NEAREST]]
-    return JointSelection(joint, _candidates(ev, best, motors, gearboxes, safety), int(ok.size),
-                          _candidates(ev, nearest, motors, gearboxes, safety), int(flat.size),
-                          int((alpha_max >= beta.max() * (1 - SLACK)).sum()), int(survivors.size), beta)
+    bad_margin = margin[margin < 0]
+    nearest_checked = bad[np.argsort(-bad_margin, kind="stable")[:NEAREST]]
+    ok_margin = margin[margin >= 0]
+    keys = {"mass": (-ok_margin, mass[ok]), "margin": (mass[ok], -ok_margin), "inertia": (mass[ok], inertia[ok])}
+    best = ok[np.lexsort(keys[rank])[:keep]]  # the last key first
+    shown = np.concatenate([best, nearest_checked, near])
+    ev = evaluate(task, motors, gearboxes, shown // B, shown % B, safety, describe=True)
+    candidates = _candidates(ev, np.arange(shown.size), motors, gearboxes, safety)
+    feasible = candidates[:best.size]
+    others = sorted(candidates[best.size:], key=lambda c: -c.margin)[:NEAREST]
+    return JointSelection(joint, feasible, int(ok.size), tuple(others), int(flat.size),
+                          int((alpha_max >= beta.max() * (1 - SLACK)).sum()), int(survivors.size), int(done.size),
+                          beta)
