@@ -111,7 +111,7 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
     """The columns of a catalogue CSV in SI (missing optional ones NaN) and its names; checks per the module."""
     path = Path(path)
     where = f"{kind} catalogue {path.name}"
-    text = read_input(path, f"--{kind}s").decode("utf-8-sig")
+    text = read_input(path, f"--{kind}s {path}").decode("utf-8-sig")
     numbered = [(line, r) for line, r in enumerate(csv.reader(io.StringIO(text)), start=1)
                 if any(cell.strip() for cell in r) and not r[0].lstrip().startswith("#")]  # "#": a comment
     if not numbered:
