@@ -7,7 +7,7 @@ operating points and its RMS point). :func:`summary_lines` is what ``armlab size
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -17,7 +17,8 @@ from armlab.files import OutputFolder, csv_text
 if TYPE_CHECKING:
     from armlab.drives.sizing import Sizing
 
-__all__ = ["CSV_HEADERS", "sizing_folder", "sizing_markdown", "summary_lines", "write_sizing"]
+__all__ = ["CSV_HEADERS", "figure_names", "sizing_folder", "sizing_markdown", "summary_lines", "torque_speed_figure",
+           "write_sizing"]
 
 RPM = 60 / (2 * np.pi)
 #: The columns of sizing.csv (SI; speeds in rad/s).
@@ -128,16 +129,16 @@ def sizing_markdown(sizing: Sizing) -> str:
     return "\n".join(out)
 
 
-def _figure(sizing: Sizing, k: int, path: Path) -> str:
-    """Joint k's torque–speed figure (motor side): the chosen motor's envelope, continuous region, each load
-    case's operating points and RMS point."""
-    # lazy: matplotlib only when figures are written
-    from armlab.analysis.plots import save_png
+def torque_speed_figure(sizing: Sizing, k: int) -> Any:
+    """Joint k's torque–speed figure (a matplotlib figure; motor side): the chosen motor's envelope, its
+    continuous region, each load case's operating points and RMS point. ``ValueError`` for a joint without one."""
+    # lazy: matplotlib only when figures are drawn
     from armlab.scripts.figures import new_figure
 
     s, j = sizing, sizing.joints[k]
     c = j.chosen
-    assert c is not None  # figures only for a feasible sizing
+    if c is None:
+        raise ValueError(f"{j.joint} has no feasible motor and gearbox: no torque–speed figure")
     train = s.drive_train()
     qd = s.samples.qd
     fig, ax = new_figure(f"{s.arm.name} {j.joint}: {_pair(c)} — motor torque against speed", size=(7.0, 4.8))
@@ -166,7 +167,7 @@ def _figure(sizing: Sizing, k: int, path: Path) -> str:
     ax.set_xlim(-1.08 * top, 1.08 * top)
     ax.set_ylim(-1.15 * peak, 1.6 * peak)
     ax.legend(loc="upper center", ncols=2, fontsize=7, framealpha=0.9)
-    return save_png(fig, path)
+    return fig
 
 
 def write_sizing(sizing: Sizing, folder: Path) -> list[str]:
@@ -176,5 +177,9 @@ def write_sizing(sizing: Sizing, folder: Path) -> list[str]:
     (folder / "sizing.md").write_text(sizing_markdown(sizing) + "\n")
     written = ["sizing.csv", "sizing.md"]
     if sizing.feasible:
-        written += [_figure(sizing, k, folder / name) for k, name in enumerate(figure_names(sizing))]
+        # lazy: matplotlib only when figures are written
+        from armlab.analysis.plots import save_png
+
+        written += [save_png(torque_speed_figure(sizing, k), folder / name)
+                    for k, name in enumerate(figure_names(sizing))]
     return written
