@@ -141,7 +141,8 @@ def torque_speed_figure(sizing: Sizing, k: int) -> Any:
         raise ValueError(f"{j.joint} has no feasible motor and gearbox: no torque–speed figure")
     train = s.drive_train()
     qd = s.samples.qd
-    fig, ax = new_figure(f"{s.arm.name} {j.joint}: {_pair(c)} — motor torque against speed", size=(7.0, 4.8))
+    fig, ax = new_figure(f"{s.arm.name} {j.joint}: {_pair(c)} — motor torque against speed, safety factor "
+                         f"{s.safety_factor:g}", size=(9.0, 4.8))
     m = s.motors
     top = m.max_speed[c.motor] * RPM
     speeds = np.linspace(0, m.max_speed[c.motor], 200)
@@ -153,7 +154,7 @@ def torque_speed_figure(sizing: Sizing, k: int) -> Any:
     rated, rated_speed = m.rated_torque[c.motor], m.rated_speed[c.motor] * RPM
     ax.fill([-rated_speed, rated_speed, rated_speed, -rated_speed], [-rated, -rated, rated, rated], color="#2e8b57",
             alpha=0.12, label="continuous (rated torque, rated speed)")
-    ax.axvline(top, color="k", ls=":", lw=1)
+    ax.axvline(top, color="k", ls=":", lw=1, label="maximum speed")
     ax.axvline(-top, color="k", ls=":", lw=1)
     for case_index, case in enumerate(s.cases):
         tau_m, omega = motor_side(train, s.loads.tau[case_index], qd, s.samples.qdd)
@@ -165,8 +166,8 @@ def torque_speed_figure(sizing: Sizing, k: int) -> Any:
     ax.set_ylabel("motor torque τ_m (N·m)")
     peak = m.peak_torque[c.motor]
     ax.set_xlim(-1.08 * top, 1.08 * top)
-    ax.set_ylim(-1.15 * peak, 1.6 * peak)
-    ax.legend(loc="upper center", ncols=2, fontsize=7, framealpha=0.9)
+    ax.set_ylim(-1.15 * peak, 1.15 * peak)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7)  # beside the axes: it covers no data
     return fig
 
 
