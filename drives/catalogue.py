@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -107,7 +108,7 @@ class Gearboxes:
         return len(self.name)
 
 
-def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, bool]]) -> dict[str, NDArray | list]:
+def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, bool]]) -> dict[str, Any]:
     """The columns of a catalogue CSV in SI (missing optional ones NaN) and its names; checks per the module."""
     path = Path(path)
     where = f"{kind} catalogue {path.name}"
@@ -128,12 +129,12 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
     body = numbered[1:]
     if not body:
         raise ValueError(f"{where}: no rows: a catalogue needs at least one {kind}")
-    names = []
+    names: list[str] = []
     for line, row in body:
         if len(row) != len(header):
             raise ValueError(f"{where} line {line}: {len(row)} cells; the header has {len(header)}")
         names.append(row[header.index("name")].strip() or f"{kind} {len(names) + 1}")
-    out: dict[str, NDArray | list] = {"name": names, "line": np.array([line for line, _ in body])}
+    out: dict[str, Any] = {"name": names, "line": np.array([line for line, _ in body])}
     for column, (required, factor, positive) in columns.items():
         values = np.full(len(body), np.nan)
         if column in header:
@@ -155,7 +156,7 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
     return out
 
 
-def _check_pair(where: str, c: dict[str, NDArray | list], low: str, high: str, what: str) -> None:
+def _check_pair(where: str, c: dict[str, Any], low: str, high: str, what: str) -> None:
     """``ValueError`` for the first row whose column ``high`` is below its column ``low`` (``what``: "torque")."""
     unit, scale = ("rpm", 1 / RPM) if low.endswith("rpm") else ("N·m", 1.0)
     bad = np.asarray(c[high]) < np.asarray(c[low])

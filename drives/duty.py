@@ -18,12 +18,13 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from armlab.files import is_json_number, json_number, read_json
 from armlab.kinematics.quintic import Motion
@@ -99,12 +100,12 @@ class LoadCase:
         return self.name or f"{float(self.mass):g} kg"
 
 
-def load_cases_of(payloads: ArrayLike | LoadCase | list[LoadCase] | tuple[LoadCase, ...]) -> tuple[LoadCase, ...]:
+def load_cases_of(payloads: float | Sequence[float] | LoadCase | Sequence[LoadCase]) -> tuple[LoadCase, ...]:
     """Load cases of point masses (kg, a number or a sequence) or :class:`LoadCase` objects; ``ValueError`` if none."""
     if isinstance(payloads, LoadCase):
         return (payloads,)
     if isinstance(payloads, list | tuple) and payloads and all(isinstance(p, LoadCase) for p in payloads):
-        return tuple(payloads)  # type: ignore[arg-type]
+        return tuple(payloads)
     masses = np.atleast_1d(np.asarray(payloads, dtype=float))
     if masses.ndim != 1 or masses.size == 0:
         raise ValueError(f"payloads {np.ravel(masses).tolist()} are not allowed: give at least one mass (kg)")
@@ -209,7 +210,7 @@ def sample(cycle: DutyCycle, rate: float = DEFAULT_RATE) -> CycleSamples:
     """The weighted samples of one cycle (see the module docstring); ``rate`` samples per second of motion."""
     if not (math.isfinite(rate) and rate > 0):
         raise ValueError(f"sample rate {rate!r} /s is not allowed: a positive finite number of samples per second")
-    parts: list[tuple[NDArray, ...]] = []
+    parts: list[tuple[Any, ...]] = []
     where = np.asarray(cycle.start, dtype=float)
     for k, step in enumerate(cycle.steps):
         if isinstance(step, Dwell):

@@ -39,8 +39,9 @@ def _with_parts(arm: Arm, parts: dict[int, list[tuple[float, NDArray, NDArray]]]
         if not extra or all(m == 0 for m, _, _ in extra):
             continue
         mass, com, inertia = merge_inertials([inertials[i], *extra])
-        bodies[i] = Body(mass, arm.bodies[i].radius, arm.bodies[i].color, tuple(float(v) for v in com),
-                         tuple(tuple(float(v) for v in row) for row in inertia))
+        bodies[i] = Body(mass, arm.bodies[i].radius, arm.bodies[i].color,
+                         (float(com[0]), float(com[1]), float(com[2])),
+                         tuple((float(row[0]), float(row[1]), float(row[2])) for row in inertia))
     return replace(arm, bodies=tuple(bodies), urdf_file=None)
 
 

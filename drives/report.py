@@ -54,7 +54,8 @@ def _csv_rows(sizing: Sizing) -> list[list[object]]:
         c = j.chosen
         for k, case in enumerate(sizing.cases):
             if c is None:
-                rows.append([j.joint, case.label, None, None, None, None, None] + [None] * len(STATS))
+                empty: list[object] = [j.joint, case.label, *[None] * (5 + len(STATS))]
+                rows.append(empty)
                 continue
             rows.append([j.joint, case.label, c.motor_name, c.gearbox_name, c.ratio, c.mass, c.margin,
                          *(float(c.stats[s][k]) for s in STATS)])

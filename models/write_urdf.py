@@ -140,7 +140,7 @@ def merge_inertials(parts: list[tuple[float, NDArray, NDArray]]) -> tuple[float,
     total = float(sum(m for m, _, _ in parts))
     if total == 0:
         return 0.0, np.zeros(3), np.zeros((3, 3))
-    com = sum(m * np.asarray(c, dtype=float) for m, c, _ in parts) / total
+    com = np.sum([m * np.asarray(c, dtype=float) for m, c, _ in parts], axis=0) / total
     inertia = np.zeros((3, 3))
     for m, c, I in parts:
         d = np.asarray(c, dtype=float) - com

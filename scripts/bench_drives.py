@@ -47,14 +47,14 @@ def catalogues(motors: int = 500, gearboxes: int = 40, seed: int = 0) -> tuple[M
     """Seeded made-up catalogues of the sizes the issue names (see the module docstring)."""
     rng = np.random.default_rng(seed)
     rated = np.exp(rng.uniform(np.log(0.05), np.log(50.0), motors))
-    speed = rng.choice([1500.0, 2000.0, 3000.0], motors) * RPM
+    speed = np.asarray(rng.choice([1500.0, 2000.0, 3000.0], motors), dtype=np.float64) * RPM
     m = Motors(tuple(f"M{k:03d}" for k in range(motors)), rated, rated * rng.uniform(2.5, 3.5, motors), speed,
                speed * rng.uniform(1.5, 2.0, motors), 0.08 * rated**1.3 * KGCM2 * rng.uniform(0.7, 1.4, motors),
                0.9 * rated**0.7 * rng.uniform(0.8, 1.2, motors), speed * 2.2, rated * 3.8)
     ratio = np.exp(rng.uniform(np.log(3.0), np.log(160.0), gearboxes))
     torque = np.exp(rng.uniform(np.log(5.0), np.log(800.0), gearboxes))
-    g = Gearboxes(tuple(f"G{k:02d}" for k in range(gearboxes)), ratio, np.where(ratio > 60, 0.8, 0.93), torque,
-                  2.2 * torque, np.full(gearboxes, 6000.0 * RPM), 0.02 * torque**0.8 * KGCM2 / np.sqrt(ratio),
+    efficiency = np.where(ratio > 60, 0.8, 0.93).astype(np.float64)
+    g = Gearboxes(tuple(f"G{k:02d}" for k in range(gearboxes)), ratio, efficiency, torque, 2.2 * torque, np.full(gearboxes, 6000.0 * RPM), 0.02 * torque**0.8 * KGCM2 / np.sqrt(ratio),
                   0.12 * torque**0.6)
     return m, g
 

@@ -150,8 +150,8 @@ def rr_drives_chosen(out: PaperOutput, fast: bool) -> None:
 
     arm = get_arm("rr")
     payloads = RR_PAYLOADS[fast]
-    sizing = size_drives(arm, arm.motion(arm, None), payloads, safety_factor=OVERSIZE)
-    rows = []
+    sizing = size_drives(arm, None, payloads, safety_factor=OVERSIZE)  # None: its paper motion, Fig. 3's
+    rows: list[list[Any]] = []
     for j in sizing.joints:
         c = j.chosen
         if c is None:
