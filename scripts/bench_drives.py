@@ -54,8 +54,8 @@ def catalogues(motors: int = 500, gearboxes: int = 40, seed: int = 0) -> tuple[M
     ratio = np.exp(rng.uniform(np.log(3.0), np.log(160.0), gearboxes))
     torque = np.exp(rng.uniform(np.log(5.0), np.log(800.0), gearboxes))
     efficiency = np.where(ratio > 60, 0.8, 0.93).astype(np.float64)
-    g = Gearboxes(tuple(f"G{k:02d}" for k in range(gearboxes)), ratio, efficiency, torque, 2.2 * torque, np.full(gearboxes, 6000.0 * RPM), 0.02 * torque**0.8 * KGCM2 / np.sqrt(ratio),
-                  0.12 * torque**0.6)
+    g = Gearboxes(tuple(f"G{k:02d}" for k in range(gearboxes)), ratio, efficiency, torque, 2.2 * torque,
+                  np.full(gearboxes, 6000.0 * RPM), 0.02 * torque**0.8 * KGCM2 / np.sqrt(ratio), 0.12 * torque**0.6)
     return m, g
 
 
