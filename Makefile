@@ -61,6 +61,7 @@ bench: setup
 	$(BIN)/python scripts/bench_plan.py
 	$(BIN)/python scripts/bench_analysis.py
 	$(BIN)/python scripts/bench_reproduce.py
+	$(BIN)/python scripts/bench_drives.py
 
 clean:
 	rm -rf $(VENV) out *.egg-info

@@ -17,7 +17,11 @@ candidate's own, :func:`~armlab.analysis.workspace.default_resolution`), ``seed`
 (kg) and ``tf`` (s) when not varied,
 ``simulate`` (false: torques by batch inverse dynamics along the motion sampled every 1 ms; true: by
 paper 000's Fig. 6 simulation), ``segments`` (a segments file, as ``armlab simulate --segments``,
-instead of the arm's paper motion).
+instead of the arm's paper motion). The drive objectives (:data:`DRIVES`) choose every joint's motor and gearbox
+for the motion, carrying the payload throughout (:func:`armlab.drives.sizing.size`, with the mass iteration):
+``drive_mass`` (kg, the chosen drives' total; NaN when infeasible), ``drives_feasible`` (1 or 0) and
+``drive_margin`` (the chosen pairs' smallest margin; NaN when infeasible); optional ``safety_factor`` (≥ 1, default
+1), ``motors`` and ``gearboxes`` (catalogue CSV files, relative to the study file; default armlab's examples).
 """
 
 from __future__ import annotations
@@ -49,6 +53,10 @@ from armlab.diagrams.drives import torque_stats
 from armlab.diagrams.motions import paper_motion, read_segments
 from armlab.diagrams.plant import PlantOptions, check_payload
 from armlab.diagrams.simulate import DEFAULT_LOG_PERIOD, SimulationOptions, check_work, simulate
+from armlab.drives.catalogue import read_gearboxes, read_motors
+from armlab.drives.duty import DutyCycle, LoadCase
+from armlab.drives.select import check_safety_factor
+from armlab.drives.sizing import size
 from armlab.files import json_number, read_json
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.limits import check_range
@@ -59,20 +67,23 @@ if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
     from armlab.models.arm import Arm
 
-__all__ = ["DYNAMICS", "MAX_CANDIDATES", "OBJECTIVES", "UNITS", "WORKSPACE", "Study", "Variable", "evaluate",
+__all__ = ["DRIVES", "DYNAMICS", "MAX_CANDIDATES", "OBJECTIVES", "UNITS", "WORKSPACE", "Study", "Variable", "evaluate",
            "load_study", "parse_study"]
 
 #: Objectives computed from the workspace (:func:`armlab.analysis.workspace.workspace`), with units.
 WORKSPACE = {"workspace_volume": "m^dim", "reach": "m", "min_manipulability": "", "mean_manipulability": ""}
 #: Objectives computed from the joint torques along the motion; the first two per joint.
 DYNAMICS = {"peak_torque": "N·m or N", "rms_torque": "N·m or N", "peak_power": "W"}
-OBJECTIVES = {**WORKSPACE, **DYNAMICS}
+#: Objectives of the drives chosen from the catalogues for the motion (see the module docstring).
+DRIVES = {"drive_mass": "kg", "drives_feasible": "", "drive_margin": ""}
+OBJECTIVES = {**WORKSPACE, **DYNAMICS, **DRIVES}
 #: Units a varied value may be given in, and their factor to SI.
 UNITS = {"deg": np.pi / 180, "rad": 1.0, "m": 1.0, "cm": 1e-2, "mm": 1e-3, "kg": 1.0, "g": 1e-3, "s": 1.0,
          "ms": 1e-3}
 #: Units allowed for the study's own variables.
 _OWN_UNITS = {"payload": ("kg", "g"), "tf": ("s", "ms")}
-_KEYS = ("arm", "vary", "evaluate", "samples", "resolution", "seed", "payload", "tf", "simulate", "segments")
+_KEYS = ("arm", "vary", "evaluate", "samples", "resolution", "seed", "payload", "tf", "simulate", "segments",
+         "safety_factor", "motors", "gearboxes")
 #: Period of the motion's samples for the batch inverse dynamics (s).
 TORQUE_PERIOD = 1e-3
 #: Most candidates of one study (each is built and checked before any work starts).
@@ -115,6 +126,9 @@ class Study:
     segments: str | None
     n: int  # the arm's joint count
     dim: int  # dimension of its workspace (2: planar)
+    safety_factor: float = 1.0  # the drive objectives' (DRIVES)
+    motors: str | None = None  # their catalogues' absolute paths; None: armlab's examples
+    gearboxes: str | None = None
 
     @property
     def candidates(self) -> list[tuple[float, ...]]:
@@ -170,6 +184,9 @@ class Study:
             "tf": self.tf,
             "simulate": self.simulate,
             "segments": self.segments,
+            "safety_factor": self.safety_factor,
+            "motors": self.motors,
+            "gearboxes": self.gearboxes,
         }
 
 
@@ -270,14 +287,27 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
             raise ValueError(f"evaluate: unknown objective {objective!r}; allowed: {', '.join(OBJECTIVES)}")
     if len(set(evaluate)) != len(evaluate):
         raise ValueError(f"evaluate = {json.dumps(evaluate)} repeats an objective")
-    dynamics = any(e in DYNAMICS for e in evaluate)
+    dynamics = any(e in DYNAMICS or e in DRIVES for e in evaluate)
     if dynamics:
         nominal.require_dynamics("torque objectives")
     for key in ("payload", "tf", "simulate", "segments"):
         if not dynamics and (key in data or key in data["vary"]):
             where = f"vary.{key}" if key in data["vary"] else key
-            raise ValueError(f"{where} changes only the torque objectives ({', '.join(DYNAMICS)}); "
-                             "evaluate one of them")
+            raise ValueError(f"{where} changes only the torque objectives ({', '.join(DYNAMICS)}) and the drive "
+                             f"objectives ({', '.join(DRIVES)}); evaluate one of them")
+    drives = any(e in DRIVES for e in evaluate)
+    for key in ("safety_factor", "motors", "gearboxes"):
+        if key in data and not drives:
+            raise ValueError(f"{key} changes only the drive objectives ({', '.join(DRIVES)}); evaluate one of them")
+    safety_factor = check_safety_factor(json_number(data.get("safety_factor", 1.0), "safety_factor"))
+    catalogues = []
+    for key in ("motors", "gearboxes"):
+        file = data.get(key)
+        if file is not None and not isinstance(file, str):
+            raise ValueError(f"{key} = {json.dumps(file)} must be a file name")
+        catalogues.append(None if file is None else str((base / file).resolve()))
+    if drives:
+        read_motors(catalogues[0]), read_gearboxes(catalogues[1])  # checked before any work
     samples = check_samples(data.get("samples", DEFAULT_SAMPLES // 5))
     seed = check_seed(data.get("seed", 0))
     payload = json_number(data.get("payload", 0.0), "payload")
@@ -298,7 +328,7 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     if resolution is not None:
         resolution = check_resolution(json_number(resolution, "resolution"))
     study = Study(name, vary, tuple(evaluate), samples, resolution, seed, payload, tf, simulate, segments,
-                  nominal.n, dim)
+                  nominal.n, dim, safety_factor, *catalogues)
     for values in study.candidates:
         try:
             build(study, values)
@@ -313,7 +343,7 @@ def build(study: Study, values: tuple[float, ...]) -> tuple[Arm, Motion | None, 
     """The candidate's arm, its motion (``None`` without torque objectives) and payload; ``ValueError`` if bad."""
     overrides, payload, tf = study.settings(values)
     arm = get_arm(study.arm, **overrides)
-    if not any(e in DYNAMICS for e in study.evaluate):
+    if not any(e in DYNAMICS or e in DRIVES for e in study.evaluate):
         return arm, None, payload
     payload = check_payload(payload)
     if tf is not None:
@@ -335,7 +365,13 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
             found |= {"min_manipulability": float(manipulability.min()),
                       "mean_manipulability": float(manipulability.mean())}
         out |= {e: found[e] for e in study.evaluate if e in WORKSPACE}
-    if motion is not None:
+    if motion is not None and any(e in DRIVES for e in study.evaluate):
+        sizing = size(arm, DutyCycle.of(motion), (LoadCase(payload),), read_motors(study.motors),
+                      read_gearboxes(study.gearboxes), study.safety_factor)
+        found = {"drive_mass": sizing.drive_mass, "drives_feasible": float(sizing.feasible),
+                 "drive_margin": sizing.margin}
+        out |= {e: found[e] for e in study.evaluate if e in DRIVES}
+    if motion is not None and any(e in DYNAMICS for e in study.evaluate):
         stats = torque_stats(*_torques(study, arm, motion, payload))
         drive = {"peak_torque": stats["max_abs_torque"], "rms_torque": stats["rms_torque"],
                  "peak_power": stats["peak_power"]}

@@ -29,6 +29,7 @@ if TYPE_CHECKING:
         quintic,
         read_segments,
         simulate,
+        size_drives,
         through,
         trapezoidal,
     )
@@ -51,7 +52,7 @@ _EXPORTS = {
     "Run": "armlab.diagrams.run",
     "export": "armlab.models.export",
     **{name: "armlab.api" for name in ("constant_rate", "load", "paper_motion", "quintic", "read_segments",
-                                       "simulate", "through")},
+                                       "simulate", "size_drives", "through")},
     **{name: "armlab.api" for name in ("arc", "fastest", "line", "trapezoidal")},  # tool paths, profiles, timing
 }
 
@@ -73,6 +74,7 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "quintic",
     "read_segments",
     "simulate",
+    "size_drives",
     "through",
     "trapezoidal",
 ]

@@ -37,7 +37,10 @@ from armlab.diagrams.simulate import (
     SimulationOptions,
 )
 from armlab.diagrams.simulate import simulate as run_diagram
+from armlab.drives.catalogue import Gearboxes, Motors, read_gearboxes, read_motors
+from armlab.drives.duty import DEFAULT_RATE, DutyCycle, LoadCase, load_cases_of, read_duty_cycle
 from armlab.drives.read import with_drives
+from armlab.drives.sizing import Sizing, size
 from armlab.kinematics.cartesian import (
     DEFAULT_SAMPLES,
     arc_path,
@@ -58,7 +61,7 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = ["arc", "constant_rate", "fastest", "line", "load", "paper_motion", "quintic", "read_segments", "simulate",
-           "through", "trapezoidal"]
+           "size_drives", "through", "trapezoidal"]
 
 
 def load(name: str | Path, *, drives: str | Path | DriveTrain | None = None, tool: str | None = None,
@@ -222,3 +225,36 @@ def simulate(
         accuracy=DEFAULT_ACCURACY if accuracy is None else accuracy,
         divergence_tolerance=DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance)
     return Run(run_diagram(arm, motion, options), options.divergence_tolerance)
+
+
+def size_drives(
+    arm: Arm,
+    cycle: DutyCycle | Motion | str | Path | None = None,
+    payloads: float | Sequence[float] | LoadCase | Sequence[LoadCase] = 0.0,
+    motors: Motors | str | Path | None = None,
+    gearboxes: Gearboxes | str | Path | None = None,
+    safety_factor: float = 1.0,
+    rank: str = "mass",
+    mass_iteration: bool = True,
+    rate: float = DEFAULT_RATE,
+) -> Sizing:
+    """The motor and gearbox of every joint of ``arm`` for a duty cycle and every load case; a
+    :class:`~armlab.drives.sizing.Sizing` (``.joints[k].chosen``, ``.feasible``, ``.drive_mass``, ``.iterations``).
+
+    ``cycle``: a :class:`~armlab.drives.duty.DutyCycle`, a duty-cycle JSON file, a :class:`Motion` (repeated,
+    carrying the payload throughout) or ``None`` (the arm's paper motion); ``payloads``: point masses (kg) or
+    :class:`~armlab.drives.duty.LoadCase` objects, each a load case; ``motors``, ``gearboxes``: catalogues (CSV
+    files or read ones; ``None``: armlab's example catalogues, illustrative values); ``safety_factor`` ≥ 1 on every
+    torque; ``rank``: ``"mass"`` (lightest first), ``"margin"`` or ``"inertia"`` (smallest inertia ratio);
+    ``mass_iteration``: put the chosen drives' masses on the links and repeat until the choice holds; ``rate``:
+    samples per second of motion. See :mod:`armlab.drives.select` for what feasible means.
+    """
+    if cycle is None:
+        cycle = motion_of_paper(arm)
+    if isinstance(cycle, str | Path):
+        cycle = read_duty_cycle(arm, cycle)
+    if isinstance(cycle, Motion):
+        cycle = DutyCycle.of(cycle)
+    motors = motors if isinstance(motors, Motors) else read_motors(motors)
+    gearboxes = gearboxes if isinstance(gearboxes, Gearboxes) else read_gearboxes(gearboxes)
+    return size(arm, cycle, load_cases_of(payloads), motors, gearboxes, safety_factor, rank, mass_iteration, rate)

@@ -37,6 +37,7 @@ if TYPE_CHECKING:
 __all__ = [
     "SEGMENTS_FILE_HELP",
     "paper_motion",
+    "parse_segments",
     "point_to_joints",
     "quintic_motion",
     "read_segments",
@@ -229,11 +230,21 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
     deg = data.get("deg", False)
     if not isinstance(deg, bool):
         raise ValueError(f"--segments {path}: \"deg\" = {json.dumps(deg)} must be true or false")
+    return parse_segments(arm, data["segments"], deg, f"--segments {path.name}", f"segments from {path.name}")
+
+
+def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, description: str,
+                   start: NDArray[np.float64] | None = None) -> Motion:
+    """The motion of a list of SEGMENT objects (:data:`SEGMENTS_FILE_HELP`), read from JSON; ``where_file`` starts
+    every message (``"--segments f.json"``); ``start`` (n,): where a first segment without a start begins (else it
+    needs one). Every end is checked against the limits."""
+    if not isinstance(specs, list) or not specs:
+        raise ValueError(f"{where_file}: expected a non-empty list of segments")
     segments: list[Segment] = []
     known = {"label", "tf", "from", "from_point", "from_branch", "from_pitch", "to", "to_point", "to_branch",
              "to_pitch", "rate", "profile"}
-    for k, spec in enumerate(data["segments"], start=1):
-        where = f"--segments {path.name} segment {k}"
+    for k, spec in enumerate(specs, start=1):
+        where = f"{where_file} segment {k}"
         if not isinstance(spec, dict):
             raise ValueError(f"{where}: expected an object, got {spec!r}")
         tool_path = any(key in spec for key in _TOOL_PATH_KEYS)
@@ -246,7 +257,7 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
                              f"(a tool path also: {', '.join(_TOOL_PATH_KEYS)}, speed, acceleration, samples; a "
                              "trapezoid: velocity, acceleration)")
         label = str(spec.get("label", k))
-        previous = segments[-1].q_end if segments else None
+        previous = segments[-1].q_end if segments else start
         q0 = _end(arm, spec, "from", deg, previous, where)
         if q0 is None:
             if previous is None:
@@ -283,6 +294,6 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
             segments.append(ConstantRate(q0, _values(arm, rate, deg, f"{where} rate"), tf, label))
         else:
             segments.append(QuinticSegment(q0, qf, tf, label))
-    motion = Motion(tuple(segments), f"segments from {path.name}")
+    motion = Motion(tuple(segments), description)
     motion.check_limits(arm)
     return motion

@@ -35,6 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch, blocks, cos_sin, cross, turn_z
+from armlab.models.write_urdf import merge_inertials
 
 if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
@@ -67,12 +68,8 @@ def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
     mass, com, inertia = arm.mass_properties()
     if payload > 0:
         r = arm.table.tool[:3, 3]  # the tool frame's origin in link frame {n}
-        m, c = mass[-1], com[-1]
-        total = m + payload
-        joint = (m * c + payload * r) / total
-        shift = [(m, c - joint), (payload, r - joint)]  # parallel axes onto the joint centre of mass
-        inertia[-1] = inertia[-1] + sum(k * (d @ d * np.eye(3) - np.outer(d, d)) for k, d in shift)
-        mass[-1], com[-1] = total, joint
+        mass[-1], com[-1], inertia[-1] = merge_inertials([(mass[-1], com[-1], inertia[-1]),
+                                                          (payload, r, np.zeros((3, 3)))])
     return LinkInertias(mass, com, inertia)
 
 

@@ -4,7 +4,9 @@
   the URM arm's workspace volume as each bend angle ϑ2 … ϑ7 runs over 0 … 90° (the others at
   Table 1's values), the best angle of each, and the volume with all the best angles together.
 * **000** sizes drives by simulation: the RR arm's peak joint torques along Fig. 3's motion against
-  the motion time t_f and the payload — the drive-sizing map.
+  the motion time t_f and the payload — the drive-sizing map; and then what its §5 asks for, the drives
+  themselves: a motor and gearbox per joint from armlab's example catalogue that carry every payload of
+  the range along Fig. 3's motion, "oversized" by a safety factor (:func:`rr_drives_chosen`).
 
 Each is a study of :mod:`armlab.analysis.study` evaluated in this process (the reproduction is small;
 ``armlab sweep`` runs the same studies on a Dask cluster: ``analysis/studies/*.json``). The
@@ -27,7 +29,13 @@ from armlab.models.urm6 import Parameters
 from armlab.scripts.figures import new_figure
 from armlab.scripts.paper_output import MANIFEST, PaperOutput
 
-__all__ = ["SAMPLES", "STUDIES", "rr_drive_map", "run", "urm6_bend_angles"]
+__all__ = ["OVERSIZE", "SAMPLES", "STUDIES", "rr_drive_map", "rr_drives_chosen", "run", "urm6_bend_angles"]
+
+#: Paper 000 §5: "It is necessary to oversize the drives" — by how much it does not say; armlab's choice, the
+#: safety factor on every torque of the drives chosen for the RR arm.
+OVERSIZE = 1.5
+#: The RR arm's payload range for the drives (kg): the drive-sizing map's.
+RR_PAYLOADS = {False: (0.0, 1.0, 2.0, 3.0, 5.0), True: (0.0, 2.0, 5.0)}
 
 #: Workspace samples per candidate of the bend-angle study (normal, fast) and its angle steps.
 SAMPLES = {False: 100_000, True: 30_000}
@@ -124,21 +132,71 @@ def rr_drive_map(out: PaperOutput, fast: bool) -> None:
                    "1/t_f². The same study on a Dask cluster: `armlab sweep analysis/studies/rr_drive_sizing.json`.")
 
 
-#: The studies, by the paper whose output they extend: (group title, function).
-STUDIES: dict[str, tuple[str, Callable[[PaperOutput, bool], None]]] = {
-    "000": ("Beyond the paper: drive sizing — peak torques against motion time and payload", rr_drive_map),
-    "004": ("Beyond the paper: the bend angles ϑ2…ϑ7 and the workspace volume (the paper's open question)",
-            urm6_bend_angles),
+def _nearest(joint: Any) -> str:
+    """The nearest infeasible pair of a joint's selection and the checks it fails."""
+    if not joint.nearest:
+        return ""
+    n = joint.nearest[0]
+    return f"{n.motor_name} + {n.gearbox_name}: {'; '.join(n.failed)}"
+
+
+def rr_drives_chosen(out: PaperOutput, fast: bool) -> None:
+    """Paper 000 §5's drives: a motor and gearbox per joint of the RR arm from armlab's example catalogues, for
+    Fig. 3's motion over the payload range, oversized by :data:`OVERSIZE` (:func:`armlab.size_drives`)."""
+    # lazy: the reproduction of the other papers does not need the drives
+    from armlab.api import size_drives
+    from armlab.drives.report import torque_speed_figure
+    from armlab.models import get_arm
+
+    arm = get_arm("rr")
+    payloads = RR_PAYLOADS[fast]
+    sizing = size_drives(arm, None, payloads, safety_factor=OVERSIZE)  # None: its paper motion, Fig. 3's
+    rows: list[list[Any]] = []
+    for j in sizing.joints:
+        c = j.chosen
+        if c is None:
+            rows.append([j.joint, "none feasible", "", "", "", "", _nearest(j)])
+            continue
+        worst = int(np.argmax(c.stats["rms_torque"]))
+        rows.append([j.joint, f"{c.motor_name} + {c.gearbox_name}", c.ratio, c.mass, c.margin,
+                     f"{sizing.cases[worst].label}: RMS {c.stats['rms_torque'][worst]:.4g} N·m, peak "
+                     f"{c.stats['peak_torque'].max():.4g} N·m", _nearest(j)])
+    out.table("beyond_drives", f"Drives chosen for Fig. 3's motion, payloads {', '.join(f'{m:g}' for m in payloads)} "
+              f"kg, safety factor {OVERSIZE:g} (not in the paper)",
+              ["joint", "motor + gearbox", "ratio G", "mass [kg]", "margin", "worst load case (motor side)",
+               "the nearest infeasible pair"], rows,
+              note=f"The lightest motor and gearbox of armlab's example catalogues (illustrative values of the kind "
+                   f"datasheets give, not a vendor's; scripts/examples/catalogues/) per joint that carry every "
+                   f"payload along Fig. 3's motion, every torque × {OVERSIZE:g} (the paper's \"oversize\", "
+                   f"a factor it does not give: armlab's choice). The drives' masses ride on the links (joint 2's "
+                   f"on link 1); the selection converged after {sizing.iterations} rounds. "
+                   "`armlab size rr --payload " + ",".join(f"{m:g}" for m in payloads)
+                   + f" --safety-factor {OVERSIZE:g} --out DIR` gives the same.")
+    for k, j in enumerate(sizing.joints):
+        if j.chosen is not None:
+            out.figure(torque_speed_figure(sizing, k), f"beyond_drives_joint{k + 1}",
+                       f"Joint {k + 1}'s drive: motor torque against speed (not in the paper)",
+                       "the chosen motor's peak envelope and continuous region, every payload's operating points "
+                       "along Fig. 3's motion and its RMS point (mean |ω|, RMS τ), motor side through the gearbox")
+
+
+#: The studies, by the paper whose output they extend: (group title, function) each.
+STUDIES: dict[str, tuple[tuple[str, Callable[[PaperOutput, bool], None]], ...]] = {
+    "000": (("Beyond the paper: drive sizing — peak torques against motion time and payload", rr_drive_map),
+            ("Beyond the paper: the drives — a motor and gearbox per joint from a catalogue, oversized",
+             rr_drives_chosen)),
+    "004": (("Beyond the paper: the bend angles ϑ2…ϑ7 and the workspace volume (the paper's open question)",
+             urm6_bend_angles),),
 }
 
 
 def run(paper: str, folder: Path, fast: bool = False, progress: Callable[[str], Any] = print) -> None:
-    """Add ``paper``'s study (if it has one) as a group to its finished output in ``folder``."""
+    """Add ``paper``'s studies (if it has any), each a group, to its finished output in ``folder``."""
     if paper not in STUDIES:
         return
-    title, study = STUDIES[paper]
     out = PaperOutput(paper, Path(folder), progress)
     out.manifest = json.loads((out.folder / MANIFEST).read_text())  # the paper's own output, extended
-    out.group(title)
-    study(out, fast)
+    for title, study in STUDIES[paper]:
+        out.group(title)
+        study(out, fast)
     (out.folder / MANIFEST).write_text(json.dumps(out.manifest, indent=1, ensure_ascii=False))

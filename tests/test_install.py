@@ -121,7 +121,9 @@ def test_the_wheel_holds_the_examples_and_the_licence_and_works_outside_the_repo
     names = set(zipfile.ZipFile(wheel).namelist())
     assert {"armlab/scripts/examples/arm3r.csv", "armlab/scripts/examples/size_drives.py",
             "armlab/scripts/examples/reachable.py", "armlab/scripts/examples/paper_figures.py",
-            "armlab/analysis/studies/urm6_theta3_theta5.json", "armlab/models/urm6.urdf"} <= names
+            "armlab/analysis/studies/urm6_theta3_theta5.json", "armlab/models/urm6.urdf",
+            "armlab/scripts/examples/catalogues/motors.csv",
+            "armlab/scripts/examples/catalogues/gearboxes.csv"} <= names
     licence = [n for n in names if n.endswith(".dist-info/licenses/LICENSE")]
     assert len(licence) == 1
     # exact: the licence text, not numbers
@@ -146,3 +148,5 @@ def test_the_wheel_holds_the_examples_and_the_licence_and_works_outside_the_repo
     reach = _run([str(venv / "bin" / "python"), "-m", "armlab.scripts.examples.reachable", "arm4r", "--position",
                   "1,1,1.4"], user).stdout
     assert "solution(s) reach" in reach
+    sized = _run([str(venv / "bin" / "armlab"), "size", "rr", "--payload", "1"], user).stdout  # the example catalogues
+    assert "mass iteration: converged" in sized

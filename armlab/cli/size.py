@@ -1,0 +1,106 @@
+"""``armlab size``: the motor and gearbox each joint needs, chosen from catalogues (:func:`armlab.size_drives`).
+
+``armlab size ARM [motion options | --duty-cycle FILE] [--payload KG,…] [--load-cases FILE] [--motors CSV]
+[--gearboxes CSV] [--safety-factor S] [--rank mass|margin|inertia] [--no-mass-iteration] [--out DIR]`` prints one
+line per joint (its choice, or the nearest pairs and the check each fails) and writes, with ``--out``,
+``sizing.csv``, ``sizing.md`` and ``torque_speed_JOINT.png`` per joint into DIR (all or nothing). Exit 3 when a
+joint has no feasible pair (its nearest candidates are printed; sizing.csv/md still written).
+"""
+
+from __future__ import annotations
+
+import argparse
+import textwrap
+from typing import Any
+
+from armlab.cli.args import ARM_HELP
+from armlab.cli.simulate import motion_from_args
+from armlab.diagrams.motions import SEGMENTS_FILE_HELP
+from armlab.drives.catalogue import GEARBOX_COLUMNS, MOTOR_COLUMNS
+from armlab.drives.duty import DEFAULT_RATE, DUTY_FILE_HELP, LOAD_CASES_HELP
+from armlab.drives.select import RANKS
+from armlab.models import get_arm
+from armlab.values import parse_floats
+
+__all__ = ["EXIT_INFEASIBLE", "cmd_size", "register"]
+
+#: Exit code when some joint has no feasible motor and gearbox.
+EXIT_INFEASIBLE = 3
+
+
+def cmd_size(args: argparse.Namespace) -> int:
+    """``armlab size``: see the module docstring."""
+    # lazy: armlab --help loads armlab.cli.size but not these (start-up time)
+    from armlab.api import size_drives
+    from armlab.drives.duty import DutyCycle, load_cases_of, read_load_cases
+    from armlab.drives.report import sizing_folder, summary_lines, write_sizing
+
+    arm = get_arm(args.arm)
+    arm.require_dynamics("armlab size")
+    if args.duty_cycle is not None:
+        if args.q_from or args.q_to or args.path or args.tf is not None or args.segments is not None:
+            raise ValueError("--duty-cycle gives the whole cycle: do not combine it with --from, --to, --path, --tf "
+                             "or --segments")
+        cycle: Any = args.duty_cycle
+    else:
+        cycle = DutyCycle.of(motion_from_args(arm, args))
+    cases = list(load_cases_of(parse_floats(args.payload, "--payload"))) if args.payload is not None else []
+    if args.load_cases is not None:
+        cases += read_load_cases(args.load_cases)
+    folder = sizing_folder(args.out) if args.out else None  # an unwritable --out is an error before the work
+    sizing = size_drives(arm, cycle, cases or 0.0, args.motors, args.gearboxes, args.safety_factor, args.rank,
+                         not args.no_mass_iteration, args.rate)
+    print("\n".join(summary_lines(sizing)))
+    if folder is not None:
+        with folder as tmp:
+            written = write_sizing(sizing, tmp)
+        print(f"wrote {args.out}: {' '.join(written)}")
+    return 0 if sizing.feasible else EXIT_INFEASIBLE
+
+
+def register(subparsers: Any) -> None:
+    """Add the ``size`` subcommand to the CLI's subparsers."""
+    p = subparsers.add_parser(
+        "size", help="the motor and gearbox each joint needs, from catalogues, for a duty cycle and load cases",
+        description=textwrap.fill(
+            "Choose every joint's motor and gearbox from the catalogues for the motion (or duty cycle) and every "
+            "load case: RMS and peak motor torque (times the safety factor) within the motor's rated and peak "
+            "torque, every operating point inside its torque-speed envelope, speeds within the motor's and the "
+            "gearbox's, the gearbox's output torque within its ratings. The chosen drives' masses are put on the "
+            "links that carry them and the choice repeated until it holds. Prints one line per joint; --out writes "
+            "sizing.csv, sizing.md and a torque-speed figure per joint.", 100),
+        epilog=textwrap.dedent("""\
+            motion: the arm's paper motion, --from/--to/--tf, --segments FILE (carrying the payload throughout),
+            or --duty-cycle FILE.
+            """) + DUTY_FILE_HELP + "\n" + LOAD_CASES_HELP + "\n" + SEGMENTS_FILE_HELP + textwrap.dedent(f"""
+
+            motor catalogue (CSV) columns: name,{','.join(MOTOR_COLUMNS)} (the last two optional: the
+              voltage line of the envelope); gearbox catalogue: name,{','.join(GEARBOX_COLUMNS)}.
+              Without --motors/--gearboxes: armlab's example catalogues (illustrative values, not a vendor's).
+
+            exit status: 0 a drive for every joint; 2 bad input; {EXIT_INFEASIBLE} a joint without a feasible motor and
+            gearbox (its nearest candidates and the check each fails are printed)."""),
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("arm", help=ARM_HELP)
+    p.add_argument("--from", dest="q_from", metavar="Q", help="start joints q1,q2,… (rad and m; see --deg)")
+    p.add_argument("--to", dest="q_to", metavar="Q", help="end joints q1,q2,…: a rest-to-rest quintic")
+    p.add_argument("--tf", metavar="T", help="duration, s (--from/--to: default 2; paper motions: their own)")
+    p.add_argument("--deg", action="store_true", help="revolute joint values in degrees")
+    p.add_argument("--path", choices=("abcd",), help="rr: paper 000's A-B-C-D-A path (Figs. 8-10)")
+    p.add_argument("--segments", metavar="FILE", help="a JSON file of segments (see below)")
+    p.add_argument("--duty-cycle", metavar="FILE", help="a JSON duty cycle: moves and dwells, payload on or off")
+    p.add_argument("--payload", metavar="KG", help="load cases: point masses at the tool, kg, e.g. 0,1,2 (default 0)")
+    p.add_argument("--load-cases", metavar="FILE", help="load cases with offset and inertia (JSON, see below)")
+    p.add_argument("--motors", metavar="CSV", help="motor catalogue (default: armlab's example)")
+    p.add_argument("--gearboxes", metavar="CSV", help="gearbox catalogue (default: armlab's example)")
+    p.add_argument("--safety-factor", type=float, default=1.0, metavar="S",
+                   help="on every torque, ≥ 1 (default 1)")
+    p.add_argument("--rank", choices=RANKS, default="mass",
+                   help="order of the feasible pairs: lightest, largest margin or smallest inertia ratio first "
+                        "(default mass)")
+    p.add_argument("--no-mass-iteration", action="store_true",
+                   help="size for the arm alone (do not put the chosen drives' masses on the links)")
+    p.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ",
+                   help=f"samples per second of motion (default {DEFAULT_RATE:g})")
+    p.add_argument("--out", metavar="DIR", help="output folder (written completely or not at all)")
+    p.set_defaults(func=cmd_size)

@@ -1,0 +1,191 @@
+"""Selecting motors and gearboxes: the screen never drops a feasible pair, the ranked checks give what checking
+every pair gives, the mass iteration, the catalogues' and the cycle's bad input."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from armlab.drives.catalogue import RPM, Gearboxes, Motors, read_gearboxes, read_motors
+from armlab.drives.duty import DutyCycle, Dwell, LoadCase, Move, sample
+from armlab.drives.loads import joint_loads, with_link_masses
+from armlab.drives.select import RANKS, SLACK, JointTask, evaluate, screen, select_joint
+from armlab.drives.sizing import size
+from armlab.kinematics.quintic import Motion, QuinticSegment
+from armlab.models import get_arm
+
+
+def _catalogues(rng: np.random.Generator, motors: int, gearboxes: int) -> tuple[Motors, Gearboxes]:
+    """Random catalogues spanning too weak to far too strong, half the motors with a voltage line."""
+    rated = np.exp(rng.uniform(np.log(0.01), np.log(20.0), motors))
+    speed = rng.uniform(1000, 4000, motors) * RPM
+    line = rng.random(motors) < 0.5
+    m = Motors(tuple(f"m{k}" for k in range(motors)), rated, rated * rng.uniform(1.0, 4.0, motors), speed,
+               speed * rng.uniform(1.0, 2.0, motors), rng.uniform(1e-6, 5e-4, motors), rng.uniform(0.1, 5, motors),
+               np.where(line, speed * rng.uniform(1.8, 3.0, motors), np.nan),
+               np.where(line, rated * rng.uniform(2.0, 5.0, motors), np.nan))
+    torque = np.exp(rng.uniform(np.log(0.5), np.log(300.0), gearboxes))
+    g = Gearboxes(tuple(f"g{k}" for k in range(gearboxes)), np.exp(rng.uniform(0, np.log(200), gearboxes)),
+                  rng.uniform(0.6, 1.0, gearboxes), torque, torque * rng.uniform(1.0, 3.0, gearboxes),
+                  rng.uniform(2000, 9000, gearboxes) * RPM, rng.uniform(0, 1e-4, gearboxes),
+                  rng.uniform(0.1, 5, gearboxes))
+    return m, g
+
+
+def _tasks(arm_name: str, seed: int) -> list[JointTask]:
+    arm = get_arm(arm_name)
+    rng = np.random.default_rng(seed)
+    lower, upper = arm.limit_arrays(unlimited=np.pi)
+    a, b = (lower + f * (upper - lower) for f in rng.uniform(0.1, 0.9, (2, arm.n)))
+    cycle = DutyCycle((Move(Motion((QuinticSegment(a, b, float(rng.uniform(0.5, 2.0))),)), True),
+                       Dwell(float(rng.uniform(0, 1)), True),
+                       Move(Motion((QuinticSegment(b, a, float(rng.uniform(0.5, 2.0))),)), False)))
+    samples = sample(cycle, 100.0)
+    loads = joint_loads(arm, samples, (LoadCase(0.0), LoadCase(float(rng.uniform(0.5, 5)))))
+    return [JointTask(loads.tau[..., k], loads.inertia[..., k], samples.qd[:, k], samples.qdd[:, k], samples.weight)
+            for k in range(arm.n)]
+
+
+@pytest.mark.slow
+@settings(max_examples=12, deadline=None)
+@given(seed=st.integers(0, 2**31), arm_name=st.sampled_from(["rr", "arm4r", "urm6"]),
+       safety=st.floats(1.0, 2.0))
+def test_the_screen_never_drops_a_pair_the_full_check_accepts(seed, arm_name, safety):
+    _assert_screen_sound(seed, arm_name, safety)
+
+
+def test_the_screen_never_drops_a_pair_the_full_check_accepts_on_one_case():
+    """The property test's fast stand-in for make check: one seed, the 6-joint arm."""
+    _assert_screen_sound(20261202, "urm6", 1.25)
+
+
+def _assert_screen_sound(seed: int, arm_name: str, safety: float) -> None:
+    rng = np.random.default_rng(seed)
+    motors, gearboxes = _catalogues(rng, 40, 12)
+    B = len(gearboxes)
+    every = np.arange(len(motors) * B)
+    for task in _tasks(arm_name, seed):
+        ratio, _, _ = screen(task, motors, gearboxes, safety)
+        margin = evaluate(task, motors, gearboxes, every // B, every % B, safety).margin
+        feasible = margin >= 0
+        assert np.all(ratio.ravel()[feasible] >= 1 - SLACK)  # every feasible pair is past the screen
+        # the screen's ratio bounds the full check's smallest ratio from above
+        assert np.all(ratio.ravel()[np.isfinite(ratio.ravel())] >= (margin + 1)[np.isfinite(ratio.ravel())]
+                      * (1 - SLACK))
+
+
+@pytest.mark.parametrize("rank", RANKS)
+def test_the_ranked_checks_give_the_best_pairs_of_a_brute_force(rank):
+    """select_joint checks pairs in rank order and stops early; checking every pair ranks the same ones first."""
+    rng = np.random.default_rng(7)
+    motors, gearboxes = _catalogues(rng, 50, 12)
+    B = len(gearboxes)
+    every = np.arange(len(motors) * B)
+    stopped_early = 0
+    for task in _tasks("arm4r", 11):
+        ev = evaluate(task, motors, gearboxes, every // B, every % B, 1.3, describe=True)
+        ok = np.flatnonzero(ev.margin >= 0)
+        mass = motors.mass[every // B] + gearboxes.mass[every % B]
+        inertia = ev.stats["inertia_ratio_max"].max(axis=0)
+        keys = {"mass": (-ev.margin[ok], mass[ok]), "margin": (mass[ok], -ev.margin[ok]),
+                "inertia": (mass[ok], inertia[ok])}[rank]
+        brute = [(int(i // B), int(i % B)) for i in ok[np.lexsort(keys)[:5]]]
+        chosen = select_joint("j", task, motors, gearboxes, 1.3, rank, keep=5)
+        assert [(c.motor, c.gearbox) for c in chosen.feasible] == brute
+        assert all(c.margin < 0 and c.failed for c in chosen.nearest)
+        assert chosen.checked <= chosen.screened
+        stopped_early += chosen.checked < chosen.screened
+    assert stopped_early  # the early stop was taken (else this test would not test it)
+
+
+def test_the_mass_iteration_converges_and_the_result_holds_for_the_arm_it_carries():
+    arm = get_arm("rr")
+    motion = arm.motion(arm, None)
+    sizing = size(arm, DutyCycle((Move(motion, True), Dwell(0.5, True))), (LoadCase(0.0), LoadCase(1.0)),
+                  read_motors(), read_gearboxes(), 1.5)
+    assert sizing.feasible and sizing.converged and sizing.iterations >= 2
+    masses = [j.chosen.mass for j in sizing.joints]
+    carried = with_link_masses(arm, masses)
+    np.testing.assert_allclose(carried.mass_properties()[0], sizing.arm.mass_properties()[0], rtol=1e-15)
+    again = size(carried, sizing.cycle, sizing.cases, sizing.motors, sizing.gearboxes, 1.5, iterate=False)
+    assert [(j.chosen.motor, j.chosen.gearbox) for j in again.joints] == [
+        (j.chosen.motor, j.chosen.gearbox) for j in sizing.joints]
+    once = size(arm, sizing.cycle, sizing.cases, sizing.motors, sizing.gearboxes, 1.5, max_iterations=1)
+    assert once.iterations == 1 and not once.converged
+    np.testing.assert_allclose(sizing.drive_mass, sum(masses), rtol=1e-15)
+
+
+def test_no_feasible_pair_reports_the_nearest_with_the_failing_check():
+    arm = get_arm("rr")
+    sizing = size(arm, DutyCycle.of(arm.motion(arm, None)), (LoadCase(50.0),), read_motors(), read_gearboxes())
+    assert not sizing.feasible
+    stuck = [j for j in sizing.joints if j.chosen is None]
+    assert stuck and all(len(j.nearest) == 5 for j in stuck)
+    assert all(" > " in text and "N·m" in text for j in stuck for c in j.nearest for text in c.failed)
+    with pytest.raises(ValueError, match="no feasible motor and gearbox"):
+        sizing.drive_train()
+
+
+CATALOGUE_ERRORS = [
+    ("motor", "name,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2,mass_kg,volts\n",
+     "unknown column 'volts'"),
+    ("motor", "name,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2,mass_kg\n",
+     "no rows"),
+    ("motor", "name,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2,mass_kg\n"
+              "a,2,1.5,3000,5000,0.1,1\n", "peak_torque_Nm = 1.5 N·m is below the rated torque 2 N·m"),
+    ("motor", "name,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2,mass_kg\n"
+              "a,1,3,3000,5000,-0.1,1\n", "rotor_inertia_kgcm2 = '-0.1' is not allowed: a finite number > 0"),
+    ("motor", "name,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2\n",
+     "missing column 'mass_kg'"),
+    ("gearbox", "name,ratio,efficiency,rated_torque_Nm,peak_torque_Nm,max_input_speed_rpm,input_inertia_kgcm2,"
+                "mass_kg\ng,10,1.2,5,10,6000,0.01,1\n", "efficiency = 1.2 is not allowed: a number in \\(0, 1\\]"),
+    ("gearbox", "name,ratio,efficiency,rated_torque_Nm,peak_torque_Nm,max_input_speed_rpm,input_inertia_kgcm2,"
+                "mass_kg\ng,0,0.9,5,10,6000,0.01,1\n", "ratio = '0' is not allowed: a finite number > 0"),
+    ("gearbox", "name,ratio,efficiency,rated_torque_Nm,peak_torque_Nm,max_input_speed_rpm,input_inertia_kgcm2,"
+                "mass_kg\ng,10,0.9,5,10,nan,0.01,1\n", "max_input_speed_rpm = 'nan' is not allowed"),
+]
+
+
+@pytest.mark.parametrize(("kind", "text", "message"), CATALOGUE_ERRORS)
+def test_bad_catalogues_are_one_line_errors(tmp_path: Path, kind, text, message):
+    path = tmp_path / f"{kind}s.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=message) as error:
+        (read_motors if kind == "motor" else read_gearboxes)(path)
+    assert "\n" not in str(error.value) and path.name in str(error.value)
+
+
+def test_the_example_catalogues_read_in_si():
+    motors, gearboxes = read_motors(), read_gearboxes()
+    k = motors.name.index("M-400")
+    np.testing.assert_allclose([motors.rated_speed[k], motors.rotor_inertia[k]], [3000 * 2 * np.pi / 60, 0.26e-4],
+                               rtol=1e-15)
+    assert np.all(np.isnan(motors.no_load_speed[:3])) and np.all(np.isfinite(motors.no_load_speed[3:]))
+    assert len(gearboxes) > 10 and np.all((gearboxes.efficiency > 0) & (gearboxes.efficiency <= 1))
+
+
+@pytest.mark.parametrize(("make", "message"), [
+    (lambda: Dwell(-0.5), "dwell -0.5 s is not allowed: a dwell is a finite duration ≥ 0 s"),
+    (lambda: Dwell(float("nan")), "dwell nan s is not allowed"),
+    (lambda: LoadCase(-1.0), "load case -1 kg mass -1 is out of range"),
+    (lambda: LoadCase(1.0, (0.0, 0.0)), "offset \\[0.0, 0.0\\] is not allowed"),
+    (lambda: LoadCase(1.0, inertia=((1.0, 0, 0), (0, 0.1, 0), (0, 0, 0.1))), "the inertia is not physical"),
+    (lambda: DutyCycle((Dwell(1.0),)), "a duty cycle needs at least one move"),
+])
+def test_bad_cycles_and_load_cases_are_one_line_errors(make, message):
+    with pytest.raises(ValueError, match=message):
+        make()
+
+
+def test_bad_options_of_a_sizing():
+    arm = get_arm("rr")
+    cycle = DutyCycle.of(arm.motion(arm, None))
+    for kwargs, message in (({"safety_factor": 0.9}, "safety factor 0.9 is not allowed: a finite number ≥ 1"),
+                            ({"rank": "cost"}, "rank 'cost' is not allowed: one of mass, margin, inertia"),
+                            ({"rate": 0.0}, "sample rate 0.0 /s is not allowed")):
+        with pytest.raises(ValueError, match=message):
+            size(arm, cycle, (LoadCase(0.0),), read_motors(), read_gearboxes(), **kwargs)
