@@ -18,7 +18,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -39,9 +38,7 @@ from armlab.diagrams.simulate import (
 from armlab.diagrams.simulate import simulate as run_diagram
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, check_duration
 from armlab.models import get_arm
-
-if TYPE_CHECKING:
-    from armlab.models.arm import Arm
+from armlab.models.arm import Arm
 
 __all__ = ["constant_rate", "load", "paper_motion", "quintic", "read_segments", "simulate", "through"]
 
@@ -123,6 +120,11 @@ def simulate(
     error (rad or m, default 0.01) past which the run counts as diverged. The arm needs mass data. The keywords
     are checked once, as a :class:`~armlab.diagrams.simulate.SimulationOptions` (what the inner layers take).
     """
+    if not isinstance(arm, Arm):
+        raise TypeError(f"arm: expected an Arm (armlab.load(...)), got {type(arm).__name__}")
+    if not isinstance(motion, Motion):
+        raise TypeError(f"motion: expected a Motion (armlab.quintic(...), armlab.through(...), …), got "
+                        f"{type(motion).__name__}")
     options = SimulationOptions(  # None: the option's default
         PlantOptions(gravity=gravity, payload=payload, ideal_drives=True), mode=mode,
         kp=DEFAULT_KP if kp is None else kp, kd=DEFAULT_KD if kd is None else kd, ki=ki,

@@ -49,14 +49,18 @@ from pathlib import Path
 from types import FrameType, TracebackType
 from typing import Any
 
+from armlab.values import shown
+
 __all__ = [
     "MAX_INPUT_BYTES",
+    "MAX_NAME",
     "Interrupted",
     "OutputFolder",
     "RecoveredWarning",
     "SignalState",
     "csv_cell",
     "csv_text",
+    "file_path",
     "is_json_number",
     "json_number",
     "read_input",
@@ -71,6 +75,9 @@ __all__ = [
 #: The largest input file read (bytes): far more than any segments file, study, DH table or URDF needs; a
 #: bound on memory and time.
 MAX_INPUT_BYTES = 10_000_000
+
+#: The longest output folder name (bytes): file systems allow 255, and its temporary adds ``.PID.XXXXXXXX.tmp``.
+MAX_NAME = 200
 
 #: The signals that stop a command (Ctrl-C, and ``kill``'s default).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -243,11 +250,20 @@ def _unmake(made: list[Path]) -> None:
             return
 
 
+def file_path(path: str | Path) -> Path:
+    """``path`` as the Path of a file to write; ``ValueError`` when its text ends with a slash (a folder's name:
+    ``Path`` would drop the slash and the file would be written all the same)."""
+    if isinstance(path, str) and path.endswith(("/", os.sep)):
+        raise ValueError(f"--out {shown(path)}: ends with '/', a folder; give a file name")
+    return Path(path)
+
+
 def write_file(path: str | Path, data: bytes | str) -> Path:
-    """Write ``data`` (text as UTF-8) to ``path`` atomically; ``ValueError`` if its folder cannot be written.
+    """Write ``data`` (text as UTF-8) to ``path`` atomically; ``ValueError`` if its folder cannot be written
+    or ``path`` names a folder (:func:`file_path`).
 
     Missing folders of ``path`` are made, and removed again if the file cannot be written."""
-    path = Path(path)
+    path = file_path(path)
     parent = path.parent
     made: list[Path] = []
     with signals_held():
@@ -274,6 +290,10 @@ def _check_replaceable(out: str | Path) -> Path:
     """``out`` as a Path if armlab may rename a folder onto it; ``ValueError`` for the working directory (``.``,
     ``''``), a folder holding it, a file system's root (``/``) or a mount point."""
     path = Path(out)
+    size = len(os.fsencode(path.name))
+    if size > MAX_NAME:
+        raise ValueError(f"--out {shown(str(out))}: its name is {size} bytes long; at most {MAX_NAME} (a file "
+                         "system's 255 less room for the temporary folder's suffix)")
     where = path.resolve()
     cwd = Path.cwd().resolve()
     if where == cwd or where in cwd.parents:

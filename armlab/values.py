@@ -16,7 +16,17 @@ from armlab.limits import check_range
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["joint_rates", "joint_values", "parse_floats"]
+__all__ = ["SHOWN", "joint_rates", "joint_values", "parse_floats", "shown"]
+
+#: The most characters of a user's value an error message echoes (:func:`shown`).
+SHOWN = 60
+
+
+def shown(value: object, limit: int = SHOWN) -> str:
+    """``repr(value)`` cut to ``limit`` characters (``…`` marks the cut): an error line stays readable whatever the
+    input (a 1 MB key, a 10⁷-row array)."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
 def parse_floats(text: str, name: str) -> list[float]:

@@ -35,6 +35,7 @@ from tornado.web import Application
 from tornado.websocket import WebSocketClosedError, WebSocketHandler, websocket_connect
 
 from armlab.diagrams.replay import start_meshcat
+from armlab.values import shown
 
 if TYPE_CHECKING:
     import socket
@@ -49,7 +50,6 @@ BROWSER_BLOCKED_PORTS = (6665, 6666, 6667, 6668, 6669, 6679, 6697, 10080, 4190, 
                          1720, 1723, 2049, 4045, 6000)
 #: Largest WebSocket message the guard accepts from a page (bytes); the viewer's events are under 100 bytes.
 MAX_MESSAGE = 4096
-_SHOWN = 60  # characters of a rejected value or name echoed in the log line
 
 
 def start_hidden_meshcat() -> Meshcat:
@@ -65,11 +65,6 @@ def start_hidden_meshcat() -> Meshcat:
     raise ValueError(f"no free port among {BROWSER_BLOCKED_PORTS} for the viewer's Meshcat; stop another viewer")
 
 
-def _shown(value: object) -> str:
-    text = repr(value)
-    return text if len(text) <= _SHOWN else text[:_SHOWN] + "…"
-
-
 def check_event(message: bytes | str, sliders: Mapping[str, tuple[float, float]], buttons: set[str]) -> str | None:
     """Why a page's WebSocket ``message`` must not reach Meshcat, or None when it is one of the viewer's events.
 
@@ -83,20 +78,20 @@ def check_event(message: bytes | str, sliders: Mapping[str, tuple[float, float]]
         return f"not msgpack ({type(error).__name__})"
     if not isinstance(event, dict) or not isinstance(event.get("type"), str) or not isinstance(event.get("name"),
                                                                                                  str):
-        return f"not an event with a type and a name: {_shown(event)}"
+        return f"not an event with a type and a name: {shown(event)}"
     kind, name = event["type"], event["name"]
     if kind == "button":
-        return None if name in buttons else f"button {_shown(name)} is not one of the viewer's"
+        return None if name in buttons else f"button {shown(name)} is not one of the viewer's"
     if kind != "slider":
-        return f"a {_shown(kind)} event (the viewer uses only its sliders and buttons)"
+        return f"a {shown(kind)} event (the viewer uses only its sliders and buttons)"
     if name not in sliders:
-        return f"slider {_shown(name)} is not one of the viewer's"
+        return f"slider {shown(name)} is not one of the viewer's"
     value = event.get("value")
     if isinstance(value, bool) or not isinstance(value, int | float):
-        return f"slider {name}: value {_shown(value)} is not a number"
+        return f"slider {name}: value {shown(value)} is not a number"
     lowest, highest = sliders[name]
     if not math.isfinite(value) or not lowest <= value <= highest:
-        return f"slider {name}: value {_shown(value)} is outside {lowest:g} … {highest:g}"
+        return f"slider {name}: value {shown(value)} is outside {lowest:g} … {highest:g}"
     return None
 
 
@@ -172,13 +167,13 @@ class _Relay(WebSocketHandler):
     def prepare(self) -> None:  # before any handling: the Host check (DNS rebinding)
         host = self.request.headers.get("Host", "")
         if host not in self.guard.hosts:
-            self.guard.note(f"refused a request for Host {_shown(host)} (only {' or '.join(sorted(self.guard.hosts))})")
+            self.guard.note(f"refused a request for Host {shown(host)} (only {' or '.join(sorted(self.guard.hosts))})")
             self.send_error(403)
 
     def check_origin(self, origin: str) -> bool:
         if origin in self.guard.origins:
             return True
-        self.guard.note(f"refused a WebSocket from origin {_shown(origin)} (only the viewer's own page)")
+        self.guard.note(f"refused a WebSocket from origin {shown(origin)} (only the viewer's own page)")
         return False
 
     async def get(self, *args: Any, **kwargs: Any) -> None:

@@ -95,6 +95,8 @@ CLI_NUMBERS = [
     (("simulate", "rr", "--from", "0,0", "--to", "1e308,0", "--out", "run"), 2, "joint1 = 1e+308 rad is outside"),
     (("diagram", "rr", "--kp", "1e308", "--out", "d.dot"), 2, "--kp 1e308 is out of range"),
     (("diagram", "rr", "--payload", "1001", "--out", "d.dot"), 2, "--payload 1001 is out of range"),
+    (("diagram", "rr", "--out", "d.svg/"), 2, "--out 'd.svg/': ends with '/', a folder; give a file name"),
+    (("simulate", "rr", "--out", "r" * 300), 2, "its name is 300 bytes long; at most 200"),
     (("view", "rr", "--duration", "nan"), 2, "--duration: nan is not a positive number"),
     (("view", "rr", "--duration", "-1"), 2, "--duration: -1.0 is not a positive number"),
     (("view", "rr", "--port", "99999"), 2, "--port: 99999 is not allowed"),
@@ -158,6 +160,14 @@ def test_api_simulate(kwargs, fragment):
     with pytest.raises(ValueError) as error:
         armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.2), **kwargs)
     _one_line_error(error.value, fragment)
+
+
+@pytest.mark.parametrize("motion", [None, "abc", [0.0, 1.0]], ids=repr)
+def test_api_simulate_names_a_motion_that_is_not_one(motion):
+    import armlab
+
+    with pytest.raises(TypeError, match=f"motion: expected a Motion .*, got {type(motion).__name__}$"):
+        armlab.simulate(armlab.load("rr"), motion)
 
 
 #: An arm's methods: (method of armlab.load("rr"), its arguments, message fragment).
@@ -237,6 +247,29 @@ def test_segments_files(box, content, code, fragment):
     box.write("seg.json", content)
     check(box.main("simulate", "rr", "--segments", "seg.json", "--dt", "0.01", "--out", "run"), code, fragment)
     assert box.debris(*(["run"] if code == 0 else [])) == []
+
+
+# ---- sweep options (issue 24, items 14, 18, 20, 21): (options, fragment) -- refused before the folder is made
+SWEEP_OPTIONS = [
+    (("--workers", "100000"), "--workers 100000: at most"),
+    (("--scheduler", "tcp://"), "--scheduler 'tcp://': give HOST:PORT (a port 1 … 65535) after tcp://"),
+    (("--scheduler", "tcp://127.0.0.1:abc"), "give HOST:PORT"),
+    (("--scheduler", "tcp://127.0.0.1:0"), "give HOST:PORT"),
+    (("--scheduler", "inproc://x"), "inproc:// lives inside one process; give tcp://HOST:PORT"),
+    (("--scheduler", "ucx://127.0.0.1:8786"), "ucx:// is not available in this Dask"),
+    (("--scheduler", "tls://127.0.0.1:8786"), "tls:// needs Dask's TLS settings"),
+    (("--scheduler", "http://x" + "y" * 10_000), "--scheduler 'http://xyyyyy"),
+    pytest.param(("--scheduler", "tcp://127.0.0.1:1"), "cannot connect", marks=pytest.mark.slow),  # 10 s timeout
+]
+
+
+@pytest.mark.parametrize(("options", "fragment"), SWEEP_OPTIONS, ids=lambda v: " ".join(v)[:40])
+def test_sweep_options(box, options, fragment):
+    box.write("study.json", json.dumps({"arm": "rr", "vary": {"L1": {"values": [0.3, 0.4]}}, "evaluate": ["reach"],
+                                        "samples": 5000}))
+    outcome = box.main("sweep", "study.json", "--out", "sw", *options)
+    check(outcome, 2, fragment)
+    assert len(outcome.err) < 300 and box.debris() == []  # one short line; no sw/ made
 
 
 # ---- study files: (content, exit code, fragment) -- `armlab sweep study.json --out out`, refused before any work
