@@ -30,9 +30,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.limits import allowed, check_positive, check_range
+from armlab.limits import NotRealError, allowed, check_positive, check_range, real_number
 from armlab.models.read_urdf import package_roots
-from armlab.values import parse_floats
+from armlab.values import parse_floats, shown
 
 if TYPE_CHECKING:
     from pydrake.geometry import SceneGraph
@@ -93,11 +93,9 @@ def gravity_vector(gravity: str | ArrayLike | None) -> NDArray[np.float64] | Non
 def check_payload(payload: float, name: str = "payload") -> float:
     """``payload`` (kg) as a float; ``ValueError`` (naming it ``name``) unless it is a mass in
     :data:`armlab.limits.LIMITS`' range."""
-    try:
-        value = float(payload)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} {payload!r} is not allowed: a payload is a mass, {allowed('payload')}") from None
-    return float(check_range(value, name))
+    if isinstance(payload, str):
+        raise NotRealError(f"{name} {shown(payload)} is not allowed: a payload is a mass, {allowed('payload')}")
+    return float(check_range(real_number(payload, name), name))
 
 
 def check_time_step(time_step: float) -> float:

@@ -170,6 +170,45 @@ def test_api_simulate_names_a_motion_that_is_not_one(motion):
         armlab.simulate(armlab.load("rr"), motion)
 
 
+#: Values of the wrong type for the API (issue 24, item 7): (call on arm = armlab.load("rr"), message fragment).
+API_TYPES = [
+    (lambda armlab, arm: arm.fk(np.array([0.1 + 1j, 0.0])), "q: expected real numbers, got dtype complex128"),
+    (lambda armlab, arm: arm.fk(np.array([True, False])), "q: expected real numbers, got dtype bool"),
+    (lambda armlab, arm: arm.fk(["0.1", "0"]), "q: expected real numbers, got dtype <U3"),
+    (lambda armlab, arm: arm.inverse_dynamics([0, 0], [0, 0], [0j, 0]), "expected real numbers, got dtype complex"),
+    (lambda armlab, arm: armlab.quintic(arm, [0, 0], [0.1, 0.1], tf="2"), "tf: expected a real number, got str"),
+    (lambda armlab, arm: armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.2), payload="2"),
+     "payload '2' is not allowed"),
+    (lambda armlab, arm: armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.2), payload=True),
+     "payload: expected a real number, got bool"),
+    (lambda armlab, arm: arm.ik([0.5, 0.2], all="yes"), "all: expected True or False, got str"),
+    (lambda armlab, arm: armlab.load("urm6", r1=True), "parameter r1 = True is a bool, not a real number"),
+    (lambda armlab, arm: armlab.load("urm6", theta3="x"), "parameter theta3 = 'x' is a str, not a real number"),
+]
+
+
+@pytest.mark.parametrize(("call", "fragment"), API_TYPES, ids=lambda v: v if isinstance(v, str) else None)
+def test_api_refuses_values_of_the_wrong_type(call, fragment):
+    import armlab
+
+    with pytest.raises(TypeError) as error:
+        call(armlab, armlab.load("rr"))
+    _one_line_error(error.value, fragment)
+
+
+@pytest.mark.parametrize(("name", "override", "fragment"), [
+    ("rr", {"L1": 1e300}, "rr: parameter L1 = 1e+300 is out of range: allowed |L1| ≤ 1e+12"),
+    ("urm6", {"theta3": 1e300}, "parameter theta3 = 1e+300 is out of range"),
+    ("urm6", {"theta3": float("nan")}, "parameter theta3 = nan is out of range"),
+])
+def test_load_checks_its_overrides(name, override, fragment):
+    import armlab
+
+    with pytest.raises(ValueError) as error:
+        armlab.load(name, **override)
+    _one_line_error(error.value, fragment)
+
+
 #: An arm's methods: (method of armlab.load("rr"), its arguments, message fragment).
 API_ARM = [
     ("fk", ([0, 5],), "joint2 = 5 rad is outside its limits"),

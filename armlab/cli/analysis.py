@@ -84,7 +84,7 @@ def cmd_workspace(args: argparse.Namespace) -> int:
     if args.resolution is not None:
         check_resolution(args.resolution, "--resolution")
     arm = get_arm(args.arm)
-    folder = workspace_folder(args.out) if args.out else None
+    folder = workspace_folder(args.out) if args.out is not None else None
     ws = workspace(arm, args.samples, args.resolution, args.seed)
     summary = ws.summary()
     if folder is not None:
