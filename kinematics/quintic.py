@@ -51,8 +51,9 @@ _POWERS = np.arange(5, -1, -1)
 def check_duration(tf: float, name: str = "tf") -> float:
     """``tf`` as a float, or ``ValueError`` unless it is a positive finite number of seconds within
     ``armlab.limits.LIMITS["tf"]`` (a longer one could not be simulated or sampled)."""
-    return float(check_range(check_positive(real_number(tf, name), name, "s",
-                                            "a duration must be a positive finite number of seconds"), name, key="tf"))
+    real_number(tf, name)  # a number, not a string or a bool
+    return float(check_range(check_positive(tf, name, "s", "a duration must be a positive finite number of seconds"),
+                             name, key="tf"))
 
 
 def _joint_vector(q: ArrayLike, name: str) -> NDArray[np.float64]:

@@ -359,6 +359,15 @@ ARM_FILES = [
     ("rev.urdf", '<robot name="x"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
      '<child link="b"/><limit lower="1" upper="-1"/></joint></robot>', ("show", "{}"), 2, "the limits are reversed"),
     ("bin.csv", b"\xff\xfe\x00", ("show", "{}"), 2, "bin.csv"),
+    # issue 24, items 9 and 16: a workspace voxels cannot measure is one line, not a wrong number or a traceback
+    ("far.csv", DH + "R,1e12,0,0,0,-3,3\nR,0.4,0,0,0,-3,3\n", ("workspace", "{}", "--samples", "1000"), 2,
+     "far: the tool point reaches up to 1e+12 m, beyond 1e+06 m"),
+    ("tiny.csv", DH + "R,1e-300,0,0,0,-3,3\nR,1e-300,0,0,0,-3,3\n", ("workspace", "{}", "--samples", "1000"), 2,
+     "less than the smallest voxel edge 1e-06 m"),
+    ("still.urdf", '<robot name="still"><link name="a"/><link name="b"><inertial><mass value="1"/><inertia ixx="1" '
+     'iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link><joint name="j" type="revolute"><parent link="a"/>'
+     '<child link="b"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="0" upper="0"/></joint></robot>',
+     ("workspace", "{}", "--samples", "1000"), 2, "the tool point does not move"),
 ]
 
 
