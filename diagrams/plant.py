@@ -236,8 +236,15 @@ def _check_drivable(plant: MultibodyPlant, arm: Arm) -> None:
         raise ValueError(f"{arm.name}: every joint needs one actuator, in joint order ({', '.join(arm.joint_names)}): "
                          "declare the URDF's <transmission> elements in that order, or none")
     mass_matrix = plant.CalcMassMatrix(plant.CreateDefaultContext())
-    if np.any(np.linalg.eigvalsh(mass_matrix) <= 1e-12 * max(1.0, np.abs(mass_matrix).max())):
-        still = [name for name, m in zip(arm.joint_names, np.diag(mass_matrix), strict=True) if m <= 1e-12]
+    eigenvalues = np.linalg.eigvalsh(mass_matrix)
+    if np.any(eigenvalues <= 1e-12 * max(1.0, np.abs(mass_matrix).max())):
+        diagonal = np.diag(mass_matrix)
+        still = [name for name, m in zip(arm.joint_names, diagonal, strict=True) if m <= 1e-12]
+        if not still and eigenvalues[0] > 1e-12:  # every joint moves mass, but on scales far apart
+            heavy = arm.joint_names[int(np.argmax(diagonal))]
+            raise ValueError(f"{arm.name}: the mass matrix is too ill-conditioned to simulate: its eigenvalues span "
+                             f"{eigenvalues[0]:.3g} … {eigenvalues[-1]:.3g} (a ratio beyond 1e12; {heavy} moves by "
+                             "far the most mass); check the link masses and inertias")
         raise ValueError(f"{arm.name}: the mass matrix is singular (joint(s) {', '.join(still) or 'together'} move "
                          "no mass or inertia): to simulate, every moving link needs an <inertial> with mass > 0 and "
                          "inertia")

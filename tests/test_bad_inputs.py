@@ -217,6 +217,8 @@ API_ARM = [
     ("tool_motion", ([0, 0], [0, 0], [0, 2e6]), "qdd 2e6 is out of range"),
     ("inverse_dynamics", ([0, 0], [1e308, 0], [0, 0]), "qd 1e308 is out of range"),
     ("inverse_dynamics", ([0, 0], [0, 0], [0, 0, 0]), "qdd has shape (3,)"),
+    ("inverse_dynamics", ([[0, 0]] * 2, [[0, 0]] * 3, [0, 0]), "q, qd and qdd have shapes that do not fit together (q "
+     "(2, 2), qd (3, 2), qdd (2,))"),
     ("manipulability", ([0, 0], "sideways"), "axes"),
     ("ik", ([1e308, 0],), "out of range"),
     ("ik", ([0.9, 0],), "out of reach"),
@@ -359,6 +361,12 @@ ARM_FILES = [
     ("rev.urdf", '<robot name="x"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
      '<child link="b"/><limit lower="1" upper="-1"/></joint></robot>', ("show", "{}"), 2, "the limits are reversed"),
     ("bin.csv", b"\xff\xfe\x00", ("show", "{}"), 2, "bin.csv"),
+    # issue 24, item 22: messages that say what is wrong
+    ("kin.csv", DH + "R,0.5,0,0,0,-1,1\n", ("diagram", "{}", "--out", "d.dot"), 2,
+     "kin is a kinematic arm (its file gives no masses): armlab diagram"),
+    ("heavy.csv", "type,a,alpha,d,theta,lower,upper,mass,cx\nR,0.5,0,0,0,-3,3,1e12,-0.25\nR,0.4,0,0,0,-3,3,0.5,-0.2\n",
+     ("simulate", "{}", "--from", "0,0", "--to", "0.1,0.1", "--tf", "0.2", "--out", "run"), 2,
+     "heavy: the mass matrix is too ill-conditioned to simulate: its eigenvalues span"),
     # issue 24, items 9 and 16: a workspace voxels cannot measure is one line, not a wrong number or a traceback
     ("far.csv", DH + "R,1e12,0,0,0,-3,3\nR,0.4,0,0,0,-3,3\n", ("workspace", "{}", "--samples", "1000"), 2,
      "far: the tool point reaches up to 1e+12 m, beyond 1e+06 m"),
