@@ -21,6 +21,7 @@ from armlab.files import is_json_number, json_number, read_json
 from armlab.kinematics.ik import solve, solve_branch
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, Segment, check_duration
 from armlab.models import paper_arms
+from armlab.values import cut
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -145,7 +146,8 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
             raise ValueError(f"{where}: expected an object, got {spec!r}")
         unknown = sorted(set(spec) - known)
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(known))}")
+            raise ValueError(f"{where}: unknown key(s) {cut(', '.join(unknown))}; allowed: "
+                             f"{', '.join(sorted(known))}")
         if "tf" not in spec:
             raise ValueError(f"{where}: needs \"tf\" (s)")
         label = str(spec.get("label", k))

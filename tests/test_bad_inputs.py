@@ -596,3 +596,22 @@ def test_load_study_property(tmp_path, data):
         _one_line_error(error, str(path))
         return
     assert study.candidates
+
+
+# ---- echoed values are cut to a readable length (issue 24, item 21) ----------------------------------------------
+def test_a_huge_input_is_echoed_cut(box):
+    import armlab
+
+    with pytest.raises(ValueError) as error:
+        armlab.load("urm6").ik(np.zeros((100_000, 3)))
+    assert "has 300000 values" in str(error.value) and len(str(error.value)) < 300
+    key = "k" * 1_000_000
+    box.write("study.json", json.dumps({"arm": "rr", "vary": {"L1": {"values": [0.3]}}, "evaluate": ["reach"],
+                                        key: 1}))
+    outcome = box.main("sweep", "study.json", "--out", "sw")
+    check(outcome, 2, "unknown key 'kkkk")
+    assert len(outcome.err) < 400
+    box.write("seg.json", json.dumps({"segments": [{"tf": 0.2, "from": [0, 0], "to": [0.1, 0.1], key: 1}]}))
+    outcome = box.main("simulate", "rr", "--segments", "seg.json", "--out", "run")
+    check(outcome, 2, "unknown key(s) kkkk")
+    assert len(outcome.err) < 400
