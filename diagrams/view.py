@@ -22,6 +22,8 @@ from numpy.typing import NDArray
 from armlab.diagrams.replay import TOOL_PATH, build_scene, frame_camera, reach_points, style_scene
 
 if TYPE_CHECKING:
+    from pydrake.geometry import Meshcat
+
     from armlab.diagrams.view_guard import Guard
     from armlab.models.arm import Arm
 
@@ -36,10 +38,10 @@ _STOP = "Stop viewer"
 
 
 def open_meshcat(port: int | None = None, tries: int = PORT_TRIES, out: TextIO = sys.stdout,
-                 log: TextIO = sys.stderr) -> Guard:
-    """Drake's Meshcat behind the viewer's :class:`~armlab.diagrams.view_guard.Guard` on localhost (loopback
-    only): on ``port`` or, if it is in use, the next free one of ``tries`` consecutive ports; ``port=None``: the
-    first free one from 7000. The guard's refusals go to ``log``, one line each.
+                 log: TextIO = sys.stderr) -> tuple[Meshcat, Guard]:
+    """Drake's Meshcat and the viewer's :class:`~armlab.diagrams.view_guard.Guard` in front of it on localhost
+    (loopback only): on ``port`` or, if it is in use, the next free one of ``tries`` consecutive ports;
+    ``port=None``: the first free one from 7000. The guard's refusals go to ``log``, one line each.
 
     Raises ``ValueError`` for a port outside 1024 … 65535 or when every port tried is in use.
     """
@@ -50,7 +52,7 @@ def open_meshcat(port: int | None = None, tries: int = PORT_TRIES, out: TextIO =
     meshcat = start_hidden_meshcat()
     for candidate in range(7000, 8000) if port is None else range(port, port + tries):
         try:
-            return Guard(meshcat, candidate, log=log)
+            return meshcat, Guard(meshcat, candidate, log=log)
         except OSError:
             if port is not None:
                 print(f"port {candidate} is in use, trying {candidate + 1}", file=out)
@@ -75,8 +77,7 @@ class Viewer:
         self.arm = arm
         self.deg = deg
         q0 = np.clip(np.zeros(arm.n), *self.arm.limit_arrays(_UNLIMITED)) if q0 is None else arm.check_q(q0, "--q")
-        self.guard = open_meshcat(port, out=out, log=log)
-        self.meshcat = self.guard.meshcat
+        self.meshcat, self.guard = open_meshcat(port, out=out, log=log)
         lower, upper = self.arm.limit_arrays(_UNLIMITED)
         lowest, highest = np.minimum(lower, q0), np.maximum(upper, q0)
         holder: dict[str, Any] = {}

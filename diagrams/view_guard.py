@@ -20,6 +20,7 @@ Drake's server:
 from __future__ import annotations
 
 import asyncio
+import gc
 import math
 import sys
 import threading
@@ -104,7 +105,8 @@ class Guard:
     """
 
     def __init__(self, meshcat: Meshcat, port: int, log: TextIO = sys.stderr) -> None:
-        self.meshcat = meshcat
+        # Only Meshcat's port is kept: a Drake object must never be freed in the guard's thread (its destructor
+        # aborts off the main thread), and a garbage collection there could free one that a cycle holds.
         self._upstream = f"127.0.0.1:{meshcat.port()}"
         self._sockets: list[socket.socket] = bind_sockets(port, address="localhost")
         self.port: int = self._sockets[0].getsockname()[1]
@@ -114,6 +116,7 @@ class Guard:
         self.hosts = {f"localhost:{self.port}", f"127.0.0.1:{self.port}"}
         self.origins = {f"http://{host}" for host in self.hosts}
         self._loop: IOLoop | None = None
+        gc.collect()  # here, in the main thread: no garbage of earlier Drake objects for the guard's thread
         started = threading.Event()
         self._thread = threading.Thread(target=self._serve, args=(started,), name="armlab-view-guard", daemon=True)
         self._thread.start()

@@ -161,7 +161,7 @@ def test_a_busy_port_moves_on_to_the_next_or_says_so():
         busy.listen()
         port = busy.getsockname()[1]
         out = io.StringIO()
-        guard = open_meshcat(port, out=out)
+        _, guard = open_meshcat(port, out=out)
         assert guard.port != port and f"port {port} is in use" in out.getvalue()
         guard.close()
         with pytest.raises(ValueError, match=f"ports {port} … {port} are all in use"):
