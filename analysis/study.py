@@ -62,6 +62,7 @@ from armlab.kinematics.rnea import inverse_dynamics
 from armlab.limits import check_range
 from armlab.models import ARMS, get_arm
 from armlab.models.arm_file import MAX_FILE_NUMBER
+from armlab.values import shown
 
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
@@ -213,7 +214,8 @@ def _variable(name: str, spec: Any, known: list[str]) -> Variable:
         raise ValueError(f"vary.{name}: unit {json.dumps(unit)} is not allowed; allowed: {', '.join(allowed_units)}")
     extra = set(spec) - {"from", "to", "steps", "values", "unit"}
     if extra:
-        raise ValueError(f"vary.{name}: unknown key {sorted(extra)[0]!r}; allowed: from, to, steps, values, unit")
+        raise ValueError(f"vary.{shown(name)}: unknown key {shown(sorted(extra)[0])}; allowed: from, to, steps, "
+                         "values, unit")
     if "values" in spec:
         if {"from", "to", "steps"} & set(spec):
             raise ValueError(f"vary.{name}: give \"values\" or \"from\"/\"to\"/\"steps\", not both")
@@ -258,7 +260,7 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
         raise ValueError("a study must be a JSON object with \"arm\", \"vary\" and \"evaluate\"")
     extra = [k for k in data if k not in _KEYS]
     if extra:
-        raise ValueError(f"unknown key {extra[0]!r}; allowed: {', '.join(_KEYS)}")
+        raise ValueError(f"unknown key {shown(extra[0])}; allowed: {', '.join(_KEYS)}")
     for key in ("arm", "vary", "evaluate"):
         if key not in data:
             raise ValueError(f"missing {key!r}")
@@ -333,8 +335,8 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
         try:
             build(study, values)
         except ValueError as error:
-            shown = ", ".join(f"{v.name} = {x:g} {v.unit}".rstrip() for v, x in zip(vary, values, strict=True))
-            raise ValueError(f"candidate {shown}: {error}") from None
+            text = ", ".join(f"{v.name} = {x:g} {v.unit}".rstrip() for v, x in zip(vary, values, strict=True))
+            raise ValueError(f"candidate {text}: {error}") from None
     return study
 
 

@@ -25,6 +25,7 @@ option (nothing computed); :data:`EXIT_FAILED` + k when k candidates failed (cap
 from __future__ import annotations
 
 import csv
+import fcntl
 import io
 import json
 import logging
@@ -41,16 +42,24 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from armlab.files import csv_cell, signals_held, write_file
+from armlab.values import shown
 
 if TYPE_CHECKING:
     from armlab.analysis.study import Study
 
-__all__ = ["EXIT_FAILED", "RESULTS", "STUDY", "SweepResult", "read_results", "run_sweep"]
+__all__ = ["EXIT_FAILED", "RESULTS", "STUDY", "WORKERS_PER_CORE", "WORKER_WAIT", "SweepResult", "check_options",
+           "read_results", "run_sweep"]
 
 RESULTS = "results.csv"
 STUDY = "study.json"
 #: ``armlab sweep`` exits with EXIT_FAILED + (number of failed candidates, at most 100).
 EXIT_FAILED = 10
+#: How long a sweep on an existing scheduler waits for its first worker to join (s).
+WORKER_WAIT = 30.0
+#: Local worker processes at most, per core this process may use.
+WORKERS_PER_CORE = 4
+#: The scheduler address, as the errors show it.
+_EXAMPLE = "e.g. tcp://127.0.0.1:8786"
 
 
 @dataclass
@@ -126,25 +135,82 @@ class _Appender:
         os.close(self.fd)
 
 
-def _prepare(out: Path, study: Study, study_json: dict[str, Any]) -> dict[int, list[str]]:
-    """Check ``out`` (new, empty, or this study's earlier sweep) and return the rows already done."""
+def _existing(out: Path, study: Study, study_json: dict[str, Any]) -> dict[int, list[str]] | None:
+    """The rows already done when ``out`` is this study's earlier sweep, None when it is new or empty; a
+    ``ValueError`` for anything else. Reads only: nothing is made."""
     results, record = out / RESULTS, out / STUDY
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out}: exists and is not a folder")
-    if out.is_dir() and any(out.iterdir()):
-        if not (results.is_file() and record.is_file()):
-            raise ValueError(f"--out {out}: exists and is not an armlab sweep folder (no {RESULTS} and {STUDY}); "
-                             "give a new or empty folder")
-        try:
-            earlier = json.loads(record.read_text())["study"]
-        except (OSError, ValueError, KeyError, TypeError):
-            raise ValueError(f"--out {out}: its {STUDY} cannot be read; give a new or empty folder") from None
-        if earlier != study_json:
-            raise ValueError(f"--out {out}: holds a different study; give another --out (or the same study file)")
-        return read_results(results, study.columns)
-    write_file(results, _line(study.columns))
+    if not (out.is_dir() and any(out.iterdir())):
+        return None
+    if not (results.is_file() and record.is_file()):
+        raise ValueError(f"--out {out}: exists and is not an armlab sweep folder (no {RESULTS} and {STUDY}); "
+                         "give a new or empty folder")
+    try:
+        earlier = json.loads(record.read_text())["study"]
+    except (OSError, ValueError, KeyError, TypeError):
+        raise ValueError(f"--out {out}: its {STUDY} cannot be read; give a new or empty folder") from None
+    if earlier != study_json:
+        raise ValueError(f"--out {out}: holds a different study; give another --out (or the same study file)")
+    return read_results(results, study.columns)
+
+
+def _prepare(out: Path, study: Study, study_json: dict[str, Any]) -> dict[int, list[str]]:
+    """Check ``out`` (new, empty, or this study's earlier sweep), start it if new; the rows already done."""
+    done = _existing(out, study, study_json)
+    if done is not None:
+        return done
+    write_file(out / RESULTS, _line(study.columns))
     _record(out, study, study_json, {})  # the folder is this study's from the start: a stopped sweep resumes
     return {}
+
+
+def _lock(stack: ExitStack, out: Path) -> None:
+    """Make ``out`` if need be and hold an exclusive lock on it (``flock`` on the folder itself, no lock file)
+    until ``stack`` closes; the kernel releases it however the process ends. ``ValueError`` when another sweep
+    holds it."""
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        fd = os.open(out, os.O_RDONLY | os.O_DIRECTORY)
+    except OSError as error:
+        raise ValueError(f"--out {out}: cannot write in it: {error.strerror or error}") from None
+    stack.callback(os.close, fd)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        raise ValueError(f"--out {out}: another armlab sweep is writing into it; wait until it ends or give "
+                         "another --out") from None
+
+
+def check_options(workers: int | None, scheduler: str | None) -> None:
+    """``ValueError`` for a bad ``--workers`` (a whole number 1 … :data:`WORKERS_PER_CORE` × cores) or
+    ``--scheduler`` (``tcp://HOST:PORT``, or ``tls://HOST:PORT`` with Dask's TLS settings), or both given."""
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"--workers {shown(workers)}: give a whole number ≥ 1")
+    cap = WORKERS_PER_CORE * default_workers()
+    if workers is not None and workers > cap:
+        raise ValueError(f"--workers {workers}: at most {cap} ({WORKERS_PER_CORE} per core this process may use: "
+                         "each worker is a process)")
+    if workers is not None and scheduler is not None:
+        raise ValueError("--workers sets the local cluster's size: do not combine it with --scheduler")
+    if scheduler is None:
+        return
+    scheme, sep, rest = scheduler.partition("://")
+    if sep and scheme in ("inproc", "ucx"):
+        why = "lives inside one process" if scheme == "inproc" else "is not available in this Dask"
+        raise ValueError(f"--scheduler {shown(scheduler)}: {scheme}:// {why}; give tcp://HOST:PORT")
+    if not sep or scheme not in ("tcp", "tls"):
+        raise ValueError(f"--scheduler {shown(scheduler)}: give the scheduler's address, {_EXAMPLE}")
+    host, colon, port = rest.rpartition(":")
+    if not (colon and host and port.isdigit() and 1 <= int(port) <= 65535):
+        raise ValueError(f"--scheduler {shown(scheduler)}: give HOST:PORT (a port 1 … 65535) after {scheme}://, "
+                         f"{_EXAMPLE}")
+    if scheme == "tls":
+        from distributed.security import Security
+
+        if Security().get_connection_args("client").get("ssl_context") is None:
+            raise ValueError(f"--scheduler {shown(scheduler)}: tls:// needs Dask's TLS settings (distributed.comm."
+                             "tls.ca-file, .client.cert and .client.key in Dask's configuration)")
 
 
 def _record(out: Path, study: Study, study_json: dict[str, Any], run: dict[str, Any]) -> None:
@@ -175,6 +241,11 @@ def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any
         except (OSError, TimeoutError) as error:
             raise ValueError(f"--scheduler {scheduler}: cannot connect: {error}") from None
         stack.callback(client.close)
+        try:
+            client.wait_for_workers(1, timeout=WORKER_WAIT)
+        except TimeoutError:
+            raise ValueError(f"--scheduler {scheduler}: no workers joined in {WORKER_WAIT:g} s; start one with "
+                             f"`dask worker {scheduler}`") from None
         return client
     scratch = tempfile.mkdtemp(prefix="armlab-dask-")
     stack.callback(shutil.rmtree, scratch, ignore_errors=True)
@@ -239,39 +310,61 @@ def run_sweep(
     from armlab.analysis.study import load_study
 
     began = time.perf_counter()
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ValueError(f"--workers {workers}: give a whole number ≥ 1")
-    if workers is not None and scheduler is not None:
-        raise ValueError("--workers sets the local cluster's size: do not combine it with --scheduler")
-    if scheduler is not None and not scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
-        raise ValueError(f"--scheduler {scheduler}: give the scheduler's address, e.g. tcp://127.0.0.1:8786")
+    check_options(workers, scheduler)
     study = load_study(study_file)
     out = Path(out)
     study_json = study.to_json()
-    done = _prepare(out, study, study_json)
     candidates = study.candidates
-    for index, row in done.items():
-        if index >= len(candidates) or [float(x) for x in row[1:1 + len(study.vary)]] != list(candidates[index]):
-            raise ValueError(f"--out {out}: {RESULTS} row {index} is not this study's candidate {index}")
-    todo = [i for i in range(len(candidates)) if i not in done]
-    result = SweepResult(out, len(candidates), len(done), 0)
+    result = SweepResult(out, len(candidates), 0, 0)
     report = report or (lambda line: print(line, file=sys.stderr, flush=True))
     run: dict[str, Any] = {"started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "computed": 0,
                            "failed": []}
-    if todo:
-        run = _compute(study, candidates, todo, out, workers, scheduler, progress, report, result)
-    result.wall_time = time.perf_counter() - began
-    run = run | {"wall_time_s": result.wall_time}
-    with signals_held():  # a stop signal now waits for study.json and the plots to be written, all of them
-        _record(out, study, study_json, run)
-        rows = read_results(out / RESULTS, study.columns)
-        result.plots = write_plots(study, rows, out)
+    with ExitStack() as stack:
+        stack.enter_context(_quiet_distributed())
+        locked = out.is_dir()
+        if locked:  # an existing folder is locked before it is read (another sweep may be starting in it)
+            _lock(stack, out)
+        earlier = _existing(out, study, study_json)  # checked before anything is made
+        # An existing scheduler is reached (and has a worker) before a new folder is made.
+        client = _client(stack, None, scheduler) if scheduler is not None and len(earlier or ()) < len(
+            candidates) else None
+        if not locked:
+            _lock(stack, out)
+        done = _prepare(out, study, study_json)  # again, under the lock: another sweep may have just ended
+        for index, row in done.items():
+            if index >= len(candidates) or [float(x) for x in row[1:1 + len(study.vary)]] != list(candidates[index]):
+                raise ValueError(f"--out {out}: {RESULTS} row {index} is not this study's candidate {index}")
+        todo = [i for i in range(len(candidates)) if i not in done]
+        result.done_before = len(done)
+        if todo:
+            run = _compute(study, candidates, todo, out, client, scheduler, workers, progress, report, result)
+        result.wall_time = time.perf_counter() - began
+        run = run | {"wall_time_s": result.wall_time}
+        with signals_held():  # a stop signal now waits for study.json and the plots to be written, all of them
+            _record(out, study, study_json, run)
+            rows = read_results(out / RESULTS, study.columns)
+            result.plots = write_plots(study, rows, out)
     return result
 
 
-def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int], out: Path, workers: int | None,
-             scheduler: str | None, progress: bool | None, report: Any, result: SweepResult) -> dict[str, Any]:
-    """Submit ``todo`` to the cluster and append each result as it arrives; the run's record."""
+@contextmanager
+def _quiet_distributed() -> Iterator[None]:
+    """distributed's own log lines (a lost scheduler's reconnect traceback) are not shown meanwhile: the sweep
+    reports what matters itself, in one line."""
+    logger = logging.getLogger("distributed")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
+
+
+def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int], out: Path, client: Any,
+             scheduler: str | None, workers: int | None, progress: bool | None, report: Any,
+             result: SweepResult) -> dict[str, Any]:
+    """Submit ``todo`` to ``client``, connected to ``scheduler`` (None: a new local cluster of ``workers``), and
+    append each result as it arrives; the run's record."""
     from distributed import as_completed
     from tqdm import tqdm
 
@@ -280,7 +373,7 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
 
     started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     with ExitStack() as stack:
-        client = _client(stack, workers or (None if scheduler else default_workers()), scheduler)
+        client = client or _client(stack, workers or (None if scheduler else default_workers()), scheduler)
         appender = _Appender(out / RESULTS)
         stack.callback(appender.close)
         bar = stack.enter_context(tqdm(total=len(todo), unit="candidate", file=sys.stderr, dynamic_ncols=True,

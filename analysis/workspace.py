@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.differential import jacobian
-from armlab.limits import check_range, whole_text
+from armlab.limits import LIMITS, check_range, whole_text
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -134,6 +134,22 @@ def workspace_plane(points: ArrayLike, tol: float = 1e-9) -> tuple[NDArray[np.fl
         basis = np.eye(3)[axes]
         origin = np.where(np.isin(np.arange(3), axes), 0.0, origin)
     return origin, basis
+
+
+def _check_measurable(arm: Arm, bound: float, motions: int) -> None:
+    """``ValueError`` unless voxels of an allowed edge can measure a workspace within ``bound`` (m) whose tool point
+    moves in ``motions`` directions: it moves at all, and reaches between the smallest voxel edge and the largest
+    coordinate armlab accepts (:data:`armlab.limits.LIMITS`)."""
+    if motions == 0:
+        raise ValueError(f"{arm.name}: the tool point does not move (every joint's range is empty or moves it "
+                         "nowhere): there is no workspace to measure")
+    far, fine = LIMITS["coordinate"], LIMITS["resolution"]
+    if bound > far.high:
+        raise ValueError(f"{arm.name}: the tool point reaches up to {bound:.3g} m, beyond {far.high:g} m ({far.why}): "
+                         "its workspace cannot be measured")
+    if bound < fine.low:
+        raise ValueError(f"{arm.name}: the tool point reaches only {bound:.3g} m, less than the smallest voxel edge "
+                         f"{fine.low:g} m: its workspace cannot be measured")
 
 
 def default_resolution(coords: ArrayLike, samples: int, bound: float) -> float:
@@ -287,6 +303,7 @@ def workspace(
     dim = basis.shape[0]
     motions = motion_rank(arm, first[:16], basis)
     bound = reach_bound(arm) + float(np.linalg.norm(origin))
+    _check_measurable(arm, bound, motions)
     h = check_resolution(resolution) if resolution is not None else \
         default_resolution((first_points - origin) @ basis.T, samples, bound)
     grid = _Occupancy(h, bound, dim)

@@ -8,4 +8,5 @@ start-up).
 """
 
 #: Top-level package names, imported lazily (inside the functions that need them).
-LAZY_IMPORTS = ("pydrake", "matplotlib", "mpl_toolkits", "cycler", "sympy", "distributed", "dask", "tqdm", "PIL")
+LAZY_IMPORTS = ("pydrake", "matplotlib", "mpl_toolkits", "cycler", "sympy", "distributed", "dask", "tqdm", "PIL",
+                "tornado", "msgpack")

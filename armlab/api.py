@@ -55,10 +55,10 @@ from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, chec
 from armlab.kinematics.timing import DEFAULT_GRID, Fastest
 from armlab.kinematics.timing import fastest as time_optimal
 from armlab.models import get_arm
+from armlab.models.arm import Arm
 
 if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
-    from armlab.models.arm import Arm
 
 __all__ = ["arc", "constant_rate", "fastest", "line", "load", "paper_motion", "quintic", "read_segments", "simulate",
            "size_drives", "through", "trapezoidal"]
@@ -218,6 +218,11 @@ def simulate(
     error (rad or m, default 0.01) past which the run counts as diverged. The arm needs mass data. The keywords
     are checked once, as a :class:`~armlab.diagrams.simulate.SimulationOptions` (what the inner layers take).
     """
+    if not isinstance(arm, Arm):
+        raise TypeError(f"arm: expected an Arm (armlab.load(...)), got {type(arm).__name__}")
+    if not isinstance(motion, Motion):
+        raise TypeError(f"motion: expected a Motion (armlab.quintic(...), armlab.through(...), …), got "
+                        f"{type(motion).__name__}")
     options = SimulationOptions(  # None: the option's default
         PlantOptions(gravity=gravity, payload=payload, ideal_drives=True), mode=mode,
         kp=DEFAULT_KP if kp is None else kp, kd=DEFAULT_KD if kd is None else kd, ki=ki,

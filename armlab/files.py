@@ -5,9 +5,13 @@
 * :class:`OutputFolder` collects a whole output (a simulation run, a reproduction) in a
   temporary folder beside the requested one, made before any work starts (so an unwritable
   place is an error up front), and renames it onto the requested folder only when everything
-  is written. An existing folder is replaced only if it is empty or an earlier output of the
-  same kind; anything else is left alone (an error), and so are the working directory, a
-  folder holding it, a file system's root and a mount point (they cannot be renamed).
+  is written. An existing output is replaced in one atomic step where the system can (Linux's
+  ``renameat2(RENAME_EXCHANGE)`` swaps the two folders); elsewhere it is moved aside first, and a kill between
+  the two renames is repaired by the next command on that folder (:func:`recover`), which also removes the
+  temporaries of commands that were killed (their names carry the process id). An existing
+  folder is replaced only if it is empty or an earlier output of the same kind; anything else
+  is left alone (an error), and so are the working directory, a folder holding it, a file
+  system's root and a mount point (they cannot be renamed).
 * :func:`read_input` reads a user's input file with bounds: a regular file (a FIFO or a device such as
   ``/dev/zero`` could block or never end) of at most :data:`MAX_INPUT_BYTES`; :func:`read_json` parses
   one (segments, studies) with nesting within Python's recursion limit; one-line errors.
@@ -23,34 +27,45 @@ Both give their files and folders the ordinary permissions of the user's umask (
 from __future__ import annotations
 
 import csv
+import ctypes
+import errno
+import functools
 import io
 import json
 import math
 import numbers
 import os
+import re
 import shutil
 import signal
 import stat
 import sys
 import tempfile
 import threading
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from types import FrameType, TracebackType
 from typing import Any
 
+from armlab.values import shown
+
 __all__ = [
     "MAX_INPUT_BYTES",
+    "MAX_NAME",
     "Interrupted",
     "OutputFolder",
+    "RecoveredWarning",
     "SignalState",
     "csv_cell",
     "csv_text",
+    "file_path",
     "is_json_number",
     "json_number",
     "read_input",
     "read_json",
+    "recover",
     "signals_held",
     "stop_on_signals",
     "write_csv",
@@ -60,6 +75,9 @@ __all__ = [
 #: The largest input file read (bytes): far more than any segments file, study, DH table or URDF needs; a
 #: bound on memory and time.
 MAX_INPUT_BYTES = 10_000_000
+
+#: The longest output folder name (bytes): file systems allow 255, and its temporary adds ``.PID.XXXXXXXX.tmp``.
+MAX_NAME = 200
 
 #: The signals that stop a command (Ctrl-C, and ``kill``'s default).
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
@@ -232,11 +250,20 @@ def _unmake(made: list[Path]) -> None:
             return
 
 
+def file_path(path: str | Path) -> Path:
+    """``path`` as the Path of a file to write; ``ValueError`` when its text ends with a slash (a folder's name:
+    ``Path`` would drop the slash and the file would be written all the same)."""
+    if isinstance(path, str) and path.endswith(("/", os.sep)):
+        raise ValueError(f"--out {shown(path)}: ends with '/', a folder; give a file name")
+    return Path(path)
+
+
 def write_file(path: str | Path, data: bytes | str) -> Path:
-    """Write ``data`` (text as UTF-8) to ``path`` atomically; ``ValueError`` if its folder cannot be written.
+    """Write ``data`` (text as UTF-8) to ``path`` atomically; ``ValueError`` if its folder cannot be written
+    or ``path`` names a folder (:func:`file_path`).
 
     Missing folders of ``path`` are made, and removed again if the file cannot be written."""
-    path = Path(path)
+    path = file_path(path)
     parent = path.parent
     made: list[Path] = []
     with signals_held():
@@ -263,6 +290,10 @@ def _check_replaceable(out: str | Path) -> Path:
     """``out`` as a Path if armlab may rename a folder onto it; ``ValueError`` for the working directory (``.``,
     ``''``), a folder holding it, a file system's root (``/``) or a mount point."""
     path = Path(out)
+    size = len(os.fsencode(path.name))
+    if size > MAX_NAME:
+        raise ValueError(f"--out {shown(str(out))}: its name is {size} bytes long; at most {MAX_NAME} (a file "
+                         "system's 255 less room for the temporary folder's suffix)")
     where = path.resolve()
     cwd = Path.cwd().resolve()
     if where == cwd or where in cwd.parents:
@@ -275,18 +306,95 @@ def _check_replaceable(out: str | Path) -> Path:
     return path
 
 
+class RecoveredWarning(UserWarning):
+    """An output folder put back from where an interrupted replacement had moved it."""
+
+
+_AT_FDCWD = -100  # <fcntl.h>: paths relative to the working directory
+_RENAME_EXCHANGE = 2  # <linux/fs.h>: renameat2 swaps the two paths
+
+
+@functools.cache
+def _renameat2() -> Any:
+    """libc's ``renameat2`` (glibc 2.28+), or None where there is none."""
+    try:
+        return ctypes.CDLL(None, use_errno=True).renameat2
+    except (OSError, AttributeError):
+        return None
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap the folders ``a`` and ``b`` in one atomic step; False where the system or file system cannot."""
+    call = _renameat2()
+    if call is None:
+        return False
+    if call(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    error = ctypes.get_errno()
+    if error in (errno.ENOSYS, errno.EINVAL, errno.ENOTSUP, errno.EOPNOTSUPP):
+        return False
+    raise OSError(error, os.strerror(error), str(b))
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` exists (someone else's counts)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def _scratch(out: Path, suffix: str) -> Path:
+    """A new empty hidden folder beside ``out``, ``.NAME.PID.XXXXXXXX.SUFFIX``: whose it is stays readable."""
+    return Path(tempfile.mkdtemp(dir=out.absolute().parent, prefix=f".{out.name}.{os.getpid()}.",
+                                 suffix=f".{suffix}"))
+
+
+def recover(out: str | Path) -> Path | None:
+    """Repair what killed commands left beside the output folder ``out``; the folder put back, if any.
+
+    A missing ``out`` whose earlier output a dead process had moved aside (``.NAME.PID.X.old``, the first of the
+    two renames of a replacement where no atomic swap exists) is put back, with a :class:`RecoveredWarning`;
+    the other temporaries of dead processes (``.NAME.PID.X.tmp``, ``.old``) are removed. Those of live
+    processes (another command writing the same output) are left alone.
+    """
+    out = Path(out)
+    parent = out.absolute().parent
+    pattern = re.compile(rf"\.{re.escape(out.name)}\.(\d+)\.[^./]+\.(tmp|old)")
+    try:
+        found = [(entry, match) for entry in parent.iterdir() if (match := pattern.fullmatch(entry.name))]
+    except OSError:
+        return None
+    dead = [(entry, match[2]) for entry, match in found if not _alive(int(match[1]))]
+    restored = None
+    with signals_held():
+        for entry, kind in sorted(dead, key=lambda item: item[0].stat().st_mtime, reverse=True):
+            if kind == "old" and restored is None and not os.path.lexists(out) and entry.is_dir():
+                os.replace(entry, out)
+                restored = out
+                warnings.warn(RecoveredWarning(f"{out}: put back the earlier output that an interrupted "
+                                               f"replacement had moved to {entry.name}"), stacklevel=2)
+            else:
+                _remove(entry)
+    return restored
+
+
 class OutputFolder:
     """``with OutputFolder(out, is_previous, kind) as tmp:`` write into ``tmp``; on success it becomes ``out``.
 
     ``is_previous(folder)`` says whether an existing non-empty ``out`` is an earlier output of this
     kind (then it is replaced); ``kind`` names that kind in the error otherwise. The checks and the
     temporary folder are made when the object is created, before any work: ``ValueError`` names the
-    folder and what is wrong. On an error inside the ``with`` block the temporary folder is removed
-    and ``out`` is left as it was.
+    folder and what is wrong. What killed commands left beside ``out`` is repaired first (:func:`recover`).
+    On an error inside the ``with`` block the temporary folder is removed and ``out`` is left as it was.
     """
 
     def __init__(self, out: str | Path, is_previous: Callable[[Path], bool], kind: str) -> None:
         self.out = _check_replaceable(out)
+        recover(self.out)
         if self.out.exists():
             if not self.out.is_dir():
                 raise ValueError(f"--out {self.out}: exists and is not a folder")
@@ -297,7 +405,7 @@ class OutputFolder:
         with signals_held():
             try:
                 self._made = _make_folder(parent)
-                self.tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.out.name}.", suffix=".tmp"))
+                self.tmp = _scratch(self.out, "tmp")
             except OSError as error:
                 _unmake(self._made)
                 raise ValueError(f"--out {self.out}: cannot write in {parent}: {error.strerror or error}") from None
@@ -325,18 +433,21 @@ class OutputFolder:
                 raise
 
     def _commit(self) -> None:
-        """Rename the temporary folder onto ``out`` (an existing ``out`` moved aside first, and back on failure)."""
+        """Put the temporary folder at ``out``: a rename, or an atomic swap with an existing ``out`` (then the
+        earlier output, now at the temporary's name, is removed); where no swap exists, ``out`` is moved aside
+        to ``.NAME.PID.X.old`` first (and back on failure; after a kill, by the next :func:`recover`)."""
         old = None
         try:
-            if self.out.exists():
-                old = Path(tempfile.mkdtemp(dir=self.tmp.parent, prefix=f".{self.out.name}.", suffix=".old"))
-                os.replace(self.out, old / "previous")
-            try:
+            if not self.out.exists():
                 os.replace(self.tmp, self.out)
-            except OSError:
-                if old is not None and (old / "previous").exists():
-                    os.replace(old / "previous", self.out)
-                raise
+            elif not _exchange(self.tmp, self.out):
+                old = _scratch(self.out, "old")
+                os.replace(self.out, old)
+                try:
+                    os.replace(self.tmp, self.out)
+                except OSError:
+                    os.replace(old, self.out)
+                    raise
         except OSError as error:
             raise ValueError(f"--out {self.out}: cannot put the output in place: {error.strerror or error}") from None
         finally:

@@ -17,7 +17,35 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LIMITS", "Limit", "allowed", "check_positive", "check_range", "whole_text"]
+__all__ = ["LIMITS", "Limit", "NotRealError", "allowed", "check_positive", "check_range", "real_array", "real_number",
+           "whole_text"]
+
+
+class NotRealError(TypeError, ValueError):
+    """A value that is not a real number (a bool, a complex or a string, or an array of them) where one is needed.
+
+    A ``TypeError`` (the value's type is wrong) that is also a ``ValueError``, so that everything catching armlab's
+    one-line input errors catches it too."""
+
+
+_REAL_KINDS = "iuf"  # numpy dtype kinds of real numbers: signed and unsigned integers, floats
+
+
+def real_array(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    """``value`` as a float array if its dtype is a real number's; :class:`NotRealError` naming ``name`` and the dtype
+    for bools, complex numbers, strings and objects (numpy would drop an imaginary part or read ``True`` as 1)."""
+    a = np.asarray(value)
+    if a.dtype.kind not in _REAL_KINDS:
+        raise NotRealError(f"{name}: expected real numbers, got dtype {a.dtype}")
+    return a.astype(float)
+
+
+def real_number(value: Any, name: str) -> float:
+    """``value`` as a float if it is one real number (an int or float, numpy's too; not a bool or a string);
+    :class:`NotRealError` naming ``name`` and the type otherwise."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, int | float | np.integer | np.floating):
+        raise NotRealError(f"{name}: expected a real number, got {type(value).__name__}")
+    return float(value)
 
 
 @dataclass(frozen=True)
@@ -79,8 +107,8 @@ def check_range(value: ArrayLike, name: str, size: ArrayLike | None = None, key:
     message uses it as given), or ``key`` is (then ``name`` may be any label, e.g. ``"--from"`` for ``"q"``).
     ``ValueError`` names the first bad value, the range and its reason.
     """
-    values = np.asarray(value, dtype=float)
-    measured = np.ravel(values if size is None else np.asarray(size, dtype=float))
+    values = real_array(value, name)
+    measured = np.ravel(values if size is None else real_array(size, name))
     key = name if key is None else key
     limit = LIMITS[_key(key)]
     bad = ~(np.isfinite(measured) & (measured >= limit.low) & (measured <= limit.high))

@@ -16,7 +16,21 @@ from armlab.limits import check_range
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["joint_rates", "joint_values", "parse_floats"]
+__all__ = ["SHOWN", "cut", "joint_rates", "joint_values", "parse_floats", "shown"]
+
+#: The most characters of a user's value an error message echoes (:func:`shown`).
+SHOWN = 60
+
+
+def cut(text: str, limit: int = SHOWN) -> str:
+    """``text`` cut to ``limit`` characters (``…`` marks the cut): an error line stays readable whatever the input
+    (a 1 MB key, a 10⁷-row array)."""
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def shown(value: object, limit: int = SHOWN) -> str:
+    """``repr(value)`` cut to ``limit`` characters (:func:`cut`)."""
+    return cut(repr(value), limit)
 
 
 def parse_floats(text: str, name: str) -> list[float]:

@@ -30,6 +30,7 @@ from armlab.kinematics.ik import solve, solve_branch
 from armlab.kinematics.profiles import spline, trapezoidal
 from armlab.kinematics.quintic import ConstantRate, Motion, PolynomialSegment, QuinticSegment, Segment, check_duration
 from armlab.models import paper_arms
+from armlab.values import cut
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -253,7 +254,8 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
                            else {"velocity", "acceleration"} if spec.get("profile") == "trapezoid" else set())
         unknown = sorted(set(spec) - allowed)
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: {', '.join(sorted(allowed))} "
+            raise ValueError(f"{where}: unknown key(s) {cut(', '.join(unknown))}; allowed: "
+                             f"{', '.join(sorted(allowed))} "
                              f"(a tool path also: {', '.join(_TOOL_PATH_KEYS)}, speed, acceleration, samples; a "
                              "trapezoid: velocity, acceleration)")
         label = str(spec.get("label", k))

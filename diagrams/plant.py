@@ -38,8 +38,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.drives.train import DriveTrain
-from armlab.limits import allowed, check_positive, check_range
-from armlab.values import parse_floats
+from armlab.limits import NotRealError, allowed, check_positive, check_range, real_number
+from armlab.values import parse_floats, shown
 
 if TYPE_CHECKING:
     from pydrake.geometry import SceneGraph
@@ -100,11 +100,9 @@ def gravity_vector(gravity: str | ArrayLike | None) -> NDArray[np.float64] | Non
 def check_payload(payload: float, name: str = "payload") -> float:
     """``payload`` (kg) as a float; ``ValueError`` (naming it ``name``) unless it is a mass in
     :data:`armlab.limits.LIMITS`' range."""
-    try:
-        value = float(payload)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} {payload!r} is not allowed: a payload is a mass, {allowed('payload')}") from None
-    return float(check_range(value, name))
+    if isinstance(payload, str):
+        raise NotRealError(f"{name} {shown(payload)} is not allowed: a payload is a mass, {allowed('payload')}")
+    return float(check_range(real_number(payload, name), name))
 
 
 def check_time_step(time_step: float) -> float:
@@ -265,8 +263,15 @@ def _check_drivable(plant: MultibodyPlant, arm: Arm) -> None:
         raise ValueError(f"{arm.name}: every joint needs one actuator, in joint order ({', '.join(arm.joint_names)}): "
                          "declare the URDF's <transmission> elements in that order, or none")
     mass_matrix = plant.CalcMassMatrix(plant.CreateDefaultContext())
-    if np.any(np.linalg.eigvalsh(mass_matrix) <= 1e-12 * max(1.0, np.abs(mass_matrix).max())):
-        still = [name for name, m in zip(arm.joint_names, np.diag(mass_matrix), strict=True) if m <= 1e-12]
+    eigenvalues = np.linalg.eigvalsh(mass_matrix)
+    if np.any(eigenvalues <= 1e-12 * max(1.0, np.abs(mass_matrix).max())):
+        diagonal = np.diag(mass_matrix)
+        still = [name for name, m in zip(arm.joint_names, diagonal, strict=True) if m <= 1e-12]
+        if not still and eigenvalues[0] > 1e-12:  # every joint moves mass, but on scales far apart
+            heavy = arm.joint_names[int(np.argmax(diagonal))]
+            raise ValueError(f"{arm.name}: the mass matrix is too ill-conditioned to simulate: its eigenvalues span "
+                             f"{eigenvalues[0]:.3g} … {eigenvalues[-1]:.3g} (a ratio beyond 1e12; {heavy} moves by "
+                             "far the most mass); check the link masses and inertias")
         raise ValueError(f"{arm.name}: the mass matrix is singular (joint(s) {', '.join(still) or 'together'} move "
                          "no mass or inertia): to simulate, every moving link needs an <inertial> with mass > 0 and "
                          "inertia")

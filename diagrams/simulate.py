@@ -240,9 +240,11 @@ def check_work(motion: Motion, log_period: float, mode: str = "controller") -> t
 
     The steps are at least duration / :func:`max_step` and the largest joint travel / :data:`TRAVEL_PER_STEP`
     per run; more than :data:`MAX_STEPS` of them, or more than :data:`MAX_SAMPLES` samples, could not finish
-    in reasonable time or memory, and is refused with the number and the option to change.
+    in reasonable time or memory, and is refused with the number and the option to change; so is a log period
+    longer than a run of the motion (one rule for ``simulate`` and the design studies).
     """
     runs = [piece for _, piece in motion.runs()]
+    check_log_period(log_period, min(piece.duration for piece in runs))
     samples = 0
     for piece in runs:  # as many as sample_times gives, without making them
         k = np.floor(piece.duration / log_period)
@@ -409,8 +411,8 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
     options = SimulationOptions() if options is None else options
     mode, accuracy = options.mode, options.accuracy
     motion.check_limits(arm)
-    log_period = check_log_period(options.log_period, min(m.duration for _, m in motion.runs()))
-    check_work(motion, log_period, mode)
+    log_period = check_log_period(options.log_period)
+    check_work(motion, log_period, mode)  # the log period against the motion's runs too
     n = arm.n
     parts: list[dict[str, Any]] = []
     diagrams: list[Diagram] = []  # the first run's diagram, kept for the log

@@ -2,7 +2,8 @@
 
 Paper 001 drives its arm with a slider per joint in a 3-D figure (the Robotics Toolbox "teach");
 here Drake's ``JointSliders`` (or, with ``--deg``, degree sliders) move the arm's plant in a Meshcat
-page served on localhost. The
+page served on localhost behind a guard that admits only that page and its own events
+(:mod:`armlab.diagrams.view_guard`). The
 tool position — Drake's pose of the arm's tool frame — is shown on the page (a line of the
 control panel and the tool point's trail drawn as a line) and printed in the terminal when it
 changes. The scene is set up as in the replay (:mod:`armlab.diagrams.replay`): white background,
@@ -18,11 +19,12 @@ from typing import TYPE_CHECKING, Any, TextIO
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.diagrams.replay import TOOL_PATH, build_scene, frame_camera, reach_points, start_meshcat, style_scene
+from armlab.diagrams.replay import TOOL_PATH, build_scene, frame_camera, reach_points, style_scene
 
 if TYPE_CHECKING:
     from pydrake.geometry import Meshcat
 
+    from armlab.diagrams.view_guard import Guard
     from armlab.models.arm import Arm
 
 __all__ = ["PORT_TRIES", "Viewer", "open_meshcat", "run_view"]
@@ -35,24 +37,27 @@ _TRAIL = 2000  # most points kept in the tool's trail
 _STOP = "Stop viewer"
 
 
-def open_meshcat(port: int | None = None, tries: int = PORT_TRIES, out: TextIO = sys.stdout) -> Meshcat:
-    """A Meshcat server on localhost (loopback only): on ``port`` or, if it is in use, the next free
-    one of ``tries`` consecutive ports; ``port=None`` lets Meshcat pick the first free one from 7000.
+def open_meshcat(port: int | None = None, tries: int = PORT_TRIES, out: TextIO = sys.stdout,
+                 log: TextIO = sys.stderr) -> tuple[Meshcat, Guard]:
+    """Drake's Meshcat and the viewer's :class:`~armlab.diagrams.view_guard.Guard` in front of it on localhost
+    (loopback only): on ``port`` or, if it is in use, the next free one of ``tries`` consecutive ports;
+    ``port=None``: the first free one from 7000. The guard's refusals go to ``log``, one line each.
 
     Raises ``ValueError`` for a port outside 1024 … 65535 or when every port tried is in use.
     """
-    if port is None:
-        try:
-            return start_meshcat(None)
-        except RuntimeError:
-            raise ValueError("--port: no free port in 7000 … 7999 for Meshcat; choose one with --port") from None
-    if not 1024 <= port <= 65535 - tries + 1:
+    from armlab.diagrams.view_guard import Guard, start_hidden_meshcat  # lazy: tornado, msgpack
+
+    if port is not None and not 1024 <= port <= 65535 - tries + 1:
         raise ValueError(f"--port: {port} is not allowed (use 1024 … {65535 - tries + 1})")
-    for candidate in range(port, port + tries):
+    meshcat = start_hidden_meshcat()
+    for candidate in range(7000, 8000) if port is None else range(port, port + tries):
         try:
-            return start_meshcat(candidate)
-        except RuntimeError:
-            print(f"port {candidate} is in use, trying {candidate + 1}", file=out)
+            return meshcat, Guard(meshcat, candidate, log=log)
+        except OSError:
+            if port is not None:
+                print(f"port {candidate} is in use, trying {candidate + 1}", file=out)
+    if port is None:
+        raise ValueError("--port: no free port in 7000 … 7999 for the viewer; choose one with --port")
     raise ValueError(f"--port: ports {port} … {port + tries - 1} are all in use; choose another --port")
 
 
@@ -66,32 +71,34 @@ class Viewer:
     """
 
     def __init__(self, arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None = None,
-                 out: TextIO = sys.stdout, deg: bool = False) -> None:
+                 out: TextIO = sys.stdout, deg: bool = False, log: TextIO = sys.stderr) -> None:
         from pydrake.multibody.meshcat import JointSliders
 
         self.arm = arm
         self.deg = deg
         q0 = np.clip(np.zeros(arm.n), *self.arm.limit_arrays(_UNLIMITED)) if q0 is None else arm.check_q(q0, "--q")
-        self.meshcat = open_meshcat(port, out=out)
+        self.meshcat, self.guard = open_meshcat(port, out=out, log=log)
         lower, upper = self.arm.limit_arrays(_UNLIMITED)
+        lowest, highest = np.minimum(lower, q0), np.maximum(upper, q0)
         holder: dict[str, Any] = {}
 
         def add_sliders(builder: Any, plant: Any) -> None:
             if deg:
                 return
             holder["sliders"] = builder.AddSystem(JointSliders(  # the plant's positions are in joint order
-                self.meshcat, plant, initial_value=q0, lower_limit=np.minimum(lower, q0),
-                upper_limit=np.maximum(upper, q0), step=np.where(arm.revolute, 1e-3, 1e-4),
+                self.meshcat, plant, initial_value=q0, lower_limit=lowest, upper_limit=highest,
+                step=np.where(arm.revolute, 1e-3, 1e-4),
             ))
 
         self.scene = build_scene(arm, self.meshcat, extra=add_sliders)
         self.sliders = holder.get("sliders")
         self._sliders_context = None if self.sliders is None else self.sliders.GetMyContextFromRoot(self.scene.context)
-        if deg:
-            scale = np.where(arm.revolute, 180 / np.pi, 1.0)
-            for name, r, lo, hi, value in zip(self.slider_names, arm.revolute, np.minimum(lower, q0) * scale,
-                                              np.maximum(upper, q0) * scale, q0 * scale, strict=True):
+        scale = np.where(arm.revolute & deg, 180 / np.pi, 1.0)
+        for name, r, lo, hi, value in zip(self.slider_names, arm.revolute, lowest * scale, highest * scale,
+                                          q0 * scale, strict=True):
+            if deg:
                 self.meshcat.AddSlider(name, float(lo), float(hi), 0.1 if r else 1e-4, float(value))
+            self.guard.allow_slider(name, lo, hi)  # the only values the page may send
         plant = self.scene.plant
         self._tool = plant.GetFrameByName(arm.tool_name)
         reach = reach_points(arm, self._reach_samples())
@@ -99,6 +106,7 @@ class Viewer:
         radius = max(body.radius for body in arm.bodies)
         frame_camera(self.meshcat, reach @ R.T, margin=2.5 * radius)
         self.meshcat.AddButton(_STOP, "Escape")
+        self.guard.allow_button(_STOP)
         self._q0 = np.asarray(q0, dtype=float)
         self._reading: NDArray[np.float64] | None = None  # the sliders' values at the last step
         self.q: NDArray[np.float64] | None = None  # the pose shown
@@ -122,8 +130,8 @@ class Viewer:
 
     @property
     def url(self) -> str:
-        """The page's address, ``http://localhost:PORT``."""
-        return self.meshcat.web_url()
+        """The page's address, ``http://localhost:PORT`` (the guard's; Drake's own server is not for browsers)."""
+        return self.guard.url
 
     @property
     def stop_requested(self) -> bool:
@@ -165,8 +173,9 @@ class Viewer:
         return True
 
     def close(self) -> None:
-        """Remove the controls from the page."""
+        """Remove the controls from the page and stop serving it."""
         self.meshcat.DeleteAddedControls()
+        self.guard.close()
 
 
 def run_view(arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None = None, deg: bool = False,

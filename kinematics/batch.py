@@ -18,6 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.limits import real_array
+
 __all__ = ["BLOCK", "ZStep", "as_batch", "blocks", "chain_blocks", "chain_frames", "chain_points", "cos_sin", "cross",
            "slide_z", "times_constant", "turn_z"]
 
@@ -31,7 +33,7 @@ def as_batch(q: ArrayLike, n: int, name: str = "q") -> NDArray[np.float64]:
     Raises ``ValueError`` naming the bad value when the last axis is not ``n`` long or a
     value is NaN or infinite.
     """
-    a = np.asarray(q, dtype=float)
+    a = real_array(q, name)
     if a.ndim == 0 or a.shape[-1] != n:
         raise ValueError(f"{name} has shape {a.shape}; expected {n} joint values (shape (..., {n}))")
     if not np.isfinite(a).all():

@@ -40,6 +40,7 @@ from armlab.kinematics.ik_target import (
 from armlab.limits import check_range
 from armlab.models import paper_arms
 from armlab.models.write_urdf import JointLimits
+from armlab.values import shown
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -62,7 +63,7 @@ def _coordinates(arm: Arm, position: NDArray) -> NDArray[np.float64]:
         own = form.coordinates(position)
         return np.append(own, np.zeros(3 - own.size))
     if position.shape != (3,):
-        raise ValueError(f"target {np.ravel(position).tolist()} has {position.size} values; {arm.name} takes "
+        raise ValueError(f"target {shown(np.ravel(position).tolist())} has {position.size} values; {arm.name} takes "
                          "3 coordinates (x,y,z in m) or a 4×4 pose")
     return position
 

@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.ik_target import fmt, single
+from armlab.values import shown
 
 __all__ = ["REACH_RTOL", "arm4r_ik", "planar_target", "r2t_ik", "rr_ik"]
 
@@ -40,7 +41,7 @@ def planar_target(target: ArrayLike) -> NDArray[np.float64]:
             raise ValueError(f"target z = {p[2]:g} is not allowed: the rr arm moves in the plane z = 0")
         p = p[:2]
     if p.shape != (2,):
-        raise ValueError(f"target {np.ravel(p).tolist()} has {p.size} values; rr takes x,y (or x,y,0) in m")
+        raise ValueError(f"target {shown(np.ravel(p).tolist())} has {p.size} values; rr takes x,y (or x,y,0) in m")
     return single(p, 2)
 
 

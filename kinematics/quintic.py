@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
-from armlab.limits import check_positive, check_range
+from armlab.limits import check_positive, check_range, real_number
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial, Trajectory
@@ -67,6 +67,7 @@ _POWERS = np.arange(5, -1, -1)
 def check_duration(tf: float, name: str = "tf") -> float:
     """``tf`` as a float, or ``ValueError`` unless it is a positive finite number of seconds within
     ``armlab.limits.LIMITS["tf"]`` (a longer one could not be simulated or sampled)."""
+    real_number(tf, name)  # a number, not a string or a bool
     return float(check_range(check_positive(tf, name, "s", "a duration must be a positive finite number of seconds"),
                              name, key="tf"))
 

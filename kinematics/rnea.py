@@ -193,7 +193,13 @@ def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity
 
     arm.require_dynamics("inverse dynamics")
     n = arm.n
-    q, qd, qdd = np.broadcast_arrays(as_batch(q, n, "q"), as_batch(qd, n, "qd"), as_batch(qdd, n, "qdd"))
+    arrays = (as_batch(q, n, "q"), as_batch(qd, n, "qd"), as_batch(qdd, n, "qdd"))
+    try:
+        q, qd, qdd = np.broadcast_arrays(*arrays)
+    except ValueError:
+        shapes = ", ".join(f"{name} {a.shape}" for name, a in zip(("q", "qd", "qdd"), arrays, strict=True))
+        raise ValueError(f"q, qd and qdd have shapes that do not fit together ({shapes}): give each (n,) or the "
+                         "same (..., n) batch (an (n,) one applies to every row)") from None
     g = resolve_gravity(arm, gravity)
     links = _links(arm, link_inertias(arm, payload))
     shape = q.shape[:-1]

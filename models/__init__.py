@@ -17,6 +17,8 @@ follows the package's arms.
 from __future__ import annotations
 
 import importlib
+import math
+import numbers
 import pkgutil
 from collections.abc import Sequence
 from dataclasses import fields
@@ -27,6 +29,8 @@ from types import ModuleType
 import numpy as np
 
 from armlab.models.arm import MODELS_DIR, Arm
+from armlab.models.arm_file import MAX_FILE_NUMBER
+from armlab.values import shown
 
 __all__ = ["ARMS", "EXAMPLE", "Arm", "examples", "get_arm", "paper_arms", "register"]
 
@@ -99,8 +103,12 @@ def get_arm(name: str, tool: str | None = None, package_paths: Sequence[str | Pa
         for key, value in overrides.items():
             if key not in known:
                 raise ValueError(f"{name}: unknown parameter {key!r}; allowed: {', '.join(known)}")
-            if not np.isfinite(value):
-                raise ValueError(f"{name}: parameter {key} = {value} is not a finite number")
+            if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+                raise TypeError(f"{name}: parameter {key} = {shown(value)} is a {type(value).__name__}, not a real "
+                                "number")
+            if not (math.isfinite(value) and abs(value) <= MAX_FILE_NUMBER):
+                raise ValueError(f"{name}: parameter {key} = {value:g} is out of range: allowed |{key}| ≤ "
+                                 f"{MAX_FILE_NUMBER:g} (m, rad or kg, like the numbers of an arm file)")
         return ARMS[name].build(**overrides)
     if name.startswith(EXAMPLE):
         shipped = examples()

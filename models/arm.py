@@ -349,4 +349,6 @@ class Arm:
         # lazy: armlab.kinematics sits above armlab.models and imports it
         from armlab.kinematics.ik import solve
 
+        if not isinstance(all, bool | np.bool_):
+            raise TypeError(f"all: expected True or False, got {type(all).__name__}")
         return np.array(solve(self, target, pitch=pitch, near=near, all_solutions=all))

@@ -95,6 +95,8 @@ CLI_NUMBERS = [
     (("simulate", "rr", "--from", "0,0", "--to", "1e308,0", "--out", "run"), 2, "joint1 = 1e+308 rad is outside"),
     (("diagram", "rr", "--kp", "1e308", "--out", "d.dot"), 2, "--kp 1e308 is out of range"),
     (("diagram", "rr", "--payload", "1001", "--out", "d.dot"), 2, "--payload 1001 is out of range"),
+    (("diagram", "rr", "--out", "d.svg/"), 2, "--out 'd.svg/': ends with '/', a folder; give a file name"),
+    (("simulate", "rr", "--out", "r" * 300), 2, "its name is 300 bytes long; at most 200"),
     (("view", "rr", "--duration", "nan"), 2, "--duration: nan is not a positive number"),
     (("view", "rr", "--duration", "-1"), 2, "--duration: -1.0 is not a positive number"),
     (("view", "rr", "--port", "99999"), 2, "--port: 99999 is not allowed"),
@@ -160,6 +162,53 @@ def test_api_simulate(kwargs, fragment):
     _one_line_error(error.value, fragment)
 
 
+@pytest.mark.parametrize("motion", [None, "abc", [0.0, 1.0]], ids=repr)
+def test_api_simulate_names_a_motion_that_is_not_one(motion):
+    import armlab
+
+    with pytest.raises(TypeError, match=f"motion: expected a Motion .*, got {type(motion).__name__}$"):
+        armlab.simulate(armlab.load("rr"), motion)
+
+
+#: Values of the wrong type for the API (issue 24, item 7): (call on arm = armlab.load("rr"), message fragment).
+API_TYPES = [
+    (lambda armlab, arm: arm.fk(np.array([0.1 + 1j, 0.0])), "q: expected real numbers, got dtype complex128"),
+    (lambda armlab, arm: arm.fk(np.array([True, False])), "q: expected real numbers, got dtype bool"),
+    (lambda armlab, arm: arm.fk(["0.1", "0"]), "q: expected real numbers, got dtype <U3"),
+    (lambda armlab, arm: arm.inverse_dynamics([0, 0], [0, 0], [0j, 0]), "expected real numbers, got dtype complex"),
+    (lambda armlab, arm: armlab.quintic(arm, [0, 0], [0.1, 0.1], tf="2"), "tf: expected a real number, got str"),
+    (lambda armlab, arm: armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.2), payload="2"),
+     "payload '2' is not allowed"),
+    (lambda armlab, arm: armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.2), payload=True),
+     "payload: expected a real number, got bool"),
+    (lambda armlab, arm: arm.ik([0.5, 0.2], all="yes"), "all: expected True or False, got str"),
+    (lambda armlab, arm: armlab.load("urm6", r1=True), "parameter r1 = True is a bool, not a real number"),
+    (lambda armlab, arm: armlab.load("urm6", theta3="x"), "parameter theta3 = 'x' is a str, not a real number"),
+]
+
+
+@pytest.mark.parametrize(("call", "fragment"), API_TYPES, ids=lambda v: v if isinstance(v, str) else None)
+def test_api_refuses_values_of_the_wrong_type(call, fragment):
+    import armlab
+
+    with pytest.raises(TypeError) as error:
+        call(armlab, armlab.load("rr"))
+    _one_line_error(error.value, fragment)
+
+
+@pytest.mark.parametrize(("name", "override", "fragment"), [
+    ("rr", {"L1": 1e300}, "rr: parameter L1 = 1e+300 is out of range: allowed |L1| ≤ 1e+12"),
+    ("urm6", {"theta3": 1e300}, "parameter theta3 = 1e+300 is out of range"),
+    ("urm6", {"theta3": float("nan")}, "parameter theta3 = nan is out of range"),
+])
+def test_load_checks_its_overrides(name, override, fragment):
+    import armlab
+
+    with pytest.raises(ValueError) as error:
+        armlab.load(name, **override)
+    _one_line_error(error.value, fragment)
+
+
 #: An arm's methods: (method of armlab.load("rr"), its arguments, message fragment).
 API_ARM = [
     ("fk", ([0, 5],), "joint2 = 5 rad is outside its limits"),
@@ -168,6 +217,8 @@ API_ARM = [
     ("tool_motion", ([0, 0], [0, 0], [0, 2e6]), "qdd 2e6 is out of range"),
     ("inverse_dynamics", ([0, 0], [1e308, 0], [0, 0]), "qd 1e308 is out of range"),
     ("inverse_dynamics", ([0, 0], [0, 0], [0, 0, 0]), "qdd has shape (3,)"),
+    ("inverse_dynamics", ([[0, 0]] * 2, [[0, 0]] * 3, [0, 0]), "q, qd and qdd have shapes that do not fit together (q "
+     "(2, 2), qd (3, 2), qdd (2,))"),
     ("manipulability", ([0, 0], "sideways"), "axes"),
     ("ik", ([1e308, 0],), "out of range"),
     ("ik", ([0.9, 0],), "out of reach"),
@@ -239,6 +290,29 @@ def test_segments_files(box, content, code, fragment):
     assert box.debris(*(["run"] if code == 0 else [])) == []
 
 
+# ---- sweep options (issue 24, items 14, 18, 20, 21): (options, fragment) -- refused before the folder is made
+SWEEP_OPTIONS = [
+    (("--workers", "100000"), "--workers 100000: at most"),
+    (("--scheduler", "tcp://"), "--scheduler 'tcp://': give HOST:PORT (a port 1 … 65535) after tcp://"),
+    (("--scheduler", "tcp://127.0.0.1:abc"), "give HOST:PORT"),
+    (("--scheduler", "tcp://127.0.0.1:0"), "give HOST:PORT"),
+    (("--scheduler", "inproc://x"), "inproc:// lives inside one process; give tcp://HOST:PORT"),
+    (("--scheduler", "ucx://127.0.0.1:8786"), "ucx:// is not available in this Dask"),
+    (("--scheduler", "tls://127.0.0.1:8786"), "tls:// needs Dask's TLS settings"),
+    (("--scheduler", "http://x" + "y" * 10_000), "--scheduler 'http://xyyyyy"),
+    pytest.param(("--scheduler", "tcp://127.0.0.1:1"), "cannot connect", marks=pytest.mark.slow),  # 10 s timeout
+]
+
+
+@pytest.mark.parametrize(("options", "fragment"), SWEEP_OPTIONS, ids=lambda v: " ".join(v)[:40])
+def test_sweep_options(box, options, fragment):
+    box.write("study.json", json.dumps({"arm": "rr", "vary": {"L1": {"values": [0.3, 0.4]}}, "evaluate": ["reach"],
+                                        "samples": 5000}))
+    outcome = box.main("sweep", "study.json", "--out", "sw", *options)
+    check(outcome, 2, fragment)
+    assert len(outcome.err) < 300 and box.debris() == []  # one short line; no sw/ made
+
+
 # ---- study files: (content, exit code, fragment) -- `armlab sweep study.json --out out`, refused before any work
 def _study(**change) -> str:
     return json.dumps({"arm": "rr", "vary": {"L1": {"values": [0.3, 0.4]}}, "evaluate": ["reach"], "samples": 5000}
@@ -261,6 +335,8 @@ STUDY_FILES = [
     (_study(resolution=1e308), 2, "resolution 1e308 is out of range: allowed 1e-6 ≤ h ≤ 100 m"),
     (_study(evaluate=["peak_torque"], vary={"tf": {"values": [1, 1e308]}}), 2, "tf 1e308 is out of range"),
     (_study(evaluate=["peak_torque"], vary={"payload": {"values": [1e6]}}), 2, "payload 1e6 is out of range"),
+    (_study(evaluate=["peak_torque"], tf=1e-9), 2, "log period = 0.001 s is longer than the motion (1e-09 s)"),
+    (_study(evaluate=["peak_torque"], tf=1e-9, simulate=True), 2, "log period = 0.001 s is longer than the motion"),
     (_study(evaluate=["peak_torque"], tf=1e5, simulate=True), 2, "100,000,001 log samples, more than the 1,000,000"),
 ]
 
@@ -287,6 +363,21 @@ ARM_FILES = [
     ("rev.urdf", '<robot name="x"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
      '<child link="b"/><limit lower="1" upper="-1"/></joint></robot>', ("show", "{}"), 2, "the limits are reversed"),
     ("bin.csv", b"\xff\xfe\x00", ("show", "{}"), 2, "bin.csv"),
+    # issue 24, item 22: messages that say what is wrong
+    ("kin.csv", DH + "R,0.5,0,0,0,-1,1\n", ("diagram", "{}", "--out", "d.dot"), 2,
+     "kin is a kinematic arm (its file gives no masses): armlab diagram"),
+    ("heavy.csv", "type,a,alpha,d,theta,lower,upper,mass,cx\nR,0.5,0,0,0,-3,3,1e12,-0.25\nR,0.4,0,0,0,-3,3,0.5,-0.2\n",
+     ("simulate", "{}", "--from", "0,0", "--to", "0.1,0.1", "--tf", "0.2", "--out", "run"), 2,
+     "heavy: the mass matrix is too ill-conditioned to simulate: its eigenvalues span"),
+    # issue 24, items 9 and 16: a workspace voxels cannot measure is one line, not a wrong number or a traceback
+    ("far.csv", DH + "R,1e12,0,0,0,-3,3\nR,0.4,0,0,0,-3,3\n", ("workspace", "{}", "--samples", "1000"), 2,
+     "far: the tool point reaches up to 1e+12 m, beyond 1e+06 m"),
+    ("tiny.csv", DH + "R,1e-300,0,0,0,-3,3\nR,1e-300,0,0,0,-3,3\n", ("workspace", "{}", "--samples", "1000"), 2,
+     "less than the smallest voxel edge 1e-06 m"),
+    ("still.urdf", '<robot name="still"><link name="a"/><link name="b"><inertial><mass value="1"/><inertia ixx="1" '
+     'iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link><joint name="j" type="revolute"><parent link="a"/>'
+     '<child link="b"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="0" upper="0"/></joint></robot>',
+     ("workspace", "{}", "--samples", "1000"), 2, "the tool point does not move"),
 ]
 
 
@@ -505,3 +596,22 @@ def test_load_study_property(tmp_path, data):
         _one_line_error(error, str(path))
         return
     assert study.candidates
+
+
+# ---- echoed values are cut to a readable length (issue 24, item 21) ----------------------------------------------
+def test_a_huge_input_is_echoed_cut(box):
+    import armlab
+
+    with pytest.raises(ValueError) as error:
+        armlab.load("urm6").ik(np.zeros((100_000, 3)))
+    assert "has 300000 values" in str(error.value) and len(str(error.value)) < 300
+    key = "k" * 1_000_000
+    box.write("study.json", json.dumps({"arm": "rr", "vary": {"L1": {"values": [0.3]}}, "evaluate": ["reach"],
+                                        key: 1}))
+    outcome = box.main("sweep", "study.json", "--out", "sw")
+    check(outcome, 2, "unknown key 'kkkk")
+    assert len(outcome.err) < 400
+    box.write("seg.json", json.dumps({"segments": [{"tf": 0.2, "from": [0, 0], "to": [0.1, 0.1], key: 1}]}))
+    outcome = box.main("simulate", "rr", "--segments", "seg.json", "--out", "run")
+    check(outcome, 2, "unknown key(s) kkkk")
+    assert len(outcome.err) < 400

@@ -31,6 +31,7 @@ class Cluster:
     """A `dask scheduler` and `dask worker` processes on 127.0.0.1, each in its own process group."""
 
     def __init__(self, folder: Path) -> None:
+        folder.mkdir(exist_ok=True)
         self.file = folder / "scheduler.json"
         self.folder = folder
         self.procs: list[subprocess.Popen] = []
@@ -196,3 +197,17 @@ def test_workers_keep_glibc_s_adaptive_malloc(cluster: Cluster) -> None:
         assert list(local.run(environment).values()) == [(None, "1")]
     with Client(cluster.address) as client:
         assert list(client.run(environment).values()) == [(None, "1")] * 2
+
+
+def test_a_scheduler_without_workers_is_a_bounded_wait_that_makes_nothing(tmp_path: Path, monkeypatch) -> None:
+    """A live `dask scheduler` no worker ever joins: one line after WORKER_WAIT seconds, and no --out folder."""
+    monkeypatch.setattr("armlab.analysis.sweep.WORKER_WAIT", 1.5)
+    lonely = Cluster(tmp_path / "lonely")
+    try:
+        began = time.monotonic()
+        with pytest.raises(ValueError, match=r"no workers joined in 1.5 s; start one with `dask worker tcp://"):
+            run_sweep(write_study(tmp_path, STUDY), tmp_path / "sw", scheduler=lonely.address)
+        assert time.monotonic() - began < 30
+        assert not (tmp_path / "sw").exists()
+    finally:
+        lonely.close()

@@ -141,3 +141,16 @@ def test_a_full_disk_behind_a_stream(box, argv, stream, code, fragment):
     if stream == "stdout":
         assert done.stderr.splitlines() == [fragment]
     assert box.debris() == []
+
+
+@pytest.mark.parametrize("late", [ValueError("a late error"), KeyboardInterrupt()], ids=["error", "stop signal"])
+def test_a_workspace_stopped_while_it_samples_leaves_no_temporary(box, monkeypatch, late):
+    """An error or a stop signal during the sampling (after the output folder was checked and its temporary
+    made) removes the temporary (issue 24, item 20: .ws.XXXX.tmp was left)."""
+    def sampling(*_args, **_kwargs):
+        raise late
+
+    monkeypatch.setattr("armlab.cli.analysis.workspace", sampling)
+    code = box.main("workspace", "rr", "--samples", "1000", "--out", "ws").code
+    assert code == (2 if isinstance(late, ValueError) else 130)
+    assert box.debris() == []

@@ -161,8 +161,9 @@ def test_a_busy_port_moves_on_to_the_next_or_says_so():
         busy.listen()
         port = busy.getsockname()[1]
         out = io.StringIO()
-        meshcat = open_meshcat(port, out=out)
-        assert meshcat.port() != port and f"port {port} is in use" in out.getvalue()
+        _, guard = open_meshcat(port, out=out)
+        assert guard.port != port and f"port {port} is in use" in out.getvalue()
+        guard.close()
         with pytest.raises(ValueError, match=f"ports {port} … {port} are all in use"):
             open_meshcat(port, tries=1, out=io.StringIO())
     with pytest.raises(ValueError, match="--port: 80 is not allowed"):

@@ -194,3 +194,28 @@ def test_a_given_motion_instead_of_the_paper_motion(tmp_path: Path) -> None:
     assert there_and_back["peak_torque_1"] >= one_way["peak_torque_1"] - 1e-9
     with pytest.raises(ValueError, match="do not give or vary tf"):
         load_study(write_study(tmp_path, base | {"tf": 2.0}, "bad.json"))
+
+
+def test_a_sweep_refuses_a_folder_another_sweep_is_writing(tmp_path: Path) -> None:
+    """Two sweeps into one folder: the second is refused while the first runs (SIGINT ends it: the lock goes with
+    it), and a third resumes; every candidate is in results.csv once."""
+    study = write_study(tmp_path, RR_LENGTHS | {"samples": 400000})
+    out = tmp_path / "out"
+    first = subprocess.Popen([ARMLAB, "sweep", str(study), "--out", str(out), "--workers", "1"],
+                             stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        began = time.monotonic()
+        while not (out / RESULTS).exists():
+            assert first.poll() is None and time.monotonic() - began < 120, "the first sweep did not start"
+            time.sleep(0.05)
+        with pytest.raises(ValueError, match="another armlab sweep is writing into it"):
+            run_sweep(study, out, workers=1)
+        assert first.poll() is None, "the first sweep ended before the second was refused: no overlap tested"
+    finally:
+        os.killpg(first.pid, signal.SIGINT)
+        first.communicate(timeout=60)
+    assert first.returncode == 130
+    again = run_sweep(study, out, workers=1)  # the lock went with the stopped sweep
+    assert again.done_before + again.computed == 4
+    indices = [line.split(",")[0] for line in (out / RESULTS).read_text().splitlines()[1:]]
+    assert sorted(indices) == ["0", "1", "2", "3"]

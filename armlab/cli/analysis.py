@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 import textwrap
+from contextlib import nullcontext
 from pathlib import Path
 from typing import Any
 
@@ -83,12 +84,12 @@ def cmd_workspace(args: argparse.Namespace) -> int:
     if args.resolution is not None:
         check_resolution(args.resolution, "--resolution")
     arm = arm_of(args)
-    folder = workspace_folder(args.out) if args.out else None
-    ws = workspace(arm, args.samples, args.resolution, args.seed)
-    summary = ws.summary()
-    if folder is not None:
-        with folder as tmp:
-            written = write_workspace(arm, ws, tmp)
+    folder = workspace_folder(args.out) if args.out is not None else None
+    # The temporary folder goes on any exit from here (an error or a stop signal during the sampling too).
+    with folder if folder is not None else nullcontext() as tmp:
+        ws = workspace(arm, args.samples, args.resolution, args.seed)
+        summary = ws.summary()
+        written = write_workspace(arm, ws, tmp) if tmp is not None else []
     if args.json:
         print(json.dumps(summary, indent=2, ensure_ascii=False))
     else:

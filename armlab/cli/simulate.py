@@ -153,6 +153,7 @@ def cmd_diagram(args: argparse.Namespace) -> int:
 
     arm = with_drives(arm_of(args), args.drives)
     graph_format(args.out)
+    arm.require_dynamics("armlab diagram (its Fig. 6 diagram holds the arm's plant)")
     setup = _setup(arm, args)
     motion = paper_motion(arm).runs()[0][1] if arm.motion is not None else _hold_motion(arm)
     gravity, payload = setup.pop("gravity"), setup.pop("payload")

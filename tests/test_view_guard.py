@@ -1,0 +1,134 @@
+"""``armlab view`` is reachable only from its own page, and only with its own events (issue 24, item 1).
+
+A real WebSocket client (tornado's) on 127.0.0.1 plays the part of a hostile page: another ``Origin``, another
+``Host`` (DNS rebinding), and the frames the battery sent (a NaN or 1e308 slider, a frame that is not msgpack).
+Drake's own server must sit on a port browsers refuse, so that the guard cannot be bypassed.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import io
+import math
+import urllib.error
+import urllib.request
+
+import msgpack
+import numpy as np
+import pytest
+from tornado.httpclient import HTTPClientError, HTTPRequest
+from tornado.websocket import websocket_connect
+
+from armlab.diagrams.view import Viewer
+from armlab.diagrams.view_guard import BROWSER_BLOCKED_PORTS, check_event
+from armlab.models import get_arm
+
+SLIDERS = {"joint1": (-1.0, 2.0)}
+BUTTONS = {"Stop viewer"}
+
+
+def _event(**fields) -> bytes:
+    return msgpack.packb(fields)
+
+
+@pytest.mark.parametrize(("message", "reason"), [
+    (b"\xc1garbage", "not msgpack"),
+    (b"\x92", "not msgpack"),  # an array of 2 cut short
+    ("{\"type\": \"slider\"}", "a text frame"),
+    (msgpack.packb([1, 2]), "not an event"),
+    (_event(type="slider", name="joint1", value=math.nan), "value nan is outside -1 … 2"),
+    (_event(type="slider", name="joint1", value=math.inf), "value inf is outside"),
+    (_event(type="slider", name="joint1", value=1e308), "value 1e+308 is outside -1 … 2"),
+    (_event(type="slider", name="joint1", value=2.5), "value 2.5 is outside"),
+    (_event(type="slider", name="joint1", value="1"), "value '1' is not a number"),
+    (_event(type="slider", name="joint1", value=True), "value True is not a number"),
+    (_event(type="slider", name="joint1"), "value None is not a number"),
+    (_event(type="slider", name="joint9", value=0.0), "slider 'joint9' is not one of the viewer's"),
+    (_event(type="button", name="x" * 1000), "button 'xxx"),
+    (_event(type="mouse_drag", name="/drake"), "a 'mouse_drag' event"),
+])
+def test_check_event_names_what_is_wrong_with_a_message(message, reason):
+    found = check_event(message, SLIDERS, BUTTONS)
+    assert found is not None and reason in found and len(found) < 120
+
+
+def test_check_event_passes_the_viewers_own_events():
+    assert check_event(_event(type="slider", name="joint1", value=1.5), SLIDERS, BUTTONS) is None
+    assert check_event(_event(type="slider", name="joint1", value=-1), SLIDERS, BUTTONS) is None
+    assert check_event(_event(type="button", name="Stop viewer"), SLIDERS, BUTTONS) is None
+
+
+@pytest.fixture(scope="module")
+def viewer():
+    log = io.StringIO()
+    viewer = Viewer(get_arm("rr"), np.array([0.5, -0.5]), out=io.StringIO(), log=log)
+    viewer.log = log
+    yield viewer
+    viewer.close()
+
+
+async def _socket(viewer: Viewer, origin: str, host: str | None = None):
+    """A WebSocket to the viewer on 127.0.0.1, as a page at ``origin`` opens it (``host``: its Host header)."""
+    headers = {"Origin": origin, "Host": host or f"127.0.0.1:{viewer.guard.port}"}
+    return await websocket_connect(HTTPRequest(f"ws://127.0.0.1:{viewer.guard.port}/", headers=headers))
+
+
+def test_drakes_own_server_is_on_a_port_browsers_refuse(viewer):
+    assert viewer.meshcat.port() in BROWSER_BLOCKED_PORTS
+    assert viewer.guard.port != viewer.meshcat.port()
+
+
+@pytest.mark.parametrize("origin", ["http://evil.example", "null", "http://localhost:1", "https://localhost"])
+def test_a_websocket_from_another_origin_is_refused(viewer, origin):
+    with pytest.raises(HTTPClientError, match="403"):
+        asyncio.run(_socket(viewer, origin))
+    assert f"refused a WebSocket from origin {origin!r}" in viewer.log.getvalue()
+
+
+def test_a_websocket_for_another_host_is_refused(viewer):
+    own = f"http://localhost:{viewer.guard.port}"
+    with pytest.raises(HTTPClientError, match="403"):
+        asyncio.run(_socket(viewer, own, host=f"rebound.example:{viewer.guard.port}"))
+
+
+def test_pages_are_served_only_for_the_viewers_own_host(viewer):
+    for host in (f"localhost:{viewer.guard.port}", f"127.0.0.1:{viewer.guard.port}"):
+        request = urllib.request.Request(f"http://127.0.0.1:{viewer.guard.port}/", headers={"Host": host})
+        with urllib.request.urlopen(request, timeout=10) as response:
+            assert response.status == 200 and b"meshcat" in response.read().lower()
+    request = urllib.request.Request(f"http://127.0.0.1:{viewer.guard.port}/",
+                                     headers={"Host": f"rebound.example:{viewer.guard.port}"})
+    with pytest.raises(urllib.error.HTTPError, match="403"):
+        urllib.request.urlopen(request, timeout=10)
+    assert "refused a request for Host 'rebound.example:" in viewer.log.getvalue()
+
+
+def test_hostile_frames_from_the_own_page_are_dropped_and_the_real_slider_moves(viewer):
+    hostile = [b"\xc1 not msgpack", _event(type="slider", name="joint1", value=math.nan),
+               _event(type="slider", name="joint1", value=1e308), _event(type="gamepad", name="x")]
+
+    async def session() -> tuple[float, bytes | None]:
+        connection = await _socket(viewer, f"http://localhost:{viewer.guard.port}")
+        scene = await asyncio.wait_for(connection.read_message(), 10)  # Meshcat sends the scene to a new page
+        for frame in hostile:
+            await connection.write_message(frame, binary=True)
+        await connection.write_message(_event(type="slider", name="joint2", value=-1.25), binary=True)
+        for _ in range(200):  # the valid event reaches Drake (this thread is Meshcat's main thread)
+            if abs(viewer.meshcat.GetSliderValue("joint2") + 1.25) < 1e-12:
+                break
+            await asyncio.sleep(0.025)
+        connection.close()
+        return viewer.meshcat.GetSliderValue("joint2"), scene
+
+    viewer.step()  # the first pose: q0 as given
+    before = viewer.log.getvalue().count("ignored a message")
+    value, scene = asyncio.run(session())
+    assert scene is not None
+    assert value == pytest.approx(-1.25, abs=1e-12)
+    lines = viewer.log.getvalue().splitlines()
+    assert viewer.log.getvalue().count("ignored a message") - before == len(hostile)  # one line each
+    assert any("not msgpack" in line for line in lines) and any("value nan is outside" in line for line in lines)
+    assert viewer.meshcat.GetButtonClicks("Stop viewer") == 0
+    assert viewer.step()  # the viewer lives on: its slider moved joint 2
+    np.testing.assert_allclose(viewer.q, [0.5, -1.25], atol=1e-3)
+    assert np.all(np.isfinite(viewer.tool_position()))
