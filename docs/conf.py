@@ -23,7 +23,7 @@ author = "the armlab developers"
 copyright = "the armlab developers (MIT licence)"
 release = version = pages.armlab_version()
 
-extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.viewcode", "math_svg"]
+extensions = ["myst_nb", "sphinx.ext.autodoc", "math_svg"]
 # the mathematics as inline SVG made at build time (docs/math_svg.py): the pages need no network
 html_math_renderer = "armlab"
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]

@@ -21,6 +21,10 @@ import pytest
 
 import armlab
 
+#: The build (with the session's reproduction, when this module is the first to need it) takes minutes on a busy
+#: machine: more than the suite's 300 s default per test.
+pytestmark = pytest.mark.timeout(1200)
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
