@@ -9,7 +9,7 @@ PYTHON ?= $(shell for p in python3.12 $$HOME/.pyenv/versions/3.12*/bin/python3.1
 RUN_PACKAGES := graphviz:dot
 TEST_PACKAGES := $(RUN_PACKAGES) chromium:chromium
 
-.PHONY: run test check setup run-deps test-deps lint bench clean typecheck
+.PHONY: run test check setup run-deps test-deps lint bench clean typecheck docs
 
 run: setup run-deps
 	$(BIN)/armlab reproduce --out out
@@ -52,6 +52,12 @@ test-deps:
 
 lint: setup
 	$(BIN)/ruff check .
+
+# the documentation site, built offline into build/docs/html (a fast reproduction of every paper for the paper
+# pages, the notebooks executed); warnings are errors
+docs: setup run-deps
+	$(BIN)/sphinx-build -W --keep-going -q -b html docs build/docs/html
+	@echo "docs: build/docs/html/index.html"
 
 bench: setup
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'

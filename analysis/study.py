@@ -1,6 +1,7 @@
 """Design studies: the study file, its candidates, and what one candidate evaluates to.
 
 A study is a JSON object::
+
     {"arm": "urm6",
      "vary": {"theta3": {"from": 0, "to": 90, "steps": 7, "unit": "deg"},
               "theta5": {"values": [30, 60, 90], "unit": "deg"}},

@@ -1,7 +1,7 @@
 """Paper 000's Fig. 6 as a Drake Systems diagram, for any arm.
 
 Fig. 6 is a SimMechanics scheme: joint trajectories → inverse dynamics → the arm → scopes of the
-joint torques. Here, with Drake's own systems, named so that the graphviz picture reads the same:
+joint torques. Here, with Drake's own systems, named so that the graphviz picture reads the same::
 
     TrajectorySource (q_d, q̇_d, q̈_d) → reference_split ─┬→ InverseDynamicsController → MultibodyPlant
                                                          │          ↑ state feedback ─────────┘
@@ -21,6 +21,7 @@ How the loggers sample (``sampling``, one of :data:`SAMPLINGS`):
   :func:`armlab.diagrams.simulate.run_simulator`, which checks them against the loggers' end sample.
 * ``"periodic"``: the loggers publish every ``log_period``, so the integrator stops at every sample
   (the straightforward diagram, 10–30× slower; the reference the tests compare ``"dense"`` with).
+
 ``mode="controller"`` is the closed loop (computed torque with reference acceleration, PD gains
 kp, kd, optional ki); ``mode="inverse_dynamics"`` is SimMechanics' inverse-dynamics mode: the
 torques computed from the reference alone (no feedback) and applied to the plant open-loop.

@@ -2,7 +2,7 @@
 
 For a chain given by its matrix of nominal geometry (:class:`LocatingTable`), starting
 from a base at rest (``⁰ω₀ = ⁰ω̇₀ = ⁰v₀ = ⁰v̇₀ = 0``), for i = 1 … n (and the tool,
-i = n+1, a joint with q̇ = q̈ = 0):
+i = n+1, a joint with q̇ = q̈ = 0)::
 
     ω_i = ω_{i−1} + Δ_i q̇_i k_i                                          (24)
     v_i = v_{i−1} + ω_{i−1} × p_{i,i−1} + (1 − Δ_i) q̇_i k_i              (25)

@@ -6,7 +6,8 @@ Featherstone, *Rigid Body Dynamics Algorithms*, Table 5.1, in 3-vector form), wr
 own frame. With ``R`` the rotation of frame {i} in {i−1}, ``P`` the origin of {i} in {i−1}, ẑ the joint
 axis, c_i the link's centre of mass and I_i its inertia about it, m_i its mass:
 
-outward, i = 1 … n, from ω_0 = ω̇_0 = 0 and v̇_0 = −g (gravity as an acceleration of the base):
+outward, i = 1 … n, from ω_0 = ω̇_0 = 0 and v̇_0 = −g (gravity as an acceleration of the base)::
+
     ω_i  = Rᵀω_{i−1} + q̇_i ẑ                                         (6.45; prismatic: Rᵀω_{i−1})
     ω̇_i  = Rᵀω̇_{i−1} + Rᵀω_{i−1} × q̇_i ẑ + q̈_i ẑ                       (6.46; prismatic: Rᵀω̇_{i−1})
     v̇_i  = Rᵀ(ω̇_{i−1} × P + ω_{i−1} × (ω_{i−1} × P) + v̇_{i−1})          (6.47)
@@ -14,7 +15,8 @@ outward, i = 1 … n, from ω_0 = ω̇_0 = 0 and v̇_0 = −g (gravity as an acc
     v̇_ci = ω̇_i × c_i + ω_i × (ω_i × c_i) + v̇_i                          (6.48)
     F_i  = m_i v̇_ci,   N_i = I_i ω̇_i + ω_i × I_i ω_i                     (6.49–6.50)
 
-inward, i = n … 1 (R, P of link i+1 in i; f_{n+1} = n_{n+1} = 0):
+inward, i = n … 1 (R, P of link i+1 in i; f_{n+1} = n_{n+1} = 0)::
+
     f_i = R f_{i+1} + F_i                                                (6.51)
     n_i = N_i + R n_{i+1} + c_i × F_i + P × R f_{i+1}                     (6.52)
     τ_i = n_i · ẑ (revolute),  f_i · ẑ (prismatic)                       (6.53)

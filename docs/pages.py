@@ -1,0 +1,164 @@
+"""The generated pages of the documentation site: the API reference, one page per paper, the notebooks.
+
+* ``api/`` — every public name of ``armlab`` (its ``__all__``) with its docstring, and one page per module
+  of the subpackages (the docstrings carry each method's equations, units and shapes);
+* ``papers/NNN.md`` — each paper's section of a fresh ``armlab reproduce --fast`` report (its verdicts, tables
+  and figures) after the docstrings of the paper's arm and method modules;
+* ``notebooks/`` — copies of the repository's notebooks, executed by MyST-NB in the build.
+
+Everything is written into a folder that the build owns (``docs/_generated``, not committed).
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import pkgutil
+import re
+import shutil
+from pathlib import Path
+
+#: The repository (the folder holding ``notebooks/`` and ``README.md``); ``ARMLAB_DOCS_ROOT`` overrides it.
+ROOT = Path(os.environ.get("ARMLAB_DOCS_ROOT", Path(__file__).resolve().parent.parent))
+
+#: The subpackages whose modules get an API page each, with a line saying what they hold.
+SUBPACKAGES = {
+    "armlab.models": "the arms (one module per paper arm) and the readers of users' own arms",
+    "armlab.kinematics": "one module per method: each paper's formulation, IK, inverse dynamics, trajectories",
+    "armlab.controllers": "the inverse-dynamics controller",
+    "armlab.diagrams": "the Drake Systems diagram of a run, simulation, plots, replay, viewer",
+    "armlab.analysis": "workspaces, singular configurations and design studies",
+    "armlab.drives": "drive trains and drive sizing",
+}
+
+#: The paper pages: number → (title, the modules whose docstrings give its arm and its equations).
+PAPERS = {
+    "000": ("Hroncová et al., Robot trajectory planning (2022): the RR and RRRR arms",
+            ["armlab.models.rr", "armlab.models.rrrr", "armlab.kinematics.basic_movements", "armlab.kinematics.dh",
+             "armlab.kinematics.quintic"]),
+    "001": ("Qin et al., Four degree of freedom manipulator's kinematics simulation analysis based on MATLAB",
+            ["armlab.models.arm4r", "armlab.kinematics.ik_closed_form"]),
+    "003": ("Schonstein & Panc, Kinematical modelling for R2T serial structure (2017)",
+            ["armlab.models.r2t", "armlab.kinematics.locating", "armlab.kinematics.iterative"]),
+    "004": ("Ondočko et al., Position forward kinematics of 6-DOF robotic arm",
+            ["armlab.models.urm6", "armlab.kinematics.urm"]),
+}
+
+
+def armlab_version() -> str:
+    """The installed armlab's version."""
+    import armlab
+
+    return armlab.__version__
+
+
+def _write(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.exists() or path.read_text() != text:  # unchanged pages keep their time: no rebuild
+        path.write_text(text)
+
+
+def modules(package: str) -> list[str]:
+    """The importable modules of ``package`` (its own ``__init__`` first), sorted by name."""
+    pkg = importlib.import_module(package)
+    names = [info.name for info in pkgutil.iter_modules(pkg.__path__, package + ".") if not info.ispkg]
+    return [package, *sorted(names)]
+
+
+def write_api(folder: Path) -> None:
+    """``api/index.md`` (every name of ``armlab.__all__``) and ``api/<module>.md`` per subpackage module."""
+    import armlab
+
+    entries = []
+    for name in armlab.__all__:
+        if name.startswith("__"):
+            continue
+        value = getattr(armlab, name)
+        kind = "autoclass" if isinstance(value, type) else "autofunction"
+        entries.append(f".. {kind}:: armlab.{name}\n")
+    packages = []
+    for package, what in SUBPACKAGES.items():
+        items = []
+        for module in modules(package):
+            page = f"{module}.md"
+            _write(folder / "api" / page,
+                   f"# `{module}`\n\n```{{eval-rst}}\n.. automodule:: {module}\n   :members:\n```\n")
+            items.append(module)
+        packages.append(f"## `{package}`: {what}\n\n```{{toctree}}\n:maxdepth: 1\n\n"
+                        + "".join(f"{m}\n" for m in items) + "```\n")
+    _write(folder / "api" / "index.md",
+           "# API reference\n\nThe public Python API is what `import armlab` gives (the CLI is a thin layer over "
+           "it). Each name below, then each module of the subpackages.\n\n## `armlab`\n\n"
+           + "```{eval-rst}\n" + "\n".join(entries) + "```\n\n" + "\n".join(packages))
+
+
+def reproduction(folder: Path) -> Path:
+    """A fresh fast reproduction of every paper in ``folder/reproduction`` (``ARMLAB_DOCS_REPRODUCTION``: an
+    existing one to use instead); its ``report.md``."""
+    given = os.environ.get("ARMLAB_DOCS_REPRODUCTION")
+    if given:
+        return Path(given) / "report.md"
+    from armlab.scripts.reproduce import reproduce
+
+    out = folder / "reproduction"
+    return reproduce(out, fast=True, progress=lambda line: print(f"docs: {line}", flush=True)).report
+
+
+_ANCHOR = re.compile(r'^(#+ .*?) <a id="([^"]+)"></a>$')
+_INLINE_ANCHOR = re.compile(r'<a id="([^"]+)"></a>')
+
+
+def paper_sections(report: Path) -> dict[str, str]:
+    """The report's Markdown cut into its papers' sections (``{"000": text, …}``), as MyST reads it: each
+    ``<a id>`` anchor becomes a MyST target, and a link to another paper's anchor a link to that page."""
+    sections: dict[str, list[str]] = {}
+    current = None
+    for line in report.read_text().splitlines():
+        m = re.match(r"^## Paper (\d{3}):", line)
+        if m:
+            current = m[1]
+            sections[current] = []
+            continue
+        if current is None:
+            continue
+        heading = _ANCHOR.match(line)
+        if heading:
+            sections[current] += [f"({current}-page-{heading[2]})=", heading[1]]
+            continue
+        line = _INLINE_ANCHOR.sub("", line)
+        line = re.sub(r"\]\(#([^)]+)\)", rf"](#{current}-page-\1)", line)
+        line = re.sub(r"\]\((\d{3})/", r"](../reproduction/\1/", line)
+        sections[current].append(line)
+    return {paper: "\n".join(lines) + "\n" for paper, lines in sections.items()}
+
+
+def write_papers(folder: Path) -> None:
+    """``papers/NNN.md`` per paper: its arm's and method's docstrings, then its section of the report."""
+    report = reproduction(folder)
+    target = folder / "reproduction"
+    if report.parent.resolve() != target.resolve():
+        shutil.copytree(report.parent, target, dirs_exist_ok=True)
+    sections = paper_sections(target / "report.md")
+    for paper, (title, mods) in PAPERS.items():
+        docs = "".join(f"```{{eval-rst}}\n.. automodule:: {m}\n   :no-index:\n```\n\n" for m in mods)
+        _write(folder / "papers" / f"{paper}.md",
+               f"# Paper {paper}: {title}\n\n## The paper's arm and equations, as armlab writes them\n\n{docs}"
+               f"## The report: the paper beside armlab\n\nFrom `armlab reproduce --fast` at the build of these "
+               f"pages (the full run, `make run`, samples finer).\n\n{sections[paper]}")
+
+
+def write_notebooks(folder: Path) -> None:
+    """The repository's notebooks copied in (MyST-NB executes them in the build)."""
+    out = folder / "notebooks"
+    out.mkdir(parents=True, exist_ok=True)
+    for notebook in sorted((ROOT / "notebooks").glob("*.ipynb")):
+        data = notebook.read_bytes()
+        if not (out / notebook.name).exists() or (out / notebook.name).read_bytes() != data:
+            (out / notebook.name).write_bytes(data)
+
+
+def write_all(folder: Path) -> None:
+    """Every generated page, into ``folder``."""
+    write_api(folder)
+    write_notebooks(folder)
+    write_papers(folder)

@@ -1,0 +1,122 @@
+"""The documentation site: it builds with warnings as errors, every internal link resolves, and every public
+name of ``armlab`` has an entry in its API reference.
+
+The build is the one ``make docs`` runs (docs/conf.py), from a copy of ``docs/`` and the README in a temporary
+folder (the generated pages go there, not into the repository), on the session's fast reproduction. The
+notebooks are not executed here (``nb_execution_mode=off``): tests/test_notebooks.py executes each of them.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from html.parser import HTMLParser
+from pathlib import Path
+from urllib.parse import unquote, urlsplit
+
+import pytest
+
+import armlab
+
+#: The build (with the session's reproduction, when this module is the first to need it) takes minutes on a busy
+#: machine: more than the suite's 300 s default per test.
+pytestmark = pytest.mark.timeout(1200)
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+class _Links(HTMLParser):
+    """The ids a page defines and the links (href, src) it holds."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.ids: set[str] = set()
+        self.links: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        for name, value in attrs:
+            if name in ("id", "name") and value:
+                self.ids.add(value)
+            if name in ("href", "src") and value:
+                self.links.append(value)
+
+
+def _parse(path: Path) -> _Links:
+    parser = _Links()
+    parser.feed(path.read_text(errors="replace"))
+    return parser
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory, reproduction):
+    """The built site's folder (``docs/_build``'s html), built once for this module."""
+    out, _, _ = reproduction
+    work = tmp_path_factory.mktemp("docs")
+    shutil.copytree(ROOT / "docs", work / "docs", ignore=shutil.ignore_patterns("_generated", "_build"))
+    shutil.copy(ROOT / "README.md", work / "README.md")
+    html = work / "html"
+    env = dict(os.environ, ARMLAB_DOCS_ROOT=str(ROOT), ARMLAB_DOCS_REPRODUCTION=str(out))
+    done = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-D", "nb_execution_mode=off",
+                           "-b", "html", str(work / "docs"), str(html)], env=env, capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    return html
+
+
+@pytest.mark.slow
+def test_every_internal_link_resolves(site):
+    pages = sorted(site.rglob("*.html"))
+    assert len(pages) > 20
+    parsed = {page: _parse(page) for page in pages}
+    broken = []
+    for page, links in parsed.items():
+        for link in links.links:
+            parts = urlsplit(link)
+            if parts.scheme or link.startswith("//") or link.startswith("data:"):
+                continue
+            target = (page.parent / unquote(parts.path)).resolve() if parts.path else page
+            if not target.exists():
+                broken.append(f"{page.relative_to(site)}: {link} (no file)")
+            elif parts.fragment and target.suffix == ".html":
+                ids = parsed[target].ids if target in parsed else _parse(target).ids
+                if unquote(parts.fragment) not in ids:
+                    broken.append(f"{page.relative_to(site)}: {link} (no anchor)")
+    assert not broken, "\n".join(broken[:40])
+
+
+@pytest.mark.slow
+def test_every_public_name_has_an_api_entry(site):
+    from sphinx.util.inventory import InventoryFile
+
+    with open(site / "objects.inv", "rb") as f:
+        inventory = InventoryFile.load(f, "", os.path.join)
+    documented = {name for entries in inventory.values() for name in entries}
+    missing = [name for name in armlab.__all__ if not name.startswith("__") and f"armlab.{name}" not in documented]
+    assert not missing, missing
+    # and the modules of the subpackages each have their page
+    for module in ("armlab.models.arm", "armlab.kinematics.rnea", "armlab.diagrams.plant", "armlab.drives.train"):
+        assert (site / "_generated" / "api" / f"{module}.html").exists(), module
+
+
+@pytest.mark.slow
+def test_paper_pages_hold_the_reports_verdicts_and_figures(site):
+    for paper in ("000", "001", "003", "004"):
+        page = site / "_generated" / "papers" / f"{paper}.html"
+        text = page.read_text()
+        assert "matches" in text and "paper value" in text, paper
+        images = [src for src in _parse(page).links if re.search(r"\.(png|svg)$", src)]
+        assert images, f"paper {paper}'s page shows no figure"
+
+
+@pytest.mark.slow
+def test_math_is_rendered_offline(site):
+    """The notebooks' and the report's mathematics is inline SVG: the pages load no MathJax or other script from
+    the network."""
+    page = (site / "_generated" / "notebooks" / "01_paper000_rr_arm.html").read_text()
+    assert '<span class="math"><svg' in page or '<span class="math"><span' in page
+    for path in site.rglob("*.html"):
+        for link in _parse(path).links:
+            assert not (link.startswith("http") and link.endswith(".js")), f"{path.name} loads {link}"

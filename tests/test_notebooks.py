@@ -1,0 +1,43 @@
+"""The notebooks run: each is executed headless in a fresh Jupyter kernel (nbclient), fails on any error, and
+every cell that shows a figure produced an image. Their outputs are never committed."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
+
+
+def test_there_are_notebooks_and_none_holds_outputs():
+    assert len(NOTEBOOKS) >= 4
+    for path in NOTEBOOKS:
+        cells = json.loads(path.read_text())["cells"]
+        for cell in cells:
+            if cell["cell_type"] == "code":
+                assert cell["outputs"] == [] and cell["execution_count"] is None, f"{path.name} holds outputs"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
+def test_notebook_runs(path, tmp_path, monkeypatch):
+    import nbformat
+    from nbclient import NotebookClient
+
+    monkeypatch.chdir(tmp_path)  # a notebook writes nothing into the repository
+    notebook = nbformat.read(path, as_version=4)
+    NotebookClient(notebook, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
+                   ).execute()  # raises CellExecutionError, naming the cell, on any error
+    figures = 0
+    for cell in notebook.cells:
+        if cell.cell_type != "code":
+            continue
+        images = [o for o in cell.outputs if "image/png" in o.get("data", {})]
+        if "plt.show()" in cell.source:
+            assert images, f"{path.name}: a figure cell showed no image:\n{cell.source[:200]}"
+        figures += len(images)
+        assert not [o for o in cell.outputs if o.get("output_type") == "error"]
+    assert figures >= 1
