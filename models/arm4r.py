@@ -118,7 +118,7 @@ def build(**overrides: float) -> Arm:
         parameters=asdict(p),
         notes=parameter_notes(p),
         table=dh_table(p).locating_table(),
-        bodies=tuple(Body(m, r, c) for m, r, c in zip(masses, radii, colors, strict=True)),
+        bodies=tuple(Body(m, r, c, collides=True) for m, r, c in zip(masses, radii, colors, strict=True)),
         limits=limits,
         points=(Point("O3", 3, (0.0, 0.0, 0.0)), Point("O4", 5, (0.0, 0.0, 0.0))),
         tool_name="O4",
@@ -129,4 +129,6 @@ def build(**overrides: float) -> Arm:
                                                      "θ1 root −, θ3 −"), {"pitch": "its tool pitch θ2+θ3+θ4"}),
         motion=section3_motion,
         scheme=PaperScheme("001 Figs. 1-2", motion_start, dh_table(p)),
+        # d2 = 0 and link 1 has no length: the shoulder (joint 2) sits on the stand, link 2 starts on it
+        collision_filters=(("base_link", "link2"),),
     )

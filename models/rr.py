@@ -127,7 +127,7 @@ def build(**overrides: float) -> Arm:
         parameters=asdict(p),
         notes=parameter_notes(p),
         table=dh_table(p).locating_table(),
-        bodies=(Body(p.m1, p.r1, (0.85, 0.45, 0.1, 1)), Body(p.m2, p.r2, (0.2, 0.45, 0.8, 1))),
+        bodies=(Body(p.m1, p.r1, (0.85, 0.45, 0.1, 1), collides=True), Body(p.m2, p.r2, (0.2, 0.45, 0.8, 1), collides=True)),
         limits=(limit, limit),
         points=(Point("O2", 1, (p.L1, 0.0, 0.0)), Point("M", 3, (0.0, 0.0, 0.0))),
         tool_name="M",
