@@ -312,6 +312,20 @@ class Arm:
 
         return sigma_min(self.jacobian(q), axes)
 
+    def clearance(self, q: ArrayLike, scene: Any = None) -> list[dict[str, Any]]:
+        """Every checked pair's clearance at ``q`` ``(n,)`` (rad, m), smallest first: the links that are not adjacent
+        (nor filtered by the arm's file) and, with ``scene`` (a scene file's path or a
+        :class:`~armlab.collision.scene.Scene`), each link against each obstacle.
+
+        Each ``{"pair": "A–B", "a", "b", "distance" (m, signed: < 0 in contact), "depth" (m), "point_a",
+        "point_b" (m, world)}`` (:func:`armlab.collision.clearance.clearance`). ``ValueError`` for an arm
+        without collision geometry, a bad scene or ``q``.
+        """
+        # lazy: armlab.collision sits above armlab.models and imports it
+        from armlab.collision.clearance import clearance
+
+        return clearance(self, q, scene)
+
     def ik(
         self, target: ArrayLike, all: bool = False, near: ArrayLike | None = None, pitch: float | None = None,
     ) -> NDArray[np.float64]:

@@ -129,6 +129,4 @@ def build(**overrides: float) -> Arm:
                                                      "θ1 root −, θ3 −"), {"pitch": "its tool pitch θ2+θ3+θ4"}),
         motion=section3_motion,
         scheme=PaperScheme("001 Figs. 1-2", motion_start, dh_table(p)),
-        # d2 = 0 and link 1 has no length: the shoulder (joint 2) sits on the stand, link 2 starts on it
-        collision_filters=(("base_link", "link2"),),
     )

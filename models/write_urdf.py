@@ -15,8 +15,9 @@ axis, a dark block on each prismatic axis and the guide it slides on (over its s
 the parent link, a red ball at the tool. Every joint is actuated through a ``SimpleTransmission``.
 
 Collision geometry (a :class:`Body` with ``collides``): a capsule per link along its segment
-(``linkI_capsule``), and the stand: the base disc and the column to joint 1 (``base_link_stand``,
-``base_link_column``) as cylinders. Drake filters the pairs of adjacent links itself.
+(``linkI_capsule``), and a column from the base to joint 1, where there is one, as a capsule of link 1's
+radius (``base_link_column``). The base disc has none: the ground under the arm is a scene's floor. Drake
+filters the pairs of adjacent links itself.
 """
 
 from __future__ import annotations
@@ -215,25 +216,21 @@ def urdf_text(
     out = ['<?xml version="1.0"?>']
     if comment:
         out.append(f"<!-- {comment} -->")
-    out.append(f'<robot name="{escape(name, quote=True)}"'
-               + (' xmlns:drake="http://drake.mit.edu">' if collision_filters else ">"))  # html, not xml.sax.saxutils: that imports urllib
+    namespace = ' xmlns:drake="http://drake.mit.edu"' if collision_filters else ""
+    out.append(f'<robot name="{escape(name, quote=True)}"{namespace}>')  # html, not xml.sax.saxutils: it imports urllib
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
     out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')
     base_r = max(b.radius for b in bodies) * 2.5
     visuals: list[list[str]] = [[] for _ in range(n + 1)]  # per link 0 (base) … n, drawn in that link's frame
-    stand = (f'<origin xyz="0 0 {_f(-base_r / 4)}"/>'
-             f'<geometry><cylinder radius="{_f(base_r)}" length="{_f(base_r / 2)}"/></geometry>')
-    visuals[0].append(f'<visual>{stand}<material name="base"/></visual>')
-    collides = any(body.collides for body in bodies)
-    if collides:
-        visuals[0].append(f'<collision name="base_link_stand">{stand}</collision>')
+    visuals[0].append(f'<visual><origin xyz="0 0 {_f(-base_r / 4)}"/>'
+                      f'<geometry><cylinder radius="{_f(base_r)}" length="{_f(base_r / 2)}"/></geometry>'
+                      '<material name="base"/></visual>')
     pedestal = np.asarray(table.rows[0].P, dtype=float)
     if np.linalg.norm(pedestal) > 1e-9:  # a column from the base to joint 1
         seg, _, length = _segment(np.asarray(table.rows[0].k), pedestal, bodies[0].radius)
         visuals[0].append(_cylinder_visual(seg, bodies[0].radius, length, "base"))
-        if collides:
-            visuals[0].append(f'<collision name="base_link_column">{_origin(seg)}<geometry><cylinder '
-                              f'radius="{_f(bodies[0].radius)}" length="{_f(length)}"/></geometry></collision>')
+        if any(body.collides for body in bodies):
+            visuals[0].append(_capsule_collision("base_link_column", pedestal, bodies[0].radius))
     for i, (row, body, lim) in enumerate(zip(table.rows, bodies, limits, strict=True), start=1):
         if row.kind == "T" and lim.lower is not None and lim.upper is not None:  # the slider's guide, on the parent
             visuals[i - 1].append(_rail_visual(row.T_fixed, np.asarray(row.k, dtype=float), lim.lower, lim.upper,

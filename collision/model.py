@@ -1,0 +1,262 @@
+"""An arm and its scene in Drake's ``SceneGraph``: which pairs are checked, and their signed distances.
+
+:class:`CollisionModel` builds the arm's plant with its collision geometry and the scene's obstacles through
+the one plant builder (:func:`armlab.diagrams.plant.add_arm_plant`, ``PlantOptions(scene=…)``) and takes the
+pairs to check from ``SceneGraph``: every pair of geometries that is not filtered, i.e. not on adjacent links
+(Drake filters those), not both on the stand or the world, and not filtered by the arm's file. A pair is named
+by its two owners (a link's name, or an obstacle's), the arm's link first; geometries of the same two owners
+(the stand's disc and column) count as one pair, the nearest.
+
+Two ways to the same numbers: :meth:`CollisionModel.drake` asks ``SceneGraph`` sample by sample
+(``ComputeSignedDistancePairClosestPoints``; a capsule or box against the floor, which Drake's pairwise query
+does not support, from Drake's signed distance of the shape's lowest points to the floor), and
+:meth:`CollisionModel.numpy` computes capsules, spheres and floors in batches
+(:mod:`armlab.collision.capsules`) from the arm's forward kinematics. :meth:`CollisionModel.distances` takes
+numpy where every pair is a capsule, sphere or floor pair, Drake otherwise.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armlab.collision.capsules import capsule_capsule, capsule_floor
+from armlab.kinematics.batch import as_batch, blocks
+
+if TYPE_CHECKING:
+    from armlab.collision.scene import Scene
+    from armlab.models.arm import Arm
+
+__all__ = ["Clearances", "CollisionModel", "NoGeometryError", "Part"]
+
+
+class NoGeometryError(ValueError):
+    """The arm has no collision geometry: nothing of it can be checked."""
+
+
+@dataclass(frozen=True)
+class Part:
+    """One collision geometry as the numpy path sees it: on ``owner`` (a link or obstacle name), fixed in the
+    arm's frame ``frame`` (an index of ``arm.table.frames(q)``: 0 the base = world, i link i, n+1 the tool).
+
+    ``kind``: ``"capsule"`` (axis ``a``–``b`` (m) in that frame, radius m; a sphere has ``a`` = ``b``),
+    ``"floor"`` (through ``a`` with outward normal ``b``) or ``"other"`` (a box, cylinder or mesh: Drake only).
+    """
+
+    owner: str
+    frame: int
+    kind: str
+    a: NDArray[np.float64]
+    b: NDArray[np.float64]
+    radius: float = 0.0
+
+
+@dataclass(frozen=True)
+class Clearances:
+    """Signed distances of ``pairs`` (each ``(owner A, owner B)``) over a batch of N configurations.
+
+    ``distance`` (m, ``(N, P)``): negative when the two overlap (−distance is the penetration depth);
+    ``point_a``, ``point_b`` (m, ``(N, P, 3)``, world): the closest points on A and on B.
+    """
+
+    pairs: tuple[tuple[str, str], ...]
+    distance: NDArray[np.float64]
+    point_a: NDArray[np.float64]
+    point_b: NDArray[np.float64]
+
+    def names(self) -> list[str]:
+        """Each pair as ``"A–B"``."""
+        return [f"{a}–{b}" for a, b in self.pairs]
+
+
+def _transform(X: Any) -> NDArray[np.float64]:
+    return np.asarray(X.GetAsMatrix4())
+
+
+class CollisionModel:
+    """The arm's collision geometry and the scene's in one ``SceneGraph`` (see the module docstring).
+
+    :class:`NoGeometryError` (a ``ValueError``) when the arm has no collision geometry: a check would report
+    "no collision" for an arm it cannot see.
+    """
+
+    def __init__(self, arm: Arm, scene: Scene | None = None) -> None:
+        # lazy: Drake is imported by the commands that need it (armlab._lazy)
+        from pydrake.systems.framework import DiagramBuilder
+
+        from armlab.diagrams.plant import PlantOptions, add_arm_plant
+
+        self.arm, self.scene = arm, scene
+        builder = DiagramBuilder()
+        plant, scene_graph = add_arm_plant(builder, arm, PlantOptions(geometry=True, scene=scene))
+        assert scene_graph is not None, "PlantOptions(geometry=True) gives a scene graph"
+        self.plant, self.scene_graph = plant, scene_graph
+        self.diagram = builder.Build()
+        logger = logging.getLogger("drake")
+        level = logger.level
+        logger.setLevel(logging.ERROR)  # a floor's warning that deformable contact ignores it: armlab has none
+        try:
+            self.context = self.diagram.CreateDefaultContext()
+        finally:
+            logger.setLevel(level)
+        self._plant_context = plant.GetMyMutableContextFromRoot(self.context)
+        self._scene_context = scene_graph.GetMyContextFromRoot(self.context)
+        inspector = scene_graph.model_inspector()
+        self._inspector = inspector
+        ids = [g for g in inspector.GetAllGeometryIds() if inspector.GetProximityProperties(g) is not None]
+        frames = self._frame_of_body()
+        self._parts = {g: self._part(g, frames) for g in ids}
+        if not any(part.frame > 0 for part in self._parts.values()):
+            raise NoGeometryError(f"{arm.name} has no collision geometry, so nothing can be checked: give its DH table "
+                                  "a radius column (a capsule per link) or its URDF <collision> elements")
+        owners = {g: part.owner for g, part in self._parts.items()}
+        pairs: dict[tuple[str, str], list[tuple[Any, Any]]] = {}
+        for a, b in sorted(inspector.GetCollisionCandidates(), key=lambda p: (owners[p[0]], owners[p[1]])):
+            if self._parts[a].frame < self._parts[b].frame:
+                a, b = b, a  # the link further out first: the arm's before the stand's and the obstacles'
+            pairs.setdefault((owners[a], owners[b]), []).append((a, b))
+        self.pairs = tuple(pairs)
+        self._geometry_pairs = [pair for group in pairs.values() for pair in group]
+        self._group = np.repeat(np.arange(len(pairs)), [len(group) for group in pairs.values()])
+
+    # ------------------------------------------------------------------ set-up
+    def _owner(self, geometry: Any) -> str:
+        body = self.plant.GetBodyFromFrameId(self._inspector.GetFrameId(geometry))
+        if body.index() == self.plant.world_body().index():
+            return str(self._inspector.GetName(geometry))  # an obstacle, by its scene name
+        return str(body.name())
+
+    def _frame_of_body(self) -> dict[Any, tuple[int, NDArray[np.float64]]]:
+        """Body index → (the arm's frame index it is fixed in, its pose in that frame) for every body."""
+        plant, context = self.plant, self._plant_context
+        plant.SetPositions(context, np.zeros(self.arm.n))
+        anchors = [plant.world_body()] + [plant.GetJointByName(name).child_body() for name in self.arm.joint_names]
+        out = {}
+        for frame, anchor in enumerate(anchors):
+            X_WA = _transform(plant.EvalBodyPoseInWorld(context, anchor))
+            for body in plant.GetBodiesWeldedTo(anchor):
+                X_WB = _transform(plant.EvalBodyPoseInWorld(context, body))
+                out[body.index()] = (frame, np.linalg.solve(X_WA, X_WB))
+        return out
+
+    def _part(self, geometry: Any, frames: dict[Any, tuple[int, NDArray[np.float64]]]) -> Part:
+        inspector = self._inspector
+        body = self.plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
+        frame, X_FB = frames[body.index()]
+        X_FG = X_FB @ _transform(inspector.GetPoseInFrame(geometry))
+        shape, kind = inspector.GetShape(geometry), type(inspector.GetShape(geometry)).__name__
+        owner = self._owner(geometry)
+        if kind == "Capsule":
+            half = X_FG[:3, 2] * shape.length() / 2
+            return Part(owner, frame, "capsule", X_FG[:3, 3] - half, X_FG[:3, 3] + half, shape.radius())
+        if kind == "Sphere":
+            return Part(owner, frame, "capsule", X_FG[:3, 3], X_FG[:3, 3].copy(), shape.radius())
+        if kind == "HalfSpace":
+            return Part(owner, frame, "floor", X_FG[:3, 3], X_FG[:3, 2])
+        return Part(owner, frame, "other", X_FG[:3, 3], X_FG[:3, 2])
+
+    @property
+    def numpy_ready(self) -> bool:
+        """True when every pair is of capsules, spheres and floors: :meth:`numpy` can compute them all."""
+        return all(self._parts[a].kind == "capsule" and self._parts[b].kind in ("capsule", "floor")
+                   for a, b in self._geometry_pairs)
+
+    # ---------------------------------------------------------------- queries
+    def distances(self, q: ArrayLike) -> Clearances:
+        """The clearances of every pair at ``q`` ``(n,)`` or ``(N, n)`` (rad, m): numpy when it can, else Drake."""
+        return self.numpy(q) if self.numpy_ready else self.drake(q)
+
+    def _reduce(self, q: NDArray[np.float64], distance: NDArray, point_a: NDArray, point_b: NDArray) -> Clearances:
+        """Per-geometry-pair results ``(N, G)`` → per owner pair ``(N, P)``: the nearest geometry pair of each."""
+        count = len(self.pairs)
+        if len(self._geometry_pairs) != count:
+            order = np.argsort(self._group, kind="stable")
+            starts = np.searchsorted(self._group[order], np.arange(count))
+            best = np.empty((distance.shape[0], count), dtype=np.intp)
+            for k, start in enumerate(starts):
+                stop = starts[k + 1] if k + 1 < count else len(order)
+                columns = order[start:stop]
+                best[:, k] = columns[np.argmin(distance[:, columns], axis=1)]
+            rows = np.arange(distance.shape[0])[:, None]
+            distance, point_a, point_b = distance[rows, best], point_a[rows, best], point_b[rows, best]
+        shape = q.shape[:-1]
+        return Clearances(self.pairs, distance.reshape(shape + (count,)), point_a.reshape(shape + (count, 3)),
+                          point_b.reshape(shape + (count, 3)))
+
+    def drake(self, q: ArrayLike) -> Clearances:
+        """The clearances of every pair at ``q`` ``(n,)`` or ``(N, n)``, asked of ``SceneGraph`` sample by sample."""
+        q = as_batch(q, self.arm.n)
+        flat = q.reshape(-1, self.arm.n)
+        G = len(self._geometry_pairs)
+        distance, point_a, point_b = np.empty((len(flat), G)), np.empty((len(flat), G, 3)), np.empty((len(flat), G, 3))
+        port = self.scene_graph.get_query_output_port()
+        for k, qk in enumerate(flat):
+            self.plant.SetPositions(self._plant_context, qk)
+            query = port.Eval(self._scene_context)
+            for j, (a, b) in enumerate(self._geometry_pairs):
+                distance[k, j], point_a[k, j], point_b[k, j] = self._drake_pair(query, a, b)
+        return self._reduce(q, distance, point_a, point_b)
+
+    def _drake_pair(self, query: Any, a: Any, b: Any) -> tuple[float, NDArray, NDArray]:
+        """Drake's signed distance of geometries ``a`` and ``b`` and the closest points (world)."""
+        if self._parts[b].kind != "floor":
+            result = query.ComputeSignedDistancePairClosestPoints(a, b)
+            X_A, X_B = query.GetPoseInWorld(a), query.GetPoseInWorld(b)
+            return float(result.distance), X_A.multiply(result.p_ACa), X_B.multiply(result.p_BCb)
+        # the floor: Drake's signed distance of the capsule's (sphere's) axis ends to the half space, less the radius
+        part = self._parts[a]
+        if part.kind != "capsule":
+            raise ValueError(f"{part.owner}: a {type(self._inspector.GetShape(a)).__name__} is checked against the "
+                             "floor only as a capsule or sphere")
+        X_WG = _transform(query.GetPoseInWorld(a))
+        shape = self._inspector.GetShape(a)
+        length = shape.length() if type(shape).__name__ == "Capsule" else 0.0
+        best: tuple[float, NDArray, NDArray] | None = None
+        for end in (-length / 2, length / 2):
+            p = X_WG[:3, :3] @ np.array([0.0, 0.0, end]) + X_WG[:3, 3]
+            (hit,) = [d for d in query.ComputeSignedDistanceToPoint(p) if d.id_G == b]
+            height = float(hit.distance)
+            if best is None or height - part.radius < best[0]:
+                normal = np.asarray(hit.grad_W)
+                best = (height - part.radius, p - part.radius * normal, p - height * normal)
+        assert best is not None
+        return best
+
+    def numpy(self, q: ArrayLike) -> Clearances:
+        """The clearances of every pair at ``q`` ``(n,)`` or ``(N, n)``, computed in batches with numpy
+        (:mod:`armlab.collision.capsules`); ``ValueError`` if a pair has a box, cylinder or mesh (Drake only)."""
+        if not self.numpy_ready:
+            raise ValueError(f"{self.arm.name}: a pair has a box, cylinder or mesh: only Drake computes it")
+        q = as_batch(q, self.arm.n)
+        flat = q.reshape(-1, self.arm.n)
+        G = len(self._geometry_pairs)
+        distance, point_a, point_b = np.empty((len(flat), G)), np.empty((len(flat), G, 3)), np.empty((len(flat), G, 3))
+        A = [self._parts[a] for a, _ in self._geometry_pairs]
+        B = [self._parts[b] for _, b in self._geometry_pairs]
+        for block in blocks(len(flat)) if G else []:
+            frames = self.arm.table.frames(flat[block])  # (B, n+2, 4, 4)
+            ends = [self._ends(frames, part) for part in (*A, *B)]
+            P0 = np.stack([e[0] for e in ends[:G]], axis=1)
+            P1 = np.stack([e[1] for e in ends[:G]], axis=1)
+            Q0 = np.stack([e[0] for e in ends[G:]], axis=1)
+            Q1 = np.stack([e[1] for e in ends[G:]], axis=1)
+            rA, rB = np.array([p.radius for p in A]), np.array([p.radius for p in B])
+            floor = np.array([p.kind == "floor" for p in B])
+            d, pa, pb = capsule_capsule(P0, P1, rA, Q0, Q1, rB)
+            if floor.any():
+                fd, fa, fb = capsule_floor(P0[:, floor], P1[:, floor], rA[floor], Q0[:, floor], Q1[:, floor])
+                d[:, floor], pa[:, floor], pb[:, floor] = fd, fa, fb
+            distance[block], point_a[block], point_b[block] = d, pa, pb
+        return self._reduce(q, distance, point_a, point_b)
+
+    @staticmethod
+    def _ends(frames: NDArray[np.float64], part: Part) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """A part's two points in the world for each sample ``(B, 3)`` each (a floor: its point and its normal)."""
+        R, p = frames[:, part.frame, :3, :3], frames[:, part.frame, :3, 3]
+        if part.kind == "floor":
+            return R @ part.a + p, R @ part.b
+        return R @ part.a + p, R @ part.b + p
