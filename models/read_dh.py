@@ -10,7 +10,9 @@ A **DH table** is a CSV file (the README's section "Your own arm: the DH table f
   lengths in metres; ``lower``/``upper`` empty for an unlimited revolute joint), then, in any order,
   the optional columns of the Robotics Toolbox's ``RevoluteDH(m=, r=, I=)``, per link in the link's
   own DH frame: ``mass`` (kg), ``cx,cy,cz`` (centre of mass, m), ``Ixx,Iyy,Izz,Ixy,Ixz,Iyz``
-  (kg·m² about the centre of mass), ``effort`` (N·m or N) and ``velocity`` (rad/s or m/s) limits.
+  (kg·m² about the centre of mass), ``effort`` (N·m or N) and ``velocity`` (rad/s or m/s) limits, and
+  ``radius`` (m, > 0): the link's collision capsule along the offset to the next joint (:mod:`armlab.collision`);
+  a table without it has no collision geometry.
 
 A table without the ``mass`` column is a *kinematic* arm (``Arm.has_dynamics`` False): no masses
 are invented. Missing effort/velocity limits are unknown (``None``). At most
@@ -22,7 +24,7 @@ from __future__ import annotations
 import csv
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Literal, TypeGuard
 
@@ -40,7 +42,7 @@ __all__ = ["DHInertial", "from_dh", "from_dh_csv", "read_dh_csv"]
 _DH_COLUMNS = ("type", "a", "alpha", "d", "theta", "lower", "upper")
 _COM_COLUMNS = ("cx", "cy", "cz")
 _INERTIA_COLUMNS = ("Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz")
-_OPTIONAL_COLUMNS = ("mass", *_COM_COLUMNS, *_INERTIA_COLUMNS, "effort", "velocity")
+_OPTIONAL_COLUMNS = ("mass", *_COM_COLUMNS, *_INERTIA_COLUMNS, "effort", "velocity", "radius")
 _DIRECTIVES = {"convention": ("standard", "modified"), "units": ("rad", "deg")}
 _KINDS: tuple[Literal["R", "T"], ...] = ("R", "T")
 
@@ -128,12 +130,17 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
     The mass data is ``None`` when the file has no ``mass`` column (a kinematic arm). Errors name the
     bad row and column.
     """
+    return _read_dh(path)[:3]
+
+
+def _read_dh(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | None, list[float] | None]:
+    """:func:`read_dh_csv` and the links' collision radii (m; ``None`` without the ``radius`` column)."""
     path = Path(path)
     settings, lines = _header_comments(path, read_text(path, "DH table").splitlines())
     deg = settings.get("units") == "deg"
     reader = csv.reader(lines)
     columns = _columns(path, next(reader, None))
-    rows, limits, inertials = [], [], []
+    rows, limits, inertials, radii = [], [], [], []
     for number, values in enumerate(reader, start=1):
         if not values:
             continue
@@ -167,11 +174,21 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
             limits.append(JointLimits(lo, hi, effort, velocity))
         if "mass" in record:
             inertials.append(_dh_inertial(record, where))
+        if "radius" in record:
+            radii.append(_radius(record["radius"], f"{where}: radius"))
     if not rows:
         raise ValueError(f"{path}: the DH table has no rows")
     # _header_comments let only "standard" or "modified" through; absent is standard
     table = DHTable(tuple(rows), "modified" if settings.get("convention") == "modified" else "standard")
-    return table, limits, inertials if "mass" in columns else None
+    return table, limits, inertials if "mass" in columns else None, radii if "radius" in columns else None
+
+
+def _radius(text: str, what: str) -> float:
+    """A link's collision radius (m) from its cell: a finite number > 0."""
+    value = file_number(text, what) if text else -1.0
+    if not value > 0:
+        raise ValueError(f"{what} = {text or '(empty)'} is not allowed: a collision radius is a number > 0 m")
+    return value
 
 
 def _dh_inertial(record: dict[str, str], where: str) -> DHInertial:
@@ -191,12 +208,14 @@ def from_dh(
     table: DHTable,
     limits: Sequence[JointLimits],
     inertials: Sequence[DHInertial] | None = None,
+    radii: Sequence[float] | None = None,
     name: str = "dh_arm",
 ) -> Arm:
     """An arm from a DH table: its URDF comes from the same builder as the paper arms'.
 
     ``inertials`` (one per link, in the links' DH frames) are moved into the URDF's link frames {i};
-    ``None`` or all masses 0 gives a kinematic arm (``has_dynamics`` False, no ``<inertial>``).
+    ``None`` or all masses 0 gives a kinematic arm (``has_dynamics`` False, no ``<inertial>``). ``radii``
+    (m, one per link): each link's collision capsule; ``None``: the arm has no collision geometry.
     """
     locating = table.locating_table()
     n = table.n
@@ -211,6 +230,10 @@ def from_dh(
         urdf_frames, dh_frames = locating.frames(zero)[1:n + 1], table.frames(zero)[1:]
         bodies = tuple(_moved(body, np.linalg.solve(F, D)) for body, F, D in
                        zip(inertials, urdf_frames, dh_frames, strict=True))
+    if radii is not None:
+        if len(radii) != n:
+            raise ValueError(f"{name}: need {n} link radii, got {len(radii)}")
+        bodies = tuple(replace(body, radius=float(r), collides=True) for body, r in zip(bodies, radii, strict=True))
     return Arm(
         name=name,
         paper="user DH table",
@@ -240,7 +263,7 @@ def _moved(body: DHInertial, X: NDArray) -> Body:
 
 def from_dh_csv(path: str | Path) -> Arm:
     """An arm from a DH table file (:func:`read_dh_csv`), named after the file."""
-    return from_dh(*read_dh_csv(path), name=Path(path).stem)
+    return from_dh(*_read_dh(path), name=Path(path).stem)
 
 
 def _dh_forward(table: DHTable, q: np.ndarray) -> Forward:
