@@ -5,6 +5,9 @@ other), for whole batches at once: what the clearance along a motion and the col
 A capsule is a segment P0–P1 (m, world) and a radius r (m); its signed distance to another is the distance
 between the two segments minus both radii, negative when they overlap (then −distance is the penetration
 depth). The closest points lie on the two surfaces, along the line joining the segments' closest points.
+A capsule and a box: the segment's distance to the box less the radius, exact while the segment stays outside
+the box (a convex set grown by r: every distance shrinks by r); where the segment enters the box the depth is
+not this, and the caller asks Drake (:func:`capsule_box` says where).
 """
 
 from __future__ import annotations
@@ -12,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["capsule_capsule", "capsule_floor", "segment_segment"]
+__all__ = ["capsule_box", "capsule_capsule", "capsule_floor", "segment_box", "segment_segment"]
 
 #: Squared lengths below this (m²) make a segment a point.
 _EPS = 1e-24
@@ -72,3 +75,53 @@ def capsule_floor(
     height = np.minimum(h0, h1)
     r = np.asarray(r, dtype=float)
     return height - r, low - r[..., None] * normal, low - height[..., None] * normal
+
+
+def segment_box(
+    P0: NDArray[np.float64], P1: NDArray[np.float64], half: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The closest points of segment P0–P1 (``(..., 3)``, m, in the box's frame) and the box of half edges
+    ``half`` (``(..., 3)``, m, centred at the origin): ``(C_S, C_B)``; equal where the segment meets the box.
+
+    The squared distance of the segment's point P(s) to the box is convex in s and quadratic between the s
+    where P(s) crosses a face plane: each of those pieces is minimised in closed form, and the least taken.
+    """
+    d = P1 - P0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cross = np.concatenate([(-half - P0) / d, (half - P0) / d], axis=-1)  # (..., 6): where P(s) crosses a plane
+    cross = np.where(np.isfinite(cross), np.clip(cross, 0.0, 1.0), 0.0)
+    knots = np.sort(np.concatenate([np.zeros(P0.shape[:-1] + (1,)), np.ones(P0.shape[:-1] + (1,)), cross], axis=-1),
+                    axis=-1)  # (..., 8)
+    lo, hi = knots[..., :-1], knots[..., 1:]  # the 7 pieces
+    mid = (lo + hi) / 2
+    x = P0[..., None, :] + mid[..., None] * d[..., None, :]  # (..., 7, 3)
+    face = np.clip(x, -half[..., None, :], half[..., None, :])
+    outside = x != face  # the axes on which the piece lies beyond a face (fixed on the piece)
+    e, dd = (P0[..., None, :] - face) * outside, d[..., None, :] * outside
+    den = _dot(dd, dd)
+    best = np.where(den > 0, -_dot(e, dd) / np.where(den > 0, den, 1.0), mid)
+    best = np.clip(best, lo, hi)
+    point = P0[..., None, :] + best[..., None] * d[..., None, :]
+    near = np.clip(point, -half[..., None, :], half[..., None, :])
+    gap = point - near
+    k = np.argmin(_dot(gap, gap), axis=-1)[..., None, None]
+    return np.take_along_axis(point, k, axis=-2)[..., 0, :], np.take_along_axis(near, k, axis=-2)[..., 0, :]
+
+
+def capsule_box(
+    P0: NDArray[np.float64], P1: NDArray[np.float64], r: NDArray[np.float64] | float,
+    X: NDArray[np.float64], half: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+    """Signed distance (m) of capsule (P0–P1, r; world) to the box of pose ``X`` (``(..., 4, 4)``, world) and half
+    edges ``half`` (m), the closest points on the capsule and the box (m, world), and where the capsule's axis
+    enters the box (``(...)`` bool: there the distance is not exact and is to be asked of Drake)."""
+    R, c = X[..., :3, :3], X[..., :3, 3]
+    to_box = np.swapaxes(R, -1, -2)
+    CS, CB = segment_box(np.einsum("...ij,...j->...i", to_box, P0 - c),
+                         np.einsum("...ij,...j->...i", to_box, P1 - c), half)
+    CS, CB = np.einsum("...ij,...j->...i", R, CS) + c, np.einsum("...ij,...j->...i", R, CB) + c
+    gap = CB - CS
+    length = np.sqrt(_dot(gap, gap))
+    unit = gap / np.where(length > 0, length, 1.0)[..., None]
+    r = np.asarray(r, dtype=float)
+    return length - r, CS + r[..., None] * unit, CB, length <= 1e-12

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.collision.capsules import capsule_capsule, capsule_floor
+from armlab.collision.capsules import capsule_box, capsule_capsule, capsule_floor
 from armlab.kinematics.batch import as_batch, blocks
 
 if TYPE_CHECKING:
@@ -44,7 +44,8 @@ class Part:
     arm's frame ``frame`` (an index of ``arm.table.frames(q)``: 0 the base = world, i link i, n+1 the tool).
 
     ``kind``: ``"capsule"`` (axis ``a``–``b`` (m) in that frame, radius m; a sphere has ``a`` = ``b``),
-    ``"floor"`` (through ``a`` with outward normal ``b``) or ``"other"`` (a box, cylinder or mesh: Drake only).
+    ``"floor"`` (through ``a`` with outward normal ``b``), ``"box"`` (half edges ``a`` (m), its pose in that
+    frame ``X``) or ``"other"`` (a cylinder, mesh …: Drake only).
     """
 
     owner: str
@@ -53,6 +54,7 @@ class Part:
     a: NDArray[np.float64]
     b: NDArray[np.float64]
     radius: float = 0.0
+    X: NDArray[np.float64] | None = None
 
 
 @dataclass(frozen=True)
@@ -157,12 +159,16 @@ class CollisionModel:
             return Part(owner, frame, "capsule", X_FG[:3, 3], X_FG[:3, 3].copy(), shape.radius())
         if kind == "HalfSpace":
             return Part(owner, frame, "floor", X_FG[:3, 3], X_FG[:3, 2])
+        if kind == "Box":
+            return Part(owner, frame, "box", np.array([shape.width(), shape.depth(), shape.height()]) / 2,
+                        np.zeros(3), X=X_FG)
         return Part(owner, frame, "other", X_FG[:3, 3], X_FG[:3, 2])
 
     @property
     def numpy_ready(self) -> bool:
-        """True when every pair is of capsules, spheres and floors: :meth:`numpy` can compute them all."""
-        return all(self._parts[a].kind == "capsule" and self._parts[b].kind in ("capsule", "floor")
+        """True when every pair is a capsule (or sphere) against a capsule, sphere, floor or box: :meth:`numpy`
+        computes them all (a box that the capsule's axis enters: Drake, at those samples)."""
+        return all(self._parts[a].kind == "capsule" and self._parts[b].kind in ("capsule", "floor", "box")
                    for a, b in self._geometry_pairs)
 
     # ---------------------------------------------------------------- queries
@@ -228,9 +234,10 @@ class CollisionModel:
 
     def numpy(self, q: ArrayLike) -> Clearances:
         """The clearances of every pair at ``q`` ``(n,)`` or ``(N, n)``, computed in batches with numpy
-        (:mod:`armlab.collision.capsules`); ``ValueError`` if a pair has a box, cylinder or mesh (Drake only)."""
+        (:mod:`armlab.collision.capsules`); ``ValueError`` unless :attr:`numpy_ready`. Where a capsule's axis
+        enters a box the depth comes from Drake (:func:`armlab.collision.capsules.capsule_box`)."""
         if not self.numpy_ready:
-            raise ValueError(f"{self.arm.name}: a pair has a box, cylinder or mesh: only Drake computes it")
+            raise ValueError(f"{self.arm.name}: a pair has a cylinder, mesh or a box on a link: only Drake computes it")
         q = as_batch(q, self.arm.n)
         flat = q.reshape(-1, self.arm.n)
         G = len(self._geometry_pairs)
@@ -246,12 +253,27 @@ class CollisionModel:
             Q1 = np.stack([e[1] for e in ends[G:]], axis=1)
             rA, rB = np.array([p.radius for p in A]), np.array([p.radius for p in B])
             floor = np.array([p.kind == "floor" for p in B])
+            box = np.array([p.kind == "box" for p in B])
             d, pa, pb = capsule_capsule(P0, P1, rA, Q0, Q1, rB)
             if floor.any():
                 fd, fa, fb = capsule_floor(P0[:, floor], P1[:, floor], rA[floor], Q0[:, floor], Q1[:, floor])
                 d[:, floor], pa[:, floor], pb[:, floor] = fd, fa, fb
+            if box.any():
+                X = np.stack([frames[:, p.frame] @ p.X for p in B if p.X is not None], axis=1)
+                half = np.array([p.a for p in B if p.kind == "box"])
+                bd, ba, bb, inside = capsule_box(P0[:, box], P1[:, box], rA[box], X, half)
+                d[:, box], pa[:, box], pb[:, box] = bd, ba, bb
+                for k, j in np.argwhere(inside):  # the axis enters the box: Drake's depth
+                    column = np.flatnonzero(box)[j]
+                    d[k, column], pa[k, column], pb[k, column] = self._drake_at(flat[block][k], column)
             distance[block], point_a[block], point_b[block] = d, pa, pb
         return self._reduce(q, distance, point_a, point_b)
+
+    def _drake_at(self, q: NDArray[np.float64], pair: int) -> tuple[float, NDArray, NDArray]:
+        """Drake's signed distance and closest points of geometry pair ``pair`` at one ``q``."""
+        self.plant.SetPositions(self._plant_context, q)
+        query = self.scene_graph.get_query_output_port().Eval(self._scene_context)
+        return self._drake_pair(query, *self._geometry_pairs[pair])
 
     @staticmethod
     def _ends(frames: NDArray[np.float64], part: Part) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
