@@ -185,7 +185,7 @@ def test_cli_check_and_strict_exit(tmp_path, capsys):
     assert out[1].split()[:2] == ["link4–link1", "-60.0000"]
     assert main(["check", "rrrr", "--q", "0,0,0,0", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert not data["in_contact"] and [row["pair"] for row in data["clearances"]][0] == "link4–link2"
+    assert not data["in_contact"] and data["clearances"][0]["pair"] == "link4–link2"
 
 
 def _scene_file(tmp_path, text: str):
@@ -207,7 +207,7 @@ def _scene_file(tmp_path, text: str):
 ])
 def test_bad_scene_is_one_line_exit_2(tmp_path, capsys, text, message):
     path = _scene_file(tmp_path, text)
-    with pytest.raises(ValueError, match="^--scene "):
+    with pytest.raises(ValueError, match=r"^--scene "):
         read_scene(path)
     assert main(["check", "urm6", "--q", "0,0,0,0,0,0", "--scene", path]) == 2
     err = capsys.readouterr().err
