@@ -190,6 +190,7 @@ class Workspace:
     #: kept point, whether its configuration is collision-free.
     collision_free_volume: float | None = None
     collision_free_fraction: float | None = None
+    min_clearance: float | None = None  # m, over every sample and pair; < 0: the deepest penetration
     collision_check: str = ""
     free: NDArray[np.bool_] | None = None
 
@@ -238,6 +239,7 @@ class Workspace:
         if self.collision_check:
             out["collision_free_volume"] = self.collision_free_volume
             out["collision_free_fraction"] = self.collision_free_fraction
+            out["min_clearance"] = self.min_clearance
             out["collision_check"] = self.collision_check
         return out
 
@@ -309,7 +311,7 @@ def workspace(
     h = check_resolution(resolution) if resolution is not None else \
         default_resolution((first_points - origin) @ basis.T, samples, bound)
     grid = _Occupancy(h, bound, dim)
-    model, free_grid, free_count, kept_free = None, _Occupancy(h, bound, dim), 0, []
+    model, free_grid, free_count, kept_free, nearest = None, _Occupancy(h, bound, dim), 0, [], np.inf
     if collisions or scene is not None:
         # lazy: armlab.collision imports Drake
         from armlab.collision.model import CollisionModel
@@ -334,7 +336,9 @@ def workspace(
         coords = (points - origin) @ basis.T
         grid.add(coords)
         if model is not None:
-            free = np.all(model.distances(q).distance >= 0, axis=-1)
+            clearance = model.distances(q).distance
+            free = np.all(clearance >= 0, axis=-1)
+            nearest = min(nearest, float(clearance.min(initial=np.inf)))
             free_grid.add(coords[free])
             free_count += int(np.count_nonzero(free))
         reach = max(reach, float(np.sqrt(np.max(np.einsum("ij,ij->i", points, points)))))
@@ -361,6 +365,7 @@ def workspace(
         free_measures = free_grid.measures()
         result.collision_free_volume = free_grid.extrapolated(free_measures) if motions == dim else 0.0
         result.collision_free_fraction = free_count / samples
+        result.min_clearance = nearest if np.isfinite(nearest) else None
         where = "itself" if scene is None else f"itself and the {len(scene.obstacles)} obstacle(s) of {scene.source}"
         result.collision_check = f"{len(model.pairs)} pair(s) checked: the arm against {where}"
         result.free = np.concatenate(kept_free)

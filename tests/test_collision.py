@@ -274,3 +274,39 @@ def test_collision_free_workspace_of_the_2r_arm_around_a_disc():
     assert ws.collision_free_volume is not None
     assert abs((ws.volume - ws.collision_free_volume) - (raw - free)) < 0.01 * raw
     assert 0 < raw - free and 0.9 < ws.collision_free_fraction < 1
+
+
+def test_ik_marks_and_drops_colliding_branches(tmp_path, capsys):
+    """rr's two elbow branches to (0.4, 0.3) m with a disc on the elbow-down branch's upper arm: that one collides."""
+    disc = _scene_file(tmp_path, '{"obstacles": [{"name": "post", "shape": "sphere", "radius": 0.05, '
+                                 '"xyz": [0.2, 0, 0]}]}')
+    assert main(["ik", "rr", "--target", "0.4,0.3", "--all", "--deg", "--scene", disc]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 2 and sum("colliding: link1–post" in line for line in lines) == 1
+    assert sum("collision-free (clearance" in line for line in lines) == 1
+    assert main(["ik", "rr", "--target", "0.4,0.3", "--all", "--deg", "--scene", disc, "--collision-free",
+                 "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    (q,) = data["solutions"]
+    assert data["colliding_pairs"] == [[]] and data["min_clearance"][0] > 0
+    rows = get_arm("rr").clearance(q, disc)
+    assert_allclose(min(row["distance"] for row in rows), data["min_clearance"][0], rtol=0, atol=1e-12)
+
+
+def test_sweep_objectives_collision_free_volume_and_min_clearance():
+    """urm6 with every bend at 120° folds onto itself: its collision-free volume is below the raw one and its
+    smallest clearance negative; at Table 1's bends none of the samples touches."""
+    from armlab.analysis.study import evaluate, parse_study
+
+    def objectives(bend: float) -> dict[str, float]:
+        study = parse_study({"arm": "urm6", "vary": {f"theta{k}": {"values": [bend], "unit": "deg"}
+                                                      for k in range(2, 7)},
+                             "evaluate": ["workspace_volume", "collision_free_volume", "min_clearance"],
+                             "samples": 20000})
+        return evaluate(study, study.candidates[0])
+
+    folded = objectives(120.0)
+    assert folded["collision_free_volume"] < 0.99 * folded["workspace_volume"] and folded["min_clearance"] < 0
+    straight = objectives(15.0)
+    assert_allclose(straight["collision_free_volume"], straight["workspace_volume"], rtol=1e-12)
+    assert straight["min_clearance"] > 0
