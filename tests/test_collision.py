@@ -310,3 +310,16 @@ def test_sweep_objectives_collision_free_volume_and_min_clearance():
     straight = objectives(15.0)
     assert_allclose(straight["collision_free_volume"], straight["workspace_volume"], rtol=1e-12)
     assert straight["min_clearance"] > 0
+
+
+@pytest.mark.parametrize("name", ARMS)
+def test_models_readme_gives_every_collision_radius(name):
+    """Each paper arm's section says its collision shapes: every link's radius (mm), chosen and why."""
+    from armlab.models.arm import MODELS_DIR
+
+    sections = (MODELS_DIR / "README.md").read_text().split("\n## `")[1:]
+    (section,) = [s for s in sections if s.startswith(f"{name}`")]
+    (line,) = [s for s in section.splitlines() if s.startswith("Collision geometry:")]
+    assert "chosen, not from the paper" in line
+    for body in get_arm(name).bodies:
+        assert body.collides and f"{body.radius * 1e3:g}" in line, (name, body.radius)
