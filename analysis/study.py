@@ -333,13 +333,19 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
     if any(e in WORKSPACE for e in study.evaluate):
         w = workspace(arm, study.samples, study.resolution, study.seed, jacobians=False,
                       collisions=any(e in COLLISION for e in study.evaluate))
-        found = {"workspace_volume": w.volume, "reach": w.reach, "collision_free_volume": w.collision_free_volume,
-                 "min_clearance": w.min_clearance}
+        found: dict[str, float | None] = {"workspace_volume": w.volume, "reach": w.reach,
+                                          "collision_free_volume": w.collision_free_volume,
+                                          "min_clearance": w.min_clearance}
         if any(e.endswith("manipulability") for e in study.evaluate):  # on the workspace's kept configurations
             manipulability = task_sigma(arm, w.q[:JACOBIAN_SAMPLES])[0]
             found |= {"min_manipulability": float(manipulability.min()),
                       "mean_manipulability": float(manipulability.mean())}
-        out |= {e: found[e] for e in study.evaluate if e in WORKSPACE}
+        for e in (e for e in study.evaluate if e in WORKSPACE):
+            value = found[e]
+            if value is None:  # min_clearance of an arm with no pair to check
+                raise ValueError(f"evaluate: {e}: {arm.name} has no pair of links to check (adjacent links never "
+                                 "are)")
+            out[e] = float(value)
     if motion is not None:
         stats = torque_stats(*_torques(study, arm, motion, payload))
         drive = {"peak_torque": stats["max_abs_torque"], "rms_torque": stats["rms_torque"],

@@ -146,20 +146,22 @@ class CollisionModel:
         return out
 
     def _part(self, geometry: Any, frames: dict[Any, tuple[int, NDArray[np.float64]]]) -> Part:
+        """The geometry as numpy sees it (:class:`Part`), in the arm's frame its body is fixed in."""
+        from pydrake.geometry import Box, Capsule, HalfSpace, Sphere
+
         inspector = self._inspector
         body = self.plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
         frame, X_FB = frames[body.index()]
         X_FG = X_FB @ _transform(inspector.GetPoseInFrame(geometry))
-        shape, kind = inspector.GetShape(geometry), type(inspector.GetShape(geometry)).__name__
-        owner = self._owner(geometry)
-        if kind == "Capsule":
+        shape, owner = inspector.GetShape(geometry), self._owner(geometry)
+        if isinstance(shape, Capsule):
             half = X_FG[:3, 2] * shape.length() / 2
             return Part(owner, frame, "capsule", X_FG[:3, 3] - half, X_FG[:3, 3] + half, shape.radius())
-        if kind == "Sphere":
+        if isinstance(shape, Sphere):
             return Part(owner, frame, "capsule", X_FG[:3, 3], X_FG[:3, 3].copy(), shape.radius())
-        if kind == "HalfSpace":
+        if isinstance(shape, HalfSpace):
             return Part(owner, frame, "floor", X_FG[:3, 3], X_FG[:3, 2])
-        if kind == "Box":
+        if isinstance(shape, Box):
             return Part(owner, frame, "box", np.array([shape.width(), shape.depth(), shape.height()]) / 2,
                         np.zeros(3), X=X_FG)
         return Part(owner, frame, "other", X_FG[:3, 3], X_FG[:3, 2])
@@ -219,8 +221,10 @@ class CollisionModel:
             raise ValueError(f"{part.owner}: a {type(self._inspector.GetShape(a)).__name__} is checked against the "
                              "floor only as a capsule or sphere")
         X_WG = _transform(query.GetPoseInWorld(a))
+        from pydrake.geometry import Capsule
+
         shape = self._inspector.GetShape(a)
-        length = shape.length() if type(shape).__name__ == "Capsule" else 0.0
+        length = shape.length() if isinstance(shape, Capsule) else 0.0
         best: tuple[float, NDArray, NDArray] | None = None
         for end in (-length / 2, length / 2):
             p = X_WG[:3, :3] @ np.array([0.0, 0.0, end]) + X_WG[:3, 3]

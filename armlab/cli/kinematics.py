@@ -184,10 +184,16 @@ def _cmd_ik(args: argparse.Namespace) -> int:
     unit = "deg" if args.deg else "SI"
     for k, q in enumerate(solutions):
         shown = np.where(arm.revolute, np.degrees(q), q) if args.deg else q
-        mark = "" if marks is None else ("  colliding: " + ", ".join(marks[k][0]) if marks[k][0] else
-                                         f"  collision-free (clearance {marks[k][1] * 1e3:.4g} mm)")
+        mark = "" if marks is None else _mark(*marks[k])
         print(f"q ({unit}) = {_fmt(shown)}{mark}")
     return 0
+
+
+def _mark(touching: list[str], clearance: float | None) -> str:
+    """What an IK solution's line says of its collisions."""
+    if touching:
+        return "  colliding: " + ", ".join(touching)
+    return "  collision-free" + ("" if clearance is None else f" (clearance {clearance * 1e3:.4g} mm)")
 
 
 def _collision_marks(arm: Arm, solutions: list[np.ndarray], args: argparse.Namespace
