@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.collision.capsules import capsule_box, capsule_capsule, capsule_floor
+from armlab.diagrams.plant import PlantOptions, add_arm_plant
 from armlab.kinematics.batch import as_batch, blocks
 
 if TYPE_CHECKING:
@@ -89,8 +90,6 @@ class CollisionModel:
     def __init__(self, arm: Arm, scene: Scene | None = None) -> None:
         # lazy: Drake is imported by the commands that need it (armlab._lazy)
         from pydrake.systems.framework import DiagramBuilder
-
-        from armlab.diagrams.plant import PlantOptions, add_arm_plant
 
         self.arm, self.scene = arm, scene
         builder = DiagramBuilder()
