@@ -2,7 +2,7 @@
 
 :mod:`~armlab.collision.scene` reads a scene file (``--scene``); :mod:`~armlab.collision.model` registers the arm
 and the scene with the one plant builder and asks ``SceneGraph`` for every pair's signed distance, closest points
-and penetration depth; :mod:`~armlab.collision.capsules` computes the same for capsules, spheres and floors in
-batches with numpy (agreeing with Drake to 1e-9 m); :mod:`~armlab.collision.clearance` gives the clearances of a
-configuration or a motion, by pair.
+and penetration depth; :mod:`~armlab.collision.capsules` computes the same for capsules and spheres against
+capsules, spheres, floors and boxes in batches with numpy, in closed form; :mod:`~armlab.collision.clearance`
+gives the clearances of a configuration or a motion, by pair.
 """
