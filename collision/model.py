@@ -216,26 +216,45 @@ class CollisionModel:
             result = query.ComputeSignedDistancePairClosestPoints(a, b)
             X_A, X_B = query.GetPoseInWorld(a), query.GetPoseInWorld(b)
             return float(result.distance), X_A.multiply(result.p_ACa), X_B.multiply(result.p_BCb)
-        # the floor: Drake's signed distance of the capsule's (sphere's) axis ends to the half space, less the radius
-        part = self._parts[a]
-        if part.kind != "capsule":
-            raise ValueError(f"{part.owner}: a {type(self._inspector.GetShape(a)).__name__} is checked against the "
-                             "floor only as a capsule or sphere")
+        # the floor: Drake's signed distance to it of the lowest points the shape can have, less its radius
         X_WG = _transform(query.GetPoseInWorld(a))
-        from pydrake.geometry import Capsule
-
-        shape = self._inspector.GetShape(a)
-        length = shape.length() if isinstance(shape, Capsule) else 0.0
+        points, radius = self._lowest_candidates(a, X_WG, _transform(query.GetPoseInWorld(b))[:3, 2])
         best: tuple[float, NDArray, NDArray] | None = None
-        for end in (-length / 2, length / 2):
-            p = X_WG[:3, :3] @ np.array([0.0, 0.0, end]) + X_WG[:3, 3]
+        for p in points:
             (hit,) = [d for d in query.ComputeSignedDistanceToPoint(p) if d.id_G == b]
             height = float(hit.distance)
-            if best is None or height - part.radius < best[0]:
+            if best is None or height - radius < best[0]:
                 normal = np.asarray(hit.grad_W)
-                best = (height - part.radius, p - part.radius * normal, p - height * normal)
+                best = (height - radius, p - radius * normal, p - height * normal)
         assert best is not None
         return best
+
+    def _lowest_candidates(self, geometry: Any, X_WG: NDArray[np.float64], up: NDArray[np.float64]
+                           ) -> tuple[list[NDArray[np.float64]], float]:
+        """Points (world, m) among which lies the lowest of ``geometry`` along ``up``, and the radius to take off:
+        a capsule's axis ends (its radius), a sphere's centre, a box's corners, a mesh's convex hull's vertices, a
+        cylinder's lowest rim point. ``ValueError`` for another shape."""
+        from pydrake.geometry import Box, Capsule, Convex, Cylinder, Mesh, Sphere
+
+        shape = self._inspector.GetShape(geometry)
+        R, c = X_WG[:3, :3], X_WG[:3, 3]
+        if isinstance(shape, Capsule | Sphere):
+            half = shape.length() / 2 if isinstance(shape, Capsule) else 0.0
+            return [c - half * R[:, 2], c + half * R[:, 2]], shape.radius()
+        if isinstance(shape, Box):
+            corners = np.array(np.meshgrid(*([-0.5, 0.5],) * 3)).reshape(3, -1).T * [shape.width(), shape.depth(),
+                                                                                     shape.height()]
+            return list(corners @ R.T + c), 0.0
+        if isinstance(shape, Mesh | Convex):
+            hull = self._inspector.GetConvexHull(geometry)
+            return [R @ np.asarray(hull.vertex(i)) + c for i in range(hull.num_vertices())], 0.0
+        if isinstance(shape, Cylinder):
+            axis = R[:, 2] * np.sign(R[:, 2] @ up or 1.0)
+            side = up - (up @ R[:, 2]) * R[:, 2]
+            rim = side / np.linalg.norm(side) if np.linalg.norm(side) > 1e-12 else np.zeros(3)
+            return [c - shape.length() / 2 * axis - shape.radius() * rim], 0.0
+        raise ValueError(f"{self._parts[geometry].owner}: a {type(shape).__name__} cannot be checked against the "
+                         "floor: give the link a box, sphere, cylinder, capsule or mesh")
 
     def numpy(self, q: ArrayLike) -> Clearances:
         """The clearances of every pair at ``q`` ``(n,)`` or ``(N, n)``, computed in batches with numpy
