@@ -369,3 +369,24 @@ def test_user_urdf_mesh_and_cylinder_against_the_floor(tmp_path, fore):
     with pytest.raises(ValueError, match=r"Drake cannot load it: MakeConvexHull only applies to \.obj, \.vtk"):
         (tmp_path / "part.stl").write_bytes(b"solid x\nendsolid x\n")
         get_arm(_user_urdf(tmp_path, '<mesh filename="part.stl"/>')).clearance([0.0, 0.0, 0.0])
+
+
+@pytest.mark.slow
+def test_cli_simulate_warns_of_a_collision_and_strict_limits_exit_3(tmp_path, capsys):
+    """The stand motion from the command line, against a scene: the warnings name each pair with its first time,
+    summary.json lists them, --strict-limits exits 3; a bad scene is refused before the run (exit 2, no folder)."""
+    scene = _scene_file(tmp_path, '{"obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.05, '
+                                  '"xyz": [-0.176, 0, 0.474]}]}')
+    argv = ["simulate", "rrrr", "--from", "0,100,150,0", "--to", "0,100,150,60", "--deg", "--tf", "2", "--dt",
+            "0.005", "--scene", scene, "--strict-limits", "--out", str(tmp_path / "run")]
+    assert main(argv) == 3
+    err = capsys.readouterr().err.splitlines()
+    warned = [line.split(":")[2].strip() for line in err[:-1]]
+    assert warned == ["rrrr collision link3–ball", "rrrr collision link4–link1"]
+    assert err[-1] == "armlab: error: 2 collision(s) (--strict-limits)"
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert [c["pair"] for c in summary["collisions"]] == ["link3–ball", "link4–link1"]
+    assert "and the 1 obstacle(s) of --scene" in summary["collision_check"]
+    bad = _scene_file(tmp_path, '{"obstacles": [{"name": "ball", "shape": "sphere", "radius": 0, "xyz": [0, 0, 0]}]}')
+    assert main([*argv[:-3], "--scene", bad, "--out", str(tmp_path / "bad")]) == 2
+    assert not (tmp_path / "bad").exists()
