@@ -110,12 +110,12 @@ def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
                "dashed: the poses in which no two non-adjacent modules touch (armlab.collision: a capsule per "
                f"module); ★ the collision-free best of each; {samples} joint-space samples per candidate, voxel "
                "volume extrapolated to h → 0 (armlab.analysis.workspace)")
-    out.table("beyond_bend_angles", "Best bend angles for the workspace volume, over all poses and over "
-              "self-collision-free poses only (not in the paper)",
+    out.table("beyond_bend_angles", "Best bend angles for the workspace volume (not in the paper)",
               ["angle", "Table 1 [deg]", "best, all poses [deg]", "volume there [m³]", "best, collision-free [deg]",
                "collision-free volume there [m³]", "collision-free volume at the all-poses best [m³]",
                "smallest self-clearance [mm]"], table,
-              note=f"Table 1's angles give {nominal_volumes[0]:.4g} m³, {nominal_volumes[1]:.4g} m³ of it reached "
+              note=f"Over all poses and over the self-collision-free poses only. Table 1's angles give "
+                   f"{nominal_volumes[0]:.4g} m³, {nominal_volumes[1]:.4g} m³ of it reached "
                    "without the arm passing through itself. One angle varied at a time over a "
                    f"{steps}-step grid, then all six best angles together. {finding} "
                    f"{samples} joint-space samples per candidate, a modest "
