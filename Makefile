@@ -68,6 +68,7 @@ bench: setup
 	$(BIN)/python scripts/bench_analysis.py
 	$(BIN)/python scripts/bench_reproduce.py
 	$(BIN)/python scripts/bench_drives.py
+	$(BIN)/python scripts/bench_collision.py
 
 clean:
 	rm -rf $(VENV) out *.egg-info

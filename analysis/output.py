@@ -21,7 +21,8 @@ if TYPE_CHECKING:
 __all__ = ["WORKSPACE_FILES", "workspace_folder", "write_workspace"]
 
 #: What ``armlab workspace --out DIR`` writes (a folder holding only these may be replaced).
-WORKSPACE_FILES = ("workspace.json", "slices.png", "convergence.png", "singular.png", "workspace.html")
+WORKSPACE_FILES = ("workspace.json", "slices.png", "convergence.png", "singular.png", "collisions.png",
+                   "workspace.html")
 
 
 def workspace_folder(out: str | Path) -> OutputFolder:

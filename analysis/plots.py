@@ -136,9 +136,34 @@ def _plane_coords(ws: Workspace, points: np.ndarray) -> np.ndarray:
 
 
 def workspace_figures(ws: Workspace, out: Path) -> list[str]:
-    """``slices.png``, ``convergence.png`` and ``singular.png`` of a workspace; the file names written."""
+    """``slices.png``, ``convergence.png`` and ``singular.png`` of a workspace, and ``collisions.png`` when the
+    collision-free volume was measured; the file names written."""
     return [_slices(ws, out / "slices.png"), _convergence(ws, out / "convergence.png"),
-            _singular(ws, out / "singular.png")]
+            _singular(ws, out / "singular.png"), *([_collisions(ws, out / "collisions.png")] if ws.free is not None
+                                                   else [])]
+
+
+def _collisions(ws: Workspace, path: Path) -> str:
+    """Where the raw and the collision-free workspace differ: the kept tool points of collision-free poses and of
+    poses that touch (in the arm's plane, else projected on x–y and x–z)."""
+    assert ws.free is not None and ws.collision_free_volume is not None
+    panels = [None] if ws.dim < 3 else [(0, 1), (0, 2)]
+    fig, axes = new_figure(f"{ws.arm}: workspace {ws.measure} {ws.volume:.4g} {ws.volume_unit}, collision-free "
+                           f"{ws.collision_free_volume:.4g} {ws.volume_unit} ({ws.collision_free_fraction:.1%} of the "
+                           "poses touch nothing)", 1, len(panels), size=(6.4 * len(panels), 5.8))
+    for ax, pair in zip(np.ravel([axes]) if len(panels) > 1 else [axes], panels, strict=True):
+        if pair is None:
+            xy, names = _plane_coords(ws, ws.points), [_axis_name(b) for b in ws.basis] + ["—"] * (2 - ws.dim)
+        else:
+            xy, names = ws.points[:, list(pair)], ["xyz"[pair[0]], "xyz"[pair[1]]]
+        ax.scatter(xy[ws.free, 0], xy[ws.free, 1], s=2, color="#1f5fa8", linewidths=0, label="collision-free pose")
+        ax.scatter(xy[~ws.free, 0], xy[~ws.free, 1], s=3, color="#c0392b", linewidths=0,
+                   label="pose in collision (itself or an obstacle)")
+        ax.set_xlabel(f"{names[0]} [m]")
+        ax.set_ylabel(f"{names[1]} [m]")
+        ax.set_aspect("equal")
+        ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.1), fontsize=7, markerscale=4)
+    return save_png(fig, path)
 
 
 def _slices(ws: Workspace, path: Path) -> str:

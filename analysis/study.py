@@ -69,11 +69,14 @@ if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
     from armlab.models.arm import Arm
 
-__all__ = ["DRIVES", "DYNAMICS", "MAX_CANDIDATES", "OBJECTIVES", "UNITS", "WORKSPACE", "Study", "Variable", "evaluate",
-           "load_study", "parse_study"]
+__all__ = ["COLLISION", "DRIVES", "DYNAMICS", "MAX_CANDIDATES", "OBJECTIVES", "UNITS", "WORKSPACE", "Study", "Variable",
+           "evaluate", "load_study", "parse_study"]
 
 #: Objectives computed from the workspace (:func:`armlab.analysis.workspace.workspace`), with units.
-WORKSPACE = {"workspace_volume": "m^dim", "reach": "m", "min_manipulability": "", "mean_manipulability": ""}
+WORKSPACE = {"workspace_volume": "m^dim", "reach": "m", "min_manipulability": "", "mean_manipulability": "",
+             "collision_free_volume": "m^dim", "min_clearance": "m"}
+#: Workspace objectives that check the samples for collisions (the arm against itself).
+COLLISION = ("collision_free_volume", "min_clearance")
 #: Objectives computed from the joint torques along the motion; the first two per joint.
 DYNAMICS = {"peak_torque": "N·m or N", "rms_torque": "N·m or N", "peak_power": "W"}
 #: Objectives of the drives chosen from the catalogues for the motion (see the module docstring).
@@ -156,7 +159,7 @@ class Study:
         volume = {1: "m", 2: "m²", 3: "m³"}[self.dim]
         for col in self.objective_columns:
             base = next(name for name in OBJECTIVES if col == name or col.startswith(name + "_"))
-            units[col] = volume if base == "workspace_volume" else OBJECTIVES[base]
+            units[col] = volume if base in ("workspace_volume", "collision_free_volume") else OBJECTIVES[base]
         return units | {"wall_time_s": "s"}
 
     def settings(self, values: tuple[float, ...]) -> tuple[dict[str, float], float, float | None]:
@@ -361,13 +364,21 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
     arm, motion, payload = build(study, values)
     out: dict[str, float] = {}
     if any(e in WORKSPACE for e in study.evaluate):
-        w = workspace(arm, study.samples, study.resolution, study.seed, jacobians=False)
-        found = {"workspace_volume": w.volume, "reach": w.reach}
+        w = workspace(arm, study.samples, study.resolution, study.seed, jacobians=False,
+                      collisions=any(e in COLLISION for e in study.evaluate))
+        found: dict[str, float | None] = {"workspace_volume": w.volume, "reach": w.reach,
+                                          "collision_free_volume": w.collision_free_volume,
+                                          "min_clearance": w.min_clearance}
         if any(e.endswith("manipulability") for e in study.evaluate):  # on the workspace's kept configurations
             manipulability = task_sigma(arm, w.q[:JACOBIAN_SAMPLES])[0]
             found |= {"min_manipulability": float(manipulability.min()),
                       "mean_manipulability": float(manipulability.mean())}
-        out |= {e: found[e] for e in study.evaluate if e in WORKSPACE}
+        for e in (e for e in study.evaluate if e in WORKSPACE):
+            value = found[e]
+            if value is None:  # min_clearance of an arm with no pair to check
+                raise ValueError(f"evaluate: {e}: {arm.name} has no pair of links to check (adjacent links never "
+                                 "are)")
+            out[e] = float(value)
     if motion is not None and any(e in DRIVES for e in study.evaluate):
         sizing = size(arm, DutyCycle.of(motion), (LoadCase(payload),), read_motors(study.motors),
                       read_gearboxes(study.gearboxes), study.safety_factor)

@@ -23,6 +23,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
+from armlab.collision.clearance import as_scene
+from armlab.collision.scene import Scene
 from armlab.diagrams.motions import paper_motion as motion_of_paper
 from armlab.diagrams.motions import quintic_motion
 from armlab.diagrams.motions import read_segments as read
@@ -208,6 +210,7 @@ def simulate(
     log_period: float | None = None,
     accuracy: float | None = None,
     divergence_tolerance: float | None = None,
+    scene: Scene | str | Path | None = None,
 ) -> Run:
     """Simulate ``arm`` following ``motion`` through paper 000's Fig. 6 as a Drake diagram; a :class:`Run`.
 
@@ -215,7 +218,9 @@ def simulate(
     (gx, gy, gz) m/s²; ``mode``: ``"controller"`` (computed torque, PD gains ``kp`` 1/s², ``kd`` 1/s, ``ki``
     1/s³; defaults 100, 20, 0) or ``"inverse_dynamics"`` (open loop); ``log_period`` (s, default 0.001);
     ``accuracy``: the integrator's target accuracy (default 1e-6); ``divergence_tolerance``: the tracking
-    error (rad or m, default 0.01) past which the run counts as diverged. The arm needs mass data. The keywords
+    error (rad or m, default 0.01) past which the run counts as diverged; ``scene``: obstacles (a scene file or
+    :class:`~armlab.collision.scene.Scene`) the run is checked against, beside the arm itself (collisions in
+    ``run.collisions`` and ``summary.json``). The arm needs mass data. The keywords
     are checked once, as a :class:`~armlab.diagrams.simulate.SimulationOptions` (what the inner layers take).
     """
     if not isinstance(arm, Arm):
@@ -229,7 +234,8 @@ def simulate(
         log_period=DEFAULT_LOG_PERIOD if log_period is None else log_period,
         accuracy=DEFAULT_ACCURACY if accuracy is None else accuracy,
         divergence_tolerance=DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance)
-    return Run(run_diagram(arm, motion, options), options.divergence_tolerance)
+    scene = as_scene(scene)  # a bad scene file is an error before the run
+    return Run(run_diagram(arm, motion, options), options.divergence_tolerance, scene)
 
 
 def size_drives(

@@ -13,7 +13,10 @@ is said by a frozen :class:`PlantOptions`, validated when it is made:
   ``Finalize``, so the simulated plant and the controller's model of it are the same model;
 * ``ideal_drives`` — the plant is driven by joint torques and simulated: effort limits off, one
   actuator per joint in joint order, a positive-definite mass matrix (checked);
-* ``geometry`` — the arm's visual geometry registered with a ``SceneGraph`` (for Meshcat);
+* ``geometry`` — the arm's visual and collision geometry registered with a ``SceneGraph`` (Meshcat, the
+  clearance queries of :mod:`armlab.collision`);
+* ``scene`` — obstacles (:class:`armlab.collision.scene.Scene`) registered as collision geometry of the world
+  (implies ``geometry``); the floor is not checked against joint 1's link, which turns on the stand on it;
 * ``time_step`` — 0 (continuous, the default) or a discrete period (s).
 
 The arm's drive train (``Arm.drives``, :mod:`armlab.drives.train`; ideal when it has none) is always in its
@@ -46,6 +49,7 @@ if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.framework import DiagramBuilder
 
+    from armlab.collision.scene import Obstacle, Scene
     from armlab.models.arm import Arm
 
 __all__ = ["GRAVITY_NAMES", "G", "PlantOptions", "add_arm_plant", "check_payload", "check_time_step", "gravity_vector",
@@ -123,8 +127,9 @@ class PlantOptions:
     simulated: no actuator is clamped at its effort limit (a run shows the torque its motion takes, and
     passing a limit is reported by :func:`armlab.diagrams.drives.limit_violations`, never silently turned into
     a lagging arm), every joint has one actuator in joint order and the mass matrix is positive definite
-    (checked; the arm needs mass data). ``geometry``: the arm's visual geometry in a ``SceneGraph``
+    (checked; the arm needs mass data). ``geometry``: the arm's visual and collision geometry in a ``SceneGraph``
     (only in a diagram: :func:`add_arm_plant`). ``time_step``: 0 (continuous) or a discrete period (s).
+    ``scene``: obstacles registered as the world's collision geometry (sets ``geometry``).
 
     The arm's drive train is not an option: it comes with the arm (``Arm.drives``, see the module docstring).
     What comes next (collision geometry, a payload with an inertia of its own) is one more field here, checked in
@@ -136,8 +141,11 @@ class PlantOptions:
     ideal_drives: bool = False
     geometry: bool = False
     time_step: float = 0.0
+    scene: Scene | None = None
 
     def __post_init__(self) -> None:
+        if self.scene is not None:
+            object.__setattr__(self, "geometry", True)
         g = gravity_vector(self.gravity)
         object.__setattr__(self, "gravity", None if g is None else tuple(float(v) for v in g))
         object.__setattr__(self, "payload", check_payload(self.payload))
@@ -160,7 +168,9 @@ def add_arm_plant(
         plant, scene_graph = AddMultibodyPlantSceneGraph(builder, options.time_step)
     else:
         plant, scene_graph = builder.AddSystem(MultibodyPlant(options.time_step)), None
-    _build(plant, arm, options)
+    floors = _build(plant, arm, options)
+    if floors and scene_graph is not None:
+        _floor_filter(plant, scene_graph, floors)
     return plant, scene_graph
 
 
@@ -179,16 +189,17 @@ def make_plant(arm: Arm, options: PlantOptions | None = None) -> MultibodyPlant:
     return plant
 
 
-def _build(plant: MultibodyPlant, arm: Arm, options: PlantOptions) -> None:
+def _build(plant: MultibodyPlant, arm: Arm, options: PlantOptions) -> list[Any]:
     """Parse ``arm``'s URDF into the empty ``plant``, weld its base, add the actuators with the arm's drive train,
-    gravity, the payload and the drives of ``options``, finalize, and check the joint order (and, for ideal
-    drives, what simulation needs)."""
+    gravity, the payload, the scene and the drives of ``options``, finalize, and check the joint order (and, for
+    ideal drives, what simulation needs). Returns the geometry ids of the scene's floors (empty without a scene)."""
     from pydrake.multibody.tree import JointActuatorIndex, RotationalInertia, SpatialInertia
 
     if options.ideal_drives:
         arm.require_dynamics("simulate")
     instance = _add_model(plant, arm)
     _set_drive_train(plant, arm, instance)
+    floors = [] if options.scene is None else _add_scene(plant, options.scene.obstacles)
     if options.payload > 0:
         body = plant.AddRigidBody("payload", instance, SpatialInertia.MakeFromCentralInertia(
             options.payload, np.zeros(3), RotationalInertia(0, 0, 0)))
@@ -205,6 +216,37 @@ def _build(plant: MultibodyPlant, arm: Arm, options: PlantOptions) -> None:
         raise ValueError(f"{arm.name}: the plant's joint order differs from {', '.join(arm.joint_names)}")
     if options.ideal_drives:
         _check_drivable(plant, arm)
+    return floors
+
+
+def _add_scene(plant: MultibodyPlant, obstacles: tuple[Obstacle, ...]) -> list[Any]:
+    """Register each obstacle as collision geometry of the world body, named as in the scene file; the floors' ids."""
+    from pydrake.geometry import Box, Cylinder, HalfSpace, ProximityProperties, Sphere
+    from pydrake.math import RigidTransform
+
+    shapes = {"box": Box, "cylinder": Cylinder, "sphere": Sphere, "floor": HalfSpace}
+    floors = []
+    for obstacle in obstacles:
+        shape = shapes[obstacle.shape](*obstacle.size)
+        geometry = plant.RegisterCollisionGeometry(plant.world_body(), RigidTransform(obstacle.pose), shape,
+                                                   obstacle.name, ProximityProperties())
+        if obstacle.shape == "floor":
+            floors.append(geometry)
+    return floors
+
+
+def _floor_filter(plant: MultibodyPlant, scene_graph: SceneGraph, floors: list[Any]) -> None:
+    """The floors are not checked against the bodies jointed to the world's (joint 1's link turns on the stand)."""
+    from pydrake.geometry import CollisionFilterDeclaration, GeometrySet
+    from pydrake.multibody.tree import JointIndex
+
+    anchored = {body.index() for body in plant.GetBodiesWeldedTo(plant.world_body())}
+    joints = (plant.get_joint(JointIndex(i)) for i in range(plant.num_joints()))
+    on_stand = [j.child_body() for j in joints
+                if j.parent_body().index() in anchored and j.child_body().index() not in anchored]
+    geometries = [g for body in on_stand for g in plant.GetCollisionGeometriesForBody(body)]
+    scene_graph.collision_filter_manager().Apply(
+        CollisionFilterDeclaration().ExcludeBetween(GeometrySet(floors), GeometrySet(geometries)))
 
 
 def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.collision.clearance import motion_clearance, plot_clearance
 from armlab.diagrams.drives import (
     DIVERGENCE_TOLERANCE,
     divergence,
@@ -30,6 +31,8 @@ from armlab.diagrams.replay import replay_log
 from armlab.diagrams.simulate import summarize
 
 if TYPE_CHECKING:
+    from armlab.collision.model import Clearances
+    from armlab.collision.scene import Scene
     from armlab.diagrams.simulate import SimulationLog
 
 __all__ = ["Run"]
@@ -41,12 +44,17 @@ class Run:
 
     ``summary`` is ``summary.json``: the run's maxima (torques N·m or N, tracking errors rad or m, power W),
     per segment, the setup, and ``limit_violations`` (a list, empty when none), ``diverged`` and
-    ``divergence`` (where the tracking error first passed ``divergence_tolerance``).
+    ``divergence`` (where the tracking error first passed ``divergence_tolerance``); ``collisions`` (the pairs
+    that touched, each with its first time and deepest penetration, m), ``min_clearance`` (each checked pair's
+    smallest clearance, m, and when) and ``collision_check`` (what was checked: the arm against itself and the
+    obstacles of ``scene``; an arm without collision geometry is said to be not checked).
     """
 
     log: SimulationLog
     divergence_tolerance: float = DIVERGENCE_TOLERANCE
+    scene: Scene | None = None
     summary: dict[str, Any] = field(init=False)
+    clearance: Clearances | None = field(init=False)
 
     def __post_init__(self) -> None:
         summary = summarize(self.log)
@@ -56,6 +64,8 @@ class Run:
         summary["diverged"] = left is not None
         summary["divergence"] = left
         summary["drives"] = drive_table(self.log)
+        checked, self.clearance = motion_clearance(self.log.arm, self.log.t, self.log.q, self.scene)
+        summary.update(checked)
         self.summary = summary
 
     # ------------------------------------------------------------------ the arrays
@@ -106,6 +116,12 @@ class Run:
         return self.summary["limit_violations"]
 
     @property
+    def collisions(self) -> list[dict[str, Any]]:
+        """The pairs that touched along the run (see :func:`~armlab.collision.clearance.collisions`); empty when
+        none or not checked (``summary["collision_check"]`` says which)."""
+        return self.summary["collisions"] or []
+
+    @property
     def diverged(self) -> bool:
         """True if the tracking error passed :attr:`divergence_tolerance` (the run left its reference)."""
         return self.summary["diverged"]
@@ -120,7 +136,9 @@ class Run:
         """Write the run's plots into ``folder`` (joints, torques, tool path and motion, drives); their paths."""
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        return [*write_plots(self.log, folder), plot_drives(self.log, folder / "drives.png")]
+        clearance = ([] if self.clearance is None or not self.clearance.pairs
+                     else [plot_clearance(self.log.arm, self.log.t, self.clearance, folder / "clearance.png")])
+        return [*write_plots(self.log, folder), *clearance, plot_drives(self.log, folder / "drives.png")]
 
     def save(self, out: str | Path, deg: bool = False) -> list[str]:
         """Write every output of the run (:meth:`write`) into folder ``out``, completely or not at all.

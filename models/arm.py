@@ -116,6 +116,9 @@ class Arm:
             raise ValueError(f"{self.name}: the drive train has {drives.n} joint(s); the arm has {self.n} "
                              f"({', '.join(self.joint_names)})")
         return replace(self, drives=drives)
+    #: Pairs of links (URDF names) never checked for collision beyond the adjacent ones, each by design (the
+    #: arm's module says why); written into its URDF as Drake collision filter groups.
+    collision_filters: tuple[tuple[str, str], ...] = ()
 
     def require_dynamics(self, what: str) -> None:
         """``ValueError`` (saying how to add mass data) unless the arm has mass data; ``what`` needs it."""
@@ -230,7 +233,7 @@ class Arm:
             + ", ".join(f"{k}={v:g}" for k, v in self.parameters.items())
         )
         return urdf_text(self.name, self.table, self.bodies, self.limits, self.points, self.tool_name, comment, drives,
-                         ros_limits)
+                         ros_limits, self.collision_filters)
 
     @property
     def urdf_path(self) -> Path:
@@ -332,6 +335,20 @@ class Arm:
         from armlab.kinematics.differential import sigma_min
 
         return sigma_min(self.jacobian(q), axes)
+
+    def clearance(self, q: ArrayLike, scene: Any = None) -> list[dict[str, Any]]:
+        """Every checked pair's clearance at ``q`` ``(n,)`` (rad, m), smallest first: the links that are not adjacent
+        (nor filtered by the arm's file) and, with ``scene`` (a scene file's path or a
+        :class:`~armlab.collision.scene.Scene`), each link against each obstacle.
+
+        Each ``{"pair": "A–B", "a", "b", "distance" (m, signed: < 0 in contact), "depth" (m), "point_a",
+        "point_b" (m, world)}`` (:func:`armlab.collision.clearance.clearance`). ``ValueError`` for an arm
+        without collision geometry, a bad scene or ``q``.
+        """
+        # lazy: armlab.collision sits above armlab.models and imports it
+        from armlab.collision.clearance import clearance
+
+        return clearance(self, q, scene)
 
     def ik(
         self, target: ArrayLike, all: bool = False, near: ArrayLike | None = None, pitch: float | None = None,

@@ -118,7 +118,7 @@ def build(**overrides: float) -> Arm:
         parameters=asdict(p),
         notes=parameter_notes(p),
         table=dh_table(p).locating_table(),
-        bodies=tuple(Body(m, r, c) for m, r, c in zip(masses, radii, colors, strict=True)),
+        bodies=tuple(Body(m, r, c, collides=True) for m, r, c in zip(masses, radii, colors, strict=True)),
         limits=limits,
         points=(Point("O3", 3, (0.0, 0.0, 0.0)), Point("O4", 5, (0.0, 0.0, 0.0))),
         tool_name="O4",

@@ -91,8 +91,9 @@ def build(**overrides: float) -> Arm:
         parameters=asdict(p),
         notes=parameter_notes(p),
         table=locating_table(p),
-        bodies=(Body(p.m1, 0.12, (0.5, 0.5, 0.55, 1)), Body(p.m2, 0.08, (0.85, 0.45, 0.1, 1)),
-                Body(p.m3, 0.05, (0.2, 0.45, 0.8, 1))),
+        bodies=(Body(p.m1, 0.12, (0.5, 0.5, 0.55, 1), collides=True),
+                Body(p.m2, 0.08, (0.85, 0.45, 0.1, 1), collides=True),
+                Body(p.m3, 0.05, (0.2, 0.45, 0.8, 1), collides=True)),
         limits=(JointLimits(-np.pi, np.pi, effort=500.0, velocity=3.0),
                 JointLimits(0.0, p.q2_max, effort=3000.0, velocity=1.0),
                 JointLimits(0.0, p.q3_max, effort=1000.0, velocity=1.0)),
@@ -105,4 +106,7 @@ def build(**overrides: float) -> Arm:
                                ("u = q3 + l4 ≥ 0 (arm pointing out)", "u ≤ 0")),
         motion=transfer_motion,
         scheme=PaperScheme("003 Figs. 1-2", motion_start),
+        # the arm slides in the carriage that rides on the column: its root (l3 = 0.10 m from the axis) lies
+        # within the column's 0.12 m radius by design
+        collision_filters=(("link1", "link3"),),
     )

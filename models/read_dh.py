@@ -14,10 +14,11 @@ A **DH table** is a CSV file (the README's section "Your own arm: the DH table f
   lengths in metres; ``lower``/``upper`` empty for an unlimited revolute joint), then, in any order,
   the optional columns of the Robotics Toolbox's ``RevoluteDH(m=, r=, I=)``, per link in the link's
   own DH frame: ``mass`` (kg), ``cx,cy,cz`` (centre of mass, m), ``Ixx,Iyy,Izz,Ixy,Ixz,Iyz``
-  (kg·m² about the centre of mass), ``effort`` (N·m or N) and ``velocity`` (rad/s or m/s) limits, and the
+  (kg·m² about the centre of mass), ``effort`` (N·m or N) and ``velocity`` (rad/s or m/s) limits, the
   drive train's columns (:data:`armlab.drives.read.DRIVE_COLUMNS`: ``gear_ratio``, ``rotor_inertia``,
   ``efficiency``, ``viscous``, ``coulomb`` or motor side ``viscous_motor``, ``coulomb_motor``), which give the
-  arm its ``drives`` (:mod:`armlab.drives.read`).
+  arm its ``drives`` (:mod:`armlab.drives.read`), and ``radius`` (m, > 0): the link's collision capsule along the
+  offset to the next joint (:mod:`armlab.collision`); a table without it has no collision geometry.
 
 A table without the ``mass`` column is a *kinematic* arm (``Arm.has_dynamics`` False): no masses
 are invented. Missing effort/velocity limits are unknown (``None``). At most
@@ -29,7 +30,7 @@ from __future__ import annotations
 import csv
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Literal, TypeGuard
 
@@ -50,7 +51,7 @@ __all__ = ["DHInertial", "dh_base_tool", "dh_inertials", "from_dh", "from_dh_csv
 _DH_COLUMNS = ("type", "a", "alpha", "d", "theta", "lower", "upper")
 _COM_COLUMNS = ("cx", "cy", "cz")
 _INERTIA_COLUMNS = ("Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz")
-_OPTIONAL_COLUMNS = ("mass", *_COM_COLUMNS, *_INERTIA_COLUMNS, "effort", "velocity", *DRIVE_COLUMNS)
+_OPTIONAL_COLUMNS = ("mass", *_COM_COLUMNS, *_INERTIA_COLUMNS, "effort", "velocity", *DRIVE_COLUMNS, "radius")
 _DIRECTIVES = {"convention": ("standard", "modified"), "units": ("rad", "deg")}
 #: The header lines that place the chain: ``# base: x y z roll pitch yaw`` and ``# tool: …``.
 _POSES = ("base", "tool")
@@ -156,8 +157,10 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
     return _read(Path(path))[:3]
 
 
-def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | None, dict[str, list[str]]]:
-    """:func:`read_dh_csv`'s three and the text cells of the drive columns given (column → one cell per row)."""
+def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | None, dict[str, list[str]],
+                              list[float] | None]:
+    """:func:`read_dh_csv`'s three, the text cells of the drive columns given (column → one cell per row) and the
+    links' collision radii (m; ``None`` without the ``radius`` column)."""
     settings, lines = _header_comments(path, read_text(path, "DH table").splitlines())
     deg = settings.get("units") == "deg"
     reader = csv.reader(lines)
@@ -167,7 +170,7 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
     except csv.Error as error:  # a cell longer than csv's field limit (131072 characters)
         raise ValueError(f"{path}: the DH table cannot be read as CSV: {error}: a cell holds one number") from None
     rows: list[DHRow] = []
-    limits, inertials = [], []
+    limits, inertials, radii = [], [], []
     drive_cells: dict[str, list[str]] = {name: [] for name in columns if name in DRIVE_COLUMNS}
     for number, values in records:  # blank and whitespace-only lines are not rows
         values = _without_trailing_blanks(values, len(columns))
@@ -203,11 +206,14 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
             inertials.append(_dh_inertial(record, where))
         for name, cells in drive_cells.items():
             cells.append(record[name])
+        if "radius" in record:
+            radii.append(_radius(record["radius"], f"{where}: radius"))
     if not rows:
         raise ValueError(f"{path}: the DH table has no rows")
     # _header_comments let only "standard" or "modified" through; absent is standard
     table = DHTable(tuple(rows), "modified" if settings.get("convention") == "modified" else "standard")
-    return table, limits, inertials if "mass" in columns else None, drive_cells
+    return (table, limits, inertials if "mass" in columns else None, drive_cells,
+            radii if "radius" in columns else None)
 
 
 def _without_trailing_blanks(values: list[str], count: int) -> list[str]:
@@ -215,6 +221,14 @@ def _without_trailing_blanks(values: list[str], count: int) -> list[str]:
     while len(values) > count and not values[-1].strip():
         values = values[:-1]
     return values
+
+
+def _radius(text: str, what: str) -> float:
+    """A link's collision radius (m) from its cell: a finite number > 0."""
+    value = file_number(text, what) if text else -1.0
+    if not value > 0:
+        raise ValueError(f"{what} = {text or '(empty)'} is not allowed: a collision radius is a number > 0 m")
+    return value
 
 
 def _dh_inertial(record: dict[str, str], where: str) -> DHInertial:
@@ -262,6 +276,7 @@ def from_dh(
     table: DHTable,
     limits: Sequence[JointLimits],
     inertials: Sequence[DHInertial] | None = None,
+    radii: Sequence[float] | None = None,
     name: str = "dh_arm",
     base: NDArray | None = None,
     tool: NDArray | None = None,
@@ -269,7 +284,8 @@ def from_dh(
     """An arm from a DH table: its URDF comes from the same builder as the paper arms'.
 
     ``inertials`` (one per link, in the links' DH frames) are moved into the URDF's link frames {i};
-    ``None`` or all masses 0 gives a kinematic arm (``has_dynamics`` False, no ``<inertial>``). ``base``
+    ``None`` or all masses 0 gives a kinematic arm (``has_dynamics`` False, no ``<inertial>``). ``radii``
+    (m, one per link): each link's collision capsule; ``None``: the arm has no collision geometry. ``base``
     (4×4) is DH frame 0 in the arm's base frame and ``tool`` (4×4) the tool frame in DH frame n
     (``None``: the identity; :func:`dh_base_tool` gives them back).
     """
@@ -302,6 +318,10 @@ def from_dh(
     else:
         on = np.linalg.solve(tool_pose, np.array([0.0, 0.0, 0.0, 1.0]))[:3]  # DH frame n's origin, in the tool frame
         points += (Point(f"O{n}", n + 1, (float(on[0]), float(on[1]), float(on[2]))), Point("tool", n + 1, (0, 0, 0)))
+    if radii is not None:
+        if len(radii) != n:
+            raise ValueError(f"{name}: need {n} link radii, got {len(radii)}")
+        bodies = tuple(replace(body, radius=float(r), collides=True) for body, r in zip(bodies, radii, strict=True))
     return Arm(
         name=name,
         paper="user DH table",
@@ -332,10 +352,11 @@ def _moved(body: DHInertial, X: NDArray) -> Body:
 
 def from_dh_csv(path: str | Path) -> Arm:
     """An arm from a DH table file (:func:`read_dh_csv`, :func:`read_dh_poses`), named after the file, with the drive
-    train of its drive columns (:func:`armlab.drives.read.drive_train`; none: ideal drives)."""
-    table, limits, inertials, drive_cells = _read(Path(path))
+    train of its drive columns (:func:`armlab.drives.read.drive_train`; none: ideal drives) and the collision
+    capsules of its ``radius`` column."""
+    table, limits, inertials, drive_cells, radii = _read(Path(path))
     base, tool = read_dh_poses(path)
-    arm = from_dh(table, limits, inertials, name=Path(path).stem, base=base, tool=tool)
+    arm = from_dh(table, limits, inertials, radii, name=Path(path).stem, base=base, tool=tool)
     return arm.with_drives(drive_train(drive_cells, arm.n, str(path)) if drive_cells else None)
 
 

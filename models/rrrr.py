@@ -95,7 +95,7 @@ def build(**overrides: float) -> Arm:
         parameters=asdict(p),
         notes=parameter_notes(p),
         table=dh_table(p).locating_table(),
-        bodies=tuple(Body(m, r, c) for m, r, c in zip(masses, radii, colors, strict=True)),
+        bodies=tuple(Body(m, r, c, collides=True) for m, r, c in zip(masses, radii, colors, strict=True)),
         limits=(JointLimits(None, None, effort=100.0, velocity=10.0), limit, limit, limit),
         points=(Point("O1", 1, (0.0, 0.0, p.L1)), Point("O2", 2, (p.L2, 0.0, 0.0)),
                 Point("O3", 3, (p.L3, 0.0, 0.0)), Point("M", 5, (0.0, 0.0, 0.0))),

@@ -102,7 +102,8 @@ def build(**overrides: float) -> Arm:
         notes=parameter_notes(p),
         table=locating_table(p),
         bodies=tuple(
-            Body(float(m), float(r), palette[i % 2]) for i, (m, r) in enumerate(zip(masses, radii, strict=True))
+            Body(float(m), float(r), palette[i % 2], collides=True)
+            for i, (m, r) in enumerate(zip(masses, radii, strict=True))
         ),
         limits=tuple(JointLimits(None, None, effort=50.0, velocity=3.0) for _ in range(6)),
         points=tuple(Point(f"p{k}", k, (0.0, 0.0, p.r[k - 1])) for k in range(1, 7)) + (Point("p7", 7, (0, 0, 0)),),

@@ -13,6 +13,11 @@ on fixed joints; an unknown effort or velocity limit is left out of ``<limit>``.
 (no mass): a base disc, a column from the base to joint 1, a dark drum on each revolute
 axis, a dark block on each prismatic axis and the guide it slides on (over its stroke) on
 the parent link, a red ball at the tool. Every joint is actuated through a ``SimpleTransmission``.
+
+Collision geometry (a :class:`Body` with ``collides``): a capsule per link along its segment
+(``linkI_capsule``), and a column from the base to joint 1, where there is one, as a capsule of link 1's
+radius (``base_link_column``). The base disc has none: the ground under the arm is a scene's floor. Drake
+filters the pairs of adjacent links itself.
 """
 
 from __future__ import annotations
@@ -32,13 +37,17 @@ __all__ = ["Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", 
 
 @dataclass(frozen=True)
 class Body:
-    """Mass properties and look of one link (``radius`` sizes its drawing).
+    """Mass properties and look of one link (``radius`` sizes its drawing and, with ``collides``, its capsule).
 
     Without ``com`` and ``inertia`` the link is a uniform solid cylinder of ``mass`` and ``radius``
     from its frame's origin to the next frame's origin (the paper arms). With them, the link has
     that ``mass`` (kg), its centre of mass at ``com`` (m, in the link frame {i}) and the inertia
     ``inertia`` (kg·m², 3×3 about the centre of mass, axes of {i}). ``mass = 0`` with neither:
     a link without mass data (a kinematic arm's), written with no ``<inertial>``.
+
+    ``collides``: the link has collision geometry, a capsule of ``radius`` (m) along the segment from its
+    frame's origin to the next frame's origin (a sphere of ``radius`` when that segment has no length);
+    ``False``: the arm's file gives no geometry (the link is drawn, never checked).
     """
 
     mass: float
@@ -46,6 +55,7 @@ class Body:
     color: tuple[float, float, float, float] = (0.8, 0.45, 0.1, 1.0)
     com: tuple[float, float, float] | None = None
     inertia: tuple[tuple[float, float, float], ...] | None = None
+    collides: bool = False
 
 
 @dataclass(frozen=True)
@@ -176,6 +186,18 @@ def _cylinder_visual(T: NDArray, radius: float, length: float, material: str) ->
             f'<material name="{material}"/></visual>')
 
 
+def _capsule_collision(name: str, end: NDArray, radius: float) -> str:
+    """A collision capsule of ``radius`` (m) from the frame's origin to ``end`` (m), or a sphere when ``end`` is 0."""
+    length = float(np.linalg.norm(end))
+    if length < 1e-9:
+        return f'<collision name="{name}"><geometry><sphere radius="{_f(radius)}"/></geometry></collision>'
+    T = np.eye(4)
+    T[:3, :3] = _z_to(end / length)
+    T[:3, 3] = end / 2
+    return (f'<collision name="{name}">{_origin(T)}<geometry><capsule radius="{_f(radius)}" '
+            f'length="{_f(length)}"/></geometry></collision>')
+
+
 def _rail_visual(T_fixed: NDArray, axis: NDArray, lower: float, upper: float, radius: float) -> str:
     """A prismatic joint's guide: a bar along its axis over the stroke [lower, upper] (m), in the parent's frame."""
     T = np.eye(4)
@@ -197,12 +219,14 @@ def urdf_text(
     comment: str = "",
     drives: DriveTrain | None = None,
     ros_limits: bool = False,
+    collision_filters: tuple[tuple[str, str], ...] = (),
 ) -> str:
     """URDF of the chain: links ``base_link``, ``link1`` … ``linkN``, ``tool_name`` and the points.
-
     ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint; ``drives`` the drive train
     (module docstring), ``None`` for none. ``ros_limits``: an unknown effort or velocity limit is written as 0,
     ROS's "none" (urdfdom, and so Pinocchio, needs both attributes; armlab reads 0 as unknown), not left out.
+    ``collision_filters``: pairs of link names never checked against each other (beyond the adjacent ones), written
+    as Drake's ``<drake:collision_filter_group>`` (a group of the two that ignores itself).
     """
     n = table.n
     if len(bodies) != n or len(limits) != n:
@@ -213,7 +237,7 @@ def urdf_text(
     out = ['<?xml version="1.0"?>']
     if comment:
         out.append(f"<!-- {comment} -->")
-    drake = ' xmlns:drake="http://drake.mit.edu"' if drives is not None else ""
+    drake = ' xmlns:drake="http://drake.mit.edu"' if drives is not None or collision_filters else ""
     out.append(f'<robot name="{escape(name, quote=True)}"{drake}>')  # html, not xml.sax.saxutils: that imports urllib
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
     out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')
@@ -226,6 +250,8 @@ def urdf_text(
     if np.linalg.norm(pedestal) > 1e-9:  # a column from the base to joint 1
         seg, _, length = _segment(np.asarray(table.rows[0].k), pedestal, bodies[0].radius)
         visuals[0].append(_cylinder_visual(seg, bodies[0].radius, length, "base"))
+        if any(body.collides for body in bodies):
+            visuals[0].append(_capsule_collision("base_link_column", pedestal, bodies[0].radius))
     for i, (row, body, lim) in enumerate(zip(table.rows, bodies, limits, strict=True), start=1):
         if row.kind == "T" and lim.lower is not None and lim.upper is not None:  # the slider's guide, on the parent
             visuals[i - 1].append(_rail_visual(row.T_fixed, np.asarray(row.k, dtype=float), lim.lower, lim.upper,
@@ -258,6 +284,8 @@ def urdf_text(
         else:  # a drum on the joint axis
             out.append(f'    <visual>{_origin(joint_drum)}<geometry><cylinder radius="{_f(body.radius * 1.3)}" '
                        f'length="{_f(body.radius * 2.4)}"/></geometry>{_JOINT_MATERIAL}</visual>')
+        if body.collides:
+            out.append(f"    {_capsule_collision(f'link{i}_capsule', np.asarray(end, dtype=float), body.radius)}")
         out.extend(f"    {visual}" for visual in visuals[i])
         out.append("  </link>")
         kind = "prismatic" if row.kind == "T" else ("continuous" if lim.lower is None else "revolute")
@@ -299,5 +327,10 @@ def urdf_text(
                    "</hardwareInterface></joint>"
                    f'<actuator name="{row.name}_motor"><mechanicalReduction>{ratio}</mechanicalReduction>{motor}'
                    "</actuator></transmission>")
+    for a, b in collision_filters:
+        group = f"filter_{a}_{b}"
+        out.append(f'  <drake:collision_filter_group name="{group}"><drake:member link="{a}"/>'
+                   f'<drake:member link="{b}"/><drake:ignored_collision_filter_group name="{group}"/>'
+                   "</drake:collision_filter_group>")
     out.append("</robot>")
     return "\n".join(out) + "\n"

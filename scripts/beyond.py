@@ -2,7 +2,8 @@
 
 * **004** ends on "a search for an optimum angle ϑi and its impact on the size of the workspace":
   the URM arm's workspace volume as each bend angle ϑ2 … ϑ7 runs over 0 … 90° (the others at
-  Table 1's values), the best angle of each, and the volume with all the best angles together.
+  Table 1's values), the best angle of each, and the volume with all the best angles together, counted over
+  every sampled pose and, beside it, over the poses in which the arm does not pass through itself.
 * **000** sizes drives by simulation: the RR arm's peak joint torques along Fig. 3's motion against
   the motion time t_f and the payload — the drive-sizing map; and then what its §5 asks for, the drives
   themselves: a motor and gearbox per joint from armlab's example catalogue that carry every payload of
@@ -23,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from armlab.analysis.study import evaluate, parse_study
 from armlab.models.urm6 import Parameters
@@ -47,53 +49,84 @@ def _study(data: dict[str, Any]) -> Any:
 
 
 def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
-    """Paper 004's open question: workspace volume against each bend angle ϑ2 … ϑ7 (one at a time)."""
+    """Paper 004's open question: workspace volume against each bend angle ϑ2 … ϑ7 (one at a time), counted over all
+    sampled poses and over the self-collision-free poses only (the URM modules are designed not to collide)."""
     samples, steps = SAMPLES[fast], ANGLE_STEPS[fast]
     nominal = Parameters()
     names = [f"theta{k}" for k in range(2, 8)]
+    evaluated = ["workspace_volume", "collision_free_volume", "min_clearance"]
 
-    def volume(angles_deg: dict[str, float]) -> float:
-        """The workspace volume (m³) with the bend angles ``angles_deg`` (deg), the others at Table 1's."""
+    def volumes(angles_deg: dict[str, float]) -> NDArray[np.float64]:
+        """The raw and the collision-free workspace volume (m³) and the smallest self-clearance over the samples (m)
+        with the bend angles ``angles_deg`` (deg)."""
         study = _study({"arm": "urm6", "vary": {n: {"values": [v], "unit": "deg"} for n, v in angles_deg.items()},
-                        "evaluate": ["workspace_volume"], "samples": samples})
-        return evaluate(study, study.candidates[0])["workspace_volume"]
+                        "evaluate": evaluated, "samples": samples})
+        found = evaluate(study, study.candidates[0])
+        return np.array([found[e] for e in evaluated])
 
-    curves, table, best = {}, [], {}
-    nominal_volume = volume({names[0]: float(np.degrees(getattr(nominal, names[0])))})  # all at Table 1's angles
+    curves: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+    best: dict[str, dict[str, float]] = {e: {} for e in evaluated[:2]}
+    nominal_volumes = volumes({names[0]: float(np.degrees(getattr(nominal, names[0])))})  # all at Table 1's
     for name in names:
         study = _study({"arm": "urm6", "vary": {name: {"from": 0, "to": 90, "steps": steps, "unit": "deg"}},
-                        "evaluate": ["workspace_volume"], "samples": samples})
+                        "evaluate": evaluated, "samples": samples})
         angles = np.array([values[0] for values in study.candidates])
-        volumes = np.array([evaluate(study, values)["workspace_volume"] for values in study.candidates])
-        curves[name] = (angles, volumes)
-        table_deg = float(np.degrees(getattr(nominal, name)))
-        k = int(np.argmax(volumes))
-        best[name] = float(angles[k])
-        table.append([f"ϑ{name[5:]}", table_deg, float(angles[k]), float(volumes[k]),
-                      float(volumes[k] / nominal_volume)])
-    combined_volume = volume(best)
-    table.append(["all six at their best", "", "[" + ", ".join(f"{best[n]:g}" for n in names) + "]", combined_volume,
-                  combined_volume / nominal_volume])
+        found = [evaluate(study, values) for values in study.candidates]
+        curves[name] = (angles, np.array([[f[e] for e in evaluated] for f in found]))  # (steps, 3)
+        for j, e in enumerate(evaluated[:2]):
+            best[e][name] = float(angles[int(np.argmax(curves[name][1][:, j]))])
+    combined = {e: volumes(best[e]) for e in evaluated[:2]}  # both volumes at each answer's best angles
+    table = []
+    for name in names:
+        angles, v = curves[name]
+        raw_k, free_k = (int(np.argmax(v[:, j])) for j in range(2))
+        table.append([f"ϑ{name[5:]}", float(np.degrees(getattr(nominal, name))), float(angles[raw_k]),
+                      float(v[raw_k, 0]), float(angles[free_k]), float(v[free_k, 1]), float(v[raw_k, 1]),
+                      float(v[:, 2].min() * 1e3)])
+    for e, label in zip(evaluated[:2], ("all six at their raw best", "all six at their collision-free best"),
+                        strict=True):
+        table.append([label, "", "[" + ", ".join(f"{best[e][n]:g}" for n in names) + "]", float(combined[e][0]), "",
+                      float(combined[e][1]), "", float(combined[e][2] * 1e3)])
+    nearest = min(min(float(v[:, 2].min()) for _, v in curves.values()), *(float(c[2]) for c in combined.values()))
+    same = all(best["workspace_volume"][n] == best["collision_free_volume"][n] for n in names)  # exact: grid angles
+    finding = (f"No sampled pose of any candidate passes through itself (the smallest clearance between "
+               f"non-adjacent modules is {nearest * 1e3:.3g} mm): with Table 1's segment lengths, which shrink "
+               "outwards, bends of at most 90° cannot fold an outer module back onto an inner one, so the "
+               "collision-free volumes equal the raw ones and the best angles stay as they were."
+               if nearest > 0 else
+               "Some sampled poses pass through the arm itself (smallest clearance "
+               f"{nearest * 1e3:.3g} mm, a penetration); the collision-free volumes leave their tool points out"
+               + (", and the best angles stay as they were." if same else
+                  ", and that moves the best angles where marked."))
 
     fig, ax = new_figure("Beyond paper 004 — workspace volume of the URM arm against each bend angle ϑi "
-                         "(the others at Table 1's values)", size=(7.5, 4.6))
+                         "(the others at Table 1's values): all poses (solid) and self-collision-free poses (dashed)",
+                         size=(7.5, 5.0))
     for i, name in enumerate(names):
-        angles, volumes = curves[name]
-        ax.plot(angles, volumes, "o-", ms=3, color=f"C{i}", label=f"ϑ{name[5:]} (Table 1: "
+        angles, v = curves[name]
+        ax.plot(angles, v[:, 0], "o-", ms=3, color=f"C{i}", label=f"ϑ{name[5:]} (Table 1: "
                 f"{np.degrees(getattr(nominal, name)):g}°)")
-        ax.plot([best[name]], [volumes.max()], "*", ms=11, color=f"C{i}")
-    ax.axhline(nominal_volume, color="k", lw=0.8, ls="--", label=f"Table 1's angles: {nominal_volume:.3f} m³")
+        ax.plot(angles, v[:, 1], "s--", ms=3, color=f"C{i}", lw=1.0)
+        ax.plot([best["collision_free_volume"][name]], [v[:, 1].max()], "*", ms=11, color=f"C{i}")
+    ax.axhline(nominal_volumes[0], color="k", lw=0.8, ls="--",
+               label=f"Table 1's angles: {nominal_volumes[0]:.3f} m³ (collision-free {nominal_volumes[1]:.3f} m³)")
     ax.set_xlabel("bend angle ϑi [deg]")
     ax.set_ylabel("workspace volume [m³]")
     ax.legend(fontsize=7, ncol=2)
     out.figure(fig, "beyond_bend_angles", "Workspace volume against the bend angles (not in the paper)",
-               f"each ϑi over 0…90° in {steps} steps, the others at Table 1's values; ★ the best of each; "
-               f"{samples} joint-space samples per candidate, voxel volume extrapolated to h → 0 "
-               "(armlab.analysis.workspace)")
+               f"each ϑi over 0…90° in {steps} steps, the others at Table 1's values; solid: every sampled pose, "
+               "dashed: the poses in which no two non-adjacent modules touch (armlab.collision: a capsule per "
+               f"module); ★ the collision-free best of each; {samples} joint-space samples per candidate, voxel "
+               "volume extrapolated to h → 0 (armlab.analysis.workspace)")
     out.table("beyond_bend_angles", "Best bend angles for the workspace volume (not in the paper)",
-              ["angle", "Table 1 [deg]", "best [deg]", "volume at best [m³]", "× Table 1's volume"], table,
-              note=f"Table 1's angles give {nominal_volume:.4g} m³. One angle varied at a time over a {steps}-step "
-                   f"grid, then all six best angles together. {samples} joint-space samples per candidate, a modest "
+              ["angle", "Table 1 [deg]", "best, all poses [deg]", "volume there [m³]", "best, collision-free [deg]",
+               "collision-free volume there [m³]", "collision-free volume at the all-poses best [m³]",
+               "smallest self-clearance [mm]"], table,
+              note=f"Over all poses and over the self-collision-free poses only. Table 1's angles give "
+                   f"{nominal_volumes[0]:.4g} m³, {nominal_volumes[1]:.4g} m³ of it reached "
+                   "without the arm passing through itself. One angle varied at a time over a "
+                   f"{steps}-step grid, then all six best angles together. {finding} "
+                   f"{samples} joint-space samples per candidate, a modest "
                    "count that keeps the reproduction short: at this count the estimates still grow by a few per "
                    "cent per doubling of the samples (see `armlab workspace urm6 --samples 10000000`), so angles "
                    "whose volumes differ by less than that may swap places. `armlab sweep "

@@ -3,7 +3,8 @@
 One module per command family: :mod:`~armlab.cli.kinematics` (``list``, ``show``, ``fk``, ``ik``),
 :mod:`~armlab.cli.simulate` (``simulate``, ``diagram``), :mod:`~armlab.cli.view`, :mod:`~armlab.cli.draw`,
 :mod:`~armlab.cli.reproduce`, :mod:`~armlab.cli.analysis` (``workspace``, ``sweep``) and
-:mod:`~armlab.cli.export`, :mod:`~armlab.cli.plan` and :mod:`~armlab.cli.size`; what they share is in
+:mod:`~armlab.cli.export`, :mod:`~armlab.cli.plan`, :mod:`~armlab.cli.size` and :mod:`~armlab.cli.collide`
+(``check``); what they share is in
 :mod:`~armlab.cli.args`. Only this package imports argparse, and no library module imports it
 (tests/test_layers.py). Bad input ends with one line on stderr and exit code 2; the heavy libraries
 (:data:`armlab._lazy.LAZY_IMPORTS`: Drake …) are imported only by the commands that need them.
@@ -31,7 +32,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The ``armlab`` argument parser with every subcommand."""
     # lazy: the command modules (and the library they load: numpy, the arms …) are imported here, not at the top, so
     # that main's stop-signal handlers are in place first: a Ctrl-C during the start-up is handled like any other.
-    from armlab.cli import analysis, draw, export, kinematics, plan, reproduce, simulate, size, view
+    from armlab.cli import analysis, collide, draw, export, kinematics, plan, reproduce, simulate, size, view
 
     parser = Parser(prog="armlab", description="Serial robot arms modelled, checked and simulated with Drake.",
                     epilog="'armlab COMMAND --help' explains a command. 'armlab' alone prints this help and "
@@ -49,6 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
     analysis.register(sub)
     export.register(sub)
     size.register(sub)
+    collide.register(sub)
     return parser
 
 

@@ -33,6 +33,7 @@ from armlab.analysis.workspace import (
     workspace,
 )
 from armlab.cli.args import add_arm, arm_of, positive_int
+from armlab.cli.collide import SCENE_HELP
 from armlab.limits import allowed, whole_text
 
 __all__ = ["cmd_sweep", "cmd_workspace", "register"]
@@ -49,6 +50,9 @@ def _format(summary: dict[str, Any]) -> list[str]:
              f"reach {s['reach']:.6g} m; bounding box x {s['bbox']['min'][0]:+.4f} … {s['bbox']['max'][0]:+.4f}, "
              f"y {s['bbox']['min'][1]:+.4f} … {s['bbox']['max'][1]:+.4f}, "
              f"z {s['bbox']['min'][2]:+.4f} … {s['bbox']['max'][2]:+.4f} m"]
+    if "collision_check" in s:
+        lines.append(f"collision-free {s['measure']} {s['collision_free_volume']:.6g} {s['volume_unit']} "
+                     f"({s['collision_free_fraction']:.1%} of the samples touch nothing; {s['collision_check']})")
     c = s["convergence"]
     lines.append(f"{s['measure']} vs samples: " + "  ".join(f"{int(n)}: {v:.5g}" for n, v in zip(
         c["samples"], c["volume_vs_samples"], strict=True)))
@@ -79,15 +83,19 @@ def _format(summary: dict[str, Any]) -> list[str]:
 
 def cmd_workspace(args: argparse.Namespace) -> int:
     """``armlab workspace``: see the module docstring."""
+    # lazy: armlab --help loads armlab.cli.analysis but not this (Drake; start-up time)
+    from armlab.collision.clearance import as_scene
+
     check_samples(args.samples, "--samples")
     check_seed(args.seed, "--seed")
     if args.resolution is not None:
         check_resolution(args.resolution, "--resolution")
     arm = arm_of(args)
+    scene = as_scene(args.scene)
     folder = workspace_folder(args.out) if args.out is not None else None
     # The temporary folder goes on any exit from here (an error or a stop signal during the sampling too).
     with folder if folder is not None else nullcontext() as tmp:
-        ws = workspace(arm, args.samples, args.resolution, args.seed)
+        ws = workspace(arm, args.samples, args.resolution, args.seed, collisions=args.collision_free, scene=scene)
         summary = ws.summary()
         written = write_workspace(arm, ws, tmp) if tmp is not None else []
     if args.json:
@@ -126,6 +134,10 @@ def register(subparsers: Any) -> None:
                    help=f"voxel edge in metres, {allowed('resolution')} (default: about {SAMPLES_PER_CELL} samples "
                         "per occupied cell)")
     p.add_argument("--seed", type=int, default=0, help=f"seed of the random samples, 0 … {MAX_SEED} (default 0)")
+    p.add_argument("--collision-free", action="store_true",
+                   help="also the collision-free volume: from the samples in which the arm touches neither itself "
+                        "nor an obstacle of --scene (and collisions.png: where the two differ)")
+    p.add_argument("--scene", help=SCENE_HELP + " (implies --collision-free)")
     p.add_argument("--out", metavar="DIR", help="output folder (written completely or not at all)")
     p.add_argument("--json", action="store_true", help="print the summary (workspace.json) as JSON")
     p.set_defaults(func=cmd_workspace)

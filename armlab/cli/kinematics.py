@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.cli.args import add_arm, arm_of
+from armlab.cli.collide import SCENE_HELP
 from armlab.drives.train import DRIVE_FIELDS
 from armlab.kinematics.differential import default_axes
 from armlab.kinematics.ik import SEEDS, solve, target_pose
@@ -210,14 +211,43 @@ def _cmd_ik(args: argparse.Namespace) -> int:
         pitch = math.radians(pitch) if args.deg else pitch
     near = joint_values(arm, args.near, args.deg, "--near") if args.near else None
     solutions = solve(arm, target, pitch=pitch, near=near, all_solutions=args.all)
+    marks = _collision_marks(arm, solutions, args) if args.collision_free or args.scene else None
+    if marks is not None and args.collision_free:
+        kept = [k for k, (touching, _) in enumerate(marks) if not touching]
+        if not kept:
+            raise ValueError(f"{arm.name}: every solution found collides ({len(solutions)}: "
+                             + "; ".join(", ".join(t) for t, _ in marks) + "): drop --collision-free to see them")
+        solutions, marks = [solutions[k] for k in kept], [marks[k] for k in kept]
     if args.json:
-        print(json.dumps({"arm": arm.name, "solutions": [s.tolist() for s in solutions]}, indent=2))
+        print(json.dumps({"arm": arm.name, "solutions": [s.tolist() for s in solutions]}
+                         | ({} if marks is None else {"colliding_pairs": [t for t, _ in marks],
+                                                      "min_clearance": [c for _, c in marks]}), indent=2))
         return 0
     unit = "deg" if args.deg else "SI"
-    for q in solutions:
+    for k, q in enumerate(solutions):
         shown = np.where(arm.revolute, np.degrees(q), q) if args.deg else q
-        print(f"q ({unit}) = {_fmt(shown)}")
+        mark = "" if marks is None else _mark(*marks[k])
+        print(f"q ({unit}) = {_fmt(shown)}{mark}")
     return 0
+
+
+def _mark(touching: list[str], clearance: float | None) -> str:
+    """What an IK solution's line says of its collisions."""
+    if touching:
+        return "  colliding: " + ", ".join(touching)
+    return "  collision-free" + ("" if clearance is None else f" (clearance {clearance * 1e3:.4g} mm)")
+
+
+def _collision_marks(arm: Arm, solutions: list[np.ndarray], args: argparse.Namespace
+                     ) -> list[tuple[list[str], float | None]]:
+    """Per IK solution: the pairs in contact and the smallest clearance (m; ``None`` without a pair to check)."""
+    # lazy: armlab.collision imports Drake (start-up time)
+    from armlab.collision.clearance import as_scene
+    from armlab.collision.model import CollisionModel
+
+    found = CollisionModel(arm, as_scene(args.scene)).distances(np.array(solutions))
+    return [([name for name, d in zip(found.names(), row, strict=True) if d < 0],
+             float(row.min()) if row.size else None) for row in found.distance]
 
 
 def register(subparsers: Any) -> None:
@@ -254,5 +284,8 @@ def register(subparsers: Any) -> None:
                    "its tool orientation, and for more than six joints at its values of joints 7 …); without --all, "
                    "the solution reached from --near (one start, a few ms)")
     p.add_argument("--deg", action="store_true", help="angles in degrees")
+    p.add_argument("--collision-free", action="store_true",
+                   help="only the solutions in which the arm touches neither itself nor an obstacle of --scene")
+    p.add_argument("--scene", help=SCENE_HELP + "; each solution is marked colliding (with the pairs) or not")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_ik)

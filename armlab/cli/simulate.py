@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.cli.args import add_arm, arm_of
+from armlab.cli.collide import SCENE_HELP
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
 from armlab.diagrams.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
 from armlab.drives.read import with_drives
@@ -104,6 +105,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     ``--strict-limits``."""
     # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.api import simulate
+    from armlab.collision.clearance import as_scene, format_collision
     from armlab.diagrams.build import check_log_period
     from armlab.diagrams.output import run_folder
 
@@ -113,10 +115,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     setup = _setup(arm, args)
     log_period = check_log_period(args.dt, min(m.duration for _, m in motion.runs()))
     tolerance = check_tolerance(args.divergence_tolerance)
+    scene = as_scene(args.scene)
     with run_folder(args.out) as folder:  # made first: an unwritable or occupied --out is an error before the run
         print(f"{arm.name}: {motion.description}", flush=True)
         run = simulate(arm, motion, log_period=log_period, accuracy=args.accuracy, divergence_tolerance=tolerance,
-                       **setup)
+                       scene=scene, **setup)
         summary = run.summary
         print(f"simulated {motion.duration:g} s in {run.log.wall_time:.2f} s ({summary['real_time_factor']:.1f}× "
               f"real time), mode {run.log.mode}, {summary['runs']['count']} run(s)", flush=True)
@@ -129,6 +132,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     print(f"wrote {args.out}: {' '.join(written)}")
     for violation in run.violations:
         print(f"armlab: warning: {arm.name} {format_violation(violation)}", file=sys.stderr)
+    for collision in run.collisions:
+        print(f"armlab: warning: {arm.name} {format_collision(collision)}", file=sys.stderr)
     if run.diverged:
         d = summary["divergence"]
         print(f"armlab: error: the run diverged: {d['joint']} left the reference at t = {d['time']:.4g} s "
@@ -137,8 +142,10 @@ def cmd_simulate(args: argparse.Namespace) -> int:
               f"{'raise --kp/--kd' if run.log.mode == 'controller' else 'open-loop inverse dynamics does not '
                  'correct errors: use --mode controller'}", file=sys.stderr)
         return 3
-    if run.violations and args.strict_limits:
-        print(f"armlab: error: {len(run.violations)} limit violation(s) (--strict-limits)", file=sys.stderr)
+    if (run.violations or run.collisions) and args.strict_limits:
+        passed = [f"{count} {what}" for count, what in ((len(run.violations), "limit violation(s)"),
+                                                        (len(run.collisions), "collision(s)")) if count]
+        print(f"armlab: error: {' and '.join(passed)} (--strict-limits)", file=sys.stderr)
         return 3
     return 0
 
@@ -209,8 +216,10 @@ def register(subparsers: Any) -> None:
     p.add_argument("--accuracy", type=float,
                    help=f"integrator target accuracy (default 1e-6, Runge-Kutta 5; {allowed('accuracy')})")
     p.add_argument("--strict-limits", action="store_true",
-                   help="exit with status 3 when the run passes a position, velocity or effort limit (always a "
-                        "warning on stderr and an entry in summary.json's limit_violations)")
+                   help="exit with status 3 when the run passes a position, velocity or effort limit or a pair "
+                        "collides (always a warning on stderr and an entry in summary.json's limit_violations or "
+                        "collisions)")
+    p.add_argument("--scene", help=SCENE_HELP)
     p.add_argument("--divergence-tolerance", type=float, default=DIVERGENCE_TOLERANCE, metavar="E",
                    help=f"tracking error (rad or m) past which the run has diverged: exit status 3 "
                         f"(default {DIVERGENCE_TOLERANCE:g})")
