@@ -366,9 +366,13 @@ def test_user_urdf_mesh_and_cylinder_against_the_floor(tmp_path, fore):
                   else 0.15 * abs(np.sin(q2)) + 0.03 * abs(np.cos(q2)))
         assert_allclose(rows["fore–floor"], centre_z - extent + 0.05, rtol=0, atol=1e-9)
         assert "upper–floor" not in rows  # joint 1's link stands on the floor
-    with pytest.raises(ValueError, match=r"Drake cannot load it: MakeConvexHull only applies to \.obj, \.vtk"):
-        (tmp_path / "part.stl").write_bytes(b"solid x\nendsolid x\n")
-        get_arm(_user_urdf(tmp_path, '<mesh filename="part.stl"/>')).clearance([0.0, 0.0, 0.0])
+    # a collision mesh Drake cannot make a hull of is left out, said before any work (issue 24 item 11): the
+    # clearances are those of the geometry that is left, fore's pairs gone
+    (tmp_path / "part.stl").write_bytes(b"solid x\nendsolid x\n")
+    with pytest.warns(UserWarning, match=r"collision mesh\(es\) left out"):
+        stl = get_arm(_user_urdf(tmp_path, '<mesh filename="part.stl"/>'))
+    pairs = {row["pair"] for row in stl.clearance([0.0, 0.0, 0.0], floor)}
+    assert "hand–floor" in pairs and not any("fore" in pair for pair in pairs)
 
 
 @pytest.mark.slow
