@@ -382,9 +382,9 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
     if motion is not None and any(e in DRIVES for e in study.evaluate):
         sizing = size(arm, DutyCycle.of(motion), (LoadCase(payload),), read_motors(study.motors),
                       read_gearboxes(study.gearboxes), study.safety_factor)
-        found = {"drive_mass": sizing.drive_mass, "drives_feasible": float(sizing.feasible),
-                 "drive_margin": sizing.margin}
-        out |= {e: found[e] for e in study.evaluate if e in DRIVES}
+        drives = {"drive_mass": sizing.drive_mass, "drives_feasible": float(sizing.feasible),
+                  "drive_margin": sizing.margin}
+        out |= {e: drives[e] for e in study.evaluate if e in DRIVES}
     if motion is not None and any(e in DYNAMICS for e in study.evaluate):
         stats = torque_stats(*_torques(study, arm, motion, payload))
         drive = {"peak_torque": stats["max_abs_torque"], "rms_torque": stats["rms_torque"],
