@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
     from armlab.diagrams.simulate import SimulationLog
+    from armlab.models.arm import Arm
 
 __all__ = ["PLOTS", "figures", "write_plots"]
 
@@ -62,11 +63,11 @@ def _segment_lines(ax: Axes, log: SimulationLog) -> None:
         ax.axvline(t, color="0.7", lw=0.8, ls=":")
 
 
-def limit_values(log: SimulationLog, kind: str) -> list[tuple[float, float] | None]:
+def limit_values(arm: Arm, kind: str) -> list[tuple[float, float] | None]:
     """Per joint, the (low, high) ``kind`` limit (position, velocity or effort; velocity and effort
     symmetric), or None where the arm does not know it."""
     out: list[tuple[float, float] | None] = []
-    for limits in log.arm.limits:
+    for limits in arm.limits:
         if kind == "position":
             out.append(None if limits.lower is None or limits.upper is None
                        else (float(limits.lower), float(limits.upper)))
@@ -81,32 +82,43 @@ def limit_values(log: SimulationLog, kind: str) -> list[tuple[float, float] | No
 OFF_SCALE = 3.0
 
 
-def _limit_lines(ax: Axes, log: SimulationLog, kind: str, values: np.ndarray) -> list[str]:
-    """Each joint's known ``kind`` limits as horizontal lines (joints sharing a limit: one grey line),
-    for the curves ``values`` (m, n) in the panel. A limit more than :data:`OFF_SCALE` times the largest
-    |value| is written in a note at the panel's foot instead, with the share of it the motion uses.
-    Returns the notes written.
-    """
-    colors = _colors()
+def limit_groups(arm: Arm, kind: str, values: np.ndarray) -> tuple[list[tuple[list[int], float, float]], list[str]]:
+    """The arm's known ``kind`` limits for the curves ``values`` (m, n) of one panel: the ones to draw, as
+    (joints sharing the limit, low, high), and notes for those more than :data:`OFF_SCALE` times the largest
+    |value| out (with the share of them the motion uses). Used by the PNGs and by the replay's graphs."""
     groups: dict[tuple[float, float], list[int]] = {}
-    for i, limits in enumerate(limit_values(log, kind)):
+    for i, limits in enumerate(limit_values(arm, kind)):
         if limits is not None:
             groups.setdefault(limits, []).append(i)
     unit = {"position": "", "velocity": "/s", "effort": ""}[kind]
-    notes = []
+    drawn, notes = [], []
     for (low, high), joints in groups.items():
-        names = ", ".join(f"q{i + 1}" for i in joints)
-        units = sorted({("N·m" if log.arm.revolute[i] else "N") if kind == "effort"
-                        else ("rad" if log.arm.revolute[i] else "m") + unit for i in joints})
+        units = sorted({("N·m" if arm.revolute[i] else "N") if kind == "effort"
+                        else ("rad" if arm.revolute[i] else "m") + unit for i in joints})
         peak = float(np.max(np.abs(values[:, joints])))
         if max(abs(low), abs(high)) <= OFF_SCALE * max(peak, float(np.max(np.abs(values))), 1e-12):
-            color = colors[joints[0] % len(colors)] if len(joints) == 1 else "0.35"
-            for k, v in enumerate((low, high)):
-                ax.axhline(v, color=color, label=f"{names} {kind} limit" if k == 0 else None, **_LIMIT_STYLE)
+            drawn.append((joints, low, high))
         else:
             used = peak / max(abs(low), abs(high))
-            notes.append(f"{names} {kind} limits [{low:.4g}, {high:.4g}] {'|'.join(units)}: off the scale "
-                         f"(the motion uses {used:.0%} of them)")
+            notes.append(f"{joint_names(joints)} {kind} limits [{low:.4g}, {high:.4g}] {'|'.join(units)}: off the "
+                         f"scale (the motion uses {used:.0%} of them)")
+    return drawn, notes
+
+
+def joint_names(joints: list[int]) -> str:
+    """``q1, q3`` for the joints [0, 2]."""
+    return ", ".join(f"q{i + 1}" for i in joints)
+
+
+def _limit_lines(ax: Axes, log: SimulationLog, kind: str, values: np.ndarray) -> list[str]:
+    """Each joint's known ``kind`` limits (:func:`limit_groups`) as horizontal lines (joints sharing a limit: one
+    grey line); the limits off the scale in a note at the panel's foot. Returns the notes written."""
+    colors = _colors()
+    drawn, notes = limit_groups(log.arm, kind, values)
+    for joints, low, high in drawn:
+        color = colors[joints[0] % len(colors)] if len(joints) == 1 else "0.35"
+        for k, v in enumerate((low, high)):
+            ax.axhline(v, color=color, label=f"{joint_names(joints)} {kind} limit" if k == 0 else None, **_LIMIT_STYLE)
     if notes:
         ax.text(0.01, 0.02, "\n".join(notes), transform=ax.transAxes, fontsize=7, color="0.3", va="bottom",
                 ha="left", zorder=5, bbox={"fc": "white", "ec": "0.8", "alpha": 0.85, "boxstyle": "round,pad=0.2"})

@@ -112,7 +112,7 @@ def shown_limits(ax, log, kind: str, values: np.ndarray) -> list[str]:
     ys = {y for y, _ in hlines(ax)}
     notes = [line for t in ax.texts for line in t.get_text().splitlines()]
     out = []
-    for i, (low, high) in enumerate(limit_values(log, kind)):
+    for i, (low, high) in enumerate(limit_values(log.arm, kind)):
         drawn = round(low, 9) in ys and round(high, 9) in ys
         mine = [n for n in notes
                 if f"q{i + 1}" in n.split(f" {kind}")[0].split(", ") and f"[{low:.4g}, {high:.4g}]" in n]
@@ -155,7 +155,7 @@ def test_plots_show_every_known_limit_drawn_or_noted_off_the_scale():
     # An unknown effort limit (None) is neither drawn nor noted.
     arm = dataclasses.replace(log.arm, limits=tuple(dataclasses.replace(lim, effort=None) for lim in log.arm.limits))
     unknown = dataclasses.replace(log, arm=arm)
-    assert limit_values(unknown, "effort") == [None, None]
+    assert limit_values(unknown.arm, "effort") == [None, None]
     ax = figures(unknown)["torques.png"].axes[0]
     assert hlines(ax) == set() and len(ax.texts) == 0
     plt.close("all")
