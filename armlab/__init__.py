@@ -19,7 +19,7 @@ from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from armlab.api import constant_rate, load, paper_motion, quintic, read_segments, simulate, through
+    from armlab.api import constant_rate, draw, load, paper_motion, quintic, read_segments, simulate, through
     from armlab.diagrams.run import Run
     from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
     from armlab.models.arm import Arm
@@ -34,7 +34,7 @@ _EXPORTS = {
     "Motion": "armlab.kinematics.quintic",
     "QuinticSegment": "armlab.kinematics.quintic",
     "Run": "armlab.diagrams.run",
-    **{name: "armlab.api" for name in ("constant_rate", "load", "paper_motion", "quintic", "read_segments",
+    **{name: "armlab.api" for name in ("constant_rate", "draw", "load", "paper_motion", "quintic", "read_segments",
                                        "simulate", "through")},
 }
 
@@ -46,6 +46,7 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "Run",
     "__version__",
     "constant_rate",
+    "draw",
     "load",
     "paper_motion",
     "quintic",

@@ -41,9 +41,11 @@ from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, chec
 from armlab.models import get_arm
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from armlab.models.arm import Arm
 
-__all__ = ["constant_rate", "load", "paper_motion", "quintic", "read_segments", "simulate", "through"]
+__all__ = ["constant_rate", "draw", "load", "paper_motion", "quintic", "read_segments", "simulate", "through"]
 
 
 def load(name: str | Path, **parameters: float) -> Arm:
@@ -130,3 +132,16 @@ def simulate(
         accuracy=DEFAULT_ACCURACY if accuracy is None else accuracy,
         divergence_tolerance=DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance)
     return Run(run_diagram(arm, motion, options), options.divergence_tolerance)
+
+
+def draw(arm: Arm, q: ArrayLike | None = None, path: str | Path | None = None) -> Figure:
+    """The arm's kinematic scheme at joint values ``q`` ``(n,)`` (rad, m; default: the pose ``armlab draw`` shows)
+    as a matplotlib figure (a notebook shows it); written to ``path`` (``.png``, ``.svg``, ``.pdf``) only if given.
+    """
+    # lazy: the drawing needs matplotlib, which armlab.load does not
+    from armlab.diagrams.draw import default_q, scheme_figure, write_figure
+
+    fig = scheme_figure(arm, default_q(arm) if q is None else q)
+    if path is not None:
+        write_figure(fig, path)
+    return fig

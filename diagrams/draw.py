@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
     from armlab.models.arm import Arm
 
-__all__ = ["FORMATS", "Scheme", "default_q", "draw_arm", "scheme"]
+__all__ = ["FORMATS", "Scheme", "default_q", "draw_arm", "scheme", "scheme_figure", "write_figure"]
 
 #: Picture formats by file suffix.
 FORMATS = ("png", "svg", "pdf")
@@ -221,18 +221,47 @@ def _frame_labels(fig: Any, ax: Any, labels: list[tuple[str, NDArray]]) -> None:
 
 
 def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
-    """Draw the kinematic scheme of ``arm`` at joint values ``q`` (n,), SI, into ``path``.
+    """Draw the kinematic scheme of ``arm`` at joint values ``q`` (n,), SI, into ``path`` (:func:`scheme_figure`).
 
     The format follows the suffix (``.png``, ``.svg``, ``.pdf``); the file is written completely or
     not at all. ``ValueError`` for a bad suffix or q (count, limits).
     """
     # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
-    from armlab.scripts.figures import DPI, new_figure, set_equal_3d
+    import matplotlib.pyplot as plt
 
-    path = Path(path)
-    fmt = path.suffix.lower().lstrip(".")
+    _format(path)  # before drawing
+    fig = scheme_figure(arm, q)
+    try:
+        return write_figure(fig, path)
+    finally:
+        plt.close(fig)
+
+
+def _format(path: str | Path) -> str:
+    fmt = Path(path).suffix.lower().lstrip(".")
     if fmt not in FORMATS:
         raise ValueError(f"--out {path}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
+    return fmt
+
+
+def write_figure(fig: Any, path: str | Path) -> Path:
+    """``fig`` saved to ``path`` in the format of its suffix (:data:`FORMATS`), completely or not at all."""
+    # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
+    from armlab.scripts.figures import DPI
+
+    fmt = _format(path)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format=fmt, dpi=DPI)
+    return write_file(Path(path), buffer.getvalue())
+
+
+def scheme_figure(arm: Arm, q: ArrayLike) -> Any:
+    """The kinematic scheme of ``arm`` at joint values ``q`` (n,), SI, as a matplotlib figure (the caller closes
+    it): the links, joints and frames in 3-D to scale, and beside them the legend and the arm's DH table.
+    ``ValueError`` for a bad q (count, limits)."""
+    # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
+    from armlab.scripts.figures import new_figure, set_equal_3d
+
     q = arm.check_q(q, "q")
     s = scheme(arm, q)
     qtext = ", ".join(f"{np.degrees(v):.4g}°" if r else f"{v:.4g} m" for v, r in zip(q, arm.revolute, strict=True))
@@ -294,12 +323,7 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     panel.text(0.0, 0.98, "\n".join(legend), fontsize=8, family="monospace", va="top", ha="left",
                transform=panel.transAxes)
     _frame_labels(fig, ax, [(", ".join(labels), np.array(origin)) for origin, labels in groups.items()])
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format=fmt, dpi=DPI)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    return write_file(path, buffer.getvalue())
+    return fig
 
 
 def default_q(arm: Arm) -> NDArray[np.float64]:

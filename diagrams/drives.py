@@ -33,6 +33,7 @@ __all__ = [
     "check_tolerance",
     "divergence",
     "drive_table",
+    "drives_figure",
     "format_violation",
     "limit_violations",
     "plot_drives",
@@ -161,14 +162,39 @@ def write_drives_csv(log: SimulationLog, path: str | Path) -> Path:
     return write_csv(path, list(rows[0]), [list(row.values()) for row in rows])
 
 
+#: A value below this share of the largest of its kind (or of 1 in its unit) is round-off: printed as 0.
+ROUND_OFF = 1e-9
+
+
+def _value(value: float, largest: float) -> str:
+    """``value`` to 4 significant digits, or ``0`` when it is round-off (:data:`ROUND_OFF` of ``largest``)."""
+    return "0" if abs(value) <= ROUND_OFF * max(largest, 1.0) else f"{value:.4g}"
+
+
 def plot_drives(log: SimulationLog, path: str | Path) -> Path:
-    """``drives.png``: each joint's torque against its speed along the run, inside its effort/speed limit box."""
+    """``drives.png``: :func:`drives_figure` written to ``path``."""
     # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
-    from armlab.scripts.figures import DPI, new_figure
+    import matplotlib.pyplot as plt
+
+    from armlab.scripts.figures import DPI
+
+    fig = drives_figure(log)
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return Path(path)
+
+
+def drives_figure(log: SimulationLog) -> Any:
+    """Each joint's torque against its speed along the run, inside its effort/speed limit box, with its peak and
+    RMS points (a matplotlib figure; the caller closes it)."""
+    # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
+    from armlab.scripts.figures import new_figure
 
     rows = drive_table(log)
     n = log.arm.n
     cols = min(n, 3)
+    speeds = max(row["peak_speed"] for row in rows)
+    torques = max(row["peak_torque"] for row in rows)
     fig, axes = new_figure(f"{log.arm.name}: drive operating points (torque against speed) and limits",
                            (n + cols - 1) // cols, cols, size=(3.3 * cols, 3.0 * ((n + cols - 1) // cols) + 0.6))
     axes = np.atleast_1d(axes).ravel()
@@ -187,17 +213,20 @@ def plot_drives(log: SimulationLog, path: str | Path) -> Path:
         elif e is not None:
             ax.axhline(-e, color="#c0392b", lw=1.2, label="effort limits (speed limit unknown)")
             ax.axhline(e, color="#c0392b", lw=1.2)
-        peak = max(row["peak_torque"], 1e-12)
-        ax.set_title(f"{row['joint']}: peak |τ| {peak:.4g} {row['torque_unit']}, peak |q̇| "
-                     f"{row['peak_speed']:.3g} {row['speed_unit']}", fontsize=8)
+        rms_speed = float(np.sqrt(np.mean(log.qd[:, i] ** 2)))
+        ax.plot([rms_speed], [row["rms_torque"]], "*", color="#e67e22", ms=11, mec="k", mew=0.5, zorder=5,
+                label="RMS point (RMS q̇, RMS τ): the continuous duty")
+        still = row["peak_speed"] <= ROUND_OFF * max(speeds, 1.0)
+        if still:  # round-off, not motion: a readable axis around zero instead of ±1e-15
+            span = w if w is not None else 1.0
+            ax.set_xlim(-span * 1.1, span * 1.1)
+        speed = "0 (at rest)" if still else f"{row['peak_speed']:.3g} {row['speed_unit']}"
+        ax.set_title(f"{row['joint']}: peak |τ| {_value(row['peak_torque'], torques)} {row['torque_unit']}, "
+                     f"RMS τ {_value(row['rms_torque'], torques)}\npeak |q̇| {speed}", fontsize=8)
         ax.set_xlabel(f"q̇{i + 1} [{row['speed_unit']}]")
         ax.set_ylabel(f"τ{i + 1} [{row['torque_unit']}]")
     for ax in axes[n:]:
         ax.set_visible(False)
     legend = {label: handle for ax in axes[:n] for handle, label in zip(*ax.get_legend_handles_labels(), strict=True)}
     fig.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=len(legend), fontsize=8)
-    fig.savefig(path, dpi=DPI)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    return Path(path)
+    return fig

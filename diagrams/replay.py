@@ -48,7 +48,9 @@ __all__ = [
     "Scene",
     "build_scene",
     "frame_camera",
+    "log_page",
     "reach_points",
+    "replay_page",
     "start_meshcat",
     "style_scene",
     "write_replay",
@@ -361,12 +363,21 @@ def _check_run(arm: Arm, times: ArrayLike, q: ArrayLike, tool_path: ArrayLike | 
     return times, q, tool_path
 
 
-def write_replay(
-    arm: Arm, times: NDArray, q: NDArray, path: Path, tool_path: NDArray | None = None, tau: NDArray | None = None,
+def write_replay(arm: Arm, times: NDArray, q: NDArray, path: Path, **options: Any) -> Path:
+    """:func:`replay_page` of the run ``q(times)`` (N, n) of ``arm`` (``options``: its keywords) saved as one
+    self-contained HTML file at ``path``, atomically (:func:`~armlab.files.write_file`)."""
+    path = Path(path)
+    page = replay_page(arm, times, q, **options)
+    write_file(path, page)
+    return path
+
+
+def replay_page(
+    arm: Arm, times: NDArray, q: NDArray, tool_path: NDArray | None = None, tau: NDArray | None = None,
     run: NDArray | None = None, payload: float = 0.0, deg: bool = False, title: str | None = None,
     graphs: list[Graph] | None = None,
-) -> Path:
-    """Record the run ``q(times)`` (N, n) of ``arm`` and save it as one self-contained HTML file at ``path``.
+) -> str:
+    """Record the run ``q(times)`` (N, n) of ``arm`` as one self-contained HTML page (its text).
 
     The motion is resampled to uniform frames (≤ :data:`MAX_FPS` fps), posed in a Drake plant and
     recorded by ``MeshcatVisualizer`` into a Meshcat animation that plays and loops on opening
@@ -383,7 +394,6 @@ def write_replay(
     (:class:`~armlab.diagrams.replay_graphs.Graph`, one row per sample of ``times``; default: q and, if given,
     τ with the arm's limits) are drawn against the run's time with a cursor at the time played; a click or a
     drag on a graph seeks the replay there.
-    The file is written atomically (:func:`~armlab.files.write_file`).
     """
     times, q, tool_path = _check_run(arm, times, q, tool_path)
     tau = None if tau is None else np.asarray(tau, dtype=float)
@@ -398,7 +408,6 @@ def write_replay(
         tool_path = arm.forward(q).tool[:, :3, 3]
     graphs = arm_graphs(arm, q, tau=tau, deg=deg) if graphs is None else graphs
     shown = graph_data(times, run, graphs)
-    path = Path(path)
     fps, k, t, frame_run = _frames(times, run)
     frames_q = _interpolate(t, frame_run, times, run, q)
     frames_tau = None if tau is None else _interpolate(t, frame_run, times, run, tau)
@@ -444,16 +453,21 @@ def write_replay(
     data["title"] = arm.name if title is None else title
     data["graphs"] = shown
     end = html.rfind("</body>")
-    write_file(path, html[:end] + _controls(data) + html[end:])
-    return path
+    return html[:end] + _controls(data) + html[end:]
+
+
+def log_page(log: SimulationLog, deg: bool = False) -> str:
+    """:func:`replay_page` of a simulation: its q, τ, tool path, runs and payload, and its graphs
+    (:func:`~armlab.diagrams.replay_graphs.log_graphs`)."""
+    payload = f", payload {log.payload:g} kg" if log.payload else ""
+    return replay_page(log.arm, log.t, log.q, tool_path=log.tool[:, :3], tau=log.tau, run=log.run,
+                       payload=log.payload, deg=deg, title=f"{log.arm.name}: {log.motion.description}{payload}",
+                       graphs=log_graphs(log, deg))
 
 
 def replay_log(log: SimulationLog, path: Path, deg: bool = False) -> Path:
-    """:func:`write_replay` of a simulation: its q, τ, tool path, runs and payload."""
-    payload = f", payload {log.payload:g} kg" if log.payload else ""
-    return write_replay(log.arm, log.t, log.q, path, tool_path=log.tool[:, :3], tau=log.tau, run=log.run,
-                        payload=log.payload, deg=deg, title=f"{log.arm.name}: {log.motion.description}{payload}",
-                        graphs=log_graphs(log, deg))
+    """:func:`log_page` written to ``path`` (atomically)."""
+    return write_file(Path(path), log_page(log, deg))
 
 
 def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray, q: NDArray,

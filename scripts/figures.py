@@ -38,19 +38,23 @@ _STYLE: dict[RcKeyType, Any] = {
 
 def new_figure(title: str, nrows: int = 1, ncols: int = 1, size: tuple[float, float] = (7.0, 4.5),
                projection: str | None = None, **kwargs: Any) -> tuple[Any, Any]:
-    """A titled figure with ``nrows × ncols`` axes (``projection="3d"`` for 3-D), Agg backend."""
-    import matplotlib
+    """A titled figure with ``nrows × ncols`` axes (``projection="3d"`` for 3-D), drawn by Agg.
 
-    matplotlib.use("Agg")
+    The figure is not pyplot's: making one never opens a window, blocks, or changes the user's backend, and a
+    notebook shows it when it is a cell's value (``plt.close`` on it is harmless).
+    """
     import matplotlib.pyplot as plt
     from cycler import cycler
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
     colors = ["#1f5fa8", "#c0392b", "#2e8b57", "#8e44ad", "#d68910", "#5d6d7e", "#17a2b8"]
     style: dict[RcKeyType, Any] = {**_STYLE, "axes.prop_cycle": cycler(color=colors)}
-    plt.rcParams.update(style)  # the whole process plots headless in this one style
+    plt.rcParams.update(style)  # the whole process plots in this one style
     subplot_kw = {"projection": projection} if projection else None
-    fig, axes = plt.subplots(nrows, ncols, figsize=size, squeeze=False, subplot_kw=subplot_kw, layout="constrained",
-                             **kwargs)
+    fig = Figure(figsize=size, layout="constrained")
+    FigureCanvasAgg(fig)  # fig.canvas.draw() lays it out (the scheme's labels are placed on the final layout)
+    axes = fig.subplots(nrows, ncols, squeeze=False, subplot_kw=subplot_kw, **kwargs)
     fig.suptitle(wrap_title(title, size[0]), fontweight="bold")
     return fig, axes if nrows * ncols > 1 else axes[0, 0]
 
