@@ -60,6 +60,7 @@ bench: setup
 	$(BIN)/python scripts/bench_simulate.py
 	$(BIN)/python scripts/bench_analysis.py
 	$(BIN)/python scripts/bench_reproduce.py
+	$(BIN)/python scripts/bench_replay.py
 
 clean:
 	rm -rf $(VENV) out *.egg-info

@@ -571,12 +571,13 @@ html,body{margin:0;overflow:hidden}
     };
     document.addEventListener("keydown", (e) => { if (e.code === "Space") { e.preventDefault(); play.onclick(); } });
     slider.oninput = () => { a.pause(); a.seek(+slider.value); show(+slider.value); };
-    const move = ARMLAB_GRAPHS(D.graphs, (t) => {
+    const seek = (t) => {  // what a click or a drag on a graph at run time t does
       const time = playback(t);
       a.pause(); a.seek(time); slider.value = time; show(time); move(runTime(time));
       if (viewer.set_dirty) viewer.set_dirty();
-    });
-    window.armlab = {playback, runTime, move, seek: (t) => { a.pause(); a.seek(playback(t)); }};
+    };
+    const move = ARMLAB_GRAPHS(D.graphs, seek);
+    window.armlab = {playback, runTime, seek};  // for scripts and the benchmark (scripts/bench_replay.py)
     for (const j of D.joins) {  // the joins marked on the slider
       const mark = document.createElement("div");
       mark.title = "branch switch at t = " + j.t + " s";

@@ -132,6 +132,7 @@ def graph_data(t: ArrayLike, run: ArrayLike, graphs: list[Graph], limit: int = M
 #: CSS of the graph column (``GRAPHS_PCT`` and ``BAR_PX`` are filled in by the replay page).
 GRAPHS_STYLE = """
 #meshcat-pane{width:calc(100vw - GRAPHS_PCTvw) !important}
+body > .dg.main{right:GRAPHS_PCTvw !important}
 #armlab-graphs{position:fixed;top:0;right:0;width:GRAPHS_PCTvw;height:calc(100vh - BAR_PXpx);box-sizing:border-box;
   display:flex;flex-direction:column;background:#fff;border-left:1px solid #b8bcc4;
   font:12px/1.3 Helvetica,Arial,sans-serif;color:#1d2733;z-index:10;overflow:hidden}
