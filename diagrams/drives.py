@@ -214,7 +214,7 @@ def drives_figure(log: SimulationLog) -> Any:
             ax.axhline(-e, color="#c0392b", lw=1.2, label="effort limits (speed limit unknown)")
             ax.axhline(e, color="#c0392b", lw=1.2)
         rms_speed = float(np.sqrt(np.mean(log.qd[:, i] ** 2)))
-        ax.plot([rms_speed], [row["rms_torque"]], "*", color="#e67e22", ms=11, mec="k", mew=0.5, zorder=5,
+        ax.plot([rms_speed], [row["rms_torque"]], "*", ms=13, mfc="none", mec="#e67e22", mew=1.5, zorder=5,
                 label="RMS point (RMS q̇, RMS τ): the continuous duty")
         still = row["peak_speed"] <= ROUND_OFF * max(speeds, 1.0)
         if still:  # round-off, not motion: a readable axis around zero instead of ±1e-15
