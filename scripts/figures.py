@@ -82,15 +82,25 @@ def save(fig: Any, stem: Path) -> list[Path]:
     return paths
 
 
+#: The shortest side of a 3-D plot's box, as a share of its longest: a flat cloud (a planar arm) keeps some depth.
+MIN_BOX_SIDE = 0.35
+
+
 def set_equal_3d(ax: Any, points: ArrayLike) -> None:
-    """Equal scale on the three axes of a 3-D plot around ``points`` (N, 3)."""
+    """Equal scale on the three axes of a 3-D plot around ``points`` (N, 3), in a box shaped like them.
+
+    Each axis spans the points' extent on it plus 10 % (at least :data:`MIN_BOX_SIDE` of the longest), and the
+    box's sides are in proportion to the spans: a metre is as long on every axis, and a tall or flat set of
+    points fills the picture instead of sitting small in a cube.
+    """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     centre = (p.max(axis=0) + p.min(axis=0)) / 2
-    half = max(float(np.ptp(p, axis=0).max()) / 2, 1e-3) * 1.1
-    ax.set_xlim(centre[0] - half, centre[0] + half)
-    ax.set_ylim(centre[1] - half, centre[1] + half)
-    ax.set_zlim(centre[2] - half, centre[2] + half)
-    ax.set_box_aspect((1, 1, 1))
+    longest = max(float(np.ptp(p, axis=0).max()) / 2, 1e-3) * 1.1
+    half = np.maximum(np.ptp(p, axis=0) / 2 * 1.1, MIN_BOX_SIDE * longest)
+    ax.set_xlim(centre[0] - half[0], centre[0] + half[0])
+    ax.set_ylim(centre[1] - half[1], centre[1] + half[1])
+    ax.set_zlim(centre[2] - half[2], centre[2] + half[2])
+    ax.set_box_aspect(tuple(half / half.max()))
 
 
 def draw_chain_3d(ax: Any, points: ArrayLike, label: str | None = None, color: str = "#1f5fa8",

@@ -177,7 +177,7 @@ def test_closed_path_shows_start_and_end_and_3d_paths_are_to_scale(tmp_path):
     ax3 = next(a for a in figures(log3)["tool_path.png"].axes if a.name == "3d")
     spans = [np.ptp(lim) for lim in (ax3.get_xlim3d(), ax3.get_ylim3d(), ax3.get_zlim3d())]
     box = np.asarray(ax3.get_box_aspect())
-    assert np.allclose(spans, spans[0]) and np.allclose(box, box[0])  # equal data spans in an equal-sided box
+    np.testing.assert_allclose(np.array(spans) / box, spans[0] / box[0], rtol=1e-9)  # a metre as long on every axis
     plt.close("all")
     assert [p.name for p in write_plots(log, tmp_path)] == list(PLOTS)
 
