@@ -80,7 +80,7 @@ def _subscripts(svg: str) -> str:
     """
     lines, out, k = svg.split("\n"), [], 0
     while k < len(lines):
-        run = []
+        run: list[re.Match[str]] = []
         while k + len(run) < len(lines) and (m := _PIECE.fullmatch(lines[k + len(run)].strip())) and (
                 not run or m.group(2) == run[0].group(2)):
             run.append(m)

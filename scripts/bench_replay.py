@@ -28,7 +28,7 @@ from armlab.diagrams.simulate import simulate
 from armlab.models import get_arm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from browser import Page  # the tests' Chromium driver
+from browser import Page  # type: ignore[import-not-found]  # the tests' Chromium driver (tests/ is no package)
 
 #: Goals of issue 23: the file (bytes) and a seek (ms).
 SIZE_GOAL, SEEK_GOAL = 5_000_000, 50.0
