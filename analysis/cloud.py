@@ -8,6 +8,7 @@ down, and camera), saved with
 
 from __future__ import annotations
 
+import html
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -59,8 +60,6 @@ def colour_legend(arm: Arm, ws: Workspace) -> str:
     least to the most manipulable point with :data:`LEGEND_TICKS` values of w = √det(J Jᵀ) under it (the colour
     scale is slices.png's, a square root: its ticks are evenly spaced in colour, not in w); or, without
     manipulability, what the one colour means."""
-    import html
-
     import matplotlib
 
     head = f"<b>{html.escape(arm.name)}: workspace, {len(ws.points)} tool points kept</b><br>"

@@ -176,6 +176,7 @@ def plot_drives(log: SimulationLog, path: str | Path) -> Path:
     # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
     import matplotlib.pyplot as plt
 
+    # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
     from armlab.scripts.figures import DPI
 
     fig = drives_figure(log)

@@ -11,6 +11,7 @@ gravity down the screen, floor grid and world axes, the camera framing everythin
 
 from __future__ import annotations
 
+import html
 import sys
 import time
 from typing import TYPE_CHECKING, Any, TextIO
@@ -177,8 +178,6 @@ def notebook_note(url: str) -> str:
     """HTML for a notebook cell: the live viewer at ``url`` (``http://localhost:PORT``) in a frame, and what to do
     when the browser cannot reach that address — the notebook runs on another machine (a remote hub, a
     container): ``localhost`` is then the browser's machine, not the kernel's."""
-    import html
-
     port = url.rsplit(":", 1)[-1].strip("/")
     tips = (f"If the frame stays blank, the notebook's kernel runs on another machine than your browser (a remote "
             f"JupyterHub, a container, Colab), and {url} names your own machine. Then: forward the port — "

@@ -10,6 +10,7 @@ tests check against Drake.
 from __future__ import annotations
 
 import hashlib
+import html
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -124,8 +125,6 @@ class Arm:
     def _repr_html_(self) -> str:
         """Jupyter's view: the arm's name and paper, then one row per joint: type, limits (° for revolute
         joints), effort and speed limits, and the mass of the link it moves."""
-        import html
-
         masses = [link["mass"] for link in self.links()]
 
         def value(v: float | None, revolute: bool, unit: str, deg: bool = False) -> str:
