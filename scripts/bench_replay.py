@@ -63,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
         size = path.stat().st_size
         times = [15.0 * (k + 0.5) / args.seeks for k in range(args.seeks)]
         with Page(chromium, path, (1000, 800)) as page:
-            page.wait_for("window.armlab && viewer.animator.actions.length > 0")
+            page.wait_for("window.armlab && viewer.animator.playing")  # loaded and playing, as on opening
             page.evaluate(TIMING % times)  # warm-up: the first draws compile the shaders
             measured = page.evaluate(TIMING % times)
     page_ms, seek, draw = measured["page"], measured["seek"], measured["draw"]

@@ -358,7 +358,8 @@ def test_replay_graphs_follow_playback_and_a_click_or_drag_seeks(simulated, tmp_
                                rtol=1e-5, atol=1e-9)
     dt = 1.0 / data["fps"]
     with Page(chromium(), html, WINDOW) as page:
-        page.wait_for("window.armlab && viewer.animator.actions.length > 0")
+        # loaded and playing (it plays on opening): a seek before that would be undone by the start
+        page.wait_for(f"window.armlab && viewer.animator.actions.length > 0 && {ANIMATION_TIME} > 0.05")
         xs = []
         for k, t in enumerate((0.4, 1.3)):
             page.evaluate(f"viewer.animator.pause(), viewer.animator.seek({t}), true")
