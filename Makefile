@@ -69,6 +69,7 @@ bench: setup
 	$(BIN)/python scripts/bench_reproduce.py
 	$(BIN)/python scripts/bench_drives.py
 	$(BIN)/python scripts/bench_collision.py
+	$(BIN)/python scripts/bench_replay.py
 
 clean:
 	rm -rf $(VENV) out *.egg-info

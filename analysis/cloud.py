@@ -8,6 +8,7 @@ down, and camera), saved with
 
 from __future__ import annotations
 
+import html
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -20,7 +21,7 @@ if TYPE_CHECKING:
     from armlab.analysis.workspace import Workspace
     from armlab.models.arm import Arm
 
-__all__ = ["write_point_cloud"]
+__all__ = ["colour_legend", "write_point_cloud"]
 
 
 def write_point_cloud(arm: Arm, ws: Workspace, path: Path) -> Path:
@@ -45,4 +46,36 @@ def write_point_cloud(arm: Arm, ws: Workspace, path: Path) -> Path:
     scene.show(np.clip(np.zeros(arm.n), *arm.limit_arrays()))
     meshcat.SetObject(f"{SCENE}/workspace", cloud, point_size=max(ws.reach / 250, 1e-3), rgba=Rgba(1, 1, 1, 1))
     frame_camera(meshcat, pts @ R.T, margin=0.05 * ws.reach)
-    return write_file(path, meshcat.StaticHtml())
+    page = meshcat.StaticHtml()
+    end = page.rfind("</body>")
+    return write_file(path, page[:end] + colour_legend(arm, ws) + page[end:])
+
+
+#: Ticks on the colour legend of the point cloud.
+LEGEND_TICKS = 5
+
+
+def colour_legend(arm: Arm, ws: Workspace) -> str:
+    """The point cloud's colour legend (HTML, over the view's top-left corner): a bar of the colours from the
+    least to the most manipulable point with :data:`LEGEND_TICKS` values of w = √det(J Jᵀ) under it (the colour
+    scale is slices.png's, a square root: its ticks are evenly spaced in colour, not in w); or, without
+    manipulability, what the one colour means."""
+    import matplotlib
+
+    head = f"<b>{html.escape(arm.name)}: workspace, {len(ws.points)} tool points kept</b><br>"
+    style = ("position:fixed;left:12px;top:12px;z-index:20;background:rgba(255,255,255,.92);padding:8px 12px;"
+             "border:1px solid #b8bcc4;border-radius:4px;font:13px/1.4 Helvetica,Arial,sans-serif;color:#1d2733")
+    if ws.manipulability is None:
+        return (f'<div id="armlab-legend" style="{style}">{head}<span style="color:#1f5fa8">●</span> a tool point '
+                "(one colour: manipulability not computed)</div>")
+    w = ws.manipulability
+    low, high = float(w.min()), float(w.max())
+    stops = ", ".join(matplotlib.colors.to_hex(matplotlib.colormaps["viridis"](s)) for s in np.linspace(0, 1, 11))
+    shades = np.linspace(0.0, 1.0, LEGEND_TICKS)
+    values = low + (high - low) * shades**2  # PowerNorm(0.5) inverted: shade = ((w − low) / (high − low))^0.5
+    ticks = "".join(f'<span style="position:absolute;left:{100 * s:.0f}%;transform:translateX(-50%)">{v:.3g}</span>'
+                    for s, v in zip(shades, values, strict=True))
+    return (f'<div id="armlab-legend" style="{style}">{head}colour = Yoshikawa manipulability w = √det(J Jᵀ)'
+            f'<div style="width:260px;height:14px;margin:6px 28px 0;'
+            f'background:linear-gradient(to right, {stops})"></div><div style="position:relative;width:260px;'
+            f'height:18px;margin:0 28px;font-size:12px">{ticks}</div></div>')

@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from armlab.api import (
         arc,
         constant_rate,
+        draw,
         fastest,
         line,
         load,
@@ -51,7 +52,7 @@ _EXPORTS = {
     "QuinticSegment": "armlab.kinematics.quintic",
     "Run": "armlab.diagrams.run",
     "export": "armlab.models.export",
-    **{name: "armlab.api" for name in ("constant_rate", "load", "paper_motion", "quintic", "read_segments",
+    **{name: "armlab.api" for name in ("constant_rate", "draw", "load", "paper_motion", "quintic", "read_segments",
                                        "simulate", "size_drives", "through")},
     **{name: "armlab.api" for name in ("arc", "fastest", "line", "trapezoidal")},  # tool paths, profiles, timing
 }
@@ -66,6 +67,7 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "__version__",
     "arc",
     "constant_rate",
+    "draw",
     "export",
     "fastest",
     "line",

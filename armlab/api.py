@@ -60,10 +60,12 @@ from armlab.models import get_arm
 from armlab.models.arm import Arm
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from armlab.drives.train import DriveTrain
 
-__all__ = ["arc", "constant_rate", "fastest", "line", "load", "paper_motion", "quintic", "read_segments", "simulate",
-           "size_drives", "through", "trapezoidal"]
+__all__ = ["arc", "constant_rate", "draw", "fastest", "line", "load", "paper_motion", "quintic", "read_segments",
+           "simulate", "size_drives", "through", "trapezoidal"]
 
 
 def load(name: str | Path, *, drives: str | Path | DriveTrain | None = None, tool: str | None = None,
@@ -269,3 +271,16 @@ def size_drives(
     motors = motors if isinstance(motors, Motors) else read_motors(motors)
     gearboxes = gearboxes if isinstance(gearboxes, Gearboxes) else read_gearboxes(gearboxes)
     return size(arm, cycle, load_cases_of(payloads), motors, gearboxes, safety_factor, rank, mass_iteration, rate)
+
+
+def draw(arm: Arm, q: ArrayLike | None = None, path: str | Path | None = None) -> Figure:
+    """The arm's kinematic scheme at joint values ``q`` ``(n,)`` (rad, m; default: the pose ``armlab draw`` shows)
+    as a matplotlib figure (a notebook shows it); written to ``path`` (``.png``, ``.svg``, ``.pdf``) only if given.
+    """
+    # lazy: the drawing needs matplotlib, which armlab.load does not
+    from armlab.diagrams.draw import default_q, scheme_figure, write_figure
+
+    fig = scheme_figure(arm, default_q(arm) if q is None else q)
+    if path is not None:
+        write_figure(fig, path)
+    return fig

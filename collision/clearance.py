@@ -19,8 +19,15 @@ from armlab.collision.scene import Scene, read_scene
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["as_scene", "clearance", "collisions", "format_collision", "motion_clearance", "pair_minima",
-           "plot_clearance"]
+__all__ = [
+    "as_scene",
+    "clearance",
+    "clearance_figure",
+    "collisions",
+    "format_collision",
+    "motion_clearance",
+    "pair_minima",
+]
 
 
 def as_scene(scene: Scene | str | Path | None) -> Scene | None:
@@ -90,10 +97,10 @@ def motion_clearance(arm: Arm, t: ArrayLike, q: ArrayLike, scene: Scene | str | 
              "collisions": collisions(t, found), "min_clearance": pair_minima(t, found)}, found)
 
 
-def plot_clearance(arm: Arm, t: NDArray[np.float64], found: Clearances, path: str | Path) -> Path:
-    """``clearance.png``: each pair's clearance (mm) over the run, the contact line at 0; the path written."""
+def clearance_figure(arm: Arm, t: NDArray[np.float64], found: Clearances) -> Any:
+    """Each pair's clearance (mm) over the run, the contact line at 0 (a matplotlib figure; the caller closes it)."""
     # lazy: matplotlib is loaded by the commands that plot (armlab._lazy)
-    from armlab.scripts.figures import DPI, new_figure
+    from armlab.scripts.figures import new_figure
 
     fig, ax = new_figure(f"{arm.name}: clearance of each checked pair along the run (below 0: in contact)",
                          size=(8.0, 4.8))
@@ -104,11 +111,7 @@ def plot_clearance(arm: Arm, t: NDArray[np.float64], found: Clearances, path: st
     ax.set_xlabel("t [s]")
     ax.set_ylabel("clearance [mm]")
     ax.legend(fontsize=7, ncols=2, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.savefig(path, dpi=DPI)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    return Path(path)
+    return fig
 
 
 def format_collision(c: dict[str, Any]) -> str:

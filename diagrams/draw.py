@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
     from armlab.models.arm import Arm
 
-__all__ = ["FORMATS", "Scheme", "default_q", "draw_arm", "scheme"]
+__all__ = ["FORMATS", "Scheme", "default_q", "draw_arm", "scheme", "scheme_figure", "write_figure"]
 
 #: Picture formats by file suffix.
 FORMATS = ("png", "svg", "pdf")
@@ -221,18 +221,47 @@ def _frame_labels(fig: Any, ax: Any, labels: list[tuple[str, NDArray]]) -> None:
 
 
 def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
-    """Draw the kinematic scheme of ``arm`` at joint values ``q`` (n,), SI, into ``path``.
+    """Draw the kinematic scheme of ``arm`` at joint values ``q`` (n,), SI, into ``path`` (:func:`scheme_figure`).
 
     The format follows the suffix (``.png``, ``.svg``, ``.pdf``); the file is written completely or
     not at all. ``ValueError`` for a bad suffix or q (count, limits).
     """
     # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
-    from armlab.scripts.figures import DPI, new_figure, set_equal_3d
+    import matplotlib.pyplot as plt
 
-    path = Path(path)
-    fmt = path.suffix.lower().lstrip(".")
+    _format(path)  # before drawing
+    fig = scheme_figure(arm, q)
+    try:
+        return write_figure(fig, path)
+    finally:
+        plt.close(fig)
+
+
+def _format(path: str | Path) -> str:
+    fmt = Path(path).suffix.lower().lstrip(".")
     if fmt not in FORMATS:
         raise ValueError(f"--out {path}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
+    return fmt
+
+
+def write_figure(fig: Any, path: str | Path) -> Path:
+    """``fig`` saved to ``path`` in the format of its suffix (:data:`FORMATS`), completely or not at all."""
+    # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
+    from armlab.scripts.figures import DPI
+
+    fmt = _format(path)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format=fmt, dpi=DPI)
+    return write_file(Path(path), buffer.getvalue())
+
+
+def scheme_figure(arm: Arm, q: ArrayLike) -> Any:
+    """The kinematic scheme of ``arm`` at joint values ``q`` (n,), SI, as a matplotlib figure (the caller closes
+    it): the links, joints and frames in 3-D to scale, and beside them the legend and the arm's DH table.
+    ``ValueError`` for a bad q (count, limits)."""
+    # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
+    from armlab.scripts.figures import new_figure, set_equal_3d
+
     q = arm.check_q(q, "q")
     s = scheme(arm, q)
     qtext = ", ".join(f"{np.degrees(v):.4g}°" if r else f"{v:.4g} m" for v, r in zip(q, arm.revolute, strict=True))
@@ -268,23 +297,37 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
                       zorder=3)
         groups.setdefault(tuple(np.round(T[:3, 3], 9)), []).append(label)
     for text, where in s.link_labels:
-        ax.text(*where, text, fontsize=8, color="#7b241c", ha="right", va="top", zorder=4)
+        ax.text(*where, text, fontsize=7, color="#7b241c", ha="right", va="top", zorder=4,
+                bbox={"boxstyle": "round,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.7})
     lo, hi = points.min(axis=0), points.max(axis=0)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_zlabel("z [m]")
     set_equal_3d(ax, np.vstack([points, lo - 0.05 * size, hi + 0.08 * size]))
-    g = np.asarray(arm.gravity, dtype=float)
-    if np.linalg.norm(g) > 0:  # an arrow in the corner of the (cubic) view box, clear of the arm
-        g = g / np.linalg.norm(g)
-        box = np.array([ax.get_xlim3d(), ax.get_ylim3d(), ax.get_zlim3d()])  # (3, 2): low, high
-        corner = np.array([box[0, 0], box[1, 1], box[2, 1]])
-        centre = box.mean(axis=1)
-        start = corner + 0.15 * (centre - corner) - g * 0.15 * np.ptp(box[0])
-        ax.quiver(*start, *(g * 0.15 * np.ptp(box[0])), color="#8e44ad", lw=1.6, arrow_length_ratio=0.25, zorder=3)
-        ax.text(*(start + g * 0.15 * np.ptp(box[0])), "  g", color="#8e44ad", fontsize=10, zorder=5)  # at the head
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # a short side of the box gets fewer ticks, not crowded ones
+        axis.set_major_locator(MaxNLocator(max(2, round(5 * np.ptp(axis.get_view_interval()) / size))))
     elevation, azimuth = _view(s)
     ax.view_init(elev=elevation, azim=azimuth)
+    g = np.asarray(arm.gravity, dtype=float)
+    if np.linalg.norm(g) > 0:  # an arrow in a corner of the view box, clear of the arm
+        from mpl_toolkits.mplot3d import proj3d
+
+        g = g / np.linalg.norm(g)
+        box = np.array([ax.get_xlim3d(), ax.get_ylim3d(), ax.get_zlim3d()])  # (3, 2): low, high
+        centre = box.mean(axis=1)
+        arrow = 0.25 * float(np.ptp(box, axis=1).min())  # inside the box's shortest side
+        # Up-stream of g along it; across it, the corner whose arrow is farthest from the arm on the screen.
+        corners = np.array([[box[i, (k >> i) & 1] for i in range(3)] for k in range(8)])
+        corners = corners[np.all((np.abs(g) < 0.5) | (np.sign(corners - centre) == -np.sign(g)), axis=1)]
+        starts = corners + 0.15 * (centre - corners)
+        drawn = np.concatenate([points, [T[:3, 3] + T[:3, j] * triad for _, T in s.frames for j in range(3)]])
+        screen = np.array(proj3d.proj_transform(*drawn.T, ax.get_proj()))[:2].T
+        middles = np.array(proj3d.proj_transform(*(starts + g * arrow / 2).T, ax.get_proj()))[:2].T
+        start = starts[np.argmax([np.min(np.linalg.norm(screen - m, axis=1)) for m in middles])]
+        ax.quiver(*start, *(g * arrow), color="#8e44ad", lw=1.6, arrow_length_ratio=0.25, zorder=3)
+        ax.text(*(start + g * arrow), "  g", color="#8e44ad", fontsize=10, zorder=5)  # at the head
     if abs(abs(elevation) - 90) < 1e-6:  # face-on along z: z is the depth, not an axis one can read
         ax.set_zticks([])
         ax.set_zlabel("")
@@ -294,12 +337,7 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     panel.text(0.0, 0.98, "\n".join(legend), fontsize=8, family="monospace", va="top", ha="left",
                transform=panel.transAxes)
     _frame_labels(fig, ax, [(", ".join(labels), np.array(origin)) for origin, labels in groups.items()])
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format=fmt, dpi=DPI)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    return write_file(path, buffer.getvalue())
+    return fig
 
 
 def default_q(arm: Arm) -> NDArray[np.float64]:

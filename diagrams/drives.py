@@ -5,7 +5,7 @@
   whose peak passes its limit, with the first time it does.
 * :func:`divergence` — the first time the tracking error |q − q_d| passes a threshold (an
   open-loop run, or gains too low, leaving the reference), or ``None``.
-* :func:`drive_table`, :func:`write_drives_csv` and :func:`plot_drives` — per joint peak |τ|, RMS τ, peak |q̇| and peak
+* :func:`drive_table`, :func:`write_drives_csv` and :func:`drives_figure` — per joint peak |τ|, RMS τ, peak |q̇| and peak
   mechanical power |τ q̇|, against the effort and velocity limits: ``drives.csv`` and
   ``drives.png`` (each joint's torque–speed operating points inside its limit box, the picture an
   engineer takes to a motor catalogue).
@@ -33,9 +33,9 @@ __all__ = [
     "check_tolerance",
     "divergence",
     "drive_table",
+    "drives_figure",
     "format_violation",
     "limit_violations",
-    "plot_drives",
     "torque_stats",
     "write_drives_csv",
 ]
@@ -169,27 +169,39 @@ def write_drives_csv(log: SimulationLog, path: str | Path) -> Path:
     return write_csv(path, list(rows[0]), [list(row.values()) for row in rows])
 
 
-def plot_drives(log: SimulationLog, path: str | Path) -> Path:
-    """``drives.png``: each joint's torque against its speed along the run, inside its effort/speed limit box."""
+#: A value below this share of the largest of its kind (or of 1 in its unit) is round-off: printed as 0.
+ROUND_OFF = 1e-9
+
+
+def _value(value: float, largest: float) -> str:
+    """``value`` to 4 significant digits, or ``0`` when it is round-off (:data:`ROUND_OFF` of ``largest``)."""
+    return "0" if abs(value) <= ROUND_OFF * max(largest, 1.0) else f"{value:.4g}"
+
+
+def drives_figure(log: SimulationLog) -> Any:
+    """Each joint's torque against its speed along the run, inside its effort/speed limit box, with its peak and
+    RMS points (a matplotlib figure; the caller closes it)."""
     # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
-    from armlab.scripts.figures import DPI, new_figure
+    from armlab.scripts.figures import new_figure
 
     rows = drive_table(log)
     n = log.arm.n
     cols = min(n, 3)
     per_side = (n + cols - 1) // cols  # rows of panels per side
-    tau_motor, speed = log.tau_motor, log.motor_speed
+    tau_motor, motor_speed = log.tau_motor, log.motor_speed
     sides = 1 if tau_motor is None else 2
     title = f"{log.arm.name}: drive operating points (torque against speed) and limits"
     fig, axes = new_figure(title + (", joint side (top) and motor side (bottom)" if sides == 2 else ""),
                            per_side * sides, cols, size=(3.3 * cols, 3.0 * per_side * sides + 0.6))
+    speeds = max(row["peak_speed"] for row in rows)
+    torques = max(row["peak_torque"] for row in rows)
     axes = np.atleast_1d(axes).ravel()
     motor_axes = axes[per_side * cols:]
-    if tau_motor is not None and speed is not None:
+    if tau_motor is not None and motor_speed is not None:
         for i, (row, ax) in enumerate(zip(rows, motor_axes, strict=False)):
             for k in range(len(log.run_starts)):
                 rows_k = log.run == k
-                ax.plot(speed[rows_k, i], tau_motor[rows_k, i], color="#2e8b57", lw=1.2,
+                ax.plot(motor_speed[rows_k, i], tau_motor[rows_k, i], color="#2e8b57", lw=1.2,
                         label="motor operating points (ω_m, τ_m)" if k == 0 else None)
             ax.set_title(f"{row['joint']} motor, G = {row['gear_ratio']:.4g}:\npeak |τ_m| "
                          f"{row['peak_motor_torque']:.4g} N·m, peak |ω_m| {row['peak_motor_speed']:.3g} rad/s",
@@ -214,9 +226,16 @@ def plot_drives(log: SimulationLog, path: str | Path) -> Path:
         elif e is not None:
             ax.axhline(-e, color="#c0392b", lw=1.2, label="effort limits (speed limit unknown)")
             ax.axhline(e, color="#c0392b", lw=1.2)
-        peak = max(row["peak_torque"], 1e-12)
-        ax.set_title(f"{row['joint']}: peak |τ| {peak:.4g} {row['torque_unit']}, peak |q̇| "
-                     f"{row['peak_speed']:.3g} {row['speed_unit']}", fontsize=8)
+        rms_speed = float(np.sqrt(np.mean(log.qd[:, i] ** 2)))
+        ax.plot([rms_speed], [row["rms_torque"]], "*", ms=13, mfc="none", mec="#e67e22", mew=1.5, zorder=5,
+                label="RMS point (RMS q̇, RMS τ): the continuous duty")
+        still = row["peak_speed"] <= ROUND_OFF * max(speeds, 1.0)
+        if still:  # round-off, not motion: a readable axis around zero instead of ±1e-15
+            span = w if w is not None else 1.0
+            ax.set_xlim(-span * 1.1, span * 1.1)
+        speed = "0 (at rest)" if still else f"{row['peak_speed']:.3g} {row['speed_unit']}"
+        ax.set_title(f"{row['joint']}: peak |τ| {_value(row['peak_torque'], torques)} {row['torque_unit']}, "
+                     f"RMS τ {_value(row['rms_torque'], torques)}\npeak |q̇| {speed}", fontsize=8)
         ax.set_xlabel(f"q̇{i + 1} [{row['speed_unit']}]")
         ax.set_ylabel(f"τ{i + 1} [{row['torque_unit']}]")
     for ax in axes[n:]:
@@ -224,8 +243,4 @@ def plot_drives(log: SimulationLog, path: str | Path) -> Path:
     shown = [*axes[:n], *(motor_axes[:n] if sides == 2 else [])]
     legend = {label: handle for ax in shown for handle, label in zip(*ax.get_legend_handles_labels(), strict=True)}
     fig.legend(legend.values(), legend.keys(), loc="outside lower center", ncols=len(legend), fontsize=8)
-    fig.savefig(path, dpi=DPI)
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    return Path(path)
+    return fig

@@ -62,7 +62,44 @@ def render(dot_text: str, fmt: str) -> bytes:
     result = subprocess.run([require_dot(), f"-T{fmt}"], input=dot_text.encode(), capture_output=True, check=False)
     if result.returncode != 0:
         raise ValueError(f"dot -T{fmt} failed: {result.stderr.decode(errors='replace').strip()}")
-    return result.stdout
+    return _subscripts(result.stdout.decode()).encode() if fmt == "svg" else result.stdout
+
+
+#: One piece of a label in graphviz's SVG: a ``<text>`` of its own, at the x graphviz measured for it.
+_PIECE = re.compile(r'<text text-anchor="start" x="(-?[\d.]+)" y="(-?[\d.]+)" font-family="([^"]*)"'
+                    r'( baseline-shift="sub")? font-size="([\d.]+)">(.*?)</text>')
+
+
+def _subscripts(svg: str) -> str:
+    """Graphviz's labels with subscripts (``x<SUB>d</SUB>``) in ``svg`` drawn as one text each.
+
+    Graphviz writes each piece as a ``<text>`` of its own at the x its font metrics give and a subscript with
+    ``baseline-shift="sub"``, which browsers ignore on ``<text>``: "x d = (q  d, …)" at full size with gaps. The
+    pieces of one line (same y, one after the other) become ``<tspan>``s of one ``<text>``, laid out by the
+    browser, the subscripts at 70 % of the size and lowered by 30 % of it.
+    """
+    lines, out, k = svg.split("\n"), [], 0
+    while k < len(lines):
+        run: list[re.Match[str]] = []
+        while k + len(run) < len(lines) and (m := _PIECE.fullmatch(lines[k + len(run)].strip())) and (
+                not run or m.group(2) == run[0].group(2)):
+            run.append(m)
+        if not any(m.group(4) for m in run):
+            out.append(lines[k])
+            k += 1
+            continue
+        first = run[0]
+        spans, low = [], False
+        for m in run:
+            size = float(m.group(5))
+            shift = (0.3 * size if m.group(4) and not low else -0.3 * size if low and not m.group(4) else 0.0)
+            low = bool(m.group(4))
+            dy = f' dy="{shift:.2f}"' if shift else ""
+            spans.append(f'<tspan{dy} font-size="{0.7 * size if low else size:.2f}">{m.group(6)}</tspan>')
+        out.append(f'<text text-anchor="start" x="{first.group(1)}" y="{first.group(2)}" '
+                   f'font-family="{first.group(3)}" xml:space="preserve">{"".join(spans)}</text>')
+        k += len(run)
+    return "\n".join(out)
 
 
 def graph_format(path: str | Path) -> str:

@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
     from armlab.diagrams.simulate import SimulationLog
+    from armlab.models.arm import Arm
 
 __all__ = ["PLOTS", "figures", "write_plots"]
 
@@ -57,16 +58,29 @@ def _by_run(ax: Axes, log: SimulationLog, x, y, **style) -> None:
         style.setdefault("color", line.get_color())
 
 
-def _segment_lines(ax: Axes, log: SimulationLog) -> None:
-    for t in log.motion.breaks[1:-1]:
-        ax.axvline(t, color="0.7", lw=0.8, ls=":")
+def _segment_lines(ax: Axes, log: SimulationLog, named: bool = False) -> None:
+    """The motion's segment boundaries as dotted lines; ``named``: each segment's label above the panel, at its
+    middle (a motion of one segment has neither)."""
+    breaks = log.motion.breaks
+    for t in breaks[1:-1]:
+        ax.axvline(t, color="0.6", lw=0.8, ls=":")
+    if named and len(breaks) > 2:
+        top = ax.secondary_xaxis("top")
+        top.set_xticks((breaks[:-1] + breaks[1:]) / 2, [f"segment {label}" for label in log.motion.labels],
+                       fontsize=7, color="0.35")
+        top.tick_params(length=0, pad=2)
 
 
-def limit_values(log: SimulationLog, kind: str) -> list[tuple[float, float] | None]:
+def _legend(ax: Axes, **options: Any) -> None:
+    """The panel's legend outside it, to the right: it covers no curve and no limit line."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, **options)
+
+
+def limit_values(arm: Arm, kind: str) -> list[tuple[float, float] | None]:
     """Per joint, the (low, high) ``kind`` limit (position, velocity or effort; velocity and effort
     symmetric), or None where the arm does not know it."""
     out: list[tuple[float, float] | None] = []
-    for limits in log.arm.limits:
+    for limits in arm.limits:
         if kind == "position":
             out.append(None if limits.lower is None or limits.upper is None
                        else (float(limits.lower), float(limits.upper)))
@@ -81,33 +95,46 @@ def limit_values(log: SimulationLog, kind: str) -> list[tuple[float, float] | No
 OFF_SCALE = 3.0
 
 
-def _limit_lines(ax: Axes, log: SimulationLog, kind: str, values: np.ndarray) -> list[str]:
-    """Each joint's known ``kind`` limits as horizontal lines (joints sharing a limit: one grey line),
-    for the curves ``values`` (m, n) in the panel. A limit more than :data:`OFF_SCALE` times the largest
-    |value| is written in a note at the panel's foot instead, with the share of it the motion uses.
-    Returns the notes written.
-    """
-    colors = _colors()
+def limit_groups(arm: Arm, kind: str, values: np.ndarray) -> tuple[list[tuple[list[int], float, float]], list[str]]:
+    """The arm's known ``kind`` limits for the curves ``values`` (m, n) of one panel: the ones to draw, as
+    (joints sharing the limit, low, high), and notes for those more than :data:`OFF_SCALE` times the largest
+    |value| out (with the share of them the motion uses). Used by the PNGs and by the replay's graphs."""
     groups: dict[tuple[float, float], list[int]] = {}
-    for i, limits in enumerate(limit_values(log, kind)):
+    for i, limits in enumerate(limit_values(arm, kind)):
         if limits is not None:
             groups.setdefault(limits, []).append(i)
     unit = {"position": "", "velocity": "/s", "effort": ""}[kind]
-    notes = []
+    drawn, notes = [], []
     for (low, high), joints in groups.items():
-        names = ", ".join(f"q{i + 1}" for i in joints)
-        units = sorted({("N·m" if log.arm.revolute[i] else "N") if kind == "effort"
-                        else ("rad" if log.arm.revolute[i] else "m") + unit for i in joints})
+        units = sorted({("N·m" if arm.revolute[i] else "N") if kind == "effort"
+                        else ("rad" if arm.revolute[i] else "m") + unit for i in joints})
         peak = float(np.max(np.abs(values[:, joints])))
         if max(abs(low), abs(high)) <= OFF_SCALE * max(peak, float(np.max(np.abs(values))), 1e-12):
-            color = colors[joints[0] % len(colors)] if len(joints) == 1 else "0.35"
-            for k, v in enumerate((low, high)):
-                ax.axhline(v, color=color, label=f"{names} {kind} limit" if k == 0 else None, **_LIMIT_STYLE)
+            drawn.append((joints, low, high))
         else:
             used = peak / max(abs(low), abs(high))
-            notes.append(f"{names} {kind} limits [{low:.4g}, {high:.4g}] {'|'.join(units)}: off the scale "
-                         f"(the motion uses {used:.0%} of them)")
-    if notes:
+            notes.append(f"{joint_names(joints)} {kind} limits [{low:.4g}, {high:.4g}] {'|'.join(units)}: off the "
+                         f"scale (the motion uses {used:.0%} of them)")
+    return drawn, notes
+
+
+def joint_names(joints: list[int]) -> str:
+    """``q1, q3`` for the joints [0, 2]."""
+    return ", ".join(f"q{i + 1}" for i in joints)
+
+
+def _limit_lines(ax: Axes, log: SimulationLog, kind: str, values: np.ndarray) -> list[str]:
+    """Each joint's known ``kind`` limits (:func:`limit_groups`) as horizontal lines (joints sharing a limit: one
+    grey line); the limits off the scale in a note at the panel's foot. Returns the notes written."""
+    colors = _colors()
+    drawn, notes = limit_groups(log.arm, kind, values)
+    for joints, low, high in drawn:
+        color = colors[joints[0] % len(colors)] if len(joints) == 1 else "0.35"
+        for k, v in enumerate((low, high)):
+            ax.axhline(v, color=color, label=f"{joint_names(joints)} {kind} limit" if k == 0 else None, **_LIMIT_STYLE)
+    if notes:  # below the curves: the panel grows downwards by a line per note
+        low, high = ax.get_ylim()
+        ax.set_ylim(low - 0.09 * len(notes) * (high - low), high)
         ax.text(0.01, 0.02, "\n".join(notes), transform=ax.transAxes, fontsize=7, color="0.3", va="bottom",
                 ha="left", zorder=5, bbox={"fc": "white", "ec": "0.8", "alpha": 0.85, "boxstyle": "round,pad=0.2"})
     return notes
@@ -137,14 +164,14 @@ def _joints(log: SimulationLog) -> Any:
                         label="reference" if i == 0 else None)
             else:
                 _by_run(ax, log, log.t, reference[order][:, i], color=color, lw=1.6, label=label)
-        _segment_lines(ax, log)
+        _segment_lines(ax, log, named=order == 0)
         if sim is not None:  # position and velocity (no acceleration limits)
             _limit_lines(ax, log, names[order], sim)
         units = sorted({_joint_unit(log, i, order) for i in range(n)})
         shown = "simulated (reference dashed)" if sim is not None else "reference"
         ax.set_ylabel(f"joint {names[order]} [{' | '.join(units)}]")
         ax.set_title(f"{names[order]}: {shown}", loc="left", fontsize=9)
-        ax.legend(ncol=min(n + 1, 4), loc="best")
+        _legend(ax)
     axes[-1, 0].set_xlabel("time t [s]")
     return fig
 
@@ -155,12 +182,12 @@ def _torques(log: SimulationLog) -> Any:
     for i in range(log.arm.n):
         unit = "N·m" if log.arm.revolute[i] else "N"
         _by_run(ax, log, log.t, log.tau[:, i], lw=1.6, label=f"τ{i + 1} [{unit}]", color=colors[i % len(colors)])
-    _segment_lines(ax, log)
+    _segment_lines(ax, log, named=True)
     _limit_lines(ax, log, "effort", log.tau)
     units = sorted({"N·m" if r else "N" for r in log.arm.revolute})
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(f"joint torque / force [{' | '.join(units)}]")
-    ax.legend()
+    _legend(ax)
     return fig
 
 
@@ -198,10 +225,14 @@ def _tool_path(log: SimulationLog) -> Any:
         ax.set_ylabel("y [m]")
         ax.set_zlabel("z [m]")
         set_equal_3d(ax, p)
+        from matplotlib.ticker import MaxNLocator
+
+        for axis in (ax.xaxis, ax.yaxis, ax.zaxis):  # tick labels that do not run into each other
+            axis.set_major_locator(MaxNLocator(4))
     ax.legend()
     for j, axis in enumerate("xyz"):
         _by_run(ax2, log, log.t, p[:, j], lw=1.6, label=f"{axis} [m]")
-    _segment_lines(ax2, log)
+    _segment_lines(ax2, log, named=True)
     ax2.set_xlabel("time t [s]")
     ax2.set_ylabel("tool point position [m]")
     ax2.set_title("x, y, z of the tool point over time", fontsize=9)
@@ -216,9 +247,9 @@ def _tool_motion(log: SimulationLog) -> Any:
         ax = axes[row, 0]
         for j, axis in enumerate("xyz"):
             _by_run(ax, log, log.t, log.tool[:, 3 * row + j], lw=1.6, label=axis)
-        _segment_lines(ax, log)
+        _segment_lines(ax, log, named=row == 0)
         ax.set_ylabel(f"tool {name} [{unit}]")
-        ax.legend(ncol=3)
+        _legend(ax)
     axes[-1, 0].set_xlabel("time t [s]")
     return fig
 

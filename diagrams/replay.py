@@ -25,6 +25,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.diagrams.replay_graphs import (
+    GRAPHS_PCT,
+    GRAPHS_SCRIPT,
+    GRAPHS_STYLE,
+    Graph,
+    arm_graphs,
+    graph_data,
+    log_graphs,
+)
 from armlab.files import write_file
 
 if TYPE_CHECKING:
@@ -39,7 +48,9 @@ __all__ = [
     "Scene",
     "build_scene",
     "frame_camera",
+    "log_page",
     "reach_points",
+    "replay_page",
     "start_meshcat",
     "style_scene",
     "write_replay",
@@ -53,6 +64,9 @@ MAX_FRAMES = 1800
 CAMERA_FOV_DEG = 75.0
 #: Width / height the camera framing assumes (a landscape browser window is at least this wide).
 CAMERA_ASPECT = 1.25
+#: Width / height of a replay's 3-D view, which shares the window with the graphs (:data:`GRAPHS_PCT` of its
+#: width): a 1000 × 800 window's view is 600 × 696 px; wider windows show the arm with more room around it.
+REPLAY_ASPECT = 0.85
 #: Meshcat path of the arm's scene (Drake's visualizer draws under ``/drake/visualizer``); turned so
 #: that gravity points down (:func:`display_rotation`).
 SCENE = "/drake"
@@ -227,17 +241,18 @@ def _view_directions() -> NDArray[np.float64]:
     return np.stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)], axis=-1)
 
 
-def _fit(rel: NDArray, d: NDArray, margin: float) -> tuple[NDArray, NDArray, NDArray]:
+def _fit(rel: NDArray, d: NDArray, margin: float, aspect: float) -> tuple[NDArray, NDArray, NDArray]:
     """For each view direction ``d`` (K, 3): the camera distance at which every point ``rel`` (M, 3)
     (relative to the target, grown by ``margin``) is inside the perspective view, the fraction of
-    the window the points' screen bounding box then fills, and that box's centre in window units.
+    the ``aspect`` (width / height) window the points' screen bounding box then fills, and that box's centre in
+    window units.
     """
     right = np.cross(np.array([0.0, 0.0, 1.0]), d)
     right /= np.linalg.norm(right, axis=1, keepdims=True)
     up = np.cross(d, right)
     x, y, z = rel @ right.T, rel @ up.T, rel @ d.T  # (M, K): screen right, screen up, toward the camera
     tan_y = np.tan(np.radians(CAMERA_FOV_DEG) / 2)
-    tan_x = tan_y * CAMERA_ASPECT
+    tan_x = tan_y * aspect
     distance = np.maximum(z + (np.abs(x) + margin) / tan_x, z + (np.abs(y) + margin) / tan_y).max(axis=0) + margin
     sx = x / ((distance - z) * tan_x)  # window coordinates, −1 … 1 across the view
     sy = y / ((distance - z) * tan_y)
@@ -264,13 +279,14 @@ def _face_on(points: NDArray) -> NDArray | None:
     return normal[None, :]
 
 
-def frame_camera(meshcat: Meshcat, points: ArrayLike, margin: float = 0.0) -> tuple[NDArray, NDArray]:
+def frame_camera(meshcat: Meshcat, points: ArrayLike, margin: float = 0.0, aspect: float = CAMERA_ASPECT
+                 ) -> tuple[NDArray, NDArray]:
     """Place Meshcat's camera so that ``points`` (M, 3) — the arm's reach — fill the view.
 
     ``points`` are in the display frame (gravity −z). Points in one vertical plane (a planar arm
     turned so that gravity is down) are seen face-on. Otherwise, of a set of oblique view directions,
     the most customary one (front-right three-quarter view first) whose view of the points fills at
-    least 80 % as much of a :data:`CAMERA_ASPECT` window as the best one is chosen, and the
+    least 80 % as much of an ``aspect`` (width / height) window as the best one is chosen, and the
     camera is moved as close as the perspective view allows with every point, grown by ``margin``
     metres, inside. Returns (camera, target) in Drake's world frame.
     """
@@ -281,12 +297,12 @@ def frame_camera(meshcat: Meshcat, points: ArrayLike, margin: float = 0.0) -> tu
     d = _face_on(pts)
     if d is None:
         d = _view_directions()
-        _, fill, _ = _fit(pts - target, d, margin)
+        _, fill, _ = _fit(pts - target, d, margin, aspect)
         d = d[int(np.argmax(fill >= 0.8 * fill.max()))][None, :]
     for _ in range(2):  # centre the picture: aim at the middle of the points' screen bounding box
-        distance, _, shift = _fit(pts - target, d, margin)
+        distance, _, shift = _fit(pts - target, d, margin, aspect)
         target = target + shift[0]
-    distance, _, _ = _fit(pts - target, d, margin)
+    distance, _, _ = _fit(pts - target, d, margin, aspect)
     camera = target + max(float(distance[0]), 1e-3) * d[0]
     meshcat.SetCameraPose(camera, target)
     return camera, target
@@ -347,11 +363,21 @@ def _check_run(arm: Arm, times: ArrayLike, q: ArrayLike, tool_path: ArrayLike | 
     return times, q, tool_path
 
 
-def write_replay(
-    arm: Arm, times: NDArray, q: NDArray, path: Path, tool_path: NDArray | None = None, tau: NDArray | None = None,
+def write_replay(arm: Arm, times: NDArray, q: NDArray, path: Path, **options: Any) -> Path:
+    """:func:`replay_page` of the run ``q(times)`` (N, n) of ``arm`` (``options``: its keywords) saved as one
+    self-contained HTML file at ``path``, atomically (:func:`~armlab.files.write_file`)."""
+    path = Path(path)
+    page = replay_page(arm, times, q, **options)
+    write_file(path, page)
+    return path
+
+
+def replay_page(
+    arm: Arm, times: NDArray, q: NDArray, tool_path: NDArray | None = None, tau: NDArray | None = None,
     run: NDArray | None = None, payload: float = 0.0, deg: bool = False, title: str | None = None,
-) -> Path:
-    """Record the run ``q(times)`` (N, n) of ``arm`` and save it as one self-contained HTML file at ``path``.
+    graphs: list[Graph] | None = None,
+) -> str:
+    """Record the run ``q(times)`` (N, n) of ``arm`` as one self-contained HTML page (its text).
 
     The motion is resampled to uniform frames (≤ :data:`MAX_FPS` fps), posed in a Drake plant and
     recorded by ``MeshcatVisualizer`` into a Meshcat animation that plays and loops on opening
@@ -364,8 +390,10 @@ def write_replay(
     for :data:`JOIN_PAUSE` s under a banner saying what happens, and the arm is hidden for the one
     frame in which it changes pose. The arm is turned so that gravity points down the screen, on a
     floor grid, with the world axes; the camera frames everything the arm occupies during the run.
-    ``title`` (default: the arm's name) heads the control bar.
-    The file is written atomically (:func:`~armlab.files.write_file`).
+    ``title`` (default: the arm's name) heads the control bar. Beside the 3-D view, ``graphs``
+    (:class:`~armlab.diagrams.replay_graphs.Graph`, one row per sample of ``times``; default: q and, if given,
+    τ with the arm's limits) are drawn against the run's time with a cursor at the time played; a click or a
+    drag on a graph seeks the replay there.
     """
     times, q, tool_path = _check_run(arm, times, q, tool_path)
     tau = None if tau is None else np.asarray(tau, dtype=float)
@@ -378,7 +406,8 @@ def write_replay(
         raise ValueError(f"replay: payload = {payload} kg must be a finite mass ≥ 0")
     if tool_path is None:
         tool_path = arm.forward(q).tool[:, :3, 3]
-    path = Path(path)
+    graphs = arm_graphs(arm, q, tau=tau, deg=deg) if graphs is None else graphs
+    shown = graph_data(times, run, graphs)
     fps, k, t, frame_run = _frames(times, run)
     frames_q = _interpolate(t, frame_run, times, run, q)
     frames_tau = None if tau is None else _interpolate(t, frame_run, times, run, tau)
@@ -388,7 +417,7 @@ def write_replay(
     reach = np.concatenate([reach_points(arm, frames_q), tool_path])
     R = style_scene(meshcat, arm, reach)
     radius = max(body.radius for body in arm.bodies)
-    frame_camera(meshcat, reach @ R.T, margin=2.5 * radius)
+    frame_camera(meshcat, reach @ R.T, margin=2.5 * radius, aspect=REPLAY_ASPECT)
     for k_run in np.unique(run):  # one line per run: no segment joins two runs
         rows = run == k_run
         meshcat.SetLine(f"{TOOL_PATH}/{k_run}", tool_path[rows].T.copy(), line_width=3.0, rgba=_rgba(_PATH_RGBA))
@@ -422,16 +451,23 @@ def write_replay(
     html = meshcat.StaticHtml()
     data = _page_data(arm, fps, k, t, frame_run, frames_q, frames_tau, deg)
     data["title"] = arm.name if title is None else title
+    data["graphs"] = shown
     end = html.rfind("</body>")
-    write_file(path, html[:end] + _controls(data) + html[end:])
-    return path
+    return html[:end] + _controls(data) + html[end:]
+
+
+def log_page(log: SimulationLog, deg: bool = False) -> str:
+    """:func:`replay_page` of a simulation: its q, τ, tool path, runs and payload, and its graphs
+    (:func:`~armlab.diagrams.replay_graphs.log_graphs`)."""
+    payload = f", payload {log.payload:g} kg" if log.payload else ""
+    return replay_page(log.arm, log.t, log.q, tool_path=log.tool[:, :3], tau=log.tau, run=log.run,
+                       payload=log.payload, deg=deg, title=f"{log.arm.name}: {log.motion.description}{payload}",
+                       graphs=log_graphs(log, deg))
 
 
 def replay_log(log: SimulationLog, path: Path, deg: bool = False) -> Path:
-    """:func:`write_replay` of a simulation: its q, τ, tool path, runs and payload."""
-    payload = f", payload {log.payload:g} kg" if log.payload else ""
-    return write_replay(log.arm, log.t, log.q, path, tool_path=log.tool[:, :3], tau=log.tau, run=log.run,
-                        payload=log.payload, deg=deg, title=f"{log.arm.name}: {log.motion.description}{payload}")
+    """:func:`log_page` written to ``path`` (atomically)."""
+    return write_file(Path(path), log_page(log, deg))
 
 
 def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray, q: NDArray,
@@ -455,8 +491,9 @@ def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray,
 
 def _controls(data: dict[str, Any]) -> str:
     """The page's control bar, readout and join banner (HTML, CSS and a script driving ``viewer.animator``)."""
-    sizes = _CONTROLS.replace("BAR_PX", str(BAR_HEIGHT)).replace("BANNER_PX", str(BAR_HEIGHT + 12))
-    return sizes.replace("/*DATA*/null", json.dumps(data, ensure_ascii=False))
+    page = _CONTROLS.replace("/*GRAPHS_STYLE*/", GRAPHS_STYLE).replace("/*GRAPHS_SCRIPT*/", GRAPHS_SCRIPT)
+    sizes = page.replace("BAR_PX", str(BAR_HEIGHT)).replace("BANNER_PX", str(BAR_HEIGHT + 12))
+    return sizes.replace("GRAPHS_PCT", str(GRAPHS_PCT)).replace("/*DATA*/null", json.dumps(data, ensure_ascii=False))
 
 
 #: Height (px) of the control bar below the 3-D view of the replay page.
@@ -476,8 +513,9 @@ html,body{margin:0;overflow:hidden}
 #armlab-title{font-weight:bold;font-size:14px;white-space:nowrap;overflow:hidden;text-overflow:ellipsis;margin-top:4px}
 #armlab-banner{position:fixed;left:50%;bottom:BANNER_PXpx;transform:translateX(-50%);max-width:70%;display:none;
   background:#b03a2e;color:#fff;padding:9px 16px;border-radius:6px;font:15px/1.4 Helvetica,Arial,sans-serif;z-index:20}
-</style>
+/*GRAPHS_STYLE*/</style>
 <div id="armlab-banner"></div>
+<div id="armlab-graphs"></div>
 <div id="armlab-bar"><div id="armlab-row">
   <button id="armlab-play" title="play / pause (space)">&#9208; Pause</button>
   <label><input type="checkbox" id="armlab-loop" checked> loop</label>
@@ -486,12 +524,26 @@ html,body{margin:0;overflow:hidden}
   <span id="armlab-time"></span></div>
   <div id="armlab-title"></div><div id="armlab-readout"></div></div>
 <script>
+/*GRAPHS_SCRIPT*/
 (function () {
   const D = /*DATA*/null;
   const $ = (id) => document.getElementById(id);
   const play = $("armlab-play"), loop = $("armlab-loop"), slider = $("armlab-slider");
   function now(a) { return a.actions.reduce((m, x) => Math.max(m, x.time), 0); }
   function frame(time) { return Math.max(0, Math.min(D.t.length - 1, Math.round(time * D.fps) - D.first)); }
+  function playback(t) {  // the playback time at which the replay shows run time t (the first, at a join)
+    let lo = 0, hi = D.t.length - 1;
+    if (t <= D.t[0]) return (D.first) / D.fps;
+    if (t >= D.t[hi]) return (hi + D.first) / D.fps;
+    while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (D.t[mid] < t) lo = mid; else hi = mid; }
+    const f = D.t[hi] > D.t[lo] ? (t - D.t[lo]) / (D.t[hi] - D.t[lo]) : 1;
+    return (lo + f + D.first) / D.fps;
+  }
+  function runTime(time) {  // the run time shown at playback time ``time`` (between two frames: interpolated)
+    const f = Math.max(0, Math.min(D.t.length - 1, time * D.fps - D.first)), i = Math.floor(f);
+    if (i + 1 >= D.t.length) return D.t[D.t.length - 1];
+    return D.t[i] + (f - i) * (D.t[i + 1] - D.t[i]);
+  }
   function fmt(v) { return (v >= 0 ? "+" : "") + v.toFixed(3); }
   function show(time) {
     const i = frame(time);
@@ -519,6 +571,13 @@ html,body{margin:0;overflow:hidden}
     };
     document.addEventListener("keydown", (e) => { if (e.code === "Space") { e.preventDefault(); play.onclick(); } });
     slider.oninput = () => { a.pause(); a.seek(+slider.value); show(+slider.value); };
+    const seek = (t) => {  // what a click or a drag on a graph at run time t does
+      const time = playback(t);
+      a.pause(); a.seek(time); slider.value = time; show(time); move(runTime(time));
+      if (viewer.set_dirty) viewer.set_dirty();
+    };
+    const move = ARMLAB_GRAPHS(D.graphs, seek);
+    window.armlab = {playback, runTime, seek};  // for scripts and the benchmark (scripts/bench_replay.py)
     for (const j of D.joins) {  // the joins marked on the slider
       const mark = document.createElement("div");
       mark.title = "branch switch at t = " + j.t + " s";
@@ -531,6 +590,7 @@ html,body{margin:0;overflow:hidden}
       if (document.activeElement !== slider) slider.value = time;
       play.innerHTML = a.playing ? "&#9208; Pause" : "&#9654; Play";
       show(time);
+      move(runTime(time));
       requestAnimationFrame(tick);
     })();
   }

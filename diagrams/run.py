@@ -8,6 +8,7 @@ every output into a folder completely or not at all.
 
 from __future__ import annotations
 
+import html
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -15,20 +16,22 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.collision.clearance import motion_clearance, plot_clearance
+from armlab.collision.clearance import clearance_figure, motion_clearance
 from armlab.diagrams.drives import (
     DIVERGENCE_TOLERANCE,
     divergence,
     drive_table,
+    drives_figure,
+    format_violation,
     limit_violations,
-    plot_drives,
     write_drives_csv,
 )
 from armlab.diagrams.graphviz import fig6_dot, write_pictures
 from armlab.diagrams.output import run_folder, write_log_csv, write_summary
-from armlab.diagrams.plots import write_plots
-from armlab.diagrams.replay import replay_log
+from armlab.diagrams.plots import figures
+from armlab.diagrams.replay import log_page, replay_log
 from armlab.diagrams.simulate import summarize
+from armlab.scripts.figures import DPI
 
 if TYPE_CHECKING:
     from armlab.collision.model import Clearances
@@ -38,9 +41,12 @@ if TYPE_CHECKING:
 __all__ = ["Run"]
 
 
-@dataclass
+@dataclass(repr=False)
 class Run:
     """One simulated motion. Arrays are one row per log sample: ``t`` ``(m,)``, joints ``(m, n)`` (SI units).
+
+    ``run.plot()`` gives its figures, ``run.save(folder)`` writes every output (the replay, the plots, the
+    log, the summary); in Jupyter a run shows its summary and its 3-D replay with graphs.
 
     ``summary`` is ``summary.json``: the run's maxima (torques N·m or N, tracking errors rad or m, power W),
     per segment, the setup, and ``limit_violations`` (a list, empty when none), ``diverged`` and
@@ -55,6 +61,7 @@ class Run:
     scene: Scene | None = None
     summary: dict[str, Any] = field(init=False)
     clearance: Clearances | None = field(init=False)
+    _replay: str | None = field(init=False, default=None)  # the inline replay, made when Jupyter first shows it
 
     def __post_init__(self) -> None:
         summary = summarize(self.log)
@@ -131,14 +138,53 @@ class Run:
         """Per joint peak |τ|, RMS τ, peak |q̇|, peak power and the effort/velocity limits."""
         return self.summary["drives"]
 
+    # ------------------------------------------------------------------ what a person sees
+    def __repr__(self) -> str:
+        log = self.log
+        drive = max(self.drives, key=lambda d: d["peak_torque"])
+        checks = f"{len(self.violations)} limit violation(s)" if self.violations else "within limits"
+        return (f"<Run {log.arm.name}: {log.motion.description}; {log.t[-1] - log.t[0]:g} s, {log.t.size} samples, "
+                f"{log.mode}; peak |τ| {drive['peak_torque']:.4g} {drive['torque_unit']} ({drive['joint']}); "
+                f"{checks}{', DIVERGED' if self.diverged else ''}>")
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: the summary (one row per joint: peak and RMS τ, peak q̇, limits), the limit violations,
+        and the replay with its graphs inline (an iframe of the self-contained page: no server needed)."""
+        if self._replay is None:
+            self._replay = log_page(self.log)
+
+        def cell(v: Any, unit: str) -> str:
+            return "—" if v is None else f"{v:.4g} {unit}"
+
+        rows = "".join(
+            f"<tr><td>{html.escape(d['joint'])}</td><td>{cell(d['peak_torque'], d['torque_unit'])}</td>"
+            f"<td>{cell(d['rms_torque'], d['torque_unit'])}</td><td>{cell(d['peak_speed'], d['speed_unit'])}</td>"
+            f"<td>{cell(d['effort_limit'], d['torque_unit'])}</td><td>{cell(d['velocity_limit'], d['speed_unit'])}</td>"
+            "</tr>" for d in self.drives)
+        problems = [format_violation(v) for v in self.violations]
+        if self.diverged:
+            problems.append("the run left its reference (diverged)")
+        checks = "".join(f"<li>{html.escape(p)}</li>" for p in problems) or "<li>within every known limit</li>"
+        return (f"<div><b>{html.escape(repr(self)[1:-1])}</b>"
+                "<table><tr><th>joint</th><th>peak |τ|</th><th>RMS τ</th><th>peak |q̇|</th><th>effort limit</th>"
+                f"<th>speed limit</th></tr>{rows}</table><ul>{checks}</ul>"
+                f'<iframe srcdoc="{html.escape(self._replay, quote=True)}" style="width:100%;height:560px;'
+                'border:1px solid #ccc" title="3-D replay with graphs"></iframe></div>')
+
     # ------------------------------------------------------------------ the files
-    def plot(self, folder: str | Path) -> list[Path]:
-        """Write the run's plots into ``folder`` (joints, torques, tool path and motion, drives); their paths."""
-        folder = Path(folder)
-        folder.mkdir(parents=True, exist_ok=True)
-        clearance = ([] if self.clearance is None or not self.clearance.pairs
-                     else [plot_clearance(self.log.arm, self.log.t, self.clearance, folder / "clearance.png")])
-        return [*write_plots(self.log, folder), *clearance, plot_drives(self.log, folder / "drives.png")]
+    def plot(self, folder: str | Path | None = None) -> dict[str, Any]:
+        """The run's matplotlib figures by file name: joints, torques, tool path and motion (:data:`PLOTS`),
+        ``clearance.png`` (when the run checked pairs for collisions) and ``drives.png``; written into ``folder``
+        (PNG) only if one is given. Close them with ``plt.close``."""
+        shown = {**figures(self.log), "drives.png": drives_figure(self.log)}
+        if self.clearance is not None and self.clearance.pairs:
+            shown["clearance.png"] = clearance_figure(self.log.arm, self.log.t, self.clearance)
+        if folder is not None:
+            folder = Path(folder)
+            folder.mkdir(parents=True, exist_ok=True)
+            for name, fig in shown.items():
+                fig.savefig(folder / name, dpi=DPI)
+        return shown
 
     def save(self, out: str | Path, deg: bool = False) -> list[str]:
         """Write every output of the run (:meth:`write`) into folder ``out``, completely or not at all.
@@ -165,7 +211,12 @@ class Run:
         pictures = write_pictures({"diagram.svg": fig6_dot(log.diagram_dot), "diagram_full.svg": log.diagram_dot},
                                   folder)
         drives = write_drives_csv(log, folder / "drives.csv")
-        *plots, drives_png = self.plot(folder)
+        # lazy: matplotlib is loaded by what plots (armlab._lazy)
+        import matplotlib.pyplot as plt
+
+        shown = self.plot(folder)  # the plots, clearance.png (pairs checked) and drives.png, written
+        for fig in shown.values():
+            plt.close(fig)
         replay_log(log, folder / "replay.html", deg=deg)
-        return ["log.csv", "summary.json", *pictures, "diagram.dot", *(p.name for p in plots), drives.name,
-                drives_png.name, "replay.html"]
+        return ["log.csv", "summary.json", *pictures, "diagram.dot", *(name for name in shown if name != "drives.png"),
+                drives.name, "drives.png", "replay.html"]

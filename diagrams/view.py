@@ -12,6 +12,7 @@ gravity down the screen, floor grid and world axes, the camera framing everythin
 
 from __future__ import annotations
 
+import html
 import sys
 import time
 from typing import TYPE_CHECKING, Any, TextIO
@@ -27,7 +28,7 @@ if TYPE_CHECKING:
     from armlab.diagrams.view_guard import Guard
     from armlab.models.arm import Arm
 
-__all__ = ["PORT_TRIES", "Viewer", "open_meshcat", "run_view"]
+__all__ = ["PORT_TRIES", "Viewer", "notebook_note", "open_meshcat", "run_view"]
 
 #: How many consecutive ports ``--port P`` tries (P, P+1, …) before giving up.
 PORT_TRIES = 10
@@ -113,6 +114,10 @@ class Viewer:
         self.trail: list[NDArray[np.float64]] = []
         self._label = ""
 
+    def _repr_html_(self) -> str:
+        """Jupyter's view: the page in a frame, its address, and what to do when the frame stays blank."""
+        return notebook_note(self.url)
+
     @property
     def slider_names(self) -> list[str]:
         """The sliders' names on the page, in joint order."""
@@ -176,6 +181,22 @@ class Viewer:
         """Remove the controls from the page and stop serving it."""
         self.meshcat.DeleteAddedControls()
         self.guard.close()
+
+
+def notebook_note(url: str) -> str:
+    """HTML for a notebook cell: the live viewer at ``url`` (``http://localhost:PORT``) in a frame, and what to do
+    when the browser cannot reach that address — the notebook runs on another machine (a remote hub, a
+    container): ``localhost`` is then the browser's machine, not the kernel's."""
+    port = url.rsplit(":", 1)[-1].strip("/")
+    tips = (f"If the frame stays blank, the notebook's kernel runs on another machine than your browser (a remote "
+            f"JupyterHub, a container, Colab), and {url} names your own machine. Then: forward the port — "
+            f"<code>ssh -L {port}:localhost:{port} USER@HOST</code> and reload; or, with jupyter-server-proxy "
+            f"installed on the hub, open <code>…/proxy/{port}/</code> beside the notebook's address; or use the "
+            "self-contained replay instead, which needs no server: <code>run = armlab.simulate(...)</code> and "
+            "show <code>run</code> (or <code>run.save(folder)</code> and open <code>replay.html</code>).")
+    return (f'<div><iframe src="{html.escape(url)}" style="width:100%;height:480px;border:1px solid #ccc" '
+            f'title="armlab live viewer"></iframe><br>armlab live viewer: <a href="{html.escape(url)}" '
+            f'target="_blank">{html.escape(url)}</a><br><small>{tips}</small></div>')
 
 
 def run_view(arm: Arm, q0: NDArray[np.float64] | None = None, port: int | None = None, deg: bool = False,

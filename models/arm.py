@@ -10,6 +10,7 @@ tests check against Drake.
 from __future__ import annotations
 
 import hashlib
+import html
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
@@ -67,9 +68,25 @@ def parameter_notes(params: Any) -> dict[str, str]:
     return {f.name: f.metadata.get("source", "") for f in fields(params)}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Arm:
-    """A serial arm. Build one with an arm module's ``build()`` or :func:`armlab.models.get_arm`."""
+    """A serial robot arm: load one, then ask it about poses, motions and forces.
+
+    ``arm = armlab.load("urm6")`` gives a paper arm (``armlab list``), ``armlab.load("my.urdf")`` or
+    ``armlab.load("my_dh.csv")`` your own. Then, with joint values ``q`` ``(n,)`` or a batch ``(N, n)`` in rad
+    (m for a prismatic joint), checked against the limits:
+
+    * ``arm.fk(q)`` — the tool pose, 4×4 (m); ``arm.jacobian(q)`` — 6×n, rows [v; ω], world frame;
+    * ``arm.ik(target, all=True)`` — every joint solution reaching a position or a pose;
+    * ``arm.inverse_dynamics(q, qd, qdd)`` — joint torques (N·m, N); ``arm.manipulability(q)``;
+    * ``armlab.simulate(arm, armlab.quintic(arm, q0, qf, tf))`` — a :class:`~armlab.diagrams.run.Run` through
+      paper 000's Drake diagram, with its replay, plots and summary;
+    * ``arm.joints()``, ``arm.links()``, ``arm.limits`` — what the arm is made of; ``arm.urdf()`` its URDF and
+      ``arm.make_plant()`` its Drake ``MultibodyPlant``.
+
+    In Jupyter an arm shows a table of its joints, limits and masses. The fields below are the arm's
+    description, as the model modules build it (:mod:`armlab.models`); a user reads them, rarely sets them.
+    """
 
     name: str
     paper: str
@@ -119,6 +136,33 @@ class Arm:
     #: Pairs of links (URDF names) never checked for collision beyond the adjacent ones, each by design (the
     #: arm's module says why); written into its URDF as Drake collision filter groups.
     collision_filters: tuple[tuple[str, str], ...] = ()
+
+    def __repr__(self) -> str:
+        kinds = "".join(row.kind for row in self.table.rows)
+        mass = f"{sum(body.mass for body in self.bodies):.4g} kg" if self.has_dynamics else "no mass data"
+        g = ", ".join(f"{v:g}" for v in self.gravity)
+        return f"<Arm {self.name}: {self.n} joints {kinds}, {mass}, tool {self.tool_name}, gravity ({g}) m/s²>"
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: the arm's name and paper, then one row per joint: type, limits (° for revolute
+        joints), effort and speed limits, and the mass of the link it moves."""
+        masses = [link["mass"] for link in self.links()]
+
+        def value(v: float | None, revolute: bool, unit: str, deg: bool = False) -> str:
+            if v is None:
+                return "—"
+            return f"{np.degrees(v):.4g}°" if (revolute and deg) else f"{v:.4g} {unit}"
+
+        rows = []
+        for name, r, lim, mass in zip(self.joint_names, self.revolute, self.limits, masses, strict=True):
+            rows.append(
+                f"<tr><td>{html.escape(name)}</td><td>{'revolute' if r else 'prismatic'}</td>"
+                f"<td>{value(lim.lower, r, 'm', True)}</td><td>{value(lim.upper, r, 'm', True)}</td>"
+                f"<td>{value(lim.effort, r, 'N·m' if r else 'N')}</td>"
+                f"<td>{value(lim.velocity, r, 'rad/s' if r else 'm/s')}</td><td>{value(mass, r, 'kg')}</td></tr>")
+        return (f"<div><b>{html.escape(repr(self)[1:-1])}</b><br>{html.escape(self.paper)}"
+                "<table><tr><th>joint</th><th>type</th><th>lower</th><th>upper</th><th>effort limit</th>"
+                f"<th>speed limit</th><th>link mass</th></tr>{''.join(rows)}</table></div>")
 
     def require_dynamics(self, what: str) -> None:
         """``ValueError`` (saying how to add mass data) unless the arm has mass data; ``what`` needs it."""

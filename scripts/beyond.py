@@ -133,6 +133,26 @@ def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
                    "analysis/studies/urm6_bend_angles.json` runs a larger study on a Dask cluster.")
 
 
+def _label_places(lines: Any, x: Any, y: Any) -> list[tuple[float, float]]:
+    """Where a contour plot's labels go: on each level's longest line, the point half-way along it of those at
+    least a tenth of the panel from its border (matplotlib's own choice puts some at the border, cut off).
+    ``x``, ``y``: the grid's coordinates."""
+    lo, hi = np.array([np.min(x), np.min(y)]), np.array([np.max(x), np.max(y)])
+    margin = 0.1 * (hi - lo)
+    places = []
+    for segments in lines.allsegs:
+        if not segments:
+            continue
+        line = max(segments, key=lambda s: float(np.sum(np.linalg.norm(np.diff(s, axis=0), axis=1))))
+        inside = np.all((line > lo + margin) & (line < hi - margin), axis=1)
+        if not inside.any():
+            continue
+        along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line / (hi - lo), axis=0), axis=1))])
+        k = np.nonzero(inside)[0]
+        places.append(tuple(line[k[np.argmin(np.abs(along[k] - along[-1] / 2))]]))
+    return places
+
+
 def rr_drive_map(out: PaperOutput, fast: bool) -> None:
     """Paper 000's RR arm: peak joint torques along Fig. 3's motion against t_f and payload."""
     tfs = [0.5, 1.0, 2.0, 3.0] if fast else [0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0]
@@ -148,7 +168,7 @@ def rr_drive_map(out: PaperOutput, fast: bool) -> None:
         ax.grid(False)
         image = ax.contourf(tfs, payloads, grid, levels=14, cmap="viridis")
         lines = ax.contour(tfs, payloads, grid, levels=image.levels[1::3], colors="w", linewidths=0.6)
-        ax.clabel(lines, fontsize=7, fmt="%.3g")
+        ax.clabel(lines, fontsize=7, fmt="%.3g", manual=_label_places(lines, tfs, payloads))
         fig.colorbar(image, ax=ax, label=f"peak |τ{j + 1}| [N·m]")
         ax.set_xlabel("motion time t_f [s]")
         ax.set_ylabel("payload at the tool [kg]")

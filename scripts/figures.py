@@ -38,19 +38,23 @@ _STYLE: dict[RcKeyType, Any] = {
 
 def new_figure(title: str, nrows: int = 1, ncols: int = 1, size: tuple[float, float] = (7.0, 4.5),
                projection: str | None = None, **kwargs: Any) -> tuple[Any, Any]:
-    """A titled figure with ``nrows × ncols`` axes (``projection="3d"`` for 3-D), Agg backend."""
-    import matplotlib
+    """A titled figure with ``nrows × ncols`` axes (``projection="3d"`` for 3-D), drawn by Agg.
 
-    matplotlib.use("Agg")
+    The figure is not pyplot's: making one never opens a window, blocks, or changes the user's backend, and a
+    notebook shows it when it is a cell's value (``plt.close`` on it is harmless).
+    """
     import matplotlib.pyplot as plt
     from cycler import cycler
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
     colors = ["#1f5fa8", "#c0392b", "#2e8b57", "#8e44ad", "#d68910", "#5d6d7e", "#17a2b8"]
     style: dict[RcKeyType, Any] = {**_STYLE, "axes.prop_cycle": cycler(color=colors)}
-    plt.rcParams.update(style)  # the whole process plots headless in this one style
+    plt.rcParams.update(style)  # the whole process plots in this one style
     subplot_kw = {"projection": projection} if projection else None
-    fig, axes = plt.subplots(nrows, ncols, figsize=size, squeeze=False, subplot_kw=subplot_kw, layout="constrained",
-                             **kwargs)
+    fig = Figure(figsize=size, layout="constrained")
+    FigureCanvasAgg(fig)  # fig.canvas.draw() lays it out (the scheme's labels are placed on the final layout)
+    axes = fig.subplots(nrows, ncols, squeeze=False, subplot_kw=subplot_kw, **kwargs)
     fig.suptitle(wrap_title(title, size[0]), fontweight="bold")
     return fig, axes if nrows * ncols > 1 else axes[0, 0]
 
@@ -78,15 +82,25 @@ def save(fig: Any, stem: Path) -> list[Path]:
     return paths
 
 
+#: The shortest side of a 3-D plot's box, as a share of its longest: a flat cloud (a planar arm) keeps some depth.
+MIN_BOX_SIDE = 0.35
+
+
 def set_equal_3d(ax: Any, points: ArrayLike) -> None:
-    """Equal scale on the three axes of a 3-D plot around ``points`` (N, 3)."""
+    """Equal scale on the three axes of a 3-D plot around ``points`` (N, 3), in a box shaped like them.
+
+    Each axis spans the points' extent on it plus 10 % (at least :data:`MIN_BOX_SIDE` of the longest), and the
+    box's sides are in proportion to the spans: a metre is as long on every axis, and a tall or flat set of
+    points fills the picture instead of sitting small in a cube.
+    """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     centre = (p.max(axis=0) + p.min(axis=0)) / 2
-    half = max(float(np.ptp(p, axis=0).max()) / 2, 1e-3) * 1.1
-    ax.set_xlim(centre[0] - half, centre[0] + half)
-    ax.set_ylim(centre[1] - half, centre[1] + half)
-    ax.set_zlim(centre[2] - half, centre[2] + half)
-    ax.set_box_aspect((1, 1, 1))
+    longest = max(float(np.ptp(p, axis=0).max()) / 2, 1e-3) * 1.1
+    half = np.maximum(np.ptp(p, axis=0) / 2 * 1.1, MIN_BOX_SIDE * longest)
+    ax.set_xlim(centre[0] - half[0], centre[0] + half[0])
+    ax.set_ylim(centre[1] - half[1], centre[1] + half[1])
+    ax.set_zlim(centre[2] - half[2], centre[2] + half[2])
+    ax.set_box_aspect(tuple(half / half.max()))
 
 
 def draw_chain_3d(ax: Any, points: ArrayLike, label: str | None = None, color: str = "#1f5fa8",

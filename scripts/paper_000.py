@@ -152,7 +152,8 @@ def _fig4_workspace(out: PaperOutput, arm: Any, fast: bool) -> None:
     M = arm.forward(np.stack([t1.ravel(), t2.ravel()], axis=-1)).points["M"]
     fig, ax = new_figure(f"Paper 000, Fig. 4 — positions of M for θ1, θ2 = 0:0.1:3π/2 ({M.shape[0]} combinations)",
                          size=(6.5, 6))
-    ax.scatter(M[:, 0], M[:, 1], s=3, c=t1.ravel(), cmap="viridis", label="M(θ1, θ2), colour = θ1")
+    cloud = ax.scatter(M[:, 0], M[:, 1], s=3, c=t1.ravel(), cmap="viridis", label="M(θ1, θ2)")
+    fig.colorbar(cloud, ax=ax, label="θ1 [rad] (the colour of each point)", shrink=0.8)
     L1, L2 = arm.parameters["L1"], arm.parameters["L2"]
     phi = np.linspace(0, 2 * np.pi, 361)
     for r, style in ((L1 + L2, "--"), (L1 - L2, ":")):
@@ -160,7 +161,7 @@ def _fig4_workspace(out: PaperOutput, arm: Any, fast: bool) -> None:
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_aspect("equal")
-    ax.legend(loc="upper right", markerscale=3)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09), ncols=3, markerscale=3)  # below: covers no point
     out.figure(fig, "fig04_workspace", "Fig. 4", "end point M over the paper's grid of θ1, θ2")
 
 

@@ -41,8 +41,8 @@ tr.matches td.v b,tr.differs td.v b,tr.notrep td.v b{display:block}
 .c-matches{color:#16692b}.c-differs{color:#a15c00}.c-notrep{color:#8b1a1a}
 .figs{display:grid;grid-template-columns:repeat(auto-fill,minmax(380px,1fr));gap:10px;margin:.5em 0}
 figure{margin:0;border:1px solid #ddd;padding:4px;background:#fff;cursor:zoom-in}figure img{width:100%;height:auto}
-figure.big{grid-column:1/-1;cursor:zoom-out}figure.big img{max-width:1100px;display:block;margin:auto}
-figcaption{font-size:.82em;color:#555}
+figure.big{grid-column:1/-1;cursor:zoom-out;overflow-x:auto}figure.big img{width:auto;max-width:none;display:block;
+margin:auto}figcaption{font-size:.82em;color:#555}figcaption a{margin-left:.5em;white-space:nowrap}
 .toc{columns:2;font-size:.92em;background:#f6f8fa;padding:.6em 1.2em;border:1px solid #dde}
 .toc ul{margin:.1em 0;padding-left:1.2em}.toc>ul{padding-left:0;list-style:none}
 .math img.m{vertical-align:middle}.ml{display:inline-flex;flex-direction:column;vertical-align:middle}
@@ -114,14 +114,17 @@ class _Doc:
                          + f"</tr></thead><tbody>{body}</tbody></table>")
 
     def figures(self, items: Sequence[tuple[str, str]]) -> None:
-        """Figures (path relative to the report, caption) in a grid, embedded in the HTML."""
+        """Figures (path relative to the report, caption) in a grid, embedded in the HTML: a click shows one at its
+        full size (the page scrolls sideways if it is wider), and its link opens the PNG file itself."""
         if not items:
             return
         self.md.append("".join(f"![{caption}]({src})\n\n" for src, caption in items))
         self.html.append('<div class="figs">' + "".join(
             f'<figure onclick="this.classList.toggle(\'big\')" title="click to enlarge or shrink">'
             f'<img src="{self.images.get(src) or _data_uri(self.out_dir / src)}" alt="{html.escape(caption)}">'
-            f"<figcaption>{html.escape(caption)}</figcaption></figure>" for src, caption in items) + "</div>")
+            f"<figcaption>{html.escape(caption)}<a href=\"{html.escape(src)}\" target=\"_blank\" "
+            f"onclick=\"event.stopPropagation()\">open full size ↗</a></figcaption></figure>"
+            for src, caption in items) + "</div>")
 
 
 _CSS_KIND = {MATCHES: "matches", DIFFERS: "differs", NOT_REPRODUCIBLE: "notrep"}

@@ -174,3 +174,65 @@ def _screenshot(browser: Browser, url: str, png: Path, size: tuple[int, int], bu
     data = browser.send("Page.captureScreenshot", {"format": "png"}, session=session)["data"]
     png.write_bytes(base64.b64decode(data))
     browser.send("Target.disposeBrowserContext", {"browserContextId": context})  # closes the page too
+
+
+class Page:
+    """A page opened from disk in the test process's Chromium (a browser context of its own), on the real clock,
+    with every request it makes recorded (:attr:`requests`); use as a context manager."""
+
+    def __init__(self, executable: str, page: Path, size: tuple[int, int], timeout: float = 90) -> None:
+        self.browser = _the_browser(executable)
+        self.url = page.absolute().as_uri()
+        self.timeout = timeout
+        self.requests: list[str] = []
+        send = self.browser.send
+        self.context = send("Target.createBrowserContext", {"disposeOnDetach": True})["browserContextId"]
+        target = send("Target.createTarget", {"url": "about:blank", "browserContextId": self.context})["targetId"]
+        self.session = send("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
+        send("Network.enable", session=self.session)
+        send("Emulation.setDeviceMetricsOverride", {"width": size[0], "height": size[1], "deviceScaleFactor": 1,
+                                                    "mobile": False}, session=self.session)
+        send("Page.navigate", {"url": self.url}, session=self.session)
+
+    def __enter__(self) -> Page:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.browser.send("Target.disposeBrowserContext", {"browserContextId": self.context})
+
+    def _record(self) -> None:
+        """Move the requests reported so far into :attr:`requests` (other events are dropped)."""
+        for event in list(self.browser._events):
+            if event.get("method") == "Network.requestWillBeSent" and event.get("sessionId") == self.session:
+                self.requests.append(event["params"]["request"]["url"])
+        self.browser._events.clear()
+
+    def evaluate(self, expression: str) -> Any:
+        """The value of the JavaScript ``expression`` in the page (awaited if it is a promise; JSON-like)."""
+        result = self.browser.send("Runtime.evaluate", {"expression": expression, "returnByValue": True,
+                                                        "awaitPromise": True}, session=self.session)
+        self._record()
+        if "exceptionDetails" in result:
+            raise BrowserError(f"{expression[:60]}…: {result['exceptionDetails'].get('text')}")
+        return result["result"].get("value")
+
+    def wait_for(self, expression: str) -> Any:
+        """Poll ``expression`` every 50 ms until it is truthy (its value), for at most the page's timeout."""
+        deadline = time.monotonic() + self.timeout
+        while time.monotonic() < deadline:
+            value = self.evaluate(f"(() => {{ try {{ return {expression}; }} catch (e) {{ return null; }} }})()")
+            if value:
+                return value
+            time.sleep(0.05)
+        raise BrowserError(f"{expression} stayed false for {self.timeout} s")
+
+    def mouse(self, kind: str, x: float, y: float, buttons: int = 1) -> None:
+        """A mouse event (``mousePressed``, ``mouseMoved``, ``mouseReleased``) at (x, y) CSS px, left button."""
+        self.browser.send("Input.dispatchMouseEvent", {"type": kind, "x": x, "y": y, "button": "left",
+                                                       "buttons": buttons, "clickCount": 1}, session=self.session)
+        self._record()
+
+    def screenshot(self, png: Path) -> None:
+        data = self.browser.send("Page.captureScreenshot", {"format": "png"}, session=self.session)["data"]
+        self._record()
+        png.write_bytes(base64.b64decode(data))

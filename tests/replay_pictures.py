@@ -12,6 +12,7 @@ from browser import BrowserError, screenshot
 from matplotlib.image import imread
 
 from armlab.diagrams.replay import BAR_HEIGHT
+from armlab.diagrams.replay_graphs import GRAPHS_PCT
 
 WINDOW = (1000, 800)
 #: Seek the replay's animation to a playback time once the page has loaded it (test-only script).
@@ -56,9 +57,11 @@ def screenshots(html: Path, times: tuple[float, ...], tmp: Path) -> list[Path]:
 
 
 def image(png: Path) -> np.ndarray:
-    """RGB in 0 … 1 of the 3-D view: below Meshcat's "Open Controls" bar (the top 24 rows are cropped) and
-    above the replay's control bar (its :data:`BAR_HEIGHT` rows, whose readout changes with time)."""
-    return imread(png)[24:-BAR_HEIGHT, :, :3]
+    """RGB in 0 … 1 of the 3-D view: below Meshcat's "Open Controls" bar (the top 24 rows are cropped), above the
+    replay's control bar (its :data:`BAR_HEIGHT` rows, whose readout changes with time) and left of the graphs
+    (:data:`GRAPHS_PCT` % of the width, whose cursors move with time)."""
+    rgb = imread(png)[24:-BAR_HEIGHT, :, :3]
+    return rgb[:, : rgb.shape[1] * (100 - GRAPHS_PCT) // 100]
 
 
 def solid(mask: np.ndarray) -> np.ndarray:

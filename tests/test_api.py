@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import html
 import json
+import re
 
 import numpy as np
 import pytest
 from helpers import arm_and_plant, assert_rounding_close, data, random_q
+from matplotlib.figure import Figure
 
 import armlab
 from armlab.cli import main
@@ -128,8 +131,11 @@ def test_simulate_returns_a_run_whose_torques_are_the_inverse_dynamics(tmp_path)
     assert not run.diverged and run.violations == []
     assert [d["joint"] for d in run.drives] == ["joint1", "joint2"]
     assert run.drives[0]["peak_torque"] == pytest.approx(np.abs(run.tau[:, 0]).max())
+    shown = run.plot()  # figures only: nothing written
+    assert list(shown) == [*PLOTS, "drives.png"] and all(isinstance(f, Figure) for f in shown.values())
     plotted = run.plot(tmp_path / "plots")
-    assert [p.name for p in plotted] == [*PLOTS, "drives.png"] and all(p.stat().st_size > 0 for p in plotted)
+    assert sorted(p.name for p in (tmp_path / "plots").iterdir()) == sorted(plotted)
+    assert all((tmp_path / "plots" / name).stat().st_size > 0 for name in plotted)
     written = run.save(tmp_path / "run")
     assert {"log.csv", "summary.json", "drives.csv", "drives.png", "replay.html"} <= set(written)
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
@@ -206,3 +212,60 @@ def test_the_package_exports_the_api_and_the_cli_start_loads_none_of_it():
            "('armlab.api', 'armlab.diagrams.run', 'pydrake', 'matplotlib', 'sympy', 'distributed')))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+# ------------------------------------------------------------------------------- in a notebook
+def test_an_arm_prints_short_and_shows_its_joints_in_a_notebook():
+    for name in ("rr", "r2t", "urm6"):
+        arm = armlab.load(name)
+        text = repr(arm)
+        assert len(text) < 120 and "np.float64" not in text and text.startswith(f"<Arm {name}: {arm.n} joints")
+    arm = armlab.load("r2t")
+    page = arm._repr_html_()
+    cells = re.findall(r"<td>(.*?)</td>", page)
+    assert len(cells) == 7 * arm.n
+    for i, (lim, link) in enumerate(zip(arm.limits, arm.links(), strict=True)):
+        row = cells[7 * i: 7 * i + 7]
+        assert row[0] == arm.joint_names[i] and row[1] == ("revolute" if arm.revolute[i] else "prismatic")
+        lower = float(row[2].rstrip("°m "))
+        np.testing.assert_allclose(np.radians(lower) if arm.revolute[i] else lower, lim.lower, rtol=1e-4)
+        np.testing.assert_allclose(float(row[6].split()[0]), link["mass"], rtol=1e-4)
+    doc = armlab.Arm.__doc__
+    assert doc.splitlines()[0].startswith("A serial robot arm") and "armlab.load(" in doc.split("\n\n")[1]
+
+
+@pytest.mark.slow
+def test_a_run_prints_short_and_shows_its_summary_and_replay_in_a_notebook():
+    arm = armlab.load("rr")
+    run = armlab.simulate(arm, armlab.quintic(arm, [0.0, 0.5], [1.0, 1.0], 1.0), log_period=0.01)
+    text = repr(run)
+    assert len(text) < 200 and "np.float64" not in text
+    peak = np.abs(run.tau).max()
+    assert f"peak |τ| {peak:.4g} N·m" in text and "within limits" in text
+    page = run._repr_html_()
+    cells = re.findall(r"<td>(.*?)</td>", page)
+    np.testing.assert_allclose([float(cells[6 * i + 1].split()[0]) for i in range(2)], np.abs(run.tau).max(axis=0),
+                               rtol=1e-3)
+    frame = html.unescape(re.search(r'srcdoc="(.*?)"', page, re.S).group(1))
+    assert frame.lstrip().startswith("<!DOCTYPE html>") and 'id="armlab-graphs"' in frame
+    data = json.loads(re.search(r"const D = (\{.*?\});\n", frame).group(1))
+    np.testing.assert_allclose(np.array(data["graphs"]["panels"][2]["y"]).T, run.tau, rtol=1e-5, atol=1e-9)
+
+
+def test_the_scheme_is_a_figure_written_only_when_asked(tmp_path):
+    arm = armlab.load("rr")
+    fig = armlab.draw(arm, [0.3, -0.2])
+    assert isinstance(fig, Figure) and list(tmp_path.iterdir()) == []
+    assert "rr: kinematic scheme at q = (17.19°, -11.46°)" in fig.texts[0].get_text()
+    armlab.draw(arm, path=tmp_path / "rr.svg")
+    assert [p.name for p in tmp_path.iterdir()] == ["rr.svg"]
+    with pytest.raises(ValueError, match="suffix"):
+        armlab.draw(arm, path=tmp_path / "rr.gif")
+
+
+def test_the_live_viewer_in_a_notebook_says_what_to_do_when_localhost_is_not_reachable():
+    from armlab.diagrams.view import notebook_note
+
+    note = notebook_note("http://localhost:7001")
+    assert '<iframe src="http://localhost:7001"' in note
+    assert "ssh -L 7001:localhost:7001" in note and "/proxy/7001/" in note and "replay" in note

@@ -112,7 +112,7 @@ def shown_limits(ax, log, kind: str, values: np.ndarray) -> list[str]:
     ys = {y for y, _ in hlines(ax)}
     notes = [line for t in ax.texts for line in t.get_text().splitlines()]
     out = []
-    for i, (low, high) in enumerate(limit_values(log, kind)):
+    for i, (low, high) in enumerate(limit_values(log.arm, kind)):
         drawn = round(low, 9) in ys and round(high, 9) in ys
         mine = [n for n in notes
                 if f"q{i + 1}" in n.split(f" {kind}")[0].split(", ") and f"[{low:.4g}, {high:.4g}]" in n]
@@ -155,7 +155,7 @@ def test_plots_show_every_known_limit_drawn_or_noted_off_the_scale():
     # An unknown effort limit (None) is neither drawn nor noted.
     arm = dataclasses.replace(log.arm, limits=tuple(dataclasses.replace(lim, effort=None) for lim in log.arm.limits))
     unknown = dataclasses.replace(log, arm=arm)
-    assert limit_values(unknown, "effort") == [None, None]
+    assert limit_values(unknown.arm, "effort") == [None, None]
     ax = figures(unknown)["torques.png"].axes[0]
     assert hlines(ax) == set() and len(ax.texts) == 0
     plt.close("all")
@@ -177,7 +177,7 @@ def test_closed_path_shows_start_and_end_and_3d_paths_are_to_scale(tmp_path):
     ax3 = next(a for a in figures(log3)["tool_path.png"].axes if a.name == "3d")
     spans = [np.ptp(lim) for lim in (ax3.get_xlim3d(), ax3.get_ylim3d(), ax3.get_zlim3d())]
     box = np.asarray(ax3.get_box_aspect())
-    assert np.allclose(spans, spans[0]) and np.allclose(box, box[0])  # equal data spans in an equal-sided box
+    np.testing.assert_allclose(np.array(spans) / box, spans[0] / box[0], rtol=1e-9)  # a metre as long on every axis
     plt.close("all")
     assert [p.name for p in write_plots(log, tmp_path)] == list(PLOTS)
 
@@ -195,3 +195,64 @@ def test_a_tool_standing_still_plots_without_warnings(tmp_path):
         warnings.simplefilter("error")
         paths = write_plots(log, tmp_path)
     assert [p.name for p in paths] == list(PLOTS)
+
+
+def test_fig6_subscripts_are_drawn_as_subscripts():
+    """Graphviz writes x<SUB>d</SUB> as separate <text>s with baseline-shift, which browsers ignore: the labels
+    are one <text> each, with the subscripts smaller and lowered, and back on the line after them."""
+    arm = get_arm("rr")
+    run = build_diagram(arm, paper_motion(arm).runs()[0][1])
+    svg = render(fig6_dot(run.diagram.GetGraphvizString(max_depth=1)), "svg").decode()
+    assert "baseline-shift" not in svg
+    labels = re.findall(r"<text[^>]*>((?:<tspan[^>]*>[^<]*</tspan>)+)</text>", svg)
+    texts = ["".join(re.findall(r">([^<]*)</tspan>", label)) for label in labels]
+    assert "xd = (qd, q̇d)" in texts and "qd, q̇d, q̈d" in texts
+    for label in labels:
+        spans = re.findall(r'<tspan(?: dy="(-?[\d.]+)")? font-size="([\d.]+)">([^<]*)</tspan>', label)
+        level = 0.0
+        for dy, size, text in spans:
+            level += float(dy or 0)
+            if text == "d":  # a subscript: below the line, 70 % of the size
+                assert level > 0 and float(size) < 0.75 * float(spans[0][1]), label
+            else:
+                assert abs(level) < 1e-9 and float(size) == pytest.approx(float(spans[0][1]), abs=1e-9), label
+
+
+@pytest.mark.slow
+def test_legends_cover_no_curve_and_segments_are_named():
+    import matplotlib.pyplot as plt
+
+    log = rr_log()
+    figs = figures(log)
+    try:
+        for name in ("joints.png", "torques.png", "tool_motion.png"):
+            fig = figs[name]
+            fig.canvas.draw()
+            for ax in (a for a in fig.axes if a.get_legend() is not None):
+                box, legend = ax.get_window_extent(), ax.get_legend().get_window_extent()
+                assert legend.x0 >= box.x1, (name, legend, box)  # beside the panel, not over it
+        top = figs["joints.png"].axes[0].child_axes[0]
+        assert [t.get_text() for t in top.get_xticklabels()] == [f"segment {s}" for s in log.motion.labels]
+        np.testing.assert_allclose(top.get_xticks(), [1.0, 3.0, 5.0, 7.0], atol=1e-12)  # the middles, 2 s each
+    finally:
+        for fig in figs.values():
+            plt.close(fig)
+
+
+def test_drives_show_round_off_as_rest_and_mark_the_rms_point():
+    from armlab.diagrams.drives import drives_figure
+    from armlab.kinematics.quintic import Motion, QuinticSegment
+
+    arm = get_arm("rr")
+    log = simulate(arm, Motion((QuinticSegment(np.array([1.5, 0.0]), np.array([1.5, 0.5]), 0.5, "elbow"),)),
+                   SimulationOptions(log_period=0.01))
+    assert 0 < np.abs(log.qd[:, 0]).max() < 1e-9  # joint 1 holds: its rate is round-off
+    fig = drives_figure(log)
+    first, second = fig.axes[:2]
+    assert "peak |q̇| 0 (at rest)" in first.get_title() and "e-" not in first.get_title()
+    assert f"peak |q̇| {np.abs(log.qd[:, 1]).max():.3g} rad/s" in second.get_title()
+    for i, ax in enumerate((first, second)):
+        (star,) = [line for line in ax.get_lines() if line.get_marker() == "*"]
+        rms = np.sqrt(np.mean(log.qd[:, i] ** 2)), np.sqrt(np.mean(log.tau[:, i] ** 2))
+        np.testing.assert_allclose([star.get_xdata()[0], star.get_ydata()[0]], rms, rtol=1e-12)
+        assert f"RMS τ {rms[1]:.4g}" in ax.get_title()

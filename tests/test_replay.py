@@ -304,3 +304,96 @@ def test_the_rr_arms_plane_is_seen_face_on_and_a_spatial_arm_from_above_the_hori
     camera, target = frame_camera(meshcat, reach_points(urm6, sweep(urm6, t)))
     elevation = np.degrees(np.arcsin((camera - target)[2] / np.linalg.norm(camera - target)))
     assert 10 < elevation < 50
+
+
+# ------------------------------------------------------------------------------- the graphs
+#: The JavaScript that reads, per graph, its plot area (page px), its time axis and where its cursor is drawn.
+GRAPH_BOXES = """[...document.querySelectorAll('.armlab-plot')].map((p) => {
+  const c = p.querySelector('canvas'), r = p.getBoundingClientRect();
+  const k = p.querySelector('.armlab-cursor').getBoundingClientRect();
+  return {left: r.left, top: r.top, height: r.height, x0: +c.dataset.x0, x1: +c.dataset.x1, t0: +c.dataset.t0,
+          t1: +c.dataset.t1, cursor: (k.left + k.right) / 2 - r.left};
+})"""
+#: Playback time of the replay's 3-D animation, as its animator has it.
+ANIMATION_TIME = "viewer.animator.actions.reduce((m, x) => Math.max(m, x.time), 0)"
+NEXT_FRAMES = "new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => done(true))))"
+
+
+def graph_x(box: dict, t: float) -> float:
+    """Page x (CSS px) of run time ``t`` on the graph ``box``: its time axis drawn across its plot area."""
+    return box["left"] + box["x0"] + (t - box["t0"]) / (box["t1"] - box["t0"]) * (box["x1"] - box["x0"])
+
+
+def cursor_columns(png, box: dict) -> np.ndarray:
+    """Page x of the pixels in the middle row band of graph ``box`` drawn in the cursor's magenta (#d6007e)."""
+    rgb = image_full(png)
+    rows = slice(int(box["top"] + 0.3 * box["height"]), int(box["top"] + 0.7 * box["height"]))
+    band = rgb[rows, int(box["left"]):, :]
+    magenta = (band[..., 0] > 0.7) & (band[..., 1] < 0.12) & (band[..., 2] > 0.35) & (band[..., 2] < 0.65)
+    return np.nonzero(magenta.any(axis=0))[0] + int(box["left"])
+
+
+def image_full(png) -> np.ndarray:
+    from matplotlib.image import imread
+
+    return imread(png)[..., :3]
+
+
+def test_replay_graphs_follow_playback_and_a_click_or_drag_seeks(simulated, tmp_path):
+    """``armlab simulate rr``'s replay opened from disk: the graphs hold the run's q, q̇, τ; their cursors stand at
+    the time played (read from the page and found in its pixels) at two moments; a click and a drag on a graph
+    seek the 3-D animation there; the page asks for nothing outside itself."""
+    from browser import Page
+    from replay_pictures import WINDOW, chromium
+
+    run = simulated("rr", "--dt", "0.01")
+    html = run / "replay.html"
+    data = json.loads(re.search(r"const D = (\{.*?\});\n", html.read_text()).group(1))
+    graphs = data["graphs"]
+    assert [p["title"] for p in graphs["panels"]] == ["joint angles q", "joint velocities q̇", "joint torques τ"]
+    log = np.genfromtxt(run / "log.csv", delimiter=",", names=True)
+    rows = np.searchsorted(log["t"], graphs["t"])
+    np.testing.assert_allclose(log["t"][rows], graphs["t"], atol=1e-6)
+    tau = np.array(graphs["panels"][2]["y"]).T
+    np.testing.assert_allclose(tau, np.stack([log[f"tau{i + 1}"][rows] for i in range(2)], axis=-1),
+                               rtol=1e-5, atol=1e-9)
+    dt = 1.0 / data["fps"]
+    with Page(chromium(), html, WINDOW) as page:
+        # loaded and playing (it plays on opening): a seek before that would be undone by the start
+        page.wait_for(f"window.armlab && viewer.animator.actions.length > 0 && {ANIMATION_TIME} > 0.05")
+        xs = []
+        for k, t in enumerate((0.4, 1.3)):
+            page.evaluate(f"viewer.animator.pause(), viewer.animator.seek({t}), true")
+            page.evaluate(NEXT_FRAMES)
+            boxes = page.evaluate(GRAPH_BOXES)
+            assert len(boxes) == 3
+            png = tmp_path / f"graphs-{k}.png"
+            page.screenshot(png)
+            for box in boxes:
+                px = (box["t1"] - box["t0"]) / (box["x1"] - box["x0"])  # seconds per pixel
+                at = box["t0"] + (box["cursor"] - box["x0"]) * px
+                assert abs(at - t) < dt + px, f"cursor at t = {at:.3f} s, playback at {t} s"
+                drawn = cursor_columns(png, box)
+                assert drawn.size and abs(drawn.mean() - graph_x(box, t)) < 2.0, (t, drawn, graph_x(box, t))
+            xs.append(boxes[0]["cursor"])
+        assert xs[1] - xs[0] > 100  # the cursor moved with playback
+        box = boxes[1]
+        y = box["top"] + box["height"] / 2
+        page.mouse("mousePressed", graph_x(box, 1.1), y)
+        page.mouse("mouseReleased", graph_x(box, 1.1), y, buttons=0)
+        page.evaluate(NEXT_FRAMES)
+        px = (box["t1"] - box["t0"]) / (box["x1"] - box["x0"])
+        assert abs(page.evaluate(ANIMATION_TIME) - 1.1) < px + 1e-6
+        assert not page.evaluate("viewer.animator.playing")
+        assert abs(float(page.evaluate("document.getElementById('armlab-time').textContent")[4:-2]) - 1.1) < dt
+        page.mouse("mousePressed", graph_x(box, 0.3), y)  # a drag: the replay follows the pointer
+        page.mouse("mouseMoved", graph_x(box, 1.0), y)
+        assert abs(page.evaluate(ANIMATION_TIME) - 1.0) < px + 1e-6
+        page.mouse("mouseMoved", graph_x(box, 1.7), y)
+        page.mouse("mouseReleased", graph_x(box, 1.7), y, buttons=0)
+        assert abs(page.evaluate(ANIMATION_TIME) - 1.7) < px + 1e-6
+        page.evaluate(NEXT_FRAMES)
+        assert abs(page.evaluate(GRAPH_BOXES)[0]["cursor"] + box["left"] - graph_x(box, 1.7)) < 1.5
+        requests = page.requests
+    assert html.absolute().as_uri() in requests  # the recording saw the page itself …
+    assert all(url == html.absolute().as_uri() or url.startswith(("data:", "blob:")) for url in requests), requests

@@ -517,7 +517,7 @@ def test_failed_run_leaves_no_folder(tmp_path, monkeypatch, capsys):
     def broken(*args, **kwargs):
         raise ValueError("boom")
 
-    monkeypatch.setattr("armlab.diagrams.run.write_plots", broken)
+    monkeypatch.setattr("armlab.diagrams.run.replay_log", broken)  # the last file a run writes
     assert cli("simulate", "rr", "--dt", "0.01", "--out", str(tmp_path / "run")) == 2
     assert "boom" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []

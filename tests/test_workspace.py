@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 from pathlib import Path
 
@@ -155,6 +156,10 @@ def test_cli_writes_every_file_and_prints_json(tmp_path: Path) -> None:
         ["workspace.json", "slices.png", "convergence.png", "singular.png", "workspace.html"])
     html = (out / "workspace.html").read_text()
     assert "<script" in html and 'src="http' not in html  # self-contained
+    legend = re.search(r'<div id="armlab-legend".*?</div></div>', html, re.S).group(0)  # the colour legend
+    assert "colour = Yoshikawa manipulability w = √det(J Jᵀ)" in legend and "linear-gradient" in legend
+    ticks = [float(v) for v in re.findall(r'translateX\(-50%\)">([^<]+)</span>', legend)]
+    assert len(ticks) == 5 and np.all(np.diff(ticks) > 0)
     again = armlab_main("workspace", "rr", "--samples", "100000", "--out", str(out))
     assert again.returncode == 0 and "singular where joint2 = -180, 0, 180 deg" in again.stdout
 
