@@ -39,6 +39,7 @@ from armlab.files import write_file
 if TYPE_CHECKING:
     from pydrake.geometry import Meshcat
 
+    from armlab.collision.model import Clearances
     from armlab.diagrams.simulate import SimulationLog
     from armlab.models.arm import Arm
 
@@ -456,18 +457,18 @@ def replay_page(
     return html[:end] + _controls(data) + html[end:]
 
 
-def log_page(log: SimulationLog, deg: bool = False) -> str:
+def log_page(log: SimulationLog, deg: bool = False, clearance: Clearances | None = None) -> str:
     """:func:`replay_page` of a simulation: its q, τ, tool path, runs and payload, and its graphs
-    (:func:`~armlab.diagrams.replay_graphs.log_graphs`)."""
+    (:func:`~armlab.diagrams.replay_graphs.log_graphs`; ``clearance``: the pairs the run checked, at its samples)."""
     payload = f", payload {log.payload:g} kg" if log.payload else ""
     return replay_page(log.arm, log.t, log.q, tool_path=log.tool[:, :3], tau=log.tau, run=log.run,
                        payload=log.payload, deg=deg, title=f"{log.arm.name}: {log.motion.description}{payload}",
-                       graphs=log_graphs(log, deg))
+                       graphs=log_graphs(log, deg, clearance))
 
 
-def replay_log(log: SimulationLog, path: Path, deg: bool = False) -> Path:
+def replay_log(log: SimulationLog, path: Path, deg: bool = False, clearance: Clearances | None = None) -> Path:
     """:func:`log_page` written to ``path`` (atomically)."""
-    return write_file(Path(path), log_page(log, deg))
+    return write_file(Path(path), log_page(log, deg, clearance))
 
 
 def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray, q: NDArray,

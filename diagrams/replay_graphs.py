@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.diagrams.plots import joint_names, limit_groups
 
 if TYPE_CHECKING:
+    from armlab.collision.model import Clearances
     from armlab.diagrams.simulate import SimulationLog
     from armlab.models.arm import Arm
 
@@ -81,20 +82,20 @@ def arm_graphs(arm: Arm, q: ArrayLike, qd: ArrayLike | None = None, tau: ArrayLi
     return graphs
 
 
-def log_graphs(log: SimulationLog, deg: bool = False) -> list[Graph]:
+def log_graphs(log: SimulationLog, deg: bool = False, clearance: Clearances | None = None) -> list[Graph]:
     """A simulation's graphs: :func:`arm_graphs` of its q, q̇, τ, then each of :data:`OPTIONAL_JOINT_LOGS` the log
-    has (e.g. motor-side torques, drawn without limits), then its clearances (``log.clearance`` (m,) or (m, k), m;
-    zero drawn as the contact line) if it has them."""
+    has (e.g. motor-side torques, drawn without limits), then the clearance of each pair the run checked
+    (``clearance``, :class:`~armlab.collision.model.Clearances` at the log's samples, m; zero drawn as the contact
+    line) if it has them."""
     graphs = arm_graphs(log.arm, log.q, log.qd, log.tau, deg)
     for name, title, symbol in OPTIONAL_JOINT_LOGS:
         values = getattr(log, name, None)
         if values is not None:
             graphs.append(_joint_graph(log.arm, title, symbol, 2, values, None, deg))
-    clearance = getattr(log, "clearance", None)
-    if clearance is not None:
-        c = np.asarray(clearance, dtype=float).reshape(log.t.size, -1)
-        labels = ("clearance [m]",) if c.shape[1] == 1 else tuple(f"clearance {k + 1} [m]" for k in range(c.shape[1]))
-        graphs.append(Graph("clearance to obstacles", "clearance [m]", labels, c, ((-1, "contact", 0.0, 0.0),)))
+    if clearance is not None and clearance.pairs:
+        c = np.asarray(clearance.distance, dtype=float).reshape(log.t.size, -1)
+        labels = tuple(f"{name} [m]" for name in clearance.names())
+        graphs.append(Graph("clearance of each checked pair", "clearance [m]", labels, c, ((-1, "contact", 0.0, 0.0),)))
     return graphs
 
 

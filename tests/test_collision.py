@@ -177,6 +177,8 @@ def test_rrrr_tool_driven_into_its_stand_in_simulation(tmp_path):
     assert collision["pair"] == "link4–link1" and touch <= collision["first_time"] < touch + 0.005 + 1e-9
     assert run.summary["collisions"] == run.collisions and collision["depth"] > 0.01
     assert "clearance.png" in run.save(tmp_path / "run")
+    page = (tmp_path / "run" / "replay.html").read_text()  # the replay's graphs show each checked pair's clearance
+    assert "clearance of each checked pair" in page and "link4–link1 [m]" in page
 
 
 def test_cli_check_and_strict_exit(tmp_path, capsys):
