@@ -67,17 +67,17 @@ class Sizing:
         return float(min(j.chosen.margin for j in self.joints if j.chosen is not None)) if self.feasible else np.nan
 
     def drive_train(self) -> DriveTrain:
-        """The chosen drives as a :class:`~armlab.drives.train.DriveTrain` (G, J_m + J_g, η; no friction);
-        ``ValueError`` unless :attr:`feasible`."""
+        """The chosen drives as a :class:`~armlab.drives.train.DriveTrain` (G, J_m + J_g, η; the joints' own
+        friction, the arm's drive train's B and T_c, kept); ``ValueError`` unless :attr:`feasible`."""
         chosen = [j.chosen for j in self.joints]
         if any(c is None for c in chosen):
             raise ValueError("no drive train: " + "; ".join(j.joint for j in self.joints if j.chosen is None)
                              + " has no feasible motor and gearbox")
         im = np.array([c.motor for c in chosen if c is not None])
         ig = np.array([c.gearbox for c in chosen if c is not None])
-        n = im.size
+        own = self.arm.drives or DriveTrain.ideal(im.size)
         return DriveTrain(self.gearboxes.ratio[ig], self.motors.rotor_inertia[im] + self.gearboxes.input_inertia[ig],
-                          self.gearboxes.efficiency[ig], np.zeros(n), np.zeros(n))
+                          self.gearboxes.efficiency[ig], own.viscous, own.coulomb, own.coulomb_speed)
 
 
 def _tasks(arm: Arm, samples: CycleSamples, loads: Loads) -> list[JointTask]:

@@ -213,6 +213,7 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
     """The fastest rest-to-rest timing of ``path`` (a motion, taken as a path; or a Drake ``Trajectory`` q(s))
     within the limits (:func:`arm_limits`), by Drake's ``Toppra`` on ``grid`` uniform points of s.
 
+    ``drives``: the drive train the motor-side limits go through (``None``: the arm's own, ``arm.drives``).
     ``gravity``, ``payload``: as the plant's (:class:`~armlab.diagrams.plant.PlantOptions`). ``ValueError`` for a
     bad limit, or limits no timing meets (naming the joint, the point and the two numbers).
     """
@@ -221,7 +222,8 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
 
     if not isinstance(grid, int) or isinstance(grid, bool) or grid < 3:
         raise ValueError(f"grid = {grid!r} is not allowed: a whole number ≥ 3")
-    limits = arm_limits(arm, velocity, acceleration, effort, drives, motor_speed, motor_torque)
+    limits = arm_limits(arm, velocity, acceleration, effort, arm.drives if drives is None else drives, motor_speed,
+                        motor_torque)
     if np.all(np.isinf(np.concatenate([limits.velocity, limits.acceleration, limits.effort]))):
         raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give some")
     q_path = _path_of(path)

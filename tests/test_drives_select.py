@@ -189,3 +189,24 @@ def test_bad_options_of_a_sizing():
                             ({"rate": 0.0}, "sample rate 0.0 /s is not allowed")):
         with pytest.raises(ValueError, match=message):
             size(arm, cycle, (LoadCase(0.0),), read_motors(), read_gearboxes(), **kwargs)
+
+
+@pytest.mark.slow
+def test_the_arm_with_its_chosen_drives_tracks_the_motion():
+    """Issue 19's 'done': the arm carrying the chosen motors and gearboxes (their rotor and gearbox inertia,
+    reflected G²·(J_m + J_g), in the plant and the controller's model) is simulated and tracks the motion, and the
+    logged torque is its inverse dynamics with that drive train (not the ideal arm's)."""
+    from armlab.api import simulate
+
+    arm = get_arm("rr")
+    motion = arm.motion(arm, None)
+    sizing = size(arm, DutyCycle.of(motion), (LoadCase(0.0), LoadCase(2.0)), read_motors(), read_gearboxes(), 1.5)
+    driven = sizing.arm.with_drives(sizing.drive_train())  # the arm with the drives' masses on its links
+    run = simulate(driven, motion, payload=2.0)
+    assert np.abs(run.q - run.q_ref).max() <= 1e-6
+    expected = driven.inverse_dynamics(run.q_ref, run.qd_ref, run.qdd_ref, payload=2.0)
+    ideal = driven.with_drives(None).inverse_dynamics(run.q_ref, run.qd_ref, run.qdd_ref, payload=2.0)
+    peak = np.abs(expected).max()
+    # dense log samples of a closed loop tracking to ~1e-9 rad: the torque to 1e-6 of its peak (tests/test_drive_model)
+    np.testing.assert_allclose(run.tau, expected, rtol=0, atol=1e-6 * peak)
+    assert np.abs(expected - ideal).max() > 1e3 * 1e-6 * peak  # the reflected inertia is seen, far above that
