@@ -39,5 +39,8 @@ def test_notebook_runs(path, tmp_path, monkeypatch):
         if "plt.show()" in cell.source:
             assert images, f"{path.name}: a figure cell showed no image:\n{cell.source[:200]}"
         figures += len(images)
+        if cell.source.strip() in ("run", "arm") or cell.source.startswith("arm  #"):  # Run, Arm shown by Jupyter
+            html = [o["data"]["text/html"] for o in cell.outputs if "text/html" in o.get("data", {})]
+            assert html and ("<iframe" in html[0] if cell.source.strip() == "run" else "<table" in html[0]), path.name
         assert not [o for o in cell.outputs if o.get("output_type") == "error"]
     assert figures >= 1
