@@ -143,7 +143,7 @@ def _existing(out: Path, study: Study, study_json: dict[str, Any]) -> dict[int, 
         raise ValueError(f"--out {out}: exists and is not a folder")
     if not (out.is_dir() and any(out.iterdir())):
         return None
-    if not (results.is_file() and record.is_file()):
+    if not record.is_file():
         raise ValueError(f"--out {out}: exists and is not an armlab sweep folder (no {RESULTS} and {STUDY}); "
                          "give a new or empty folder")
     try:
@@ -152,17 +152,17 @@ def _existing(out: Path, study: Study, study_json: dict[str, Any]) -> dict[int, 
         raise ValueError(f"--out {out}: its {STUDY} cannot be read; give a new or empty folder") from None
     if earlier != study_json:
         raise ValueError(f"--out {out}: holds a different study; give another --out (or the same study file)")
-    return read_results(results, study.columns)
+    # study.json is written first (_prepare): a sweep stopped before its results.csv was made has none done
+    return read_results(results, study.columns) if results.is_file() else {}
 
 
 def _prepare(out: Path, study: Study, study_json: dict[str, Any]) -> dict[int, list[str]]:
     """Check ``out`` (new, empty, or this study's earlier sweep), start it if new; the rows already done."""
     done = _existing(out, study, study_json)
-    if done is not None:
-        return done
-    write_file(out / RESULTS, _line(study.columns))
-    _record(out, study, study_json, {})  # the folder is this study's from the start: a stopped sweep resumes
-    return {}
+    if done is None or not (out / RESULTS).is_file():
+        _record(out, study, study_json, {})  # first: the folder is this study's from the start, a stopped sweep resumes
+        write_file(out / RESULTS, _line(study.columns))
+    return done or {}
 
 
 def _lock(stack: ExitStack, out: Path) -> None:

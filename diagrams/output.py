@@ -25,8 +25,8 @@ __all__ = ["RUN_FILES", "RUN_OUTPUTS", "csv_header", "run_folder", "write_log_cs
 #: Files that mark a folder as an armlab run (which ``--out`` may replace) …
 RUN_FILES = ("log.csv", "summary.json")
 #: … if it holds nothing but the files a run writes.
-RUN_OUTPUTS = (*RUN_FILES, "diagram.svg", "diagram_full.svg", "diagram.dot", *PLOTS, "drives.csv", "drives.png",
-               "replay.html")
+RUN_OUTPUTS = (*RUN_FILES, "diagram.svg", "diagram_full.svg", "diagram.dot", *PLOTS, "clearance.png", "drives.csv",
+               "drives.png", "replay.html")  # clearance.png: when the run checked pairs of links for collisions
 
 
 def csv_header(n: int, motor: bool = False) -> list[str]:

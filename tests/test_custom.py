@@ -123,10 +123,13 @@ def test_user_urdf_meshes_from_its_ros_package(tmp_path, capsys):
     assert armlab_cli("simulate", str(path), "--from", "0,0", "--to", "1,1", "--dt", "0.05", "--out", str(out)) == 0
     assert (out / "replay.html").exists()
 
+    # a package that cannot be found: its mesh is left out with one warning (issue 22: as ROS files come), the run made
     path.write_text(two_link_urdf(mesh="package://elsewhere/fore.obj"))
-    assert armlab_cli("simulate", str(path), "--from", "0,0", "--to", "1,1", "--out", str(tmp_path / "run")) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "names package 'elsewhere'" in err[-1] and "declare 'my_robot'" in err[-1]
+    capsys.readouterr()
+    assert armlab_cli("simulate", str(path), "--from", "0,0", "--to", "1,1", "--dt", "0.05",
+                      "--out", str(tmp_path / "run")) == 0
+    err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("armlab: warning:")]
+    assert len(err) == 1 and "'package://elsewhere/fore.obj'" in err[0] and "--package-path DIR" in err[0]
 
 
 def test_missing_file():

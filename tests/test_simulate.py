@@ -413,7 +413,8 @@ def test_simulate_writes_the_whole_run(tmp_path, capsys):
     out = tmp_path / "runs" / "rr"
     assert cli("simulate", "rr", "--path", "abcd", "--dt", "0.01", "--out", str(out)) == 0
     files = {p.name for p in out.iterdir()}
-    assert files == set(RUN_OUTPUTS)  # log, summary, diagrams, plots, drives and the replay
+    # log, summary, diagrams, plots, drives and the replay; no clearance.png: rr's two links are adjacent
+    assert files == set(RUN_OUTPUTS) - {"clearance.png"}
     assert [p.name for p in (tmp_path / "runs").iterdir()] == ["rr"]  # no temporary folder left
     umask = os.umask(0o022)
     os.umask(umask)
@@ -449,6 +450,7 @@ def test_simulate_every_arm(simulated, name):
     out = simulated(name, "--dt", "0.01", *extra)  # exit 0; the same run test_replay.py's Chromium test opens
     summary = json.loads((out / "summary.json").read_text())
     assert summary["arm"] == name and max(summary["max_tracking_error"]) <= 1e-6
+    assert summary["min_clearance"]  # each of these arms has pairs of non-adjacent links: clearance.png is written
     assert {p.name for p in out.iterdir()} == set(RUN_OUTPUTS)
 
 
