@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.kinematics.ik_local import local_ik
 from armlab.kinematics.ik_numeric import DISTINCT_TOL, SEEDS, numeric_ik
 from armlab.kinematics.ik_target import (
     ORIENTATION_TOL,
@@ -171,7 +172,12 @@ def _ordered(arm: Arm, q: NDArray, near: NDArray) -> list[NDArray[np.float64]]:
 
 def _local(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArray, seeds: int) -> NDArray[np.float64]:
     """The solution the numerical solver reaches from ``near`` alone, ``(1, n)``: what one solution costs (a few
-    ms); if that start fails, every solution ``seeds`` starts find (the search's own error if none)."""
+    ms, :func:`armlab.kinematics.ik_local.local_ik`); if that start fails within the limits, what the one start reaches
+    without them fitted into them by 2π shifts, else every solution ``seeds`` starts find (the search's own error if
+    none)."""
+    found = local_ik(arm, position, rotation, near)
+    if found is not None:
+        return found[None, :]
     try:
         return numeric_ik(arm, position, rotation, q0=near, seeds=1)[:1]
     except ValueError:
