@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.kinematics.batch import cross
 from armlab.kinematics.ik_target import (
     ORIENTATION_TOL,
     POSITION_TOL,
@@ -40,6 +39,11 @@ _COS[0, 0] = _COS[1, 1] = 1.0
 _SIN[0, 1], _SIN[1, 0] = -1.0, 1.0
 _FIXED[2, 2] = _FIXED[3, 3] = 1.0
 _SLIDE[2, 3] = 1.0
+#: The Levi-Civita symbol ε_ijk: (a × b)_i = ε_ijk a_j b_k, every column's cross product in one ``einsum``.
+_EPSILON = np.zeros((3, 3, 3))
+_EPSILON[0, 1, 2] = _EPSILON[1, 2, 0] = _EPSILON[2, 0, 1] = 1.0
+_EPSILON[0, 2, 1] = _EPSILON[2, 1, 0] = _EPSILON[1, 0, 2] = -1.0
+_IDENTITY = np.eye(4)
 
 
 class ToolChain:
@@ -52,8 +56,8 @@ class ToolChain:
 
     def __init__(self, arm: Arm) -> None:
         steps = arm.table.steps
-        pre = np.array([np.eye(4) if step.pre is None else step.pre for step in steps])  # (n, 4, 4)
-        post = np.array([np.eye(4) if step.post is None else step.post for step in steps])
+        pre = np.array([_IDENTITY if step.pre is None else step.pre for step in steps])  # (n, 4, 4)
+        post = np.array([_IDENTITY if step.post is None else step.post for step in steps])
         self.revolute = np.array([step.revolute for step in steps])
         self._all_revolute = bool(self.revolute.all())
         turn = self.revolute[:, None, None]
@@ -76,10 +80,11 @@ class ToolChain:
         tool = F[-1] @ self._tool
         z = np.einsum("nij,nj->ni", F[:, :3, :3], self._k)  # world axes z_i, (n, 3)
         lever = tool[:3, 3] - F[:, :3, 3]  # p_t − p_i
+        moment = np.einsum("ijk,nj,nk->in", _EPSILON, z, lever)  # z_i × (p_t − p_i), (3, n)
         if self._all_revolute:
-            return tool, np.concatenate([cross(z.T, lever.T), z.T])
+            return tool, np.concatenate([moment, z.T])
         turn = self.revolute
-        return tool, np.concatenate([np.where(turn, cross(z.T, lever.T), z.T), np.where(turn, z.T, 0.0)])
+        return tool, np.concatenate([np.where(turn, moment, z.T), np.where(turn, z.T, 0.0)])
 
 
 def _tool_error(position: NDArray, rotation: NDArray | None, tool: NDArray) -> NDArray[np.float64]:

@@ -46,6 +46,8 @@ __all__ = [
 POSITION_TOL = 1e-9
 #: A returned solution's tool orientation must match a pose target to this angle (rad).
 ORIENTATION_TOL = 1e-9
+#: Indices of R's entries (2, 1), (0, 2), (1, 0) and their transposes: vee(R − Rᵀ) in two fancy-indexing reads.
+_LOWER, _UPPER = np.array([2, 0, 1]), np.array([1, 2, 0])
 
 
 def fmt(v: ArrayLike) -> str:
@@ -83,7 +85,7 @@ def rotation_log(R: ArrayLike) -> NDArray[np.float64]:
     Accurate to round-off for every angle, including θ → 0 and θ → π.
     """
     R = np.asarray(R, dtype=float)
-    v = 0.5 * np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], -1)
+    v = 0.5 * (R[..., _LOWER, _UPPER] - R[..., _UPPER, _LOWER])  # (R21 − R12, R02 − R20, R10 − R01) / 2
     s = np.linalg.norm(v, axis=-1)
     c = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
     theta = np.arctan2(s, c)
