@@ -3,8 +3,9 @@
 * A paper arm's module gives its arm its paper's closed form (:attr:`armlab.models.arm.Arm.closed_form`,
   a :class:`armlab.models.extras.ClosedForm`: rr, arm4r and r2t, the functions of
   :mod:`armlab.kinematics.ik_closed_form`); :func:`solve` uses it when the arm has one.
-* Any other arm (urm6, rrrr, users' arms) is solved numerically,
-  :func:`armlab.kinematics.ik_numeric.numeric_ik`.
+* Any other arm (urm6, rrrr, users' arms) is solved numerically: one solution nearest ``near`` by one start on one
+  configuration, :func:`armlab.kinematics.ik_local.local_ik` (a few ms), every solution by the batched multi-start
+  search, :func:`armlab.kinematics.ik_numeric.numeric_ik`.
 * :func:`solve` — what ``armlab ik`` and ``Arm.ik`` call: fits every angle into the joint limits,
   drops, deduplicates (modulo 2π) and orders the solutions (nearest to ``near`` first, ties broken
   by :data:`ORDER_TOL`'s rule); :func:`solve_branch` — one chosen branch of a closed form (rr's);
@@ -240,8 +241,9 @@ def solve(
       Puma 560: :func:`~armlab.kinematics.ik_wrist.spherical_wrist_ik`) solves a pose by it, 8 branches.
     * any other arm (urm6, rrrr, users' arms, Panda, …), and a position target of an arm whose closed form
       needs a pose: :func:`~armlab.kinematics.ik_numeric.numeric_ik`. Without ``all_solutions``, the
-      solution reached from ``near`` alone (one start: a few ms; the local solution, nearest ``near`` in
-      most cases, not always), or, if that start fails, the nearest of ``seeds`` starts. With it, the local
+      solution reached from ``near`` alone (one start, :func:`~armlab.kinematics.ik_local.local_ik`: a few ms; the
+      local solution, nearest ``near`` in most cases, not always), or, if that start fails, the nearest of ``seeds``
+      starts. With it, the local
       solution and every distinct solution ``seeds`` starts find; a request with fewer constraints than
       joints has a continuum of solutions, so what is returned is the finite set at its parameter held at the
       local solution's (:func:`_numeric`): a **position** target of an arm of more than three joints, the
