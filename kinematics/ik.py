@@ -3,8 +3,9 @@
 * A paper arm's module gives its arm its paper's closed form (:attr:`armlab.models.arm.Arm.closed_form`,
   a :class:`armlab.models.extras.ClosedForm`: rr, arm4r and r2t, the functions of
   :mod:`armlab.kinematics.ik_closed_form`); :func:`solve` uses it when the arm has one.
-* Any other arm (urm6, rrrr, users' arms) is solved numerically,
-  :func:`armlab.kinematics.ik_numeric.numeric_ik`.
+* Any other arm (urm6, rrrr, users' arms) is solved numerically: one solution nearest ``near`` by one start on one
+  configuration, :func:`armlab.kinematics.ik_local.local_ik` (a few ms), every solution by the batched multi-start
+  search, :func:`armlab.kinematics.ik_numeric.numeric_ik`.
 * :func:`solve` — what ``armlab ik`` and ``Arm.ik`` call: fits every angle into the joint limits,
   drops, deduplicates (modulo 2π) and orders the solutions (nearest to ``near`` first, ties broken
   by :data:`ORDER_TOL`'s rule); :func:`solve_branch` — one chosen branch of a closed form (rr's);
@@ -25,6 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.kinematics.ik_local import local_ik
 from armlab.kinematics.ik_numeric import DISTINCT_TOL, SEEDS, numeric_ik
 from armlab.kinematics.ik_target import (
     ORIENTATION_TOL,
@@ -171,7 +173,12 @@ def _ordered(arm: Arm, q: NDArray, near: NDArray) -> list[NDArray[np.float64]]:
 
 def _local(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArray, seeds: int) -> NDArray[np.float64]:
     """The solution the numerical solver reaches from ``near`` alone, ``(1, n)``: what one solution costs (a few
-    ms); if that start fails, every solution ``seeds`` starts find (the search's own error if none)."""
+    ms, :func:`armlab.kinematics.ik_local.local_ik`); if that start fails within the limits, what the one start reaches
+    without them fitted into them by 2π shifts, else every solution ``seeds`` starts find (the search's own error if
+    none)."""
+    found = local_ik(arm, position, rotation, near)
+    if found is not None:
+        return found[None, :]
     try:
         return numeric_ik(arm, position, rotation, q0=near, seeds=1)[:1]
     except ValueError:
@@ -234,8 +241,9 @@ def solve(
       Puma 560: :func:`~armlab.kinematics.ik_wrist.spherical_wrist_ik`) solves a pose by it, 8 branches.
     * any other arm (urm6, rrrr, users' arms, Panda, …), and a position target of an arm whose closed form
       needs a pose: :func:`~armlab.kinematics.ik_numeric.numeric_ik`. Without ``all_solutions``, the
-      solution reached from ``near`` alone (one start: a few ms; the local solution, nearest ``near`` in
-      most cases, not always), or, if that start fails, the nearest of ``seeds`` starts. With it, the local
+      solution reached from ``near`` alone (one start, :func:`~armlab.kinematics.ik_local.local_ik`: a few ms; the
+      local solution, nearest ``near`` in most cases, not always), or, if that start fails, the nearest of ``seeds``
+      starts. With it, the local
       solution and every distinct solution ``seeds`` starts find; a request with fewer constraints than
       joints has a continuum of solutions, so what is returned is the finite set at its parameter held at the
       local solution's (:func:`_numeric`): a **position** target of an arm of more than three joints, the

@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.differential import jacobian
+from armlab.kinematics.ik_local import LM_ITERATIONS, NEWTON_STEPS, first_start
 from armlab.kinematics.ik_target import (
     ORIENTATION_TOL,
     POSITION_TOL,
@@ -22,6 +23,7 @@ from armlab.kinematics.ik_target import (
     fit_limits,
     outside_limits_message,
     pose_error,
+    project_into_limits,
     single,
     target_text,
 )
@@ -36,16 +38,6 @@ __all__ = ["DISTINCT_TOL", "SEEDS", "numeric_ik"]
 SEEDS = 256
 #: Numerical solutions closer than this (rad or m, revolute joints modulo 2π) are the same solution.
 DISTINCT_TOL = 1e-6
-#: Levenberg–Marquardt iterations at most, then Newton polishing steps at most.
-LM_ITERATIONS, NEWTON_STEPS = 200, 8
-
-
-def _project(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray) -> NDArray[np.float64]:
-    """``q`` moved into the limits: a revolute angle by a 2π shift when one fits, else clipped onto the limit."""
-    base = np.where(np.isfinite(lower), lower, 0.0)
-    shifted = base + np.mod(q - base, 2 * np.pi)  # in [lower, lower + 2π)
-    shift = arm.revolute & ((q < lower) | (q > upper)) & (shifted <= upper)
-    return np.clip(np.where(shift, shifted, q), lower, upper)
 
 
 def _jacobian_rows(arm: Arm, q: NDArray, rows: int) -> NDArray[np.float64]:
@@ -87,7 +79,7 @@ def _levenberg_marquardt(
         else:
             A = Jt @ J + damping[running, None, None] * np.eye(arm.n)
             step = np.linalg.solve(A, gradient[..., None])[..., 0]
-        trial = _project(arm, q[running] + step, lower, upper)
+        trial = project_into_limits(arm, q[running] + step, lower, upper)
         trial_error = pose_error(arm, position, rotation, trial)
         trial_cost = np.einsum("...i,...i", trial_error, trial_error)
         better = trial_cost < cost[running]
@@ -111,7 +103,7 @@ def _newton(
         if np.abs(error).max(initial=0.0) < 1e-15:
             break
         step = np.linalg.pinv(_jacobian_rows(arm, q, rows), rcond=1e-10) @ error[..., None]
-        trial = _project(arm, q + step[..., 0], lower, upper)
+        trial = project_into_limits(arm, q + step[..., 0], lower, upper)
         trial_error = pose_error(arm, position, rotation, trial)
         better = np.linalg.norm(trial_error, axis=-1) < np.linalg.norm(error, axis=-1)
         q, error = np.where(better[:, None], trial, q), np.where(better[:, None], trial_error, error)
@@ -122,7 +114,7 @@ def _starts(arm: Arm, q0: NDArray, seeds: int) -> NDArray[np.float64]:
     """``q0`` and ``seeds − 1`` deterministic random starts within the limits (unlimited joints: (−π, π])."""
     lower, upper = arm.limit_arrays(unlimited=np.pi)
     random = np.random.default_rng(0).uniform(lower, upper, size=(seeds - 1, arm.n))
-    first = _project(arm, fit_limits(arm, q0[None, :], q0)[0][0], *arm.limit_arrays())  # unlimited: (−π, π]
+    first = first_start(arm, q0)
     return np.vstack([first[None, :], random])
 
 

@@ -5,7 +5,7 @@
 * :func:`pose_error` is the tool pose error of joint values by the arm's own forward kinematics,
   [target − p(q); log(R* R(q)ᵀ)], with :func:`rotation_log` the orientation error's rotation vector;
   a solution must meet :data:`POSITION_TOL` and :data:`ORIENTATION_TOL`.
-* :func:`fit_limits` fits solutions into the joint limits by 2π shifts;
+* :func:`fit_limits` fits solutions into the joint limits by 2π shifts, :func:`project_into_limits` a solver's step;
   :func:`outside_limits_message` says which joint cannot be fitted.
 
 Used by the closed forms (:mod:`armlab.kinematics.ik_closed_form`), the numerical solver
@@ -36,6 +36,7 @@ __all__ = [
     "outside_limits_message",
     "pose",
     "pose_error",
+    "project_into_limits",
     "rotation_log",
     "single",
     "target_text",
@@ -45,6 +46,8 @@ __all__ = [
 POSITION_TOL = 1e-9
 #: A returned solution's tool orientation must match a pose target to this angle (rad).
 ORIENTATION_TOL = 1e-9
+#: Indices of R's entries (2, 1), (0, 2), (1, 0) and their transposes: vee(R − Rᵀ) in two fancy-indexing reads.
+_LOWER, _UPPER = np.array([2, 0, 1]), np.array([1, 2, 0])
 
 
 def fmt(v: ArrayLike) -> str:
@@ -82,11 +85,13 @@ def rotation_log(R: ArrayLike) -> NDArray[np.float64]:
     Accurate to round-off for every angle, including θ → 0 and θ → π.
     """
     R = np.asarray(R, dtype=float)
-    v = 0.5 * np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]], -1)
+    v = 0.5 * (R[..., _LOWER, _UPPER] - R[..., _UPPER, _LOWER])  # (R21 − R12, R02 − R20, R10 − R01) / 2
     s = np.linalg.norm(v, axis=-1)
     c = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
     theta = np.arctan2(s, c)
     regular = np.where(s > 0, theta / np.where(s > 0, s, 1.0), 1.0)[..., None] * v  # θ/sin θ → 1 as θ → 0
+    if not np.any(c < 0):  # no angle beyond π/2 (a solver near its target): the second reading is not needed
+        return regular
     obtuse = np.where(c < 0, c, -1.0)[..., None, None]  # only used where cos θ < 0, so 1 − cos θ ≥ 1
     M = (R + np.swapaxes(R, -1, -2) - 2.0 * obtuse * np.eye(3)) / (2.0 * (1.0 - obtuse))  # u uᵀ there
     k = np.argmax(np.diagonal(M, axis1=-2, axis2=-1), axis=-1)
@@ -103,6 +108,14 @@ def pose_error(arm: Arm, position: NDArray, rotation: NDArray | None, q: NDArray
     if rotation is None:
         return error
     return np.concatenate([error, rotation_log(rotation @ np.swapaxes(T[..., :3, :3], -1, -2))], axis=-1)
+
+
+def project_into_limits(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray) -> NDArray[np.float64]:
+    """``q`` moved into the limits: a revolute angle by a 2π shift when one fits, else clipped onto the limit."""
+    base = np.where(np.isfinite(lower), lower, 0.0)
+    shifted = base + np.mod(q - base, 2 * np.pi)  # in [lower, lower + 2π)
+    shift = arm.revolute & ((q < lower) | (q > upper)) & (shifted <= upper)
+    return np.clip(np.where(shift, shifted, q), lower, upper)
 
 
 def check_pose(T: NDArray) -> tuple[NDArray, NDArray]:
@@ -139,31 +152,24 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
     """
     q = np.array(q, dtype=float, ndmin=2)
     near = np.zeros(arm.n) if near is None else np.asarray(near, dtype=float)
-    ok = np.ones(q.shape[:-1], dtype=bool)
-    first: list[tuple | None] = [None] * q.shape[0]
+    lower, upper = arm.limit_arrays()
+    limited = np.isfinite(lower) & np.isfinite(upper)  # a URDF limits both or neither
     two_pi = 2 * np.pi
-    for i, (lim, revolute) in enumerate(zip(arm.limits, arm.revolute, strict=True)):
-        values = q[:, i]
-        if lim.lower is None or lim.upper is None:  # unlimited (a URDF limits both or neither)
-            if revolute:
-                wrapped = values - two_pi * np.ceil((values - np.pi) / two_pi)  # (−π, π] up to round-off:
-                q[:, i] = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi,
-                                                                               wrapped))  # exactly
-            continue
-        lo, hi = lim.lower - 1e-12, lim.upper + 1e-12
-        if revolute:
-            m_lo, m_hi = np.ceil((lo - values) / two_pi), np.floor((hi - values) / two_pi)
-            m = np.clip(np.round((near[i] - values) / two_pi), m_lo, m_hi)
-            fits = m_lo <= m_hi
-            shifted = values + two_pi * np.where(fits, m, 0.0)
-        else:
-            fits = (values >= lo) & (values <= hi)
-            shifted = values
-        q[:, i] = np.where(fits, np.clip(shifted, lim.lower, lim.upper), values)
-        for k in np.flatnonzero(~fits & ok):
-            first[k] = (i, float(values[k]), lim.lower, lim.upper)
-        ok &= fits
-    return q, first
+    wrapped = q - two_pi * np.ceil((q - np.pi) / two_pi)  # (−π, π] up to round-off:
+    wrapped = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi, wrapped))
+    lo, hi = lower - 1e-12, upper + 1e-12
+    m_lo, m_hi = np.ceil((lo - q) / two_pi), np.floor((hi - q) / two_pi)  # the 2π shifts that fit (±inf: unlimited)
+    m = np.clip(np.round((near - q) / two_pi), m_lo, m_hi)
+    fits = np.where(arm.revolute, m_lo <= m_hi, (q >= lo) & (q <= hi)) | ~limited
+    shifted = np.where(arm.revolute, q + two_pi * np.where(fits, m, 0.0), q)
+    inside = np.where(fits, np.clip(shifted, lower, upper), q)
+    fitted = np.where(limited, inside, np.where(arm.revolute, wrapped, q))
+    first: list[tuple | None] = [None] * q.shape[0]
+    bad = ~fits
+    for k in np.flatnonzero(bad.any(axis=-1)):
+        i = int(np.argmax(bad[k]))
+        first[k] = (i, float(q[k, i]), float(lower[i]), float(upper[i]))
+    return fitted, first
 
 
 def outside_limits_message(arm: Arm, target: str, violations: list[tuple | None]) -> str:
