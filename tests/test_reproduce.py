@@ -126,7 +126,8 @@ def test_files(run):
     assert (out / MARKER).exists() and (out / "report.md").exists() and (out / "report.html").exists()
     figures = {
         "000": ["fig03_trajectory", "fig04_workspace", "fig05_joint_courses", "fig07_torques", "fig08_abcd_path",
-                "fig08_arc_joints", "fig08_fastest_circle", "fig09_abcd_joints", "fig10_abcd_torques", "fig18_rrrr_components", "fig19_rrrr_planes",
+                "fig08_arc_joints", "fig08_fastest_circle", "fig09_abcd_joints", "fig10_abcd_torques",
+                "fig18_rrrr_components", "fig19_rrrr_planes",
                 "fig24_rrrr_components", "fig25_rrrr_planes", "fig28_tool_position", "fig29_tool_velocity"],
         "001": ["fig03_arm_3d", "fig04_joint_displacement", "fig05_joint_velocity", "fig06_joint_acceleration",
                 "fig07_end_point", "torques"],
