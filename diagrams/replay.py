@@ -427,7 +427,7 @@ def replay_page(
     contact colour at that frame (:func:`_collision_layer`). An arm without collision geometry has no layer
     (with a ``scene``: a ``ValueError``, as a run's check).
     """
-    # lazy: Drake is imported by the commands that need it (armlab._lazy)
+    # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
     from armlab.collision.model import CollisionModel, NoGeometryError
 
     times, q, tool_path = _check_run(arm, times, q, tool_path)
@@ -478,7 +478,7 @@ def replay_page(
     # Hidden while the pose jumps at a join (no broken arm); a visibility track holds its first value
     # before its first key, so the first frame says "visible".
     moving = np.append(np.diff(frame_run) == 0, True)  # False: the frame before a join, when the arm is hidden
-    _visibility(recording, k, f"{SCENE}/visualizer", moving)
+    _visibility(meshcat, k, f"{SCENE}/visualizer", moving)
     layer = None if model is None else _collision_layer(shown_scene, model, meshcat, k, frames_q, moving)
     if payload > 0:
         from pydrake.math import RigidTransform
@@ -514,10 +514,17 @@ def replay_log(log: SimulationLog, path: Path, deg: bool = False, clearance: Cle
     return write_file(Path(path), log_page(log, deg, clearance, scene))
 
 
-def _visibility(recording: Any, k: NDArray[np.int64], path: str, visible: NDArray[np.bool_]) -> None:
-    """Key the Meshcat object at ``path`` visible at the frames ``k`` where ``visible`` (both ``(F,)``): a key at
-    the first frame (a visibility track holds its first value before its first key) and at every change."""
-    for f in np.concatenate([[0], np.flatnonzero(np.diff(visible)) + 1]):
+def _visibility(meshcat: Meshcat, k: NDArray[np.int64], path: str, visible: NDArray[np.bool_]) -> None:
+    """Show the Meshcat object at ``path`` at the frames ``k`` where ``visible`` (both ``(F,)``): unchanging, as a
+    static property (a one-key track is a clip of no length, whose action's time three.js makes NaN, stopping the
+    whole animation); else keys at the first frame (a track holds its first value before its first key) and at
+    every change."""
+    changes = np.flatnonzero(np.diff(visible)) + 1
+    if changes.size == 0:
+        meshcat.SetProperty(path, "visible", bool(visible[0]))
+        return
+    recording = meshcat.get_mutable_recording()
+    for f in np.concatenate([[0], changes]):
         recording.SetProperty(int(k[f]), path, "visible", bool(visible[f]))
 
 
@@ -528,17 +535,16 @@ def _collision_layer(scene: Scene, model: CollisionModel, meshcat: Meshcat, k: N
     A pair's clearance at a frame's pose (``model``, the run's check) below zero puts both owners' shapes (a link's,
     or an obstacle's) in contact: each of their shapes is shown at :data:`CONTACT` instead of :data:`COLLISION`
     at that frame. The arm's shapes are hidden where ``moving`` is False (a join's jump), the obstacles never.
-    Returns the page's data: the two layers' paths, the visuals' path and opacity under the layer, the pairs in contact at each frame (by index) and each owner's
-    shapes (``{"owner": [path under the layer, …]}``).
+    Returns the page's data: the two layers' paths, the visuals' path and opacity under the layer, the pairs, those
+    in contact at each frame (indices) and each owner's shapes (``{"owner": [path under the layer, …]}``).
     """
-    # lazy: Drake is imported by the commands that need it (armlab._lazy)
+    # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
     from armlab.collision.model import geometry_owner
 
     inspector = scene.scene_graph.model_inspector()
     found = model.distances(frames_q)
     touching = found.distance < 0  # (F, P)
     owners: dict[str, list[str]] = {}
-    recording = meshcat.get_mutable_recording()
     world = inspector.world_frame_id()
     for g in inspector.GetAllGeometryIds():
         if inspector.GetProximityProperties(g) is None:
@@ -550,15 +556,12 @@ def _collision_layer(scene: Scene, model: CollisionModel, meshcat: Meshcat, k: N
         owners.setdefault(owner, []).append(tail)
         if not (meshcat.HasPath(f"{COLLISION}/{tail}") and meshcat.HasPath(f"{CONTACT}/{tail}")):
             raise RuntimeError(f"replay: Drake's MeshcatVisualizer did not draw {owner}'s shape at {tail}")
-        hit = np.zeros(len(k), dtype=bool)
-        for j, pair in enumerate(found.pairs):
-            if owner in pair:
-                hit |= touching[:, j]
+        hit = touching[:, [owner in pair for pair in found.pairs]].any(axis=1)
         shown = moving if frame != world else np.ones(len(k), dtype=bool)
-        _visibility(recording, k, f"{COLLISION}/{tail}", shown & ~hit)
-        _visibility(recording, k, f"{CONTACT}/{tail}", shown & hit)
-    return {"layers": [COLLISION, CONTACT], "visuals": f"{SCENE}/visualizer", "visual_opacity": VISUAL_OPACITY_UNDER_LAYER,
-            "owners": owners, "pairs": found.names(),
+        _visibility(meshcat, k, f"{COLLISION}/{tail}", shown & ~hit)
+        _visibility(meshcat, k, f"{CONTACT}/{tail}", shown & hit)
+    return {"layers": [COLLISION, CONTACT], "visuals": f"{SCENE}/visualizer",
+            "visual_opacity": VISUAL_OPACITY_UNDER_LAYER, "owners": owners, "pairs": found.names(),
             "touching": [np.flatnonzero(row).tolist() for row in touching]}
 
 
