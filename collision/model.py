@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from armlab.collision.scene import Scene
     from armlab.models.arm import Arm
 
-__all__ = ["Clearances", "CollisionModel", "NoGeometryError", "Part"]
+__all__ = ["Clearances", "CollisionModel", "NoGeometryError", "Part", "geometry_owner"]
 
 
 class NoGeometryError(ValueError):
@@ -76,6 +76,15 @@ class Clearances:
     def names(self) -> list[str]:
         """Each pair as ``"A–B"``."""
         return [f"{a}–{b}" for a, b in self.pairs]
+
+
+def geometry_owner(plant: Any, inspector: Any, geometry: Any) -> str:
+    """The owner a pair names for ``geometry`` of ``plant``'s ``SceneGraph`` (``inspector``): its link's name, or an
+    obstacle's name in the scene (geometry of the world body)."""
+    body = plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
+    if body.index() == plant.world_body().index():
+        return str(inspector.GetName(geometry))
+    return str(body.name())
 
 
 def _transform(X: Any) -> NDArray[np.float64]:
@@ -127,12 +136,6 @@ class CollisionModel:
         self._group = np.repeat(np.arange(len(pairs)), [len(group) for group in pairs.values()])
 
     # ------------------------------------------------------------------ set-up
-    def _owner(self, geometry: Any) -> str:
-        body = self.plant.GetBodyFromFrameId(self._inspector.GetFrameId(geometry))
-        if body.index() == self.plant.world_body().index():
-            return str(self._inspector.GetName(geometry))  # an obstacle, by its scene name
-        return str(body.name())
-
     def _frame_of_body(self) -> dict[Any, tuple[int, NDArray[np.float64]]]:
         """Body index → (the arm's frame index it is fixed in, its pose in that frame) for every body."""
         plant, context = self.plant, self._plant_context
@@ -154,7 +157,7 @@ class CollisionModel:
         body = self.plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
         frame, X_FB = frames[body.index()]
         X_FG = X_FB @ _transform(inspector.GetPoseInFrame(geometry))
-        shape, owner = inspector.GetShape(geometry), self._owner(geometry)
+        shape, owner = inspector.GetShape(geometry), geometry_owner(self.plant, inspector, geometry)
         if isinstance(shape, Capsule):
             half = X_FG[:3, 2] * shape.length() / 2
             return Part(owner, frame, "capsule", X_FG[:3, 3] - half, X_FG[:3, 3] + half, shape.radius())

@@ -39,7 +39,8 @@ from armlab.files import write_file
 if TYPE_CHECKING:
     from pydrake.geometry import Meshcat
 
-    from armlab.collision.model import Clearances
+    from armlab.collision.model import Clearances, CollisionModel
+    from armlab.collision.scene import Scene as Obstacles
     from armlab.diagrams.simulate import SimulationLog
     from armlab.models.arm import Arm
 
@@ -76,6 +77,16 @@ TOOL_PATH = f"{SCENE}/tool_path"
 #: Path of the payload sphere and of the floor grid.
 PAYLOAD = f"{SCENE}/payload"
 FLOOR = "/floor"
+#: Paths of the collision layer: the arm's and the scene's collision geometry (Drake's proximity role) drawn by a
+#: second ``MeshcatVisualizer``, and the same shapes again in :data:`CONTACT_RGBA` by a third, each shape shown in
+#: one of the two at every frame: in the contact colour where it touches (:func:`_collision_layer`).
+COLLISION = f"{SCENE}/collision"
+CONTACT = f"{SCENE}/contact"
+#: Colour of the collision layer (semi-transparent: the visuals stay visible) and of a shape in contact.
+COLLISION_RGBA = (0.55, 0.25, 0.85, 0.5)
+CONTACT_RGBA = (0.95, 0.05, 0.05, 0.85)
+#: Opacity of the visuals while the collision layer is shown (the shapes often coincide with them).
+VISUAL_OPACITY_UNDER_LAYER = 0.3
 #: Playback seconds the replay holds at a join of two runs (a branch switch), before the next run.
 JOIN_PAUSE = 1.5
 _PATH_RGBA = (0.0, 0.5, 0.1, 1.0)
@@ -86,26 +97,30 @@ DEFAULT_RGBA = (0.85, 0.45, 0.12, 1.0)
 @dataclass
 class Scene:
     """A built diagram of the arm's plant (in the arm's joint order), scene graph and Meshcat visualizer, with a
-    context."""
+    context; ``layers``: the visualizers of the collision layer (:data:`COLLISION`, :data:`CONTACT`), if drawn."""
 
     diagram: Any
     plant: Any
     visualizer: Any
     context: Any
+    scene_graph: Any = None
+    layers: tuple[Any, ...] = ()
 
     def show(self, q: NDArray[np.float64], time: float = 0.0) -> None:
         """Set the arm's joints to ``q`` (arm joint order, the plant's) at ``time`` and publish to Meshcat."""
         self.context.SetTime(time)
         self.plant.SetPositions(self.plant.GetMyMutableContextFromRoot(self.context), q)
-        self.visualizer.ForcedPublish(self.visualizer.GetMyContextFromRoot(self.context))
+        for visualizer in (self.visualizer, *self.layers):
+            visualizer.ForcedPublish(visualizer.GetMyContextFromRoot(self.context))
 
 
 @contextmanager
-def _quiet_drake() -> Iterator[None]:
-    """Silence Drake's INFO lines (e.g. "Meshcat listening for connections at …") inside the block."""
+def _quiet_drake(below: int = logging.WARNING) -> Iterator[None]:
+    """Silence Drake's log lines below ``below`` (default: INFO, e.g. "Meshcat listening for connections at …")
+    inside the block."""
     logger = logging.getLogger("drake")
     level = logger.level
-    logger.setLevel(logging.WARNING)
+    logger.setLevel(below)
     try:
         yield
     finally:
@@ -127,30 +142,40 @@ def start_meshcat(port: int | None = 0) -> Meshcat:
         return Meshcat(params)
 
 
-def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS, extra: Any = None) -> Scene:
+def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS, extra: Any = None,
+                obstacles: Obstacles | None = None, collision: bool = False) -> Scene:
     """The arm's plant with its geometry in a SceneGraph (:func:`~armlab.diagrams.plant.add_arm_plant`) and a
     ``MeshcatVisualizer`` on ``meshcat``.
 
     ``extra(builder, plant)`` may add systems (e.g. joint sliders) before the diagram is built.
+    ``obstacles``: a scene's obstacles registered too (collision geometry of the world). ``collision``: two more
+    visualizers of the proximity role draw the collision geometry at :data:`COLLISION` (:data:`COLLISION_RGBA`)
+    and at :data:`CONTACT` (:data:`CONTACT_RGBA`), both hidden until the page's toggle shows them.
     Gravity is irrelevant: the plant is only posed, never simulated.
     """
-    from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams
+    from pydrake.geometry import MeshcatVisualizer, MeshcatVisualizerParams, Role
     from pydrake.systems.framework import DiagramBuilder
 
     # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
     from armlab.diagrams.plant import PlantOptions, add_arm_plant
 
     builder = DiagramBuilder()
-    plant, scene_graph = add_arm_plant(builder, arm, PlantOptions(geometry=True))
+    plant, scene_graph = add_arm_plant(builder, arm, PlantOptions(geometry=True, scene=obstacles))
     assert scene_graph is not None, "add_arm_plant makes a scene graph for PlantOptions(geometry=True)"
     visualizer = MeshcatVisualizer.AddToBuilder(
         builder, scene_graph, meshcat,
         MeshcatVisualizerParams(publish_period=publish_period, default_color=_rgba(DEFAULT_RGBA)),
     )
+    layers = tuple(MeshcatVisualizer.AddToBuilder(builder, scene_graph, meshcat, MeshcatVisualizerParams(
+        publish_period=publish_period, role=Role.kProximity, prefix=path.rsplit("/", 1)[1], default_color=_rgba(rgba),
+        visible_by_default=False, delete_on_initialization_event=False))
+        for path, rgba in ((COLLISION, COLLISION_RGBA), (CONTACT, CONTACT_RGBA)) if collision)
     if extra is not None:
         extra(builder, plant)
     diagram = builder.Build()
-    return Scene(diagram, plant, visualizer, diagram.CreateDefaultContext())
+    with _quiet_drake(logging.ERROR):  # a floor's warning that deformable contact ignores it: armlab has none
+        context = diagram.CreateDefaultContext()
+    return Scene(diagram, plant, visualizer, context, scene_graph, layers)
 
 
 def display_rotation(arm: Arm) -> NDArray[np.float64]:
@@ -376,7 +401,7 @@ def write_replay(arm: Arm, times: NDArray, q: NDArray, path: Path, **options: An
 def replay_page(
     arm: Arm, times: NDArray, q: NDArray, tool_path: NDArray | None = None, tau: NDArray | None = None,
     run: NDArray | None = None, payload: float = 0.0, deg: bool = False, title: str | None = None,
-    graphs: list[Graph] | None = None,
+    graphs: list[Graph] | None = None, scene: Obstacles | None = None,
 ) -> str:
     """Record the run ``q(times)`` (N, n) of ``arm`` as one self-contained HTML page (its text).
 
@@ -395,7 +420,16 @@ def replay_page(
     (:class:`~armlab.diagrams.replay_graphs.Graph`, one row per sample of ``times``; default: q and, if given,
     τ with the arm's limits) are drawn against the run's time with a cursor at the time played; a click or a
     drag on a graph seeks the replay there.
+
+    The arm's collision geometry and the obstacles of ``scene`` are a layer the page's "collision geometry" box
+    shows (off by default; semi-transparent), posed with the arm at every frame; the shapes of a pair in contact
+    in the frame's pose (its clearance < 0, :class:`~armlab.collision.model.CollisionModel`) are drawn in the
+    contact colour at that frame (:func:`_collision_layer`). An arm without collision geometry has no layer
+    (with a ``scene``: a ``ValueError``, as a run's check).
     """
+    # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
+    from armlab.collision.model import CollisionModel, NoGeometryError
+
     times, q, tool_path = _check_run(arm, times, q, tool_path)
     tau = None if tau is None else np.asarray(tau, dtype=float)
     if tau is not None and (tau.shape != q.shape or not np.all(np.isfinite(tau))):
@@ -412,9 +446,15 @@ def replay_page(
     fps, k, t, frame_run = _frames(times, run)
     frames_q = _interpolate(t, frame_run, times, run, q)
     frames_tau = None if tau is None else _interpolate(t, frame_run, times, run, tau)
+    try:
+        model: CollisionModel | None = CollisionModel(arm, scene)
+    except NoGeometryError:
+        if scene is not None:
+            raise
+        model = None
 
     meshcat = start_meshcat()
-    scene = build_scene(arm, meshcat, publish_period=1 / fps)
+    shown_scene = build_scene(arm, meshcat, publish_period=1 / fps, obstacles=scene, collision=model is not None)
     reach = np.concatenate([reach_points(arm, frames_q), tool_path])
     R = style_scene(meshcat, arm, reach)
     radius = max(body.radius for body in arm.bodies)
@@ -427,48 +467,102 @@ def replay_page(
         from pydrake.geometry import Sphere
 
         meshcat.SetObject(PAYLOAD, Sphere(1.3 * radius), _rgba((0.25, 0.25, 0.3, 1.0)))
-    scene.visualizer.StartRecording(set_transforms_while_recording=False)
+    shown_scene.visualizer.StartRecording(set_transforms_while_recording=False)
     # The recording files a publish at time τ under frame floor(τ · fps); publishing half a frame
     # late keeps rounding from putting two samples in one frame.
     for frame, q_frame in zip(k, frames_q, strict=True):
-        scene.show(q_frame, (frame + 0.5) / fps)
-    scene.visualizer.StopRecording()
-    recording = scene.visualizer.get_mutable_recording()
+        shown_scene.show(q_frame, (frame + 0.5) / fps)
+    shown_scene.visualizer.StopRecording()
+    recording = shown_scene.visualizer.get_mutable_recording()
     recording.set_repetitions(2**31 - 1)  # loops; the page's "loop" box turns it off
     # Hidden while the pose jumps at a join (no broken arm); a visibility track holds its first value
     # before its first key, so the first frame says "visible".
-    recording.SetProperty(int(k[0]), "/drake/visualizer", "visible", True)
-    for j in np.nonzero(np.diff(frame_run))[0]:
-        recording.SetProperty(int(k[j]), "/drake/visualizer", "visible", False)
-        recording.SetProperty(int(k[j + 1]), "/drake/visualizer", "visible", True)
+    moving = np.append(np.diff(frame_run) == 0, True)  # False: the frame before a join, when the arm is hidden
+    _visibility(meshcat, k, f"{SCENE}/visualizer", moving)
+    layer = None if model is None else _collision_layer(shown_scene, model, meshcat, k, frames_q, moving)
     if payload > 0:
         from pydrake.math import RigidTransform
 
         for frame, T in zip(k, tool, strict=True):
             recording.SetTransform(int(frame), PAYLOAD, RigidTransform(T[:3, 3]))
         meshcat.SetTransform(PAYLOAD, RigidTransform(tool[0, :3, 3]))
-    scene.show(frames_q[0], float(t[0]))  # the static scene (before playback) shows the first pose
-    scene.visualizer.PublishRecording()
+    shown_scene.show(frames_q[0], float(t[0]))  # the static scene (before playback) shows the first pose
+    shown_scene.visualizer.PublishRecording()
     html = meshcat.StaticHtml()
     data = _page_data(arm, fps, k, t, frame_run, frames_q, frames_tau, deg)
     data["title"] = arm.name if title is None else title
     data["graphs"] = shown
+    data["collision"] = layer
     end = html.rfind("</body>")
     return html[:end] + _controls(data) + html[end:]
 
 
-def log_page(log: SimulationLog, deg: bool = False, clearance: Clearances | None = None) -> str:
+def log_page(log: SimulationLog, deg: bool = False, clearance: Clearances | None = None,
+             scene: Obstacles | None = None) -> str:
     """:func:`replay_page` of a simulation: its q, τ, tool path, runs and payload, and its graphs
-    (:func:`~armlab.diagrams.replay_graphs.log_graphs`; ``clearance``: the pairs the run checked, at its samples)."""
+    (:func:`~armlab.diagrams.replay_graphs.log_graphs`; ``clearance``: the pairs the run checked, at its samples),
+    with the obstacles of the ``scene`` it was checked against in its collision layer."""
     payload = f", payload {log.payload:g} kg" if log.payload else ""
     return replay_page(log.arm, log.t, log.q, tool_path=log.tool[:, :3], tau=log.tau, run=log.run,
                        payload=log.payload, deg=deg, title=f"{log.arm.name}: {log.motion.description}{payload}",
-                       graphs=log_graphs(log, deg, clearance))
+                       graphs=log_graphs(log, deg, clearance), scene=scene)
 
 
-def replay_log(log: SimulationLog, path: Path, deg: bool = False, clearance: Clearances | None = None) -> Path:
+def replay_log(log: SimulationLog, path: Path, deg: bool = False, clearance: Clearances | None = None,
+               scene: Obstacles | None = None) -> Path:
     """:func:`log_page` written to ``path`` (atomically)."""
-    return write_file(Path(path), log_page(log, deg, clearance))
+    return write_file(Path(path), log_page(log, deg, clearance, scene))
+
+
+def _visibility(meshcat: Meshcat, k: NDArray[np.int64], path: str, visible: NDArray[np.bool_]) -> None:
+    """Show the Meshcat object at ``path`` at the frames ``k`` where ``visible`` (both ``(F,)``): unchanging, as a
+    static property (a one-key track is a clip of no length, whose action's time three.js makes NaN, stopping the
+    whole animation); else keys at the first frame (a track holds its first value before its first key) and at
+    every change."""
+    changes = np.flatnonzero(np.diff(visible)) + 1
+    if changes.size == 0:
+        meshcat.SetProperty(path, "visible", bool(visible[0]))
+        return
+    recording = meshcat.get_mutable_recording()
+    for f in np.concatenate([[0], changes]):
+        recording.SetProperty(int(k[f]), path, "visible", bool(visible[f]))
+
+
+def _collision_layer(scene: Scene, model: CollisionModel, meshcat: Meshcat, k: NDArray[np.int64],
+                     frames_q: NDArray[np.float64], moving: NDArray[np.bool_]) -> dict[str, Any]:
+    """Key which shapes of the collision layer are in contact at each frame ``k`` (poses ``frames_q`` (F, n)).
+
+    A pair's clearance at a frame's pose (``model``, the run's check) below zero puts both owners' shapes (a link's,
+    or an obstacle's) in contact: each of their shapes is shown at :data:`CONTACT` instead of :data:`COLLISION`
+    at that frame. The arm's shapes are hidden where ``moving`` is False (a join's jump), the obstacles never.
+    Returns the page's data: the two layers' paths, the visuals' path and opacity under the layer, the pairs, those
+    in contact at each frame (indices) and each owner's shapes (``{"owner": [path under the layer, …]}``).
+    """
+    # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
+    from armlab.collision.model import geometry_owner
+
+    inspector = scene.scene_graph.model_inspector()
+    found = model.distances(frames_q)
+    touching = found.distance < 0  # (F, P)
+    owners: dict[str, list[str]] = {}
+    world = inspector.world_frame_id()
+    for g in inspector.GetAllGeometryIds():
+        if inspector.GetProximityProperties(g) is None:
+            continue
+        frame = inspector.GetFrameId(g)
+        # MeshcatVisualizer's path of a geometry: its frame's name and its own, each "::" turned into "/"
+        tail = (("" if frame == world else inspector.GetName(frame) + "/") + inspector.GetName(g)).replace("::", "/")
+        owner = geometry_owner(scene.plant, inspector, g)
+        owners.setdefault(owner, []).append(tail)
+        if not (meshcat.HasPath(f"{COLLISION}/{tail}") and meshcat.HasPath(f"{CONTACT}/{tail}")):
+            raise RuntimeError(f"replay: Drake's MeshcatVisualizer did not draw {owner}'s shape at {tail}")
+        hit = touching[:, [owner in pair for pair in found.pairs]].any(axis=1)
+        shown = moving if frame != world else np.ones(len(k), dtype=bool)
+        _visibility(meshcat, k, f"{COLLISION}/{tail}", shown & ~hit)
+        _visibility(meshcat, k, f"{CONTACT}/{tail}", shown & hit)
+    return {"layers": [COLLISION, CONTACT], "visuals": f"{SCENE}/visualizer",
+            "visual_opacity": VISUAL_OPACITY_UNDER_LAYER, "owners": owners, "pairs": found.names(),
+            "touching": [np.flatnonzero(row).tolist() for row in touching]}
 
 
 def _page_data(arm: Arm, fps: float, k: NDArray, t: NDArray, frame_run: NDArray, q: NDArray,
@@ -520,6 +614,8 @@ html,body{margin:0;overflow:hidden}
 <div id="armlab-bar"><div id="armlab-row">
   <button id="armlab-play" title="play / pause (space)">&#9208; Pause</button>
   <label><input type="checkbox" id="armlab-loop" checked> loop</label>
+  <label id="armlab-collision-box" style="display:none" title="the collision shapes; red: a pair in contact"><input
+    type="checkbox" id="armlab-collision"> collision geometry</label>
   <div id="armlab-track"><input type="range" id="armlab-slider" min="0" max="1" step="0.001" value="0"
     title="playback time"></div>
   <span id="armlab-time"></span></div>
@@ -552,6 +648,8 @@ html,body{margin:0;overflow:hidden}
     const unit = (u) => (u === "°" ? u : " " + u);
     let text = "q = (" + D.q[i].map((v, j) => fmt(v) + unit(D.q_units[j])).join(", ") + ")";
     if (D.tau) text += "    \u03c4 = (" + D.tau[i].map((v, j) => fmt(v) + " " + D.tau_units[j]).join(", ") + ")";
+    if (D.collision && D.collision.touching[i].length)
+      text += "    contact: " + D.collision.touching[i].map((j) => D.collision.pairs[j]).join(", ");
     $("armlab-readout").textContent = text;
     const join = D.joins.find((j) => time >= j.from - 1e-9 && time < j.to);
     $("armlab-banner").style.display = join ? "block" : "none";
@@ -564,6 +662,17 @@ html,body{margin:0;overflow:hidden}
     const repeat = () => a.actions.forEach((x) => { x.repetitions = loop.checked ? Infinity : 1; });
     loop.onchange = repeat;
     repeat();
+    if (D.collision) {  // the collision layer: hidden until the box is ticked
+      const layer = $("armlab-collision");
+      $("armlab-collision-box").style.display = "";
+      layer.onchange = () => {
+        for (const path of D.collision.layers)
+          viewer.handle_command({type: "set_property", path, property: "visible", value: layer.checked});
+        viewer.handle_command({type: "set_property", path: D.collision.visuals, property: "modulated_opacity",
+                               value: layer.checked ? D.collision.visual_opacity : 1});
+        if (viewer.set_dirty) viewer.set_dirty();
+      };
+    }
     play.onclick = () => {
       if (a.playing) { a.pause(); return; }
       if (now(a) >= a.duration - 1e-6 || a.actions.every((x) => !x.enabled || x.paused)) a.reset();

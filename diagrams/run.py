@@ -151,7 +151,7 @@ class Run:
         """Jupyter's view: the summary (one row per joint: peak and RMS τ, peak q̇, limits), the limit violations,
         and the replay with its graphs inline (an iframe of the self-contained page: no server needed)."""
         if self._replay is None:
-            self._replay = log_page(self.log, clearance=self.clearance)
+            self._replay = log_page(self.log, clearance=self.clearance, scene=self.scene)
 
         def cell(v: Any, unit: str) -> str:
             return "—" if v is None else f"{v:.4g} {unit}"
@@ -217,6 +217,6 @@ class Run:
         shown = self.plot(folder)  # the plots, clearance.png (pairs checked) and drives.png, written
         for fig in shown.values():
             plt.close(fig)
-        replay_log(log, folder / "replay.html", deg=deg, clearance=self.clearance)
+        replay_log(log, folder / "replay.html", deg=deg, clearance=self.clearance, scene=self.scene)
         return ["log.csv", "summary.json", *pictures, "diagram.dot", *(name for name in shown if name != "drives.png"),
                 drives.name, "drives.png", "replay.html"]
