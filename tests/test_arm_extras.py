@@ -79,12 +79,12 @@ def test_the_sixth_arms_paper_motion_and_scheme(arm1r, tmp_path):
     motion = armlab.paper_motion(arm)
     assert motion.description == "test: a quarter turn in 1 s"
     # exact: the module's own numbers, copied
-    np.testing.assert_array_equal(motion.segments[0].q_start, [-np.pi / 4])  # the module's own numbers, copied
+    np.testing.assert_array_equal(motion.segments[0].q_start, [-np.pi / 4])  # exact: the module's own numbers, copied
     assert armlab.paper_motion(arm, tf=2.0).description == "test: a quarter turn in 2 s"
     with pytest.raises(ValueError, match=r"path 'abcd' is not available for arm1r; paths: rr: abcd"):
         armlab.paper_motion(arm, "abcd")
     # exact: the module's drawn pose, copied
-    np.testing.assert_array_equal(default_q(arm), [np.pi / 4])  # the module's drawn pose
+    np.testing.assert_array_equal(default_q(arm), [np.pi / 4])  # exact: the module's drawn pose, copied
     drawn = scheme(arm, default_q(arm))
     assert drawn.table_title.startswith("standard DH") and drawn.table == ["1: 0.5 m, 0°, 0 m, q1"]
     path = draw_arm(arm, default_q(arm), tmp_path / "arm1r.svg")

@@ -17,9 +17,7 @@ import armlab
 from armlab.drives.train import DriveTrain
 from armlab.models.meshes import MeshWarning
 from armlab.models.read_dh import dh_inertials, read_dh_csv
-
-pin = pytest.importorskip("pinocchio", reason="Pinocchio (pin, in the test extra) reads the exported URDFs")
-from armlab.scripts.bench_kinematics import Drake, Pinocchio  # noqa: E402  (needs pinocchio)
+from armlab.scripts.bench_kinematics import Drake, Pinocchio
 
 #: The arms sent out and read back: paper arms (revolute, prismatic), DH tables (with base and tool header lines,
 #: a prismatic joint, products of inertia) and a ROS-style URDF (world root, tool0 chosen).

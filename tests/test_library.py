@@ -206,8 +206,7 @@ def test_puma560_corrections_are_physical_and_change_no_gravity_torque(rng: np.r
 
 
 def _rtb(name: str):
-    rtb = pytest.importorskip("roboticstoolbox", reason="the Robotics Toolbox (roboticstoolbox-python, the test "
-                                                        "extra) is not installed")
+    import roboticstoolbox as rtb  # the test extra: the toolbox users come from
     return {"puma560": rtb.models.DH.Puma560, "ur5": rtb.models.DH.UR5, "ur10": rtb.models.DH.UR10,
             "panda": rtb.models.DH.Panda, "stanford": rtb.models.DH.Stanford, "irb140": rtb.models.DH.IRB140,
             "kr5": rtb.models.DH.KR5}[name]()
@@ -246,7 +245,7 @@ def test_against_pinocchio_reading_armlabs_urdf(name: str, rng: np.random.Genera
     reader) requires an effort limit where armlab writes none (unknown): ROS's 0 ("none") is written, which no
     algorithm here reads. The rigid arm: Pinocchio's RNEA has no drive train (the Puma's is checked in
     tests/test_drive_model.py)."""
-    pin = pytest.importorskip("pinocchio", reason="Pinocchio (pin, the test extra) is not installed")
+    import pinocchio as pin  # the test extra: an independent RNEA
     arm = get_arm(name).with_drives(None)
     model = pin.buildModelFromXML(arm.urdf(ros_limits=True))
     model.gravity.linear = np.array(arm.gravity)

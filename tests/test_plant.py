@@ -75,7 +75,7 @@ def test_plant_options_keep_the_resolved_values_and_are_frozen():
     assert PlantOptions("+x").gravity == (9.81, 0.0, 0.0)  # exact: constants and copies, no arithmetic that could round
     # exact: constants and copies, no arithmetic that could round
     assert PlantOptions("1,2,-3.5").gravity == (1.0, 2.0, -3.5)  # exact (see above)
-    assert PlantOptions(np.array([0.0, 0.0, -9.81])) == PlantOptions("-z")  # the same options, however given
+    assert PlantOptions(np.array([0.0, 0.0, -9.81])) == PlantOptions("-z")  # exact: -z is −G, the literal given
     assert PlantOptions(payload=2).payload == 2.0  # exact: constants and copies, no arithmetic that could round
     with pytest.raises(dataclasses.FrozenInstanceError):
         PlantOptions().payload = 1.0
@@ -208,7 +208,7 @@ def test_options_set_gravity_and_the_time_step():
     # exact: constants and copies, no arithmetic that could round
     np.testing.assert_array_equal(plant.gravity_field().gravity_vector(), [9.81, 0, 0])  # exact (see above)
     # exact: constants and copies, no arithmetic that could round
-    assert plant.time_step() == 1e-3 and plant.num_discrete_state_groups() == 1  # the state is discrete
+    assert plant.time_step() == 1e-3 and plant.num_discrete_state_groups() == 1  # exact: the period set; discrete
     assert arm.make_plant().time_step() == 0.0  # exact: constants and copies, no arithmetic that could round
 
 
