@@ -33,6 +33,8 @@ from armlab.models import paper_arms
 from armlab.values import cut
 
 if TYPE_CHECKING:
+    from pydrake.trajectories import Trajectory
+
     from armlab.models.arm import Arm
 
 __all__ = [
@@ -61,7 +63,11 @@ A segments file is JSON: {"deg": false, "segments": [SEGMENT, ...]}. Each SEGMEN
            instead), and times a tool path ("minimum-jerk" by default, "cubic", or "trapezoid" with
            "tf", or the tool's "speed" m/s and "acceleration" m/s² instead). "through": [[q1, ...],
            ...] passes those joint values without stopping (quintics, or "degree": 3 cubics; via
-           velocities by Craig's rule; "tf" per piece or one for all).
+           velocities by Craig's rule; "tf" per piece or one for all). "profile": "fastest" times a
+           "to" segment (the straight joint line) or a tool path as fast as the limits allow, rest to
+           rest (Drake's Toppra, as armlab plan --fastest), without "tf": the joint limits are the
+           arm's file's and its drive train's, or "velocity", "acceleration" and "effort" (one, or
+           one per joint).
 With "deg": true, revolute joint values and rates are in degrees (prismatic ones stay m)."""
 
 
@@ -152,7 +158,8 @@ _TOOL_PATH_KEYS = ("line_to", "arc_through", "arc_centre", "arc_axis", "arc_angl
 
 
 def _rates(arm: Arm, spec: Mapping[str, Any], key: str, deg: bool, where: str) -> NDArray[np.float64] | None:
-    """A joint trapezoid's peak ``key`` ("velocity", "acceleration"): one number or one per joint (deg with deg)."""
+    """A joint rate or limit ``key`` ("velocity", "acceleration", "effort"): one number or one per joint (deg with
+    deg)."""
     raw = spec.get(key)
     if raw is None:
         return None
@@ -189,14 +196,38 @@ def _tool_path(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: 
             path = arc_path(_numbers(spec["arc_centre"], f"{where} arc_centre"),
                             _numbers(spec["arc_axis"], f"{where} arc_axis"), point,
                             float(np.radians(angle)) if deg else angle)
-        numbers = {key: None if spec.get(key) is None else json_number(spec[key], f"{where} {key}")
-                   for key in ("tf", "speed", "acceleration")}
-        profile = path_profile(path, str(spec.get("profile", "minimum-jerk")), numbers["tf"], numbers["speed"],
-                               numbers["acceleration"])
+        if spec.get("profile") == "fastest":  # timed below: any profile gives the path, which is all it keeps
+            profile = path_profile(path, "minimum-jerk", 1.0)
+        else:
+            numbers = {key: None if spec.get(key) is None else json_number(spec[key], f"{where} {key}")
+                       for key in ("tf", "speed", "acceleration")}
+            profile = path_profile(path, str(spec.get("profile", "minimum-jerk")), numbers["tf"], numbers["speed"],
+                                   numbers["acceleration"])
         samples = spec.get("samples", DEFAULT_SAMPLES)
         return tool_motion_along(arm, path, profile=profile, q0=q0, samples=samples, label=label)
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
+
+
+def _fastest(arm: Arm, spec: Mapping[str, Any], path: Motion | Trajectory, deg: bool, label: str,
+             where: str) -> Motion:
+    """``path`` (a tool path's motion, or the joint line q(s)) timed as fast as the limits allow
+    (:func:`armlab.kinematics.timing.fastest`), the segment's own joint limits where it gives them."""
+    # lazy: Drake's Toppra, only for a time-optimal segment
+    from armlab.kinematics.quintic import TrajectorySegment
+    from armlab.kinematics.timing import fastest
+
+    if "tf" in spec:
+        raise ValueError(f"{where}: a \"fastest\" segment takes no \"tf\": its duration is the least the limits "
+                         "allow")
+    velocity, acceleration, effort = (_rates(arm, spec, key, deg and key != "effort", where)
+                                      for key in ("velocity", "acceleration", "effort"))
+    try:
+        best = fastest(arm, path, velocity, acceleration, effort)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+    timing = cast(TrajectorySegment, best.motion.segments[0])  # fastest's motion: one trajectory segment
+    return Motion((TrajectorySegment(timing.trajectory, label),), best.motion.description)
 
 
 def _through(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bool, label: str,
@@ -249,15 +280,18 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
         if not isinstance(spec, dict):
             raise ValueError(f"{where}: expected an object, got {spec!r}")
         tool_path = any(key in spec for key in _TOOL_PATH_KEYS)
-        allowed = known | ({"speed", "acceleration", "samples", *_TOOL_PATH_KEYS} if tool_path
-                           else {"through", "degree"} if "through" in spec
-                           else {"velocity", "acceleration"} if spec.get("profile") == "trapezoid" else set())
+        timed = spec.get("profile") == "fastest"
+        allowed = known | ({"samples", *_TOOL_PATH_KEYS} if tool_path else {"through", "degree"} if "through" in spec
+                           else set()) | ({"velocity", "acceleration", "effort"} if timed
+                                          else {"speed", "acceleration"} if tool_path
+                                          else {"velocity", "acceleration"} if spec.get("profile") == "trapezoid"
+                                          else set())
         unknown = sorted(set(spec) - allowed)
         if unknown:
             raise ValueError(f"{where}: unknown key(s) {cut(', '.join(unknown))}; allowed: "
                              f"{', '.join(sorted(allowed))} "
                              f"(a tool path also: {', '.join(_TOOL_PATH_KEYS)}, speed, acceleration, samples; a "
-                             "trapezoid: velocity, acceleration)")
+                             "trapezoid: velocity, acceleration; \"fastest\": velocity, acceleration, effort)")
         label = str(spec.get("label", k))
         previous = segments[-1].q_end if segments else start
         q0 = _end(arm, spec, "from", deg, previous, where)
@@ -266,9 +300,13 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
                 raise ValueError(f"{where}: the first segment needs \"from\" or \"from_point\"")
             q0 = previous
         if tool_path:
-            segments.extend(_tool_path(arm, spec, q0, deg, label, where).segments)
+            along = _tool_path(arm, spec, q0, deg, label, where)
+            segments.extend((_fastest(arm, spec, along, deg, label, where) if timed else along).segments)
             continue
         if "through" in spec:
+            if "profile" in spec:
+                raise ValueError(f"{where}: \"profile\" is not allowed with \"through\": via points are splines "
+                                 "(\"degree\" 5 or 3)")
             segments.extend(_through(arm, spec, q0, deg, label, where).segments)
             continue
         qf = _end(arm, spec, "to", deg, q0, where)
@@ -276,6 +314,13 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
         if (qf is None) == (rate is None):
             raise ValueError(f"{where}: give exactly one of \"to\", \"to_point\" or \"rate\" (or a tool path: "
                              "\"line_to\", \"arc_through\" or \"arc_centre\")")
+        if timed and qf is not None:
+            from pydrake.trajectories import PiecewisePolynomial  # lazy: Drake, only for a time-optimal segment
+
+            # the straight joint line q(s) = q0 + s (qf − q0), s in [0, 1]
+            line = PiecewisePolynomial.FirstOrderHold([0.0, 1.0], np.stack([q0, qf], axis=1).tolist())
+            segments.extend(_fastest(arm, spec, line, deg, label, where).segments)
+            continue
         if spec.get("profile") == "trapezoid" and qf is not None:
             try:
                 segments.extend(trapezoidal(arm, q0, qf, _rates(arm, spec, "velocity", deg, where),
@@ -287,7 +332,8 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
             continue
         if "profile" in spec:
             raise ValueError(f"{where}: \"profile\" = {json.dumps(spec['profile'])} is not allowed here: a joint "
-                             "segment takes \"trapezoid\" (a tool path takes minimum-jerk, cubic or trapezoid)")
+                             "segment takes \"trapezoid\" or \"fastest\" (a tool path takes minimum-jerk, cubic, "
+                             "trapezoid or fastest)")
         if "tf" not in spec:
             raise ValueError(f"{where}: needs \"tf\" (s)")
         json_number(spec["tf"], f"{where} tf")  # a JSON number: not "2", true or null

@@ -7,8 +7,9 @@ shortest duration such that, at every grid point of s,
 
 * |q'(s) ṡ| ≤ v_max (velocity),
 * |q'(s) s̈ + q''(s) ṡ²| ≤ a_max (acceleration),
-* τ_min ≤ M(q)(q' s̈ + q'' ṡ²) + C(q, q'ṡ) q'ṡ − τ_g(q) ≤ τ_max (torque, Drake's inverse dynamics of the
-  arm's plant, :func:`armlab.diagrams.plant.make_plant`),
+* τ_min + F ≤ M(q)(q' s̈ + q'' ṡ²) + C(q, q'ṡ) q'ṡ − τ_g(q) ≤ τ_max − F (torque, Drake's inverse dynamics of
+  the arm's plant, :func:`armlab.diagrams.plant.make_plant`, with the drive train's reflected inertia G²·J_m in
+  M; F = B·|q̇|max + T_c, the most the drive train's friction takes of the limit: :func:`fastest`),
 
 from rest to rest. The limits default to the arm's file (URDF ``<limit velocity effort>``; a URDF has no
 acceleration limit, so none unless given); a :class:`~armlab.drives.train.DriveTrain` with motor-side limits
@@ -23,7 +24,7 @@ against that curve, and the constraint active at each grid point.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -35,7 +36,8 @@ from armlab.kinematics.rnea import inverse_dynamics
 from armlab.limits import check_positive
 
 if TYPE_CHECKING:
-    from pydrake.trajectories import Trajectory
+    from pydrake.multibody.plant import MultibodyPlant
+    from pydrake.trajectories import PiecewisePolynomial, Trajectory
 
     from armlab.drives.train import DriveTrain
     from armlab.models.arm import Arm
@@ -64,8 +66,8 @@ class Limits:
 def _limit(value: float | ArrayLike | None, default: NDArray[np.float64], name: str, unit: str) -> NDArray:
     if value is None:
         return default
-    a = np.broadcast_to(np.asarray(value, dtype=float), default.shape) if np.ndim(value) == 0 \
-        else np.asarray(value, dtype=float)
+    a = np.asarray(value, dtype=float)
+    a = np.full(default.shape, a.item()) if a.size == 1 else a  # one value for every joint
     if a.shape != default.shape:
         raise ValueError(f"{name} limits have {a.size} values; give one, or one per joint ({default.size})")
     for v in a:
@@ -110,18 +112,23 @@ def _path_of(motion_or_path: Motion | Trajectory) -> Trajectory:
     return motion_or_path
 
 
+def _derivative(trajectory: Trajectory, points: NDArray, order: int) -> NDArray[np.float64]:
+    """The ``order``-th derivative of ``trajectory`` (a column of ``r`` values) at ``points`` ``(m,)``: ``(m, r)``.
+    Point by point: ``MakeDerivative`` would copy every piece first (4× longer for a path of 1000 pieces)."""
+    return np.array([trajectory.EvalDerivative(float(t), order)[:, 0] for t in points])
+
+
 def _constraints(arm: Arm, path: Trajectory, s: NDArray, limits: Limits, gravity: str | ArrayLike | None,
                  payload: float) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, list[str]]:
     """Every constraint as a s̈ + b ṡ² + c ∈ [lo, hi] at grid points ``s`` ``(m,)``: a, b, c ``(m, K)``, lo, hi
     ``(K,)`` and a name each (velocity rows as b ṡ² ≤ v² with a = 0)."""
-    grid = s.tolist()
-    q = np.asarray(path.vector_values(grid)).T
-    d1 = np.asarray(path.MakeDerivative(1).vector_values(grid)).T
-    d2 = np.asarray(path.MakeDerivative(2).vector_values(grid)).T
+    q = np.asarray(path.vector_values(s.tolist())).T
+    d1, d2 = _derivative(path, s, 1), _derivative(path, s, 2)
     zero = np.zeros_like(q)
     g_tau = inverse_dynamics(arm, q, zero, zero, gravity, payload)  # −τ_g: the torque holding the arm still
-    m_tau = inverse_dynamics(arm, q, zero, d1, "off", payload)  # M q'
-    b_tau = inverse_dynamics(arm, q, d1, d2, "off", payload)  # M q'' + C(q, q') q'
+    # M q' and M q'' + C(q, q') q' in one batch of 2m rows
+    m_tau, b_tau = np.split(inverse_dynamics(arm, np.concatenate([q, q]), np.concatenate([zero, d1]),
+                                             np.concatenate([d1, d2]), "off", payload), 2)
     names = [*(f"{j} velocity" for j in arm.joint_names), *(f"{j} acceleration" for j in arm.joint_names),
              *(f"{j} torque" for j in arm.joint_names)]
     a = np.concatenate([zero, d1, m_tau], axis=1)
@@ -145,16 +152,19 @@ def limit_curve(a: NDArray, b: NDArray, c: NDArray, lo: NDArray, hi: NDArray) ->
     with np.errstate(divide="ignore", invalid="ignore"):
         moving = np.abs(a) > 1e-12 * np.maximum(1.0, np.abs(b))
         # rows on s̈: L = (lo − c − b x)/a, U = (hi − c − b x)/a, swapped where a < 0: L = α + β x, U = γ + δ x
-        scale = np.where(moving, a, 1.0)
-        low_const, high_const = (lo - c) / scale, (hi - c) / scale
-        slope = -b / scale
-        negative = a < 0
+        # (paired only among the columns that bound s̈ somewhere: never the velocity rows)
+        on = moving.any(axis=0)
+        moving_s, a_s, b_s, c_s = moving[:, on], a[:, on], b[:, on], c[:, on]
+        scale = np.where(moving_s, a_s, 1.0)
+        low_const, high_const = (lo[on] - c_s) / scale, (hi[on] - c_s) / scale
+        slope = -b_s / scale
+        negative = a_s < 0
         alpha = np.where(negative, high_const, low_const)
         gamma = np.where(negative, low_const, high_const)
         # each pair (i lower, j upper): (α_i − γ_j) + (β_i − δ_j) x ≤ 0, with β = δ = slope
         A0 = alpha[:, :, None] - gamma[:, None, :]
         A1 = slope[:, :, None] - slope[:, None, :]
-        pair = moving[:, :, None] & moving[:, None, :] & np.isfinite(A0)
+        pair = moving_s[:, :, None] & moving_s[:, None, :] & np.isfinite(A0)
         bound = -A0 / np.where(A1 == 0, 1.0, A1)
         upper = np.where(pair & (A1 > 0), bound, np.inf).reshape(m, -1).min(axis=1)
         lower = np.where(pair & (A1 < 0), bound, -np.inf).reshape(m, -1).max(axis=1)
@@ -173,7 +183,9 @@ def limit_curve(a: NDArray, b: NDArray, c: NDArray, lo: NDArray, hi: NDArray) ->
 class Fastest:
     """The time-optimal timing of a path: ``motion`` (q(s(t)), one trajectory segment), ``duration`` (s), at the
     grid points ``s`` ``(m,)`` the path rate ``sd`` (ṡ, 1/s), its limit curve ``limit`` (:func:`limit_curve`), and
-    the constraint active there (``active``, its name, or ``""``), and the ``limits`` enforced."""
+    the constraint active there (``active``, its name, or ``""``), the joints' ``limits``, and the ``friction``
+    ``(n,)`` (N·m or N) kept free of each effort limit (:func:`fastest`; zero without friction): Toppra held the
+    joint torque of the rigid arm and its reflected inertia within ±(effort − friction)."""
 
     motion: Motion
     duration: float
@@ -182,6 +194,7 @@ class Fastest:
     limit: NDArray[np.float64]
     active: tuple[str, ...]
     limits: Limits
+    friction: NDArray[np.float64]
 
     @property
     def active_fraction(self) -> float:
@@ -189,53 +202,33 @@ class Fastest:
         return float(np.mean([bool(name) for name in self.active]))
 
 
-def _infeasible(arm: Arm, s: NDArray, a: NDArray, b: NDArray, c: NDArray, lo: NDArray, hi: NDArray,
-                names: list[str]) -> ValueError:
+def _infeasible(arm: Arm, s: NDArray, c: NDArray, lo: NDArray, hi: NDArray, names: list[str],
+                friction: NDArray) -> ValueError:
     """The one-line error for limits no timing meets: where even standing still on the path breaks one."""
-    del a, b
     still = (c > hi + 1e-12) | (c < lo - 1e-12)
     where = np.argwhere(still)
     if where.size:
         i, k = where[0]
         limit = hi[k] if c[i, k] > hi[k] else lo[k]
         unit = "N·m" if arm.revolute[k % arm.n] else "N"
+        kept = friction[k - 2 * arm.n] if k >= 2 * arm.n else 0.0
+        less = f" less its friction {kept:.6g} {unit}" if kept > 0 else ""
         return ValueError(f"the limits cannot be met: {names[k]} needs {c[i, k]:.6g} {unit} against gravity at "
-                          f"s = {s[i]:.4g} of the path, beyond its limit {limit:.6g} {unit}")
+                          f"s = {s[i]:.4g} of the path, beyond its limit{less} {limit:.6g} {unit}")
     return ValueError(f"the limits cannot be met anywhere on the path by Toppra ({arm.name}); raise the acceleration "
                       "or effort limits")
 
 
-def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | None = None,
-            acceleration: float | ArrayLike | None = None, effort: float | ArrayLike | None = None,
-            drives: DriveTrain | None = None, motor_speed: float | ArrayLike | None = None,
-            motor_torque: float | ArrayLike | None = None, grid: int = DEFAULT_GRID,
-            gravity: str | ArrayLike | None = None, payload: float = 0.0) -> Fastest:
-    """The fastest rest-to-rest timing of ``path`` (a motion, taken as a path; or a Drake ``Trajectory`` q(s))
-    within the limits (:func:`arm_limits`), by Drake's ``Toppra`` on ``grid`` uniform points of s.
-
-    ``drives``: the drive train the motor-side limits go through (``None``: the arm's own, ``arm.drives``).
-    ``gravity``, ``payload``: as the plant's (:class:`~armlab.diagrams.plant.PlantOptions`). ``ValueError`` for a
-    bad limit, or limits no timing meets (naming the joint, the point and the two numbers).
-    """
+def _toppra(path: Trajectory, plant: MultibodyPlant, s: NDArray, limits: Limits) -> PiecewisePolynomial | None:
+    """Drake's ``Toppra`` on the grid ``s`` within ``limits`` (s(t), or ``None`` where no timing meets them)."""
     from pydrake.multibody.optimization import Toppra, ToppraDiscretization
-    from pydrake.trajectories import PathParameterizedTrajectory
 
-    if not isinstance(grid, int) or isinstance(grid, bool) or grid < 3:
-        raise ValueError(f"grid = {grid!r} is not allowed: a whole number ≥ 3")
-    limits = arm_limits(arm, velocity, acceleration, effort, arm.drives if drives is None else drives, motor_speed,
-                        motor_torque)
-    if np.all(np.isinf(np.concatenate([limits.velocity, limits.acceleration, limits.effort]))):
-        raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give some")
-    q_path = _path_of(path)
-    s = np.linspace(q_path.start_time(), q_path.end_time(), grid)
-    plant = make_plant(arm, PlantOptions(gravity=gravity, payload=payload, ideal_drives=True))
-    a, b, c, lo, hi, names = _constraints(arm, q_path, s, limits, gravity, payload)
     drake_log = logging.getLogger("drake")
     level = drake_log.level
     drake_log.setLevel(logging.CRITICAL)  # an infeasible problem is our one-line error, not Drake's log line
     try:
         for relaxation in RELAXATIONS:  # Drake's advice where its LP at a knot is numerically challenging
-            toppra = Toppra(q_path, plant, s)
+            toppra = Toppra(path, plant, s)
             toppra.set_constraint_relaxation(relaxation)
             if np.any(np.isfinite(limits.velocity)):
                 toppra.AddJointVelocityLimit(-limits.velocity, limits.velocity)
@@ -246,22 +239,82 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
                 toppra.AddJointTorqueLimit(-limits.effort, limits.effort, ToppraDiscretization.kInterpolation)
             scaling = toppra.SolvePathParameterization()
             if scaling is not None:
-                break
+                return scaling
     finally:
         drake_log.setLevel(level)
+    return None
+
+
+def _rates(scaling: PiecewisePolynomial, s: NDArray) -> tuple[NDArray, NDArray]:
+    """ṡ and s̈ at the grid points ``s`` ``(m,)`` of Toppra's time scaling s(t) (interpolated from its knots)."""
+    times = np.asarray(scaling.get_segment_times())
+    s_at = np.asarray(scaling.vector_values(times.tolist()))[0]
+    return (np.interp(s, s_at, _derivative(scaling, times, 1)[:, 0]),
+            np.interp(s, s_at, _derivative(scaling, times, 2)[:, 0]))
+
+
+def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | None = None,
+            acceleration: float | ArrayLike | None = None, effort: float | ArrayLike | None = None,
+            drives: DriveTrain | None = None, motor_speed: float | ArrayLike | None = None,
+            motor_torque: float | ArrayLike | None = None, grid: int = DEFAULT_GRID,
+            gravity: str | ArrayLike | None = None, payload: float = 0.0) -> Fastest:
+    """The fastest rest-to-rest timing of ``path`` (a motion, taken as a path; or a Drake ``Trajectory`` q(s))
+    within the limits (:func:`arm_limits`), by Drake's ``Toppra`` on ``grid`` uniform points of s.
+
+    ``drives``: the drive train (``None``: the arm's own, ``arm.drives``): its reflected inertia G²·J_m is in the
+    torque constraint, its motor-side limits are the joints' (:func:`arm_limits`), and its friction is kept free
+    of each effort limit: Toppra's constraints are quadratic in ṡ, friction B·q̇ + T_c·tanh(q̇/v_s) is not, so
+    each joint's effort limit is lowered by the most it can take, B·|q̇|max + T_c (|q̇|max: the velocity limit,
+    or where there is none, the fastest rate of the timing without friction, which no slower timing exceeds).
+    ``gravity``, ``payload``: as the plant's (:class:`~armlab.diagrams.plant.PlantOptions`). ``ValueError`` for a
+    bad limit, or limits no timing meets (naming the joint, the point and the two numbers).
+    """
+    from pydrake.trajectories import PathParameterizedTrajectory
+
+    if not isinstance(grid, int) or isinstance(grid, bool) or grid < 3:
+        raise ValueError(f"grid = {grid!r} is not allowed: a whole number ≥ 3")
+    train = arm.drives if drives is None else drives
+    limits = arm_limits(arm, velocity, acceleration, effort, train, motor_speed, motor_torque)
+    if np.all(np.isinf(np.concatenate([limits.velocity, limits.acceleration, limits.effort]))):
+        raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give some")
+    # the rigid arm with the train's reflected inertia: what Toppra's torque constraint holds (friction: below)
+    rigid = arm.with_drives(None if train is None else replace(train, viscous=np.zeros(arm.n),
+                                                                coulomb=np.zeros(arm.n)))
+    q_path = _path_of(path)
+    s = np.linspace(q_path.start_time(), q_path.end_time(), grid)
+    plant = make_plant(rigid, PlantOptions(gravity=gravity, payload=payload, ideal_drives=True))
+    a, b, c, lo, hi, names = _constraints(rigid, q_path, s, limits, gravity, payload)
+    friction = np.zeros(arm.n)
+    enforced = limits
+    if train is not None and np.any((train.viscous > 0) | (train.coulomb > 0)):
+        fastest_rate = np.full(arm.n, np.inf)
+        if np.any(np.isinf(limits.velocity) & (train.viscous > 0)):
+            unbounded = _toppra(q_path, plant, s, limits)
+            if unbounded is None:
+                raise _infeasible(arm, s, c, lo, hi, names, friction)
+            # |q̇| = |q'(s)|·ṡ, q' being the acceleration rows' coefficient of s̈
+            fastest_rate = np.abs(a[:, arm.n:2 * arm.n] * _rates(unbounded, s)[0][:, None]).max(axis=0)
+        rate = np.where(np.isfinite(limits.velocity), limits.velocity, fastest_rate)
+        friction = np.where(train.viscous > 0, train.viscous * rate, 0.0) + train.coulomb
+        left = limits.effort - friction
+        if np.any(left <= 0):
+            k = int(np.argmax(left <= 0))
+            unit = "N·m" if arm.revolute[k] else "N"
+            raise ValueError(f"the limits cannot be met: {arm.joint_names[k]}'s friction at {rate[k]:.6g} "
+                             f"{'rad/s' if arm.revolute[k] else 'm/s'} ({friction[k]:.6g} {unit}) takes its whole "
+                             f"effort limit {limits.effort[k]:.6g} {unit}")
+        enforced = replace(limits, effort=left)
+        hi = np.concatenate([hi[:2 * arm.n], left])
+        lo = np.concatenate([lo[:2 * arm.n], -left])
+    scaling = _toppra(q_path, plant, s, enforced)
     if scaling is None:
-        raise _infeasible(arm, s, a, b, c, lo, hi, names)
-    trajectory = PathParameterizedTrajectory(q_path, scaling)
-    motion = Motion((TrajectorySegment(trajectory, "time-optimal"),),
+        raise _infeasible(arm, s, c, lo, hi, names, friction)
+    motion = Motion((TrajectorySegment(PathParameterizedTrajectory(q_path, scaling), "time-optimal"),),
                     f"time-optimal timing (Toppra) of {path.description if isinstance(path, Motion) else 'a path'}")
-    times = list(scaling.get_segment_times())
-    s_at = np.asarray(scaling.vector_values(times))[0]
-    sd_at = np.asarray(scaling.MakeDerivative(1).vector_values(times))[0]
-    sd = np.interp(s, s_at, sd_at)
-    sdd = np.interp(s, s_at, np.asarray(scaling.MakeDerivative(2).vector_values(times))[0])
+    sd, sdd = _rates(scaling, s)
     value = a * sdd[:, None] + b * (sd**2)[:, None] + c
     span = np.where(np.isfinite(hi - lo), hi - lo, np.where(np.isfinite(hi), np.abs(hi), 1.0))
     slack = np.minimum(hi - value, value - lo) / np.maximum(span, 1e-300)
     tight = np.argmin(np.where(np.isfinite(slack), slack, np.inf), axis=1)
     active = tuple(names[k] if slack[i, k] <= ACTIVE_TOL else "" for i, k in enumerate(tight))
-    return Fastest(motion, float(scaling.end_time()), s, sd, limit_curve(a, b, c, lo, hi), active, limits)
+    return Fastest(motion, float(scaling.end_time()), s, sd, limit_curve(a, b, c, lo, hi), active, limits, friction)

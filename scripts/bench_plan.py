@@ -10,7 +10,8 @@ Run on demand (not a test): ``python scripts/bench_plan.py [--samples 1000] [--g
   grid points (velocity and effort limits from urm6's file, 5 rad/s² acceleration; goal ≤ 0.2 s) beside
   Drake's ``Toppra.SolvePathParameterization`` alone on the same path and plant.
 
-Best of ``--repeat`` wall-clock times, taken in turns in the same run; the plant is built once, outside them.
+Best of ``--repeat`` wall-clock times, the two timings of the path taken in turns in the same run; the plant is
+built once, outside them.
 """
 
 from __future__ import annotations
@@ -32,16 +33,19 @@ START = np.array([1.14594114, -1.78069309, -1.09635936, 1.30034083, 0.46536681, 
 DISPLACEMENT = np.array([0.03, 0.0, 0.0])
 
 
-def best(task: Callable[[], object], repeat: int) -> tuple[float, float]:
-    """The least wall time and the least CPU time of this process (s) of ``repeat`` runs of ``task`` (on a shared
-    machine the CPU time says what the work costs, the wall time what a user waits)."""
-    wall, cpu = [], []
+def best(tasks: tuple[Callable[[], object], ...], repeat: int) -> list[tuple[float, float]]:
+    """For each of ``tasks``, the least wall time and the least CPU time of this process (s) of ``repeat`` runs,
+    the tasks taken in turns (a slow moment of a shared machine falls on all of them alike; the CPU time says what
+    the work costs, the wall time what a user waits)."""
+    wall: list[list[float]] = [[] for _ in tasks]
+    cpu: list[list[float]] = [[] for _ in tasks]
     for _ in range(repeat):
-        start, start_cpu = time.perf_counter(), time.process_time()
-        task()
-        wall.append(time.perf_counter() - start)
-        cpu.append(time.process_time() - start_cpu)
-    return min(wall), min(cpu)
+        for k, task in enumerate(tasks):
+            start, start_cpu = time.perf_counter(), time.process_time()
+            task()
+            wall[k].append(time.perf_counter() - start)
+            cpu[k].append(time.process_time() - start_cpu)
+    return [(min(w), min(c)) for w, c in zip(wall, cpu, strict=True)]
 
 
 def drake_ik(plant: Any, arm: Any, targets: np.ndarray, q0: np.ndarray) -> np.ndarray:
@@ -89,8 +93,8 @@ def main(argv: list[str] | None = None) -> int:
     plant = arm.make_plant()
     targets = np.concatenate([np.concatenate([rotations[0], p[:, :, None]], axis=2),
                               np.tile([[[0.0, 0.0, 0.0, 1.0]]], (s.size, 1, 1))], axis=1)
-    ik_ours, ik_ours_cpu = best(ours, args.repeat)
-    ik_drake, ik_drake_cpu = best(lambda: drake_ik(plant, arm, targets, START), 1)
+    [(ik_ours, ik_ours_cpu)] = best((ours,), args.repeat)
+    [(ik_drake, ik_drake_cpu)] = best((lambda: drake_ik(plant, arm, targets, START),), 1)
     print(f"urm6: IK along a {np.linalg.norm(DISPLACEMENT) * 100:g} cm line, orientation held, {args.samples} "
           f"samples (tool error ≤ {error:.1e} m): armlab {ik_ours:.3f} s (CPU {ik_ours_cpu:.3f} s), Drake "
           f"InverseKinematics {ik_drake:.3f} s (CPU {ik_drake_cpu:.3f} s); Drake / armlab = "
@@ -109,8 +113,8 @@ def main(argv: list[str] | None = None) -> int:
         return toppra.SolvePathParameterization()
 
     result = fastest(arm, q_path, acceleration=5.0, grid=args.grid)
-    ours_toppra, ours_toppra_cpu = best(lambda: fastest(arm, q_path, acceleration=5.0, grid=args.grid), args.repeat)
-    bare, bare_cpu = best(drake_only, args.repeat)
+    (ours_toppra, ours_toppra_cpu), (bare, bare_cpu) = best(
+        (lambda: fastest(arm, q_path, acceleration=5.0, grid=args.grid), drake_only), args.repeat)
     print(f"urm6: time-optimal timing of that path, {args.grid} grid points (duration {result.duration:.4f} s, a "
           f"limit active on {result.active_fraction:.0%} of the grid): armlab fastest() {ours_toppra:.3f} s "
           f"(CPU {ours_toppra_cpu:.3f} s; plant, limits, Toppra, active constraints, limit curve), Drake's Toppra "

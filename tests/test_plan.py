@@ -285,6 +285,58 @@ def test_fastest_infeasible_names_joint_point_and_numbers(rr_line):
         fastest(arm, line, effort=0.1)
 
 
+def _rr_with_friction():
+    from dataclasses import replace
+
+    from helpers import DATA
+
+    from armlab.drives.read import read_drive_file
+
+    arm = get_arm("rr")
+    train = read_drive_file(DATA / "rr_drives.csv", arm.joint_names)  # B = 0.05, 0.03 N·m·s/rad; T_c = 0.3, 0.2 N·m
+    return arm.with_drives(train), arm.with_drives(replace(train, viscous=np.zeros(2), coulomb=np.zeros(2)))
+
+
+def test_fastest_keeps_the_drive_friction_inside_the_effort_limits():
+    """The torque the drives give — the rigid arm's, the reflected inertia's and the friction's, as
+    ``arm.inverse_dynamics`` adds them — stays within the effort limits at every sample; the same train without
+    friction times the path faster, and that timing breaks the limits once the friction is added."""
+    arm, frictionless = _rr_with_friction()
+    line = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0)
+    velocity, acceleration, effort = np.array([10.0, 10.0]), np.array([50.0, 50.0]), np.array([10.0, 2.5])
+    result = fastest(arm, line, acceleration=acceleration, effort=effort)
+    np.testing.assert_allclose(result.friction, arm.drives.viscous * velocity + arm.drives.coulomb, rtol=1e-12)
+    assert _respects(arm, result.motion, velocity, acceleration, effort, 0.01)
+    assert result.active_fraction > 0.7
+    ideal = fastest(frictionless, line, acceleration=acceleration, effort=effort)
+    assert not np.any(ideal.friction)  # exact: no friction, no margin
+    assert ideal.duration < result.duration
+    assert not _respects(arm, ideal.motion, velocity, acceleration, effort, 0.01)
+
+
+def test_fastest_without_a_velocity_limit_bounds_the_viscous_friction_by_the_fastest_rate():
+    arm, _ = _rr_with_friction()
+    line = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0)
+    effort = np.array([10.0, 2.5])
+    result = fastest(arm, line, velocity=np.inf, acceleration=50.0, effort=effort)
+    t = np.linspace(0.0, result.duration, 4001)
+    rate = np.abs(result.motion.evaluate(t)[1]).max(axis=0)
+    margin = result.friction - arm.drives.coulomb
+    assert np.all(margin >= arm.drives.viscous * rate * (1 - 1e-3))  # B·|q̇|max of a faster timing bounds it
+    assert _respects(arm, result.motion, np.inf, 50.0, effort, 0.01)
+
+
+def test_fastest_says_when_friction_takes_a_whole_effort_limit():
+    arm, _ = _rr_with_friction()
+    line = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0)
+    with pytest.raises(ValueError, match=r"^the limits cannot be met: joint1's friction at 10 rad/s \(0\.8 N·m\) "
+                                         r"takes its whole effort limit 0\.5 N·m$"):
+        fastest(arm, line, effort=[0.5, 2.5])
+    with pytest.raises(ValueError, match=r"joint1 torque needs [\d.]+ N·m against gravity at s = 0 of the path, "
+                                         r"beyond its limit less its friction 0\.8 N·m [\d.]+ N·m"):
+        fastest(arm, line, effort=[5.0, 2.5])
+
+
 def test_fastest_motor_side_limits():
     from armlab.drives.train import DriveTrain
 
@@ -334,6 +386,25 @@ def test_cli_plan_line_fastest(box):
     assert (box.cwd / "rate.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"  # exact: the PNG signature
 
 
+@pytest.mark.slow
+def test_cli_plan_fastest_as_the_drives_allow(box):
+    """``armlab plan … --fastest --drives FILE --motor-speed W --simulate DIR``: the motor speed limit through the
+    gear ratios, the friction kept free of the effort limits, and the simulated run (its torques with the drive
+    train's) within them."""
+    from contract import check
+    from helpers import DATA
+
+    outcome = box.main("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--fastest",  # no --tf needed
+                       "--acceleration", "50", "--effort", "10,2.5", "--drives", str(DATA / "rr_drives.csv"),
+                       "--motor-speed", "500", "--json", "--simulate", "run")
+    check(outcome, 0)
+    summary = json.loads(outcome.out)["fastest"]
+    np.testing.assert_allclose(summary["velocity_limits"], [500 / 100, 500 / 80], rtol=1e-12)  # ω_m / G
+    np.testing.assert_allclose(summary["friction_kept_free"], [0.05 * 5 + 0.3, 0.03 * 6.25 + 0.2], rtol=1e-12)
+    logged = json.loads((box.cwd / "run" / "summary.json").read_text())
+    assert np.all(np.array(logged["max_abs_torque"]) <= np.array([10.0, 2.5]) * 1.01)
+
+
 @pytest.mark.parametrize("argv, fragment", [
     (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.5,0.3", "--tf", "2"], "zero length"),
     (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "1.5,0.3", "--tf", "2"], "leaves rr's reach at s = "),
@@ -373,3 +444,42 @@ def test_segments_file_takes_lines_arcs_and_trapezoids(tmp_path):
     path.write_text(json.dumps({"segments": [{"from": [0, 1], "line_to": [0.3, 0.5], "to": [0, 0], "tf": 1}]}))
     with pytest.raises(ValueError, match="give one tool path"):
         read_segments(arm, path)
+
+
+def test_segments_file_takes_fastest_segments(tmp_path):
+    """"profile": "fastest" times a tool line and a joint "to" segment by Toppra (the same as armlab.fastest of the
+    same path), rest to rest, within the segment's own limits; "tf", via points or a tool speed with it are
+    one-line errors."""
+    from pydrake.trajectories import PiecewisePolynomial
+
+    from armlab.diagrams.motions import read_segments
+
+    arm = get_arm("rr")
+    path = tmp_path / "seg.json"
+    path.write_text(json.dumps({"segments": [
+        {"from_point": [0.5, 0.3], "from_branch": 0, "line_to": [0.3, 0.5], "profile": "fastest",
+         "acceleration": 50, "label": "line"},
+        {"to": [0.0, 1.0], "profile": "fastest", "acceleration": [20, 30], "label": "back"}]}))
+    motion = read_segments(arm, path)
+    assert [s.label for s in motion.segments] == ["line", "back"]
+    line = fastest(arm, armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=1.0, branch=0), acceleration=50.0)
+    q1 = line.motion.segments[0].q_end
+    back = fastest(arm, PiecewisePolynomial.FirstOrderHold([0.0, 1.0], np.stack([q1, [0.0, 1.0]], axis=1).tolist()),
+                   acceleration=np.array([20.0, 30.0]))
+    # the file's line starts from its point's IK, armlab.line's from the branch: the same path to round-off, which
+    # Toppra's linear programs (CLP, feasibility to ~1e-7) carry into the duration at ~5e-9 relative
+    np.testing.assert_allclose([s.duration for s in motion.segments], [line.duration, back.duration], rtol=1e-7)
+    t = np.linspace(0.0, motion.duration, 4001)
+    _, qd, qdd = motion.evaluate(t)
+    first = t < motion.breaks[1]
+    assert np.abs(qdd[first]).max() <= 50.0 * 1.01 and np.all(np.abs(qdd[~first]).max(axis=0) <= [20.2, 30.3])
+    np.testing.assert_allclose(qd[[0, -1]], 0.0, atol=1e-9)  # rest to rest
+    assert all(motion.joins())
+    for bad, fragment in (({"to": [0.0, 1.0], "profile": "fastest", "tf": 1.0}, "takes no \"tf\""),
+                          ({"through": [[0.0, 1.0]], "profile": "fastest", "tf": 1.0}, "not allowed with \"through\""),
+                          ({"line_to": [0.3, 0.5], "profile": "fastest", "speed": 1.0}, "unknown key(s) speed"),
+                          ({"to": [0.0, 1.0], "profile": "fastest", "effort": 0.01}, "joint1 torque needs")):
+        path.write_text(json.dumps({"segments": [{"from": [0.5, 1.0], **bad}]}))
+        with pytest.raises(ValueError) as error:
+            read_segments(arm, path)
+        assert fragment in str(error.value) and "\n" not in str(error.value), error.value

@@ -397,3 +397,36 @@ def test_replay_graphs_follow_playback_and_a_click_or_drag_seeks(simulated, tmp_
         requests = page.requests
     assert html.absolute().as_uri() in requests  # the recording saw the page itself …
     assert all(url == html.absolute().as_uri() or url.startswith(("data:", "blob:")) for url in requests), requests
+
+
+def test_a_software_renderer_draws_the_replay_without_multisampling_on_a_plain_white_clear(simulated):
+    """Headless Chromium renders WebGL in software (SwiftShader): the replay's context is made without
+    multisampling there (the script runs before Meshcat's), and Meshcat's hidden background texture is replaced by
+    a white clear colour, also after Meshcat updates its background; the view's corner pixel stays white. The same
+    script leaves a GPU's context alone: the renderer's name decides (checked with the names of both kinds)."""
+    from browser import Page
+    from replay_pictures import WINDOW, chromium
+
+    from armlab.diagrams.replay import _SOFTWARE_GL
+
+    html = simulated("rr", "--dt", "0.01") / "replay.html"
+    text = html.read_text()
+    assert text.index(_SOFTWARE_GL) < text.index("MeshCat")  # before the viewer makes its context
+    state = """(() => { const gl = viewer.renderer.getContext(), px = new Uint8Array(4);
+      viewer.render(); gl.readPixels(2, 2, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+      const ext = gl.getExtension("WEBGL_debug_renderer_info");
+      return {renderer: gl.getParameter(ext.UNMASKED_RENDERER_WEBGL), antialias: gl.getContextAttributes().antialias,
+              background: viewer.scene.background === null, corner: [...px]}; })()"""
+    with Page(chromium(), html, WINDOW) as page:
+        page.wait_for("window.armlab && viewer.animator.actions.length > 0")
+        shown = page.evaluate(state)
+        assert "SwiftShader" in shown["renderer"]
+        assert shown["antialias"] is False
+        assert shown["background"] is True and shown["corner"] == [255, 255, 255, 255]
+        page.evaluate("viewer.update_background(), true")  # e.g. what a camera change does
+        assert page.evaluate(state)["background"] is True
+        rule = re.search(r"if \(!(/.*?/i)\.test", _SOFTWARE_GL).group(1)
+        for name, software in (("ANGLE (NVIDIA, NVIDIA GeForce RTX 3060 Direct3D11 vs_5_0 ps_5_0)", False),
+                               ("ANGLE (Intel, Mesa Intel(R) UHD Graphics 620 (KBL GT2), OpenGL 4.6)", False),
+                               ("llvmpipe (LLVM 15.0.7, 256 bits)", True), (shown["renderer"], True)):
+            assert page.evaluate(f"{rule}.test({json.dumps(name)})") is software, name

@@ -10,8 +10,8 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-__all__ = ["ARM_HELP", "Parser", "add_arm", "arm_of", "error_text", "join_negative_values", "positive_int",
-           "silence", "write_error", "write_warning"]
+__all__ = ["ARM_HELP", "Parser", "add_arm", "add_drives", "arm_of", "error_text", "join_negative_values",
+           "positive_int", "silence", "write_error", "write_warning"]
 
 #: The help of every command's ARM argument.
 ARM_HELP = "arm name (armlab list: paper and library arms), or a .urdf, .sdf, MJCF .xml or DH .csv file"
@@ -25,6 +25,15 @@ def add_arm(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--package-path", metavar="DIR", action="append", default=[],
                         help="a folder holding the ROS packages of a URDF's package:// meshes (repeatable; "
                         "ROS_PACKAGE_PATH is searched too)")
+
+
+def add_drives(parser: argparse.ArgumentParser) -> None:
+    """The ``--drives FILE`` option: the arm's drive train from a drive file (:func:`armlab.drives.read.with_drives`
+    applies it)."""
+    parser.add_argument("--drives", metavar="FILE",
+                        help="a drive file (CSV, one row per joint: gear_ratio, rotor_inertia, efficiency, viscous, "
+                             "coulomb; see the README) giving the arm its drive train instead of the one its file "
+                             "gives")
 
 
 def arm_of(args: argparse.Namespace) -> Any:

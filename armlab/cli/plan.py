@@ -16,10 +16,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.cli.args import ARM_HELP
+from armlab.cli.args import add_arm, add_drives, arm_of
+from armlab.drives.read import with_drives
 from armlab.files import write_file
 from armlab.kinematics.cartesian import DEFAULT_SAMPLES, PROFILES
-from armlab.models import get_arm
 from armlab.scripts.figures import DPI, new_figure
 from armlab.values import joint_values, parse_floats
 
@@ -43,7 +43,9 @@ def _motion(arm: Arm, args: argparse.Namespace) -> Motion:
     from armlab.api import arc, line
 
     q0 = None if args.q0 is None else joint_values(arm, args.q0, args.deg, "--q0")
-    timing = {"tf": args.tf, "profile": args.profile, "speed": args.speed, "acceleration": args.tool_acceleration,
+    # --fastest keeps only the path: without a profile's duration, any one (1 s) gives it
+    tf = 1.0 if args.fastest and args.tf is None and args.profile != "trapezoid" else args.tf
+    timing = {"tf": tf, "profile": args.profile, "speed": args.speed, "acceleration": args.tool_acceleration,
               "q0": q0, "branch": args.branch, "samples": args.samples}
     if args.path == "line":
         start = None if args.start is None else _point(args.start, "--from")
@@ -91,7 +93,7 @@ def _plot(best: Fastest, arm: Arm, path: str) -> None:
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
-    arm = get_arm(args.arm)
+    arm = with_drives(arm_of(args), args.drives)
     motion = _motion(arm, args)
     t = np.linspace(0.0, motion.duration, 4 * args.samples + 1)
     q = motion.evaluate(t, 1)[0]
@@ -104,13 +106,15 @@ def _cmd_plan(args: argparse.Namespace) -> int:
 
         best = fastest(arm, motion, _limits(arm, args.velocity, "--velocity"),
                        _limits(arm, args.acceleration, "--acceleration"), _limits(arm, args.effort, "--effort"),
-                       grid=args.grid)
+                       motor_speed=_limits(arm, args.motor_speed, "--motor-speed"),
+                       motor_torque=_limits(arm, args.motor_torque, "--motor-torque"), grid=args.grid)
         named = [name for name in best.active if name]
         summary["fastest"] = {"duration": best.duration, "active_fraction": best.active_fraction,
                               "most_active": max(set(named), key=named.count) if named else None,
                               "velocity_limits": best.limits.velocity.tolist(),
                               "acceleration_limits": best.limits.acceleration.tolist(),
-                              "effort_limits": best.limits.effort.tolist()}
+                              "effort_limits": best.limits.effort.tolist(),
+                              "friction_kept_free": best.friction.tolist()}
         if args.plot:
             _plot(best, arm, args.plot)
         motion = best.motion
@@ -134,6 +138,9 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         f = summary["fastest"]
         print(f"time-optimal (Toppra, {args.grid} grid points): {f['duration']:.6g} s; a limit is active on "
               f"{f['active_fraction']:.0%} of the path, mostly {f['most_active'] or 'none'}")
+        if any(f["friction_kept_free"]):
+            print("  the drives' friction kept free of the effort limits: " + ", ".join(
+                f"{name} {v:.4g}" for name, v in zip(arm.joint_names, f["friction_kept_free"], strict=True)))
     if args.simulate:
         sim = summary["simulation"]
         print(f"simulated{' the time-optimal motion' if args.fastest else ''}: max tracking error "
@@ -144,7 +151,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``plan`` subcommand to the ``armlab`` CLI's subparsers."""
     p = subparsers.add_parser("plan", help="a straight line or circular arc of the tool, timed or time-optimal")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("path", choices=("line", "arc"), help="the tool's path")
     p.add_argument("--from", dest="start", help="start point x,y(,z) m (line: default the tool at --q0; arc: with "
                    "--centre)")
@@ -154,7 +161,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--centre", help="arc: centre x,y(,z) m")
     p.add_argument("--axis", help="arc: axis x,y,z (right-handed)")
     p.add_argument("--angle", type=float, help="arc: angle (rad; deg with --deg)")
-    p.add_argument("--tf", type=float, help="duration (s) of the profile")
+    p.add_argument("--tf", type=float, help="duration (s) of the profile (with --fastest: not needed)")
     p.add_argument("--profile", default="minimum-jerk", choices=PROFILES, help="time profile (default minimum-jerk)")
     p.add_argument("--speed", type=float, help="trapezoid: the tool's peak speed along the path (m/s)")
     p.add_argument("--tool-acceleration", type=float, help="trapezoid: the tool's peak acceleration (m/s²)")
@@ -165,6 +172,11 @@ def register(subparsers: Any) -> None:
     p.add_argument("--velocity", help="--fastest: joint velocity limits (one, or one per joint; default the file's)")
     p.add_argument("--acceleration", help="--fastest: joint acceleration limits (default none)")
     p.add_argument("--effort", help="--fastest: joint effort limits (default the file's)")
+    p.add_argument("--motor-speed", help="--fastest: motor speed limits, rad/s (one, or one per joint; through the "
+                   "drive train's gear ratios)")
+    p.add_argument("--motor-torque", help="--fastest: motor torque limits, N·m (through the gear ratios and "
+                   "efficiencies)")
+    add_drives(p)
     p.add_argument("--grid", type=int, default=500, help="--fastest: Toppra's grid points (default 500)")
     p.add_argument("--plot", help="--fastest: write ṡ against its limit curve to this .png/.svg")
     p.add_argument("--simulate", metavar="DIR", help="simulate the plan (the time-optimal one with --fastest) "

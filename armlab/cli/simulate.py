@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.cli.args import add_arm, arm_of
+from armlab.cli.args import add_arm, add_drives, arm_of
 from armlab.cli.collide import SCENE_HELP
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
 from armlab.diagrams.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
@@ -184,9 +184,7 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--kp", help=f"position gain(s), 1/s²: one value or one per joint (default 100; {allowed('kp')})")
     p.add_argument("--kd", help=f"velocity gain(s), 1/s: one value or one per joint (default 20; {allowed('kd')})")
     p.add_argument("--ki", help=f"integral gain(s), 1/s³: one value or one per joint (default 0; {allowed('ki')})")
-    p.add_argument("--drives", metavar="FILE",
-                   help="a drive file (CSV, one row per joint: gear_ratio, rotor_inertia, efficiency, viscous, "
-                        "coulomb; see the README) giving the arm its drive train instead of the one its file gives")
+    add_drives(p)
 
 
 def register(subparsers: Any) -> None:
