@@ -290,8 +290,7 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
         if unknown:
             raise ValueError(f"{where}: unknown key(s) {cut(', '.join(unknown))}; allowed: "
                              f"{', '.join(sorted(allowed))} "
-                             f"(a tool path also: {', '.join(_TOOL_PATH_KEYS)}, speed, acceleration, samples; a "
-                             "trapezoid: velocity, acceleration; \"fastest\": velocity, acceleration, effort)")
+                             "(tool paths, trapezoids and \"fastest\" take more: armlab simulate --help)")
         label = str(spec.get("label", k))
         previous = segments[-1].q_end if segments else start
         q0 = _end(arm, spec, "from", deg, previous, where)

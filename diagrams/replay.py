@@ -47,6 +47,7 @@ if TYPE_CHECKING:
 __all__ = [
     "MAX_FPS",
     "MAX_FRAMES",
+    "SOFTWARE_GL",
     "Scene",
     "build_scene",
     "frame_camera",
@@ -501,7 +502,7 @@ def replay_page(
 #: headless Chromium or a browser without a GPU; Mesa's llvmpipe) the context is made without multisampling,
 #: which there doubles the time of every frame (rrrr's 15 s replay in headless Chromium: 49 → 24 ms a frame,
 #: 600 × 696 px); a GPU keeps its antialiasing, which costs it next to nothing.
-_SOFTWARE_GL = """<script>
+SOFTWARE_GL = """<script>
 (function () {
   const probe = document.createElement("canvas").getContext("webgl");
   const info = probe && probe.getExtension("WEBGL_debug_renderer_info");
@@ -517,9 +518,9 @@ _SOFTWARE_GL = """<script>
 
 
 def _with_software_gl(html: str) -> str:
-    """``html`` (a Meshcat page) with :data:`_SOFTWARE_GL` first in its head."""
+    """``html`` (a Meshcat page) with :data:`SOFTWARE_GL` first in its head."""
     head = html.index("<head>") + len("<head>")
-    return html[:head] + _SOFTWARE_GL + html[head:]
+    return html[:head] + SOFTWARE_GL + html[head:]
 
 
 def log_page(log: SimulationLog, deg: bool = False, clearance: Clearances | None = None,

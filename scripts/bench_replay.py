@@ -8,7 +8,9 @@ it is timed with
 ``performance.now()`` at ``--seeks`` run times spread over the run (goal: ≤ 50 ms each). The reference measured
 in the same page is one draw of the 3-D view alone; the ratio says what a seek costs over a frame. The page's own
 share of a seek (everything but the draw, with the layout it causes) is printed too: headless Chromium draws WebGL
-in software (SwiftShader), so on a busy machine the draw, not the seek, sets the time.
+in software (SwiftShader), so the draw, not the seek, sets the time — which is why the replay makes its context
+without multisampling on a software renderer and clears to white instead of drawing Meshcat's background texture
+(:data:`armlab.diagrams.replay.SOFTWARE_GL`; a draw 101 → 21 ms here).
 
 Run: ``.venv/bin/python scripts/bench_replay.py`` (or ``make bench``).
 """

@@ -407,11 +407,11 @@ def test_a_software_renderer_draws_the_replay_without_multisampling_on_a_plain_w
     from browser import Page
     from replay_pictures import WINDOW, chromium
 
-    from armlab.diagrams.replay import _SOFTWARE_GL
+    from armlab.diagrams.replay import SOFTWARE_GL
 
     html = simulated("rr", "--dt", "0.01") / "replay.html"
     text = html.read_text()
-    assert text.index(_SOFTWARE_GL) < text.index("MeshCat")  # before the viewer makes its context
+    assert text.index(SOFTWARE_GL) < text.index("MeshCat")  # before the viewer makes its context
     state = """(() => { const gl = viewer.renderer.getContext(), px = new Uint8Array(4);
       viewer.render(); gl.readPixels(2, 2, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
       const ext = gl.getExtension("WEBGL_debug_renderer_info");
@@ -425,7 +425,7 @@ def test_a_software_renderer_draws_the_replay_without_multisampling_on_a_plain_w
         assert shown["background"] is True and shown["corner"] == [255, 255, 255, 255]
         page.evaluate("viewer.update_background(), true")  # e.g. what a camera change does
         assert page.evaluate(state)["background"] is True
-        rule = re.search(r"if \(!(/.*?/i)\.test", _SOFTWARE_GL).group(1)
+        rule = re.search(r"if \(!(/.*?/i)\.test", SOFTWARE_GL).group(1)
         for name, software in (("ANGLE (NVIDIA, NVIDIA GeForce RTX 3060 Direct3D11 vs_5_0 ps_5_0)", False),
                                ("ANGLE (Intel, Mesa Intel(R) UHD Graphics 620 (KBL GT2), OpenGL 4.6)", False),
                                ("llvmpipe (LLVM 15.0.7, 256 bits)", True), (shown["renderer"], True)):
