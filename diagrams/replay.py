@@ -507,6 +507,8 @@ SOFTWARE_GL = """<script>
   const probe = document.createElement("canvas").getContext("webgl");
   const info = probe && probe.getExtension("WEBGL_debug_renderer_info");
   const name = probe ? String(probe.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : probe.RENDERER)) : "";
+  const lose = probe && probe.getExtension("WEBGL_lose_context");
+  if (lose) lose.loseContext();  // a browser keeps ~16 contexts: the probe's is given back at once
   if (!/swiftshader|llvmpipe|softpipe|software/i.test(name)) return;
   const getContext = HTMLCanvasElement.prototype.getContext;
   HTMLCanvasElement.prototype.getContext = function (kind, options) {
