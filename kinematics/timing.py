@@ -118,10 +118,10 @@ def _derivative(trajectory: Trajectory, points: NDArray, order: int) -> NDArray[
     return np.array([trajectory.EvalDerivative(float(t), order)[:, 0] for t in points])
 
 
-def _constraints(arm: Arm, path: Trajectory, s: NDArray, limits: Limits, gravity: str | ArrayLike | None,
-                 payload: float) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, list[str]]:
-    """Every constraint as a s̈ + b ṡ² + c ∈ [lo, hi] at grid points ``s`` ``(m,)``: a, b, c ``(m, K)``, lo, hi
-    ``(K,)`` and a name each (velocity rows as b ṡ² ≤ v² with a = 0)."""
+def _constraints(arm: Arm, path: Trajectory, s: NDArray, gravity: str | ArrayLike | None,
+                 payload: float) -> tuple[NDArray, NDArray, NDArray, list[str]]:
+    """Every constraint's row a s̈ + b ṡ² + c at grid points ``s`` ``(m,)``: a, b, c ``(m, K)`` and a name each —
+    velocity (b ṡ² ≤ v², a = 0), acceleration and torque rows, n each; their bounds: :func:`_bounds`."""
     q = np.asarray(path.vector_values(s.tolist())).T
     d1, d2 = _derivative(path, s, 1), _derivative(path, s, 2)
     zero = np.zeros_like(q)
@@ -134,9 +134,13 @@ def _constraints(arm: Arm, path: Trajectory, s: NDArray, limits: Limits, gravity
     a = np.concatenate([zero, d1, m_tau], axis=1)
     b = np.concatenate([d1**2, d2, b_tau], axis=1)
     c = np.concatenate([zero, zero, g_tau], axis=1)
-    hi = np.concatenate([limits.velocity**2, limits.acceleration, limits.effort])
-    lo = np.concatenate([np.full(arm.n, -np.inf), -limits.acceleration, -limits.effort])
-    return a, b, c, lo, hi, names
+    return a, b, c, names
+
+
+def _bounds(limits: Limits) -> tuple[NDArray, NDArray]:
+    """lo, hi ``(K,)`` of :func:`_constraints`' rows within ``limits``."""
+    return (np.concatenate([np.full(limits.velocity.size, -np.inf), -limits.acceleration, -limits.effort]),
+            np.concatenate([limits.velocity**2, limits.acceleration, limits.effort]))
 
 
 def limit_curve(a: NDArray, b: NDArray, c: NDArray, lo: NDArray, hi: NDArray) -> NDArray[np.float64]:
@@ -211,10 +215,10 @@ def _infeasible(arm: Arm, s: NDArray, c: NDArray, lo: NDArray, hi: NDArray, name
         i, k = where[0]
         limit = hi[k] if c[i, k] > hi[k] else lo[k]
         unit = "N·m" if arm.revolute[k % arm.n] else "N"
-        kept = friction[k - 2 * arm.n] if k >= 2 * arm.n else 0.0
-        less = f" less its friction {kept:.6g} {unit}" if kept > 0 else ""
+        kept = friction[k - 2 * arm.n] if k >= 2 * arm.n else 0.0  # the torque rows are the last n
+        less = f" (the effort limit less its friction {kept:.6g} {unit})" if kept > 0 else ""
         return ValueError(f"the limits cannot be met: {names[k]} needs {c[i, k]:.6g} {unit} against gravity at "
-                          f"s = {s[i]:.4g} of the path, beyond its limit{less} {limit:.6g} {unit}")
+                          f"s = {s[i]:.4g} of the path, beyond its limit {limit:.6g} {unit}{less}")
     return ValueError(f"the limits cannot be met anywhere on the path by Toppra ({arm.name}); raise the acceleration "
                       "or effort limits")
 
@@ -283,29 +287,26 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
     q_path = _path_of(path)
     s = np.linspace(q_path.start_time(), q_path.end_time(), grid)
     plant = make_plant(rigid, PlantOptions(gravity=gravity, payload=payload, ideal_drives=True))
-    a, b, c, lo, hi, names = _constraints(rigid, q_path, s, limits, gravity, payload)
+    a, b, c, names = _constraints(rigid, q_path, s, gravity, payload)
     friction = np.zeros(arm.n)
-    enforced = limits
     if train is not None and np.any((train.viscous > 0) | (train.coulomb > 0)):
-        fastest_rate = np.full(arm.n, np.inf)
-        if np.any(np.isinf(limits.velocity) & (train.viscous > 0)):
+        rate = limits.velocity
+        if np.any(np.isinf(rate) & (train.viscous > 0)):
             unbounded = _toppra(q_path, plant, s, limits)
             if unbounded is None:
-                raise _infeasible(arm, s, c, lo, hi, names, friction)
-            # |q̇| = |q'(s)|·ṡ, q' being the acceleration rows' coefficient of s̈
-            fastest_rate = np.abs(a[:, arm.n:2 * arm.n] * _rates(unbounded, s)[0][:, None]).max(axis=0)
-        rate = np.where(np.isfinite(limits.velocity), limits.velocity, fastest_rate)
+                raise _infeasible(arm, s, c, *_bounds(limits), names, friction)
+            # the fastest rate |q'(s)|·ṡ of the timing without friction (q': the acceleration rows' coefficient of s̈)
+            rate = np.where(np.isfinite(rate), rate,
+                            np.abs(a[:, arm.n:2 * arm.n] * _rates(unbounded, s)[0][:, None]).max(axis=0))
         friction = np.where(train.viscous > 0, train.viscous * rate, 0.0) + train.coulomb
-        left = limits.effort - friction
-        if np.any(left <= 0):
-            k = int(np.argmax(left <= 0))
+        if np.any(friction >= limits.effort):
+            k = int(np.argmax(friction >= limits.effort))
             unit = "N·m" if arm.revolute[k] else "N"
             raise ValueError(f"the limits cannot be met: {arm.joint_names[k]}'s friction at {rate[k]:.6g} "
                              f"{'rad/s' if arm.revolute[k] else 'm/s'} ({friction[k]:.6g} {unit}) takes its whole "
                              f"effort limit {limits.effort[k]:.6g} {unit}")
-        enforced = replace(limits, effort=left)
-        hi = np.concatenate([hi[:2 * arm.n], left])
-        lo = np.concatenate([lo[:2 * arm.n], -left])
+    enforced = replace(limits, effort=limits.effort - friction)
+    lo, hi = _bounds(enforced)
     scaling = _toppra(q_path, plant, s, enforced)
     if scaling is None:
         raise _infeasible(arm, s, c, lo, hi, names, friction)

@@ -333,7 +333,8 @@ def test_fastest_says_when_friction_takes_a_whole_effort_limit():
                                          r"takes its whole effort limit 0\.5 N·m$"):
         fastest(arm, line, effort=[0.5, 2.5])
     with pytest.raises(ValueError, match=r"joint1 torque needs [\d.]+ N·m against gravity at s = 0 of the path, "
-                                         r"beyond its limit less its friction 0\.8 N·m [\d.]+ N·m"):
+                                         r"beyond its limit [\d.]+ N·m "
+                                         r"\(the effort limit less its friction 0\.8 N·m\)$"):
         fastest(arm, line, effort=[5.0, 2.5])
 
 
