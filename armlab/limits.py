@@ -40,6 +40,16 @@ def real_array(value: ArrayLike, name: str) -> NDArray[np.float64]:
     return a.astype(float)
 
 
+def per_joint(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
+    """``value`` as one real number per joint, ``(n,)``: one number (or a list of one) for every joint, or ``n``;
+    ``ValueError`` naming ``name`` and the count otherwise (:class:`NotRealError` for what is not real)."""
+    a = real_array(value, name)
+    a = np.full(n, a.item()) if a.size == 1 else a
+    if a.shape != (n,):
+        raise ValueError(f"{name} has {a.size} values; give one, or one per joint ({n})")
+    return a
+
+
 def real_number(value: Any, name: str) -> float:
     """``value`` as a float if it is one real number (an int or float, numpy's too; not a bool or a string);
     :class:`NotRealError` naming ``name`` and the type otherwise."""

@@ -24,17 +24,21 @@ from armlab.kinematics.cartesian import (
     arc_through,
     line_path,
     path_profile,
+    tool_joint_path,
     tool_motion_along,
+    tool_path_text,
 )
 from armlab.kinematics.ik import solve, solve_branch
 from armlab.kinematics.profiles import spline, trapezoidal
 from armlab.kinematics.quintic import ConstantRate, Motion, PolynomialSegment, QuinticSegment, Segment, check_duration
+from armlab.limits import per_joint
 from armlab.models import paper_arms
 from armlab.values import cut
 
 if TYPE_CHECKING:
     from pydrake.trajectories import Trajectory
 
+    from armlab.kinematics.cartesian import ToolPath
     from armlab.models.arm import Arm
 
 __all__ = [
@@ -163,16 +167,13 @@ def _rates(arm: Arm, spec: Mapping[str, Any], key: str, deg: bool, where: str) -
     raw = spec.get(key)
     if raw is None:
         return None
-    values = _numbers(raw if isinstance(raw, list) else [raw], f"{where} {key}")
-    values = np.broadcast_to(values, (arm.n,)) if values.size == 1 else values
-    if values.shape != (arm.n,):
-        raise ValueError(f"{where} {key} has {values.size} values; give one, or one per joint ({arm.n})")
+    values = per_joint(_numbers(raw if isinstance(raw, list) else [raw], f"{where} {key}"), arm.n, f"{where} {key}")
     return np.where(arm.revolute, np.radians(values), values) if deg else values
 
 
-def _tool_path(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bool, label: str,
-               where: str) -> Motion:
-    """The tool along a line or an arc from its point at ``q0`` (:mod:`armlab.kinematics.cartesian`)."""
+def _tool_path(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bool, where: str) -> ToolPath:
+    """The line or arc of a segment from the tool's point at ``q0`` (:mod:`armlab.kinematics.cartesian`; a 6-joint
+    arm's tool pose, whose rotation a line to a point holds)."""
     start = arm.forward(q0).tool
     point = start[:3, 3] if arm.n < 6 else start
     kinds = [key for key in ("line_to", "arc_through", "arc_centre") if key in spec]
@@ -181,37 +182,44 @@ def _tool_path(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: 
                          "\"arc_axis\" and \"arc_angle\"), and no \"to\", \"to_point\" or \"rate\"")
     try:
         if kinds[0] == "line_to":
-            end = _numbers(spec["line_to"], f"{where} line_to")
-            path = line_path(point, end if arm.n < 6 or end.size != 3 else np.block(
-                [[start[:3, :3], end[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]]))
-        elif kinds[0] == "arc_through":
+            return line_path(point, _numbers(spec["line_to"], f"{where} line_to"))
+        if kinds[0] == "arc_through":
             raw = spec["arc_through"]
             if not isinstance(raw, list) or len(raw) != 2:
                 raise ValueError(f"arc_through = {json.dumps(raw)} must be two points: a via point and the end")
-            path = arc_through(point, *(_numbers(p, f"{where} arc_through") for p in raw))
-        else:
-            if "arc_axis" not in spec or "arc_angle" not in spec:
-                raise ValueError("an arc about a centre needs \"arc_axis\" and \"arc_angle\"")
-            angle = json_number(spec["arc_angle"], f"{where} arc_angle")
-            path = arc_path(_numbers(spec["arc_centre"], f"{where} arc_centre"),
-                            _numbers(spec["arc_axis"], f"{where} arc_axis"), point,
-                            float(np.radians(angle)) if deg else angle)
-        if spec.get("profile") == "fastest":  # timed below: any profile gives the path, which is all it keeps
-            profile = path_profile(path, "minimum-jerk", 1.0)
+            return arc_through(point, *(_numbers(p, f"{where} arc_through") for p in raw))
+        if "arc_axis" not in spec or "arc_angle" not in spec:
+            raise ValueError("an arc about a centre needs \"arc_axis\" and \"arc_angle\"")
+        angle = json_number(spec["arc_angle"], f"{where} arc_angle")
+        return arc_path(_numbers(spec["arc_centre"], f"{where} arc_centre"),
+                        _numbers(spec["arc_axis"], f"{where} arc_axis"), point,
+                        float(np.radians(angle)) if deg else angle)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+
+
+def _along(arm: Arm, spec: Mapping[str, Any], path: ToolPath, q0: NDArray[np.float64], deg: bool, label: str,
+           where: str) -> Motion:
+    """The tool along ``path`` from ``q0``: IK along it, timed by the segment's profile, or as fast as the limits
+    allow (``"profile": "fastest"``, :func:`_fastest` of the untimed joint path)."""
+    samples = spec.get("samples", DEFAULT_SAMPLES)
+    try:
+        if spec.get("profile") == "fastest":
+            joints = tool_joint_path(arm, path, q0, samples=samples)
         else:
             numbers = {key: None if spec.get(key) is None else json_number(spec[key], f"{where} {key}")
                        for key in ("tf", "speed", "acceleration")}
             profile = path_profile(path, str(spec.get("profile", "minimum-jerk")), numbers["tf"], numbers["speed"],
                                    numbers["acceleration"])
-        samples = spec.get("samples", DEFAULT_SAMPLES)
-        return tool_motion_along(arm, path, profile=profile, q0=q0, samples=samples, label=label)
+            return tool_motion_along(arm, path, profile=profile, q0=q0, samples=samples, label=label)
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
+    return _fastest(arm, spec, joints, deg, label, where, tool_path_text(arm, path))
 
 
-def _fastest(arm: Arm, spec: Mapping[str, Any], path: Motion | Trajectory, deg: bool, label: str,
-             where: str) -> Motion:
-    """``path`` (a tool path's motion, or the joint line q(s)) timed as fast as the limits allow
+def _fastest(arm: Arm, spec: Mapping[str, Any], path: Trajectory, deg: bool, label: str, where: str,
+             what: str) -> Motion:
+    """The joint path ``path`` q(s) (``what`` it is, for the description) timed as fast as the limits allow
     (:func:`armlab.kinematics.timing.fastest`), the segment's own joint limits where it gives them."""
     # lazy: Drake's Toppra, only for a time-optimal segment
     from armlab.kinematics.quintic import TrajectorySegment
@@ -227,7 +235,7 @@ def _fastest(arm: Arm, spec: Mapping[str, Any], path: Motion | Trajectory, deg: 
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
     timing = cast(TrajectorySegment, best.motion.segments[0])  # fastest's motion: one trajectory segment
-    return Motion((TrajectorySegment(timing.trajectory, label),), best.motion.description)
+    return Motion((TrajectorySegment(timing.trajectory, label),), f"{what}, time-optimal timing (Toppra)")
 
 
 def _through(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bool, label: str,
@@ -299,8 +307,7 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
                 raise ValueError(f"{where}: the first segment needs \"from\" or \"from_point\"")
             q0 = previous
         if tool_path:
-            along = _tool_path(arm, spec, q0, deg, label, where)
-            segments.extend((_fastest(arm, spec, along, deg, label, where) if timed else along).segments)
+            segments.extend(_along(arm, spec, _tool_path(arm, spec, q0, deg, where), q0, deg, label, where).segments)
             continue
         if "through" in spec:
             if "profile" in spec:
@@ -318,7 +325,7 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
 
             # the straight joint line q(s) = q0 + s (qf − q0), s in [0, 1]
             line = PiecewisePolynomial.FirstOrderHold([0.0, 1.0], np.stack([q0, qf], axis=1).tolist())
-            segments.extend(_fastest(arm, spec, line, deg, label, where).segments)
+            segments.extend(_fastest(arm, spec, line, deg, label, where, "the straight joint line").segments)
             continue
         if spec.get("profile") == "trapezoid" and qf is not None:
             try:

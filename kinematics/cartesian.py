@@ -43,7 +43,7 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = ["DEFAULT_SAMPLES", "PROFILES", "ToolPath", "arc_path", "arc_through", "joint_path", "line_path",
-           "path_profile", "tool_motion_along"]
+           "path_profile", "tool_joint_path", "tool_motion_along", "tool_path_text"]
 
 #: The time profiles a tool path takes by name.
 PROFILES = ("minimum-jerk", "cubic", "trapezoid")
@@ -241,18 +241,30 @@ def tool_motion_along(arm: Arm, path: ToolPath, duration: float | None = None, p
         if duration is None:
             raise ValueError(f"give the {path.kind} a duration (s) or a time profile")
         profile = minimum_jerk_profile(duration)
+    from pydrake.trajectories import PathParameterizedTrajectory
+
+    trajectory = PathParameterizedTrajectory(tool_joint_path(arm, path, q0, branch, samples), profile.piecewise())
+    motion = Motion((TrajectorySegment(trajectory, label or path.kind),),
+                    f"{tool_path_text(arm, path)}, {profile.name} timing")
+    motion.check_limits(arm)
+    return motion
+
+
+def tool_joint_path(arm: Arm, path: ToolPath, q0: ArrayLike | None = None, branch: int | None = None,
+                    samples: int = DEFAULT_SAMPLES) -> PiecewisePolynomial:
+    """The joint path q(s) ``(n, 1)``, s in [0, 1], that puts ``arm``'s tool on ``path``, untimed (what
+    :func:`tool_motion_along` times, and what :func:`armlab.kinematics.timing.fastest` takes): IK at ``samples``
+    values of s on one branch from ``q0``, IK ``branch`` or the solution nearest zero, as there."""
     if not isinstance(samples, int) or isinstance(samples, bool) or samples < 2:
         raise ValueError(f"samples = {samples!r} is not allowed: a whole number ≥ 2")
     s = np.linspace(0.0, 1.0, samples)
     p, dp, ddp = path.points(s)
     rotations = path.rotations(s) if arm.n >= 6 else None
     start = start_joints(arm, path, q0, branch)
-    joints = solve_path(arm, f"the {path.kind}", s, p, dp, ddp, start, *(rotations or (None, None, None)))
-    from pydrake.trajectories import PathParameterizedTrajectory
+    return joint_path(solve_path(arm, f"the {path.kind}", s, p, dp, ddp, start, *(rotations or (None, None, None))))
 
-    trajectory = PathParameterizedTrajectory(joint_path(joints), profile.piecewise())
-    what = "orientation followed" if rotations is not None else "position"
-    motion = Motion((TrajectorySegment(trajectory, label or path.kind),),
-                    f"the tool along a {path.length:.4g} m {path.kind} ({what}), {profile.name} timing")
-    motion.check_limits(arm)
-    return motion
+
+def tool_path_text(arm: Arm, path: ToolPath) -> str:
+    """"the tool along a 0.2828 m line (position)": what a motion of ``arm`` along ``path`` is."""
+    what = "orientation followed" if arm.n >= 6 and path.R0 is not None and path.R1 is not None else "position"
+    return f"the tool along a {path.length:.4g} m {path.kind} ({what})"

@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.quintic import Motion, PolynomialSegment, check_duration
-from armlab.limits import check_positive
+from armlab.limits import check_positive, per_joint
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial
@@ -149,9 +149,7 @@ def _joints(arm: Arm, q: ArrayLike, name: str) -> NDArray[np.float64]:
 
 
 def _per_joint(value: float | ArrayLike, n: int, name: str, unit: str) -> NDArray[np.float64]:
-    a = np.broadcast_to(np.asarray(value, dtype=float), (n,)) if np.ndim(value) == 0 else np.asarray(value, float)
-    if a.shape != (n,):
-        raise ValueError(f"{name} has {a.size} values; give one, or one per joint ({n})")
+    a = per_joint(value, n, name)
     for v in a:
         _rate(float(v), name, unit)
     return a

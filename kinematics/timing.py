@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.diagrams.plant import PlantOptions, make_plant
 from armlab.kinematics.quintic import Motion, TrajectorySegment, to_trajectory
 from armlab.kinematics.rnea import inverse_dynamics
-from armlab.limits import check_positive
+from armlab.limits import check_positive, per_joint
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
@@ -66,10 +66,7 @@ class Limits:
 def _limit(value: float | ArrayLike | None, default: NDArray[np.float64], name: str, unit: str) -> NDArray:
     if value is None:
         return default
-    a = np.asarray(value, dtype=float)
-    a = np.full(default.shape, a.item()) if a.size == 1 else a  # one value for every joint
-    if a.shape != default.shape:
-        raise ValueError(f"{name} limits have {a.size} values; give one, or one per joint ({default.size})")
+    a = per_joint(value, default.size, f"{name} limits")
     for v in a:
         if not np.isinf(v):
             check_positive(float(v), f"{name} limit", unit, f"a {name} limit must be a positive number (or inf)")
@@ -204,6 +201,28 @@ class Fastest:
     def active_fraction(self) -> float:
         """The fraction of the grid where some constraint is active (bang–bang: most of it)."""
         return float(np.mean([bool(name) for name in self.active]))
+
+    @property
+    def most_active(self) -> str | None:
+        """The constraint active at most grid points (its name), ``None`` where none is."""
+        named = [name for name in self.active if name]
+        return max(set(named), key=named.count) if named else None
+
+    def rate_figure(self, title: str, along: str = "the path") -> Any:
+        """ṡ along s against its limit curve, a matplotlib figure headed ``title`` (the caller saves and closes it);
+        ``along``: what s is the fraction of, for the axis label."""
+        # lazy: matplotlib, only for a figure
+        from armlab.scripts.figures import new_figure
+
+        fig, ax = new_figure(title, size=(7, 4.5))
+        ax.plot(self.s, self.limit, "-", color="0.6", lw=3, label="limit curve (largest feasible ṡ)")
+        ax.plot(self.s, self.sd, "k-", lw=1.2, label="time-optimal ṡ(s)")
+        ax.set_xlabel(f"s, fraction of {along} [1]")
+        ax.set_ylabel("ṡ [1/s]")
+        finite = self.limit[np.isfinite(self.limit)]
+        ax.set_ylim(0.0, 1.15 * max(float(finite.max()) if finite.size else 0.0, float(self.sd.max())))
+        ax.legend(loc="lower center", fontsize=8)
+        return fig
 
 
 def _infeasible(arm: Arm, s: NDArray, c: NDArray, lo: NDArray, hi: NDArray, names: list[str],

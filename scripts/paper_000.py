@@ -352,7 +352,7 @@ def _circle_done(out: PaperOutput, arm: Any, circle: Motion, centre: np.ndarray,
               "armlab.arc about the circle's centre, a quarter turn per segment in 2 s (minimum-jerk timing), IK "
               "along it on branch 0 throughout (one continuous motion), beside the paper's joint-space quintics.")
     t = np.linspace(0.0, circle.duration, 8001)
-    q = circle.evaluate(t)[0]
+    q, qd, qdd = circle.evaluate(t)
     radial = float(np.abs(np.linalg.norm(arm.forward(q).points["M"][:, :2] - centre, axis=-1) - radius).max())
     out.add(compare(PAPER, "Fig. 8 claim, done as meant: M on the circle along the true arcs, max radial deviation "
                     "[m]", 0.0, radial, 1e-9,
@@ -363,33 +363,23 @@ def _circle_done(out: PaperOutput, arm: Any, circle: Motion, centre: np.ndarray,
                 tf=4 * SEGMENT_TIME, branch=0, samples=4 * ARC_SAMPLES)
     best = fastest(arm, whole)
     limits = best.limits
-    active = [name for name in best.active if name]
-    most = max(set(active), key=active.count) if active else "none"
     out.claim(
         "the fastest circle the RR arm's drives allow",
         f"The whole circle A→B→C→D→A as one arc of the tool (IK branch 0), timed by Drake's Toppra within the RR "
         f"arm's limits from its URDF (|q̇| ≤ {limits.velocity.max():g} rad/s, |τ| ≤ {limits.effort.max():g} N·m, "
         f"gravity −y, no acceleration limit in the file): {best.duration:.4g} s, against the paper's "
         f"{4 * SEGMENT_TIME:g} s with stops at B, C and D. A limit is active on {best.active_fraction:.0%} of the "
-        f"path, mostly {most}.",
+        f"path, mostly {best.most_active or 'none'}.",
         ["quantity", "value"],
         [["time-optimal duration [s]", best.duration], ["paper's duration [s]", 4 * SEGMENT_TIME],
          ["path fraction with an active limit", best.active_fraction], ["max radial deviation of the arcs [m]",
                                                                         radial]])
-    fig, ax = new_figure("Paper 000, Fig. 8 done as meant — the fastest circle: path rate ṡ against its limit\n"
-                         f"(Toppra, RR arm's URDF limits, {best.duration:.3g} s)", size=(7, 4.5))
-    ax.plot(best.s, best.limit, "-", color="0.6", lw=3, label="limit curve (largest feasible ṡ)")
-    ax.plot(best.s, best.sd, "k-", lw=1.2, label="time-optimal ṡ(s)")
-    ax.set_xlabel("s, fraction of the circle from A [1]")
-    ax.set_ylabel("ṡ [1/s]")
-    top = float(np.nanmax(np.where(np.isfinite(best.limit), best.limit, np.nan)))
-    ax.set_ylim(0.0, 1.15 * max(top, float(best.sd.max())))
-    ax.legend(loc="lower center", fontsize=8)
-    out.figure(fig, "fig08_fastest_circle", "Fig. 8 (done as meant)",
+    rate = best.rate_figure("Paper 000, Fig. 8 done as meant — the fastest circle: path rate ṡ against its limit\n"
+                            f"(Toppra, RR arm's URDF limits, {best.duration:.3g} s)", "the circle from A")
+    out.figure(rate, "fig08_fastest_circle", "Fig. 8 (done as meant)",
                "path rate of the time-optimal circle against its limit curve")
     fig, axes = new_figure("Paper 000, Fig. 8 done as meant — joint angles and torques along the true arcs",
                            2, 1, size=(7, 5.5), sharex=True)
-    q, qd, qdd = circle.evaluate(t)
     tau = arm.inverse_dynamics(q, qd, qdd)
     for j in range(2):
         axes[0, 0].plot(t, _deg(q[:, j]), label=f"θ{j + 1}")

@@ -395,7 +395,7 @@ def test_cli_plan_fastest_as_the_drives_allow(box):
     from contract import check
     from helpers import DATA
 
-    outcome = box.main("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--fastest",  # no --tf needed
+    outcome = box.main("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--fastest",
                        "--acceleration", "50", "--effort", "10,2.5", "--drives", str(DATA / "rr_drives.csv"),
                        "--motor-speed", "500", "--json", "--simulate", "run")
     check(outcome, 0)

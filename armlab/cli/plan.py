@@ -20,7 +20,8 @@ from armlab.cli.args import add_arm, add_drives, arm_of
 from armlab.drives.read import with_drives
 from armlab.files import write_file
 from armlab.kinematics.cartesian import DEFAULT_SAMPLES, PROFILES
-from armlab.scripts.figures import DPI, new_figure
+from armlab.limits import per_joint
+from armlab.scripts.figures import DPI
 from armlab.values import joint_values, parse_floats
 
 if TYPE_CHECKING:
@@ -43,9 +44,7 @@ def _motion(arm: Arm, args: argparse.Namespace) -> Motion:
     from armlab.api import arc, line
 
     q0 = None if args.q0 is None else joint_values(arm, args.q0, args.deg, "--q0")
-    # --fastest keeps only the path: without a profile's duration, any one (1 s) gives it
-    tf = 1.0 if args.fastest and args.tf is None and args.profile != "trapezoid" else args.tf
-    timing = {"tf": tf, "profile": args.profile, "speed": args.speed, "acceleration": args.tool_acceleration,
+    timing = {"tf": args.tf, "profile": args.profile, "speed": args.speed, "acceleration": args.tool_acceleration,
               "q0": q0, "branch": args.branch, "samples": args.samples}
     if args.path == "line":
         start = None if args.start is None else _point(args.start, "--from")
@@ -59,14 +58,9 @@ def _motion(arm: Arm, args: argparse.Namespace) -> Motion:
                start=_point(args.start, "--from"), angle=angle, **timing)
 
 
-def _limits(arm: Arm, text: str | None, name: str) -> float | np.ndarray | None:
-    """A limit option: one value for every joint, or one per joint."""
-    if text is None:
-        return None
-    values = np.array(parse_floats(text, name))
-    if values.size not in (1, arm.n):
-        raise ValueError(f"{name} has {values.size} values; give one, or one per joint ({arm.n})")
-    return float(values[0]) if values.size == 1 else values
+def _limits(arm: Arm, text: str | None, name: str) -> np.ndarray | None:
+    """A limit option: one value for every joint, or one per joint (its count checked here to name the option)."""
+    return None if text is None else per_joint(parse_floats(text, name), arm.n, name)
 
 
 def _plot(best: Fastest, arm: Arm, path: str) -> None:
@@ -76,16 +70,7 @@ def _plot(best: Fastest, arm: Arm, path: str) -> None:
     kind = Path(path).suffix.lower().lstrip(".")
     if kind not in ("png", "svg"):
         raise ValueError(f"--plot {path}: the file must end in .png or .svg")
-
-    fig, ax = new_figure(f"{arm.name}: time-optimal path rate against its limit ({best.duration:.4g} s, Toppra)",
-                         size=(7, 4.5))
-    ax.plot(best.s, best.limit, "-", color="0.6", lw=3, label="limit curve (largest feasible ṡ)")
-    ax.plot(best.s, best.sd, "k-", lw=1.2, label="time-optimal ṡ(s)")
-    ax.set_xlabel("s, fraction of the path [1]")
-    ax.set_ylabel("ṡ [1/s]")
-    finite = best.limit[np.isfinite(best.limit)]
-    ax.set_ylim(0.0, 1.15 * max(float(finite.max()) if finite.size else 0.0, float(best.sd.max())))
-    ax.legend(loc="lower center")
+    fig = best.rate_figure(f"{arm.name}: time-optimal path rate against its limit ({best.duration:.4g} s, Toppra)")
     data = io.BytesIO()
     fig.savefig(data, format=kind, dpi=DPI)
     plt.close(fig)
@@ -108,9 +93,8 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                        _limits(arm, args.acceleration, "--acceleration"), _limits(arm, args.effort, "--effort"),
                        motor_speed=_limits(arm, args.motor_speed, "--motor-speed"),
                        motor_torque=_limits(arm, args.motor_torque, "--motor-torque"), grid=args.grid)
-        named = [name for name in best.active if name]
         summary["fastest"] = {"duration": best.duration, "active_fraction": best.active_fraction,
-                              "most_active": max(set(named), key=named.count) if named else None,
+                              "most_active": best.most_active,
                               "velocity_limits": best.limits.velocity.tolist(),
                               "acceleration_limits": best.limits.acceleration.tolist(),
                               "effort_limits": best.limits.effort.tolist(),
@@ -161,7 +145,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--centre", help="arc: centre x,y(,z) m")
     p.add_argument("--axis", help="arc: axis x,y,z (right-handed)")
     p.add_argument("--angle", type=float, help="arc: angle (rad; deg with --deg)")
-    p.add_argument("--tf", type=float, help="duration (s) of the profile (with --fastest: not needed)")
+    p.add_argument("--tf", type=float, help="duration (s) of the profile")
     p.add_argument("--profile", default="minimum-jerk", choices=PROFILES, help="time profile (default minimum-jerk)")
     p.add_argument("--speed", type=float, help="trapezoid: the tool's peak speed along the path (m/s)")
     p.add_argument("--tool-acceleration", type=float, help="trapezoid: the tool's peak acceleration (m/s²)")
