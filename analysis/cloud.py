@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armlab.analysis.plots import manipulability_norm
 from armlab.diagrams.replay import SCENE, build_scene, frame_camera, start_meshcat, style_scene
 from armlab.files import write_file
 
@@ -34,8 +35,7 @@ def write_point_cloud(arm: Arm, ws: Workspace, path: Path) -> Path:
     if ws.manipulability is None:
         rgb = np.tile(np.array([31, 95, 168], dtype=np.uint8), (len(pts), 1))
     else:
-        w = ws.manipulability
-        shade = matplotlib.colors.PowerNorm(0.5, vmin=float(w.min()), vmax=float(w.max()))(w)  # as slices.png
+        shade = manipulability_norm(ws.manipulability)(ws.manipulability)
         rgb = (matplotlib.colormaps["viridis"](shade)[:, :3] * 255).astype(np.uint8)
     cloud = PointCloud(len(pts), Fields(BaseField.kXYZs | BaseField.kRGBs))
     cloud.mutable_xyzs()[:] = pts.T
@@ -48,31 +48,29 @@ def write_point_cloud(arm: Arm, ws: Workspace, path: Path) -> Path:
     frame_camera(meshcat, pts @ R.T, margin=0.05 * ws.reach)
     page = meshcat.StaticHtml()
     end = page.rfind("</body>")
-    return write_file(path, page[:end] + colour_legend(arm, ws) + page[end:])
+    return write_file(path, page[:end] + colour_legend(arm, ws, len(pts)) + page[end:])
 
 
 #: Ticks on the colour legend of the point cloud.
 LEGEND_TICKS = 5
 
 
-def colour_legend(arm: Arm, ws: Workspace) -> str:
-    """The point cloud's colour legend (HTML, over the view's top-left corner): a bar of the colours from the
-    least to the most manipulable point with :data:`LEGEND_TICKS` values of w = √det(J Jᵀ) under it (the colour
-    scale is slices.png's, a square root: its ticks are evenly spaced in colour, not in w); or, without
-    manipulability, what the one colour means."""
+def colour_legend(arm: Arm, ws: Workspace, shown: int) -> str:
+    """The point cloud's colour legend (HTML, over the view's top-left corner), of its ``shown`` points: a bar of
+    the colours from the least to the most manipulable point with :data:`LEGEND_TICKS` values of w = √det(J Jᵀ)
+    under it (the colour scale :func:`~armlab.analysis.plots.manipulability_norm`, a square root: its ticks are
+    evenly spaced in colour, not in w); or, without manipulability, what the one colour means."""
     import matplotlib
 
-    head = f"<b>{html.escape(arm.name)}: workspace, {len(ws.points)} tool points kept</b><br>"
+    head = f"<b>{html.escape(arm.name)}: workspace, {shown} tool points</b><br>"
     style = ("position:fixed;left:12px;top:12px;z-index:20;background:rgba(255,255,255,.92);padding:8px 12px;"
              "border:1px solid #b8bcc4;border-radius:4px;font:13px/1.4 Helvetica,Arial,sans-serif;color:#1d2733")
     if ws.manipulability is None:
         return (f'<div id="armlab-legend" style="{style}">{head}<span style="color:#1f5fa8">●</span> a tool point '
                 "(one colour: manipulability not computed)</div>")
-    w = ws.manipulability
-    low, high = float(w.min()), float(w.max())
     stops = ", ".join(matplotlib.colors.to_hex(matplotlib.colormaps["viridis"](s)) for s in np.linspace(0, 1, 11))
     shades = np.linspace(0.0, 1.0, LEGEND_TICKS)
-    values = low + (high - low) * shades**2  # PowerNorm(0.5) inverted: shade = ((w − low) / (high − low))^0.5
+    values = np.atleast_1d(manipulability_norm(ws.manipulability).inverse(shades))
     ticks = "".join(f'<span style="position:absolute;left:{100 * s:.0f}%;transform:translateX(-50%)">{v:.3g}</span>'
                     for s, v in zip(shades, values, strict=True))
     return (f'<div id="armlab-legend" style="{style}">{head}colour = Yoshikawa manipulability w = √det(J Jᵀ)'

@@ -23,7 +23,16 @@ if TYPE_CHECKING:
     from armlab.analysis.study import Study
     from armlab.analysis.workspace import Workspace
 
-__all__ = ["save_png", "workspace_figures", "write_plots"]
+__all__ = ["manipulability_norm", "save_png", "workspace_figures", "write_plots"]
+
+
+def manipulability_norm(w: np.ndarray) -> Any:
+    """The colour scale of manipulability ``w`` ``(m,)`` in every workspace picture (slices.png, the point cloud):
+    a square root from its least to its greatest value (manipulability crowds near 0 in most workspaces), a
+    matplotlib ``PowerNorm`` (its ``inverse`` gives the value of a shade)."""
+    import matplotlib.colors
+
+    return matplotlib.colors.PowerNorm(0.5, vmin=float(w.min()), vmax=float(w.max()))
 
 
 def save_png(fig: Any, path: Path) -> str:
@@ -187,10 +196,8 @@ def _slices(ws: Workspace, path: Path) -> str:
         axes = list(np.ravel(axes))
     slab = 0.05 * ws.reach
     image = None
-    if colour is not None:  # a square-root colour scale: manipulability crowds near 0 in most workspaces
-        import matplotlib.colors
-
-        norm = matplotlib.colors.PowerNorm(0.5, vmin=float(colour.min()), vmax=float(colour.max()))
+    if colour is not None:
+        norm = manipulability_norm(colour)
     for ax, cut in zip(axes, cuts, strict=True):
         if cut is None:
             xy = _plane_coords(ws, pts)

@@ -198,3 +198,19 @@ def test_a_curved_surface_has_no_volume(tmp_path: Path) -> None:
     # exact: a surface's volume is set to 0
     assert ws.dim == 3 and ws.motions == 2 and ws.volume == 0.0 and "curved surface" in ws.summary()["note"]
     assert ws.volume_voxels > 0  # the shell of voxels the surface crosses
+
+
+def test_point_cloud_legend_counts_the_points_drawn_and_ticks_its_colour_scale(tmp_path: Path) -> None:
+    """With manipulability, the cloud draws the points it was computed for (fewer than those kept): the legend says
+    that number, and its ticks are the colour scale's values at evenly spaced shades (its inverse)."""
+    from armlab.analysis.cloud import LEGEND_TICKS, write_point_cloud
+    from armlab.analysis.plots import manipulability_norm
+
+    ws = workspace(get_arm("rr"), 100_000)
+    assert ws.manipulability is not None and len(ws.manipulability) < len(ws.points)
+    html = write_point_cloud(get_arm("rr"), ws, tmp_path / "cloud.html").read_text()
+    legend = re.search(r'<div id="armlab-legend".*?</div></div>', html, re.S).group(0)
+    assert f"{len(ws.manipulability)} tool points" in legend
+    ticks = [float(v) for v in re.findall(r'translateX\(-50%\)">([^<]+)</span>', legend)]
+    norm = manipulability_norm(ws.manipulability)
+    np.testing.assert_allclose(norm(np.array(ticks)), np.linspace(0.0, 1.0, LEGEND_TICKS), atol=2e-3)  # 3 digits
