@@ -75,7 +75,10 @@ def urm6_bend_angles(out: PaperOutput, fast: bool) -> None:
         curves[name] = (angles, np.array([[f[e] for e in evaluated] for f in found]))  # (steps, 3)
         for j, e in enumerate(evaluated[:2]):
             best[e][name] = float(angles[int(np.argmax(curves[name][1][:, j]))])
-    combined = {e: volumes(best[e]) for e in evaluated[:2]}  # both volumes at each answer's best angles
+    combined: dict[str, NDArray[np.float64]] = {}  # both volumes at each answer's best angles (evaluated once
+    for e in evaluated[:2]:                         # when both answers agree, as they are expected to)
+        agreeing = next((combined[d] for d in combined if best[d] == best[e]), None)  # exact: grid angles
+        combined[e] = volumes(best[e]) if agreeing is None else agreeing
     table = []
     for name in names:
         angles, v = curves[name]
