@@ -43,7 +43,7 @@ import sys
 import tempfile
 import threading
 import warnings
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from types import FrameType, TracebackType
@@ -59,6 +59,7 @@ __all__ = [
     "RecoveredWarning",
     "SignalState",
     "csv_cell",
+    "csv_table",
     "csv_text",
     "file_path",
     "is_json_number",
@@ -469,6 +470,25 @@ def csv_cell(value: Any) -> str:
     if isinstance(value, numbers.Real):
         return repr(float(value) + 0.0)  # + 0.0: no "-0.0"
     raise ValueError(f"CSV cell {value!r} ({type(value).__name__}) is not allowed: a number, a string or None")
+
+
+def csv_table(lines: Iterable[str], where: str) -> tuple[list[str], list[tuple[int, list[str]]]]:
+    """A user's CSV table: its header's names (stripped; the empty ones at its end, a spreadsheet's trailing commas,
+    dropped; ``[]`` for no header) and its rows, each with its number (1 the row after the header; blank and
+    whitespace-only ones are no rows) and its cells without the empty ones past the header's (trailing commas).
+    ``ValueError`` starting with ``where`` for text CSV cannot read (a cell over csv's 131072-character limit)."""
+    reader = csv.reader(lines)
+    try:
+        header = [name.strip() for name in next(reader, [])]
+        rows = [(number, cells) for number, cells in enumerate(reader, start=1) if any(c.strip() for c in cells)]
+    except csv.Error as error:
+        raise ValueError(f"{where} cannot be read as CSV: {error}: a cell holds one number") from None
+    while header and not header[-1]:
+        header.pop()
+    for _, cells in rows:
+        while len(cells) > len(header) and not cells[-1].strip():
+            cells.pop()
+    return header, rows
 
 
 def csv_text(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:

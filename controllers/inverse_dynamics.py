@@ -129,7 +129,7 @@ def drive_actuation(builder: DiagramBuilder, plant: MultibodyPlant, torque: Outp
     """Connect the model's torque ``torque`` (N·m or N, n) to ``plant``'s actuation input, with the Coulomb friction
     T_c·tanh(v/v_s) of the rates of ``state`` ([q, v]) added when ``drives`` has any (a ``friction_compensation``
     :class:`~armlab.drives.friction.CoulombFriction` and an ``Adder``); the port of the torque applied."""
-    if drives is None or not np.any(drives.coulomb > 0):
+    if drives is None or not drives.has_coulomb:
         builder.Connect(torque, plant.get_actuation_input_port())
         return torque
     from pydrake.systems.primitives import Adder

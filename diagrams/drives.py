@@ -141,12 +141,20 @@ def torque_stats(tau: NDArray[np.float64], qd: NDArray[np.float64]) -> dict[str,
 def drive_table(log: SimulationLog) -> list[dict[str, Any]]:
     """Per joint: peak |τ|, RMS τ, peak |q̇|, peak |τ q̇| (W) and the effort and velocity limits (None: unknown);
     with a drive train, its motor side too: the gear ratio, peak |τ_m| and RMS τ_m (N·m), peak |ω_m| (rad/s)."""
+    return _drive_rows(log, log.tau_motor, log.motor_speed)
+
+
+def _drive_rows(log: SimulationLog, tau_motor: NDArray[np.float64] | None,
+                speed: NDArray[np.float64] | None) -> list[dict[str, Any]]:
+    """:func:`drive_table` of the log's motor torques ``tau_motor`` and speeds ``speed`` ``(m, n)`` (``None``:
+    ideal drives), evaluated once by the caller."""
     units = _units(log)
+    joint = torque_stats(log.tau, log.qd)
     power = np.abs(log.tau * log.qd)
     rows = [{
         "joint": name,
-        "peak_torque": float(np.max(np.abs(log.tau[:, i]))),
-        "rms_torque": float(np.sqrt(np.mean(log.tau[:, i] ** 2))),
+        "peak_torque": float(joint["max_abs_torque"][i]),
+        "rms_torque": float(joint["rms_torque"][i]),
         "torque_unit": units["effort"][i],
         "peak_speed": float(np.max(np.abs(log.qd[:, i]))),
         "speed_unit": units["velocity"][i],
@@ -154,11 +162,12 @@ def drive_table(log: SimulationLog) -> list[dict[str, Any]]:
         "effort_limit": lim.effort,
         "velocity_limit": lim.velocity,
     } for i, (name, lim) in enumerate(zip(log.arm.joint_names, log.arm.limits, strict=True))]
-    drives, tau_motor, speed = log.arm.drives, log.tau_motor, log.motor_speed
+    drives = log.arm.drives
     if drives is not None and tau_motor is not None and speed is not None:
+        motor = torque_stats(tau_motor, speed)
         for i, row in enumerate(rows):
-            row.update(gear_ratio=float(drives.gear_ratio[i]), peak_motor_torque=float(np.max(np.abs(tau_motor[:, i]))),
-                       rms_motor_torque=float(np.sqrt(np.mean(tau_motor[:, i] ** 2))),
+            row.update(gear_ratio=float(drives.gear_ratio[i]), peak_motor_torque=float(motor["max_abs_torque"][i]),
+                       rms_motor_torque=float(motor["rms_torque"][i]),
                        peak_motor_speed=float(np.max(np.abs(speed[:, i]))))
     return rows
 
@@ -184,11 +193,11 @@ def drives_figure(log: SimulationLog) -> Any:
     # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
     from armlab.scripts.figures import new_figure
 
-    rows = drive_table(log)
+    tau_motor, motor_speed = log.tau_motor, log.motor_speed  # evaluated once, for the table and the panels
+    rows = _drive_rows(log, tau_motor, motor_speed)
     n = log.arm.n
     cols = min(n, 3)
     per_side = (n + cols - 1) // cols  # rows of panels per side
-    tau_motor, motor_speed = log.tau_motor, log.motor_speed
     sides = 1 if tau_motor is None else 2
     title = f"{log.arm.name}: drive operating points (torque against speed) and limits"
     fig, axes = new_figure(title + (", joint side (top) and motor side (bottom)" if sides == 2 else ""),

@@ -47,7 +47,7 @@ class CoulombFriction(LeafSystem):
 def add_coulomb_friction(builder: DiagramBuilder, plant: MultibodyPlant, drives: DriveTrain | None) -> None:
     """Apply ``drives``' Coulomb friction −T_c·tanh(v/v_s) at ``plant``'s rates to its ``applied_generalized_force``
     input (a ``joint_friction`` :class:`CoulombFriction`); nothing when the drive train has none (or is ``None``)."""
-    if drives is None or not np.any(drives.coulomb > 0):
+    if drives is None or not drives.has_coulomb:
         return
     friction = builder.AddSystem(CoulombFriction(drives, -1.0, "joint_friction"))
     builder.Connect(plant.get_state_output_port(), friction.get_input_port())

@@ -103,8 +103,8 @@ def _torque_and_inertia(arm: Arm, q: NDArray, qd: NDArray, qdd: NDArray) -> tupl
     by the selection); the mass matrix is the links' alone (J_load of the inertia ratio)."""
     n = arm.n
     rigid = DriveTrain.ideal(n)
-    joints = rigid if arm.drives is None else DriveTrain(np.ones(n), np.zeros(n), np.ones(n), arm.drives.viscous,
-                                                         arm.drives.coulomb, arm.drives.coulomb_speed)
+    # the drive train adds G²·J_m·q̈ + friction (G and η enter nothing else): without J_m, the friction alone
+    joints = rigid if arm.drives is None else replace(arm.drives, rotor_inertia=np.zeros(n))
     tau = arm.inverse_dynamics(q, qd, qdd, drives=joints)
     units = np.broadcast_to(np.eye(n)[:, None, :], (n, q.shape[0], n))  # q̈ = e_k for every sample
     zero = np.zeros_like(units)

@@ -7,7 +7,8 @@ drive file, each as :class:`~armlab.drives.train.DriveTrain` has it:
   (0, 1] (default 1);
 * ``viscous`` B (N·m·s/rad) and ``coulomb`` T_c (N·m), joint side (default 0) — or ``viscous_motor`` and
   ``coulomb_motor``, motor side as the Robotics Toolbox gives them (B_m, T_c,m; converted once by
-  :meth:`~armlab.drives.train.DriveTrain.from_motor_side`: B = G²·B_m, T_c = |G|·T_c,m). Not both sides.
+  :meth:`~armlab.drives.train.DriveTrain.from_motor_side`: B = G²·B_m, T_c = |G|·T_c,m). Each friction from one
+  side, not both (the two may come from different sides).
 
 A column left out takes its default (an ideal drive); a column given needs a value in every row.
 
@@ -19,14 +20,15 @@ arm, a URDF, a DH table), replacing one its own file gives.
 
 from __future__ import annotations
 
-import csv
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armlab.drives.train import DriveTrain
+from armlab.drives.train import DRIVE_FIELDS, DriveTrain
+from armlab.files import csv_table
 from armlab.models.arm_file import file_number, read_text
 
 if TYPE_CHECKING:
@@ -36,8 +38,6 @@ __all__ = ["DRIVE_COLUMNS", "drive_train", "read_drive_file", "with_drives"]
 
 #: The drive columns of a DH table and a drive file; the ``_motor`` ones are motor side (module docstring).
 DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "viscous_motor", "coulomb_motor")
-#: What a column left out is: an ideal drive (direct, no rotor inertia, lossless, no friction).
-_DEFAULTS = {"gear_ratio": 1.0, "rotor_inertia": 0.0, "efficiency": 1.0, "viscous": 0.0, "coulomb": 0.0}
 
 
 def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> DriveTrain:
@@ -60,14 +60,16 @@ def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> Drive
                 raise ValueError(f"{where}: row {k + 1}: {name} is empty: every row needs a value when the "
                                  "column is given (leave the column out for its default)")
         values[name] = np.array([file_number(text, f"{where}: row {k + 1}: {name}") for k, text in enumerate(column)])
-    full = {name: values.get(name, np.full(n, default)) for name, default in _DEFAULTS.items()}
+    ideal = DriveTrain.ideal(n)  # a column left out
+    motor = [name for name in ("viscous", "coulomb") if f"{name}_motor" in values]  # each friction on its own side
     try:
-        if "viscous_motor" in values or "coulomb_motor" in values:
-            return DriveTrain.from_motor_side(
-                full["gear_ratio"], full["rotor_inertia"], full["efficiency"],
-                values.get("viscous_motor", np.zeros(n)), values.get("coulomb_motor", np.zeros(n)))
-        return DriveTrain(full["gear_ratio"], full["rotor_inertia"], full["efficiency"], full["viscous"],
-                          full["coulomb"])
+        train = DriveTrain(*(values.get(name, getattr(ideal, name)) for name in DRIVE_FIELDS))
+        if not motor:
+            return train
+        converted = DriveTrain.from_motor_side(train.gear_ratio, train.rotor_inertia, train.efficiency,
+                                               values.get("viscous_motor", ideal.viscous),
+                                               values.get("coulomb_motor", ideal.coulomb))
+        return replace(train, **{name: getattr(converted, name) for name in motor})
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
 
@@ -79,13 +81,13 @@ def read_drive_file(path: str | Path, joint_names: Sequence[str]) -> DriveTrain:
     other joints, or a bad column or value (:func:`drive_train`).
     """
     path = Path(path)
-    lines = [line for line in read_text(path, "drive file").splitlines() if line.strip()]
-    while lines and lines[0].lstrip().startswith("#"):
+    lines = read_text(path, "drive file").splitlines()
+    while lines and (not lines[0].strip() or lines[0].lstrip().startswith("#")):
         lines.pop(0)
-    rows = list(csv.reader(lines))
-    if not rows:
+    header, rows = csv_table(lines, f"{path}: the drive file")  # trailing commas dropped
+    if not header:
         raise ValueError(f"{path}: the drive file has no header row ({', '.join(('joint', *DRIVE_COLUMNS))})")
-    header, body = [name.strip() for name in rows[0]], rows[1:]
+    body = [cells for _, cells in rows]
     repeated = sorted({name for name in header if header.count(name) > 1})
     if repeated:
         raise ValueError(f"{path}: column(s) {', '.join(repeated)} appear more than once")

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.drives.select import STATS, Candidate, motor_side
+from armlab.drives.select import STATS, Candidate, candidate_train, motor_side
 from armlab.files import OutputFolder, csv_text
 
 if TYPE_CHECKING:
@@ -140,8 +140,8 @@ def torque_speed_figure(sizing: Sizing, k: int) -> Any:
     c = j.chosen
     if c is None:
         raise ValueError(f"{j.joint} has no feasible motor and gearbox: no torque–speed figure")
-    train = s.drive_train()
-    qd = s.samples.qd
+    train = candidate_train(s.motors, s.gearboxes, np.array([c.motor]), np.array([c.gearbox]))  # as the selection
+    qd, qdd = s.samples.qd[:, k:k + 1], s.samples.qdd[:, k:k + 1]
     fig, ax = new_figure(f"{s.arm.name} {j.joint}: {_pair(c)} — motor torque against speed, safety factor "
                          f"{s.safety_factor:g}", size=(9.0, 4.8))
     m = s.motors
@@ -158,8 +158,8 @@ def torque_speed_figure(sizing: Sizing, k: int) -> Any:
     ax.axvline(top, color="k", ls=":", lw=1, label="maximum speed")
     ax.axvline(-top, color="k", ls=":", lw=1)
     for case_index, case in enumerate(s.cases):
-        tau_m, omega = motor_side(train, s.loads.tau[case_index], qd, s.samples.qdd)
-        tau_m, omega = tau_m[:, k], omega[:, k] * RPM
+        tau_m, omega = motor_side(train, s.loads.tau[case_index, :, k:k + 1], qd, qdd)
+        tau_m, omega = tau_m[:, 0], omega[:, 0] * RPM
         (points,) = ax.plot(omega, tau_m, ".", ms=2.5, alpha=0.6, label=f"{case.label}: operating points")
         ax.plot([c.stats["mean_speed"][case_index] * RPM], [c.stats["rms_torque"][case_index]], marker="*", ms=13,
                 color=points.get_color(), mec="k", ls="none", label=f"{case.label}: RMS point (mean |ω|, RMS τ)")

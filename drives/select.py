@@ -1,8 +1,8 @@
 """Choosing one joint's motor and gearbox from catalogues: a fast screen of every pair, full checks of the survivors.
 
 A candidate is a motor × gearbox pair. With the gearbox's ratio G, efficiency η and input inertia J_g and the
-motor's rotor inertia J_m, the drive train is :class:`~armlab.drives.train.DriveTrain` (G, J = J_m + J_g, η, no
-friction of its own), so the joint-side torque is τ_L + G²·J·q̈ and the motor torque and speed are
+motor's rotor inertia J_m, the drive train is :func:`candidate_train` (G, J = J_m + J_g, η, no friction of
+its own), so the joint-side torque is τ_L + G²·J·q̈ and the motor torque and speed are
 :func:`~armlab.drives.train.motor_torque` and :func:`~armlab.drives.train.motor_speed` of it, for every sample
 of the cycle and every load case, vectorised over the candidates. A pair is **feasible** when, with the safety
 factor S on every torque (speeds as they are) and for every load case:
@@ -39,8 +39,8 @@ from armlab.drives.train import DriveTrain, motor_speed, motor_torque
 if TYPE_CHECKING:
     from armlab.drives.catalogue import Gearboxes, Motors
 
-__all__ = ["CHECKS", "RANKS", "STATS", "Candidate", "Evaluation", "JointSelection", "JointTask", "check_rank",
-           "check_safety_factor", "evaluate", "motor_side", "screen", "select_joint"]
+__all__ = ["CHECKS", "RANKS", "STATS", "Candidate", "Evaluation", "JointSelection", "JointTask", "candidate_train",
+           "check_rank", "check_safety_factor", "evaluate", "motor_side", "screen", "select_joint"]
 
 #: The checks, in the order they are reported.
 CHECKS = ("RMS", "RMS speed", "peak", "envelope", "speed", "gearbox RMS", "gearbox peak", "gearbox speed")
@@ -88,6 +88,15 @@ class JointTask:
     def mean(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
         """The cycle's time average of ``values`` ``(..., T)`` over its last axis: Σ w·v / Σ w."""
         return values @ self.weight / self.weight.sum()
+
+
+def candidate_train(motors: Motors, gearboxes: Gearboxes, motor: NDArray[np.intp],
+                    gearbox: NDArray[np.intp]) -> DriveTrain:
+    """The drive train of the candidates (``motor[c]``, ``gearbox[c]``) ``(C,)``: G, J = J_m + J_g, η and no
+    friction of its own (the joints' friction is in the load τ_L already: :func:`armlab.drives.loads.joint_loads`)."""
+    zeros = np.zeros(np.shape(motor))
+    return DriveTrain(gearboxes.ratio[gearbox], motors.rotor_inertia[motor] + gearboxes.input_inertia[gearbox],
+                      gearboxes.efficiency[gearbox], zeros, zeros)
 
 
 def motor_side(train: DriveTrain, tau: NDArray[np.float64], qd: NDArray[np.float64],
@@ -146,8 +155,7 @@ def evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, motor: NDArr
 def _evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDArray[np.intp], ig: NDArray[np.intp],
               safety: float, describe: bool) -> Evaluation:
     L, C = task.tau.shape[0], im.size
-    train = DriveTrain(gearboxes.ratio[ig], motors.rotor_inertia[im] + gearboxes.input_inertia[ig],
-                       gearboxes.efficiency[ig], np.zeros(C), np.zeros(C))
+    train = candidate_train(motors, gearboxes, im, ig)
     # (L, T, 1) and (T, 1) against the candidates (C,): τ_m (L, T, C), ω_m (T, C)
     tau_m, speed = motor_side(train, task.tau[:, :, None], task.qd[:, None], task.qdd[:, None])
     omega = np.abs(speed)

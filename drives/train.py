@@ -114,6 +114,11 @@ class DriveTrain:
                    g**2 * b_m, np.abs(g) * tc_m, coulomb_speed)
 
     @property
+    def has_coulomb(self) -> bool:
+        """Whether any joint has Coulomb friction (T_c > 0): a diagram then applies and compensates it."""
+        return bool(np.any(self.coulomb > 0))
+
+    @property
     def reflected_inertia(self) -> NDArray[np.float64]:
         """G²·J_m per joint (kg·m², joint side), shape ``(n,)``."""
         return self.gear_ratio**2 * self.rotor_inertia

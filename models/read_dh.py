@@ -27,7 +27,6 @@ are invented. Missing effort/velocity limits are unknown (``None``). At most
 
 from __future__ import annotations
 
-import csv
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
@@ -38,6 +37,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.drives.read import DRIVE_COLUMNS, drive_train
+from armlab.files import csv_table
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.batch import ZStep, chain_points
 from armlab.kinematics.dh import DHRow, DHTable
@@ -96,12 +96,9 @@ def _header_comments(path: Path, lines: list[str]) -> tuple[dict[str, str], list
     return settings, lines
 
 
-def _columns(path: Path, fieldnames: Sequence[str] | None) -> list[str]:
-    """The header's column names (optional ones spelt as documented; empty trailing names, as a spreadsheet's
-    trailing commas give, dropped); errors name what is wrong."""
-    names = [f.strip() for f in fieldnames or []]
-    while names and not names[-1]:
-        names.pop()
+def _columns(path: Path, names: list[str]) -> list[str]:
+    """The header's column names (:func:`~armlab.files.csv_table`'s; optional ones spelt as documented); errors name
+    what is wrong."""
     lowered = [name.lower() for name in names]
     repeated = sorted({name for name, low in zip(names, lowered, strict=True) if lowered.count(low) > 1})
     if repeated:
@@ -163,17 +160,12 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
     links' collision radii (m; ``None`` without the ``radius`` column)."""
     settings, lines = _header_comments(path, read_text(path, "DH table").splitlines())
     deg = settings.get("units") == "deg"
-    reader = csv.reader(lines)
-    try:
-        columns = _columns(path, next(reader, None))
-        records = [(number, values) for number, values in enumerate(reader, start=1) if any(v.strip() for v in values)]
-    except csv.Error as error:  # a cell longer than csv's field limit (131072 characters)
-        raise ValueError(f"{path}: the DH table cannot be read as CSV: {error}: a cell holds one number") from None
+    header, records = csv_table(lines, f"{path}: the DH table")  # trailing commas dropped
+    columns = _columns(path, header)
     rows: list[DHRow] = []
     limits, inertials, radii = [], [], []
     drive_cells: dict[str, list[str]] = {name: [] for name in columns if name in DRIVE_COLUMNS}
-    for number, values in records:  # blank and whitespace-only lines are not rows
-        values = _without_trailing_blanks(values, len(columns))
+    for number, values in records:
         if len(values) != len(columns):
             raise ValueError(f"{path}: row {number} has {len(values)} values; expected {len(columns)} "
                              f"({','.join(columns)})")
@@ -214,13 +206,6 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
     table = DHTable(tuple(rows), "modified" if settings.get("convention") == "modified" else "standard")
     return (table, limits, inertials if "mass" in columns else None, drive_cells,
             radii if "radius" in columns else None)
-
-
-def _without_trailing_blanks(values: list[str], count: int) -> list[str]:
-    """A row's cells without the empty cells past the ``count`` columns (a spreadsheet's trailing commas)."""
-    while len(values) > count and not values[-1].strip():
-        values = values[:-1]
-    return values
 
 
 def _radius(text: str, what: str) -> float:

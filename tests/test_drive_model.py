@@ -92,6 +92,36 @@ def test_dh_and_drive_file_columns(tmp_path):
     np.testing.assert_allclose(rr.drives.efficiency, [0.8, 0.75], rtol=1e-15)
 
 
+@pytest.mark.parametrize(("header", "joint_side", "motor_side"), [
+    ("gear_ratio,viscous_motor,coulomb", "coulomb", "viscous"),
+    ("gear_ratio,coulomb_motor,viscous", "viscous", "coulomb"),
+])
+def test_each_friction_from_its_own_side(tmp_path, header, joint_side, motor_side):
+    """One friction given motor side, the other joint side: each kept, the motor-side one converted
+    (B = G²·B_m, T_c = |G|·T_c,m); none dropped."""
+    path = tmp_path / "mixed.csv"
+    path.write_text(f"{header}\n-10,0.5,3\n20,0.25,4\n")
+    drives = armlab.load("rr", drives=path).drives
+    g, given = np.array([-10.0, 20.0]), np.array([0.5, 0.25])
+    converted = g**2 * given if motor_side == "viscous" else np.abs(g) * given
+    np.testing.assert_allclose(getattr(drives, motor_side), converted, rtol=1e-15)
+    np.testing.assert_allclose(getattr(drives, joint_side), [3.0, 4.0], rtol=1e-15)
+    np.testing.assert_allclose(drives.gear_ratio, g, rtol=1e-15)
+
+
+def test_drive_file_trailing_commas_and_a_huge_cell(tmp_path):
+    """A spreadsheet's trailing commas are no columns; a cell beyond csv's field limit is a one-line error."""
+    path = tmp_path / "excel.csv"
+    path.write_text("# from a spreadsheet\r\ngear_ratio,viscous,,\r\n10,1,,\r\n20,2,,\r\n,,,\r\n")
+    drives = armlab.load("rr", drives=path).drives
+    np.testing.assert_allclose(drives.gear_ratio, [10.0, 20.0], rtol=1e-15)
+    np.testing.assert_allclose(drives.viscous, [1.0, 2.0], rtol=1e-15)
+    path.write_text(f"gear_ratio\n{'1' * 131073}\n2\n")
+    with pytest.raises(ValueError, match=r"drive file cannot be read as CSV: field larger than field limit") as error:
+        armlab.load("rr", drives=path)
+    assert str(path) in str(error.value) and "\n" not in str(error.value)
+
+
 # -------------------------------------------------------------------------------------------- the plant
 def test_reflected_inertia_enters_the_mass_matrix():
     """Drake's JointActuator rotor inertia and gear ratio: M(q) with the drive train is M(q) without it plus

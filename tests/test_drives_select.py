@@ -15,6 +15,7 @@ from armlab.drives.duty import DutyCycle, Dwell, LoadCase, Move, sample
 from armlab.drives.loads import joint_loads, with_link_masses
 from armlab.drives.select import RANKS, SLACK, JointTask, evaluate, screen, select_joint
 from armlab.drives.sizing import size
+from armlab.drives.train import DriveTrain
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.models import get_arm
 
@@ -117,6 +118,25 @@ def test_the_mass_iteration_converges_and_the_result_holds_for_the_arm_it_carrie
     once = size(arm, sizing.cycle, sizing.cases, sizing.motors, sizing.gearboxes, 1.5, max_iterations=1)
     assert once.iterations == 1 and not once.converged
     np.testing.assert_allclose(sizing.drive_mass, sum(masses), rtol=1e-15)
+
+
+def test_the_torque_speed_figure_plots_the_torques_the_selection_checked():
+    """The joints' own friction (B, T_c of the arm's drive train) is in the load τ_L once: the figure's operating
+    points are the selection's, their peak the chosen pair's peak torque (not the friction counted again)."""
+    from armlab.drives.report import torque_speed_figure
+
+    rr = get_arm("rr")
+    arm = rr.with_drives(DriveTrain(np.ones(2), np.zeros(2), np.ones(2), np.array([2.0, 1.0]), np.array([3.0, 2.0])))
+    sizing = size(arm, DutyCycle.of(arm.motion(arm, None)), (LoadCase(0.0), LoadCase(1.0)), read_motors(),
+                  read_gearboxes(), iterate=False)
+    assert sizing.feasible
+    for k, joint in enumerate(sizing.joints):
+        fig = torque_speed_figure(sizing, k)
+        points = [line for line in fig.axes[0].get_lines() if line.get_marker() == "."]
+        assert len(points) == len(sizing.cases)
+        for case, line in enumerate(points):
+            np.testing.assert_allclose(np.abs(line.get_ydata()).max(), joint.chosen.stats["peak_torque"][case],
+                                       rtol=1e-12)
 
 
 def test_no_feasible_pair_reports_the_nearest_with_the_failing_check():
