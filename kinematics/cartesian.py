@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.kinematics.ik import solve, solve_branch
 from armlab.kinematics.ik_path import PathJoints, solve_path
 from armlab.kinematics.ik_target import check_pose, rotation_log
+from armlab.kinematics.locating import homogeneous, rotation_about
 from armlab.kinematics.profiles import (
     Profile,
     cubic_profile,
@@ -34,7 +35,7 @@ from armlab.kinematics.profiles import (
     minimum_jerk_profile,
     trapezoid_profile,
 )
-from armlab.kinematics.quintic import Motion, TrajectorySegment
+from armlab.kinematics.quintic import Motion, TrajectorySegment, polynomial_matrix
 from armlab.limits import check_positive
 
 if TYPE_CHECKING:
@@ -52,13 +53,6 @@ PROFILES = ("minimum-jerk", "cubic", "trapezoid")
 DEFAULT_SAMPLES = 201
 #: Shortest line and smallest arc radius or angle taken (m, rad): shorter is a zero-length path.
 MIN_LENGTH = 1e-9
-
-
-def _rodrigues(axis: NDArray, angle: NDArray) -> NDArray[np.float64]:
-    """Rot(axis, angle) ``(m, 3, 3)`` for a unit ``axis`` (3,) and angles ``(m,)`` (Rodrigues' formula)."""
-    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    a = angle[:, None, None]
-    return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * (K @ K)
 
 
 @dataclass(frozen=True)
@@ -90,7 +84,7 @@ class ToolPath:
         if self.centre is None or self.axis is None:
             d = self.end - self.start
             return self.start + s[:, None] * d, np.broadcast_to(d, (s.size, 3)).copy(), np.zeros((s.size, 3))
-        r = np.einsum("mij,j->mi", _rodrigues(self.axis, s * self.angle), self.start - self.centre)
+        r = np.einsum("mij,j->mi", rotation_about(self.axis, s * self.angle), self.start - self.centre)
         dp = self.angle * np.cross(self.axis, r)
         ddp = self.angle**2 * np.cross(self.axis, np.cross(self.axis, r))
         return self.centre + r, dp, ddp
@@ -104,7 +98,7 @@ class ToolPath:
         if angle == 0.0:  # exact: held, R1 = R0
             R = np.broadcast_to(self.R0, (s.size, 3, 3)).copy()
         else:
-            R = _rodrigues(phi / angle, s * angle) @ self.R0
+            R = rotation_about(phi / angle, s * angle) @ self.R0
         return R, np.broadcast_to(phi, (s.size, 3)).copy(), np.zeros((s.size, 3))
 
 
@@ -149,9 +143,8 @@ def arc_path(centre: ArrayLike, axis: ArrayLike, start: ArrayLike, angle: float,
     if abs(r @ u) > 1e-9 * np.linalg.norm(r):
         raise ValueError(f"the arc's start {p0.tolist()} is not square to its axis {u.tolist()} about "
                          f"{c.tolist()} (by {r @ u:.3g} m)")
-    end = c + _rodrigues(u, np.array([angle]))[0] @ r
-    R1 = R0 if end_rotation is None else check_pose(np.block([[np.asarray(end_rotation, float), end[:, None]],
-                                                              [np.zeros((1, 3)), np.ones((1, 1))]]))[1]
+    end = c + rotation_about(u, angle) @ r
+    R1 = R0 if end_rotation is None else check_pose(homogeneous(end_rotation, end))[1]
     return ToolPath("arc", p0, end, R0, R1, c, u, float(angle))
 
 
@@ -172,25 +165,18 @@ def arc_through(a: ArrayLike, b: ArrayLike, c: ArrayLike) -> ToolPath:
     u = normal / np.sqrt(n2)
     ra, rc = pa - centre, pc - centre
     angle = float(np.arctan2(u @ np.cross(ra, rc), ra @ rc)) % (2 * np.pi)  # a → c counter-clockwise about u
-    start = pa if Ra is None else np.block([[Ra, pa[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
+    start = pa if Ra is None else homogeneous(Ra, pa)
     return arc_path(centre, u, start, angle)
 
 
 def joint_path(joints: PathJoints) -> PiecewisePolynomial:
     """The joint path q(s) ``(n, 1)``: per interval of s the quintic with the samples' q, q', q'' at both ends
     (:func:`~armlab.kinematics.profiles.hermite_coefficients`), as Drake's ``PiecewisePolynomial``."""
-    from pydrake.polynomial import Polynomial
     from pydrake.trajectories import PiecewisePolynomial
 
     s, q, dq, ddq = joints.s, joints.q, joints.dq, joints.ddq
     c = hermite_coefficients(q[:-1], dq[:-1], ddq[:-1], q[1:], dq[1:], ddq[1:], np.diff(s))  # (m − 1, n, 6)
-    low = np.ascontiguousarray(c[..., ::-1])
-    matrices = []
-    for piece in low:
-        m = np.empty((q.shape[1], 1), dtype=object)
-        m[:, 0] = [Polynomial(row) for row in piece]
-        matrices.append(m)
-    return PiecewisePolynomial(matrices, s.tolist())
+    return PiecewisePolynomial([polynomial_matrix(piece) for piece in c], s.tolist())
 
 
 def path_profile(path: ToolPath, kind: str = "minimum-jerk", duration: float | None = None,
@@ -222,8 +208,7 @@ def start_joints(arm: Arm, path: ToolPath, q0: ArrayLike | None, branch: int | N
         return arm.check_q(q0, "q0")
     if branch is not None:
         return solve_branch(arm, path.start, branch)
-    target = path.start if path.R0 is None else np.block([[path.R0, path.start[:, None]],
-                                                          [np.zeros((1, 3)), np.ones((1, 1))]])
+    target = path.start if path.R0 is None else homogeneous(path.R0, path.start)
     return solve(arm, target)[0]
 
 

@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 from armlab.kinematics.differential import jacobian, tool_motion
 from armlab.kinematics.ik import solve
 from armlab.kinematics.ik_target import pose_error, rotation_log
+from armlab.kinematics.locating import homogeneous
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -176,13 +177,13 @@ def solve_path(arm: Arm, what: str, s: NDArray, p: NDArray, dp: NDArray, ddp: ND
             q[js] = _unwrapped(arm, q[i], solved)
         i = int(js[-1])
     xd = (dp if w is None else np.concatenate([dp, w], axis=-1))[:, rows]
-    _check(arm, what, s, p, R, q, rows, rank, xd)
     J = _task_jacobian(arm, q, rows)
+    sigma = np.linalg.svd(J, compute_uv=False)
+    _check(arm, what, s, p, R, q, rows, rank, xd, J, sigma)
     xdd = (ddp if dw is None else np.concatenate([ddp, dw], axis=-1))[:, rows]
     dq = _pinv_solve(J, xd)
     _, bias = tool_motion(arm, q, dq, np.zeros_like(dq))
     ddq = _pinv_solve(J, xdd - bias[:, rows])
-    sigma = np.linalg.svd(J, compute_uv=False)
     near = sigma[:, rank - 1] < NEAR_SINGULAR * sigma[:, 0]  # J⁺ loses its digits there: the samples' own slopes
     if near.any():
         dq[near], ddq[near] = _local_slopes(s, q, np.flatnonzero(near))
@@ -206,7 +207,7 @@ def _fail(arm: Arm, what: str, s: float, p: NDArray, R: NDArray | None) -> None:
     """``ValueError`` for a sample the IK could not follow the branch to: where the point (and rotation) is
     reachable at all (:func:`armlab.kinematics.ik.solve`'s multi-start search or closed form), the branch ends
     at a singularity there; else the path leaves the reach."""
-    target = p if R is None else np.block([[R, p[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
+    target = p if R is None else homogeneous(R, p)
     try:
         solve(arm, target)
     except ValueError:
@@ -216,8 +217,10 @@ def _fail(arm: Arm, what: str, s: float, p: NDArray, R: NDArray | None) -> None:
 
 
 def _check(arm: Arm, what: str, s: NDArray, p: NDArray, R: NDArray | None, q: NDArray, rows: NDArray,
-           rank: int, xd: NDArray) -> None:
-    """Joint limits, singularities and branch jumps over the solved samples; ``ValueError`` at the first."""
+           rank: int, xd: NDArray, J: NDArray, sigma: NDArray) -> None:
+    """Joint limits, singularities and branch jumps over the solved samples ``q`` ``(m, n)``; ``ValueError`` at the
+    first. ``J`` ``(m, len(rows), n)``: the task Jacobian at each sample, ``sigma`` its singular values
+    ``(m, min(len(rows), n))``, largest first."""
     lower, upper = arm.limit_arrays()
     outside = np.argwhere((q < lower) | (q > upper))
     if outside.size:
@@ -225,8 +228,6 @@ def _check(arm: Arm, what: str, s: NDArray, p: NDArray, R: NDArray | None, q: ND
         raise ValueError(f"{what} takes joint {arm.joint_names[k]} of {arm.name} out of its limits "
                          f"[{lower[k]:.4g}, {upper[k]:.4g}] at s = {s[j]:.4g}, {_point(p[j])} "
                          f"({arm.joint_names[k]} = {q[j, k]:.6g})")
-    J = _task_jacobian(arm, q, rows)
-    sigma = np.linalg.svd(J, compute_uv=False)
     for j in np.flatnonzero(sigma[1:-1, rank - 1] < SINGULAR_TOL) + 1:  # a path may start or end at one
         u = np.linalg.svd(J[j])[0][:, rank - 1]  # the direction the tool cannot move in there
         if abs(u @ xd[j]) > 1e-3 * np.linalg.norm(xd[j]):  # the path goes that way: unbounded joint rates

@@ -36,8 +36,7 @@ def _row(table: DHTable, i: int, theta: float) -> NDArray[np.float64]:
     """T_{i,i+1} of standard DH row ``i`` (0-based) at the DH angle ``theta`` (rad), 000 eq. (9): R_z(θ − offset)
     times the row at q = 0 (:attr:`DHTable.steps`; the joint's turn comes first in a standard row)."""
     post = table.steps[i].post
-    c, s = np.cos(theta - table.rows[i].theta), np.sin(theta - table.rows[i].theta)
-    turn = np.array([[c, -s, 0.0, 0.0], [s, c, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+    turn = T_Z6(theta - table.rows[i].theta)
     return turn if post is None else turn @ post
 
 

@@ -34,6 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
 from armlab.limits import check_positive, check_range, real_number
+from armlab.models.arm import LIMIT_SLACK
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial, Trajectory
@@ -50,6 +51,7 @@ __all__ = [
     "TrajectorySegment",
     "check_duration",
     "evaluate_coefficients",
+    "polynomial_matrix",
     "quintic_coefficients",
     "to_piecewise_polynomial",
     "to_trajectory",
@@ -538,7 +540,8 @@ class Motion:
         for k, (label, start) in enumerate(zip(self.labels, self.breaks, strict=False)):
             tau = self.check_times(k)
             q = self.evaluate(start + np.clip(tau, 0.0, self.segments[k].duration), 1)[0]
-            outside = np.flatnonzero(np.any((q < lower) | (q > upper), axis=1) | ~np.all(np.isfinite(q), axis=1))
+            outside = np.flatnonzero(np.any((q < lower - LIMIT_SLACK) | (q > upper + LIMIT_SLACK), axis=1)
+                                     | ~np.all(np.isfinite(q), axis=1))  # the slack arm.check_q allows
             if outside.size == 0:
                 continue
             i = outside[0]
@@ -550,7 +553,7 @@ class Motion:
                 raise ValueError(f"segment {label} {where}: {error}") from None
 
 
-def _polynomial_matrix(c: NDArray[np.float64]) -> NDArray[np.object_]:
+def polynomial_matrix(c: NDArray[np.float64]) -> NDArray[np.object_]:
     """Drake ``Polynomial`` s of coefficients [a1 … a6] per joint ``(n, 6)``, an ``(n, 1)`` matrix (lowest power
     first, as Drake wants)."""
     from pydrake.polynomial import Polynomial
@@ -569,7 +572,7 @@ def to_piecewise_polynomial(motion: Motion) -> PiecewisePolynomial:
     """
     from pydrake.trajectories import PiecewisePolynomial
 
-    return PiecewisePolynomial([_polynomial_matrix(c) for c in motion.coefficients()], motion.breaks.tolist())
+    return PiecewisePolynomial([polynomial_matrix(c) for c in motion.coefficients()], motion.breaks.tolist())
 
 
 def to_trajectory(motion: Motion) -> Trajectory:
@@ -585,5 +588,5 @@ def to_trajectory(motion: Motion) -> Trajectory:
         if isinstance(segment, TrajectorySegment):
             pieces.append(_shifted(segment.trajectory, float(start)))
         else:
-            pieces.append(PiecewisePolynomial([_polynomial_matrix(segment.coefficients())], [start, end]))
+            pieces.append(PiecewisePolynomial([polynomial_matrix(segment.coefficients())], [start, end]))
     return CompositeTrajectory(pieces)

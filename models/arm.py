@@ -32,10 +32,13 @@ if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
     from armlab.models.extras import ClosedForm, MotionFn, PaperScheme
 
-__all__ = ["MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
+__all__ = ["LIMIT_SLACK", "MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
 
 MODELS_DIR = Path(__file__).resolve().parent
 
+#: Round-off allowed past a joint limit (rad or m): a value this close outside it counts as on it
+#: (:meth:`Arm.check_q`, :meth:`armlab.kinematics.quintic.Motion.check_limits`).
+LIMIT_SLACK = 1e-12
 
 
 @dataclass(frozen=True)
@@ -212,7 +215,7 @@ class Arm:
             if lim.lower is None or lim.upper is None:  # an unlimited revolute joint has neither
                 continue
             values = q[..., i]
-            bad = (values < lim.lower - 1e-12) | (values > lim.upper + 1e-12)
+            bad = (values < lim.lower - LIMIT_SLACK) | (values > lim.upper + LIMIT_SLACK)
             if np.any(bad):
                 shown = np.array([values[bad].flat[0], lim.lower, lim.upper])
                 unit = "m" if row.kind == "T" else ("deg" if deg else "rad")

@@ -12,6 +12,7 @@ from armlab.diagrams.motions import paper_motion, point_to_joints, read_segments
 from armlab.kinematics.quintic import (
     ConstantRate,
     Motion,
+    PolynomialSegment,
     QuinticSegment,
     evaluate_coefficients,
     quintic_coefficients,
@@ -171,6 +172,18 @@ def test_bad_input_is_a_clear_error():
         paper_motion(get_arm("arm4r"), "abcd")
     with pytest.raises(ValueError, match="branch"):
         point_to_joints(get_arm("arm4r"), (1.0, 1.0, 1.4), branch=0)
+
+
+def test_a_segment_starting_on_a_limit_within_round_off_is_still_checked_after():
+    """A sample within round-off outside a limit (a segment end) passes; a later dip far outside does not."""
+    arm = get_arm("rr")
+    lower = arm.limit_arrays()[0][0]
+    # joint 1: θ = 2τ² − 2τ + lower − 1e-13, its minimum lower − 0.5 − 1e-13 at τ = 0.5; joint 2 at 0
+    dip = PolynomialSegment(np.array([[0, 0, 0, 2.0, -2.0, lower - 1e-13], [0, 0, 0, 0, 0, 0.0]]), 1.0, "D")
+    with pytest.raises(ValueError, match=r"segment D at t = 0.5 s: .*joint1 = .* rad is outside its limits"):
+        Motion((dip,)).check_limits(arm)
+    edge = PolynomialSegment(np.array([[0, 0, 0, 0, 0, lower - 1e-13], [0, 0, 0, 0, 0, 0.0]]), 1.0, "E")
+    Motion((edge,)).check_limits(arm)  # within round-off of the limit throughout: on it
 
 
 def test_segments_file(tmp_path, rng):
