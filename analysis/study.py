@@ -8,7 +8,8 @@ A study is a JSON object::
      "evaluate": ["workspace_volume", "reach", "min_manipulability"],
      "samples": 200000}
 
-``arm``: a paper arm (``armlab list``) or a ``.urdf``/DH ``.csv`` file (relative to the study file).
+``arm``: any arm :func:`~armlab.models.get_arm` takes (``armlab list``: a paper arm, a library arm, an example), or
+a ``.urdf``, ``.sdf``, MJCF ``.xml`` or DH ``.csv`` file (relative to the study file).
 ``vary``: parameters of the arm's ``Parameters`` (``armlab show ARM``), ``payload`` (kg, a point mass
 at the tool) and ``tf`` (the motion's duration, s), each ``{"from", "to", "steps"}`` (evenly spaced,
 both ends included) or ``{"values": [...]}``, with an optional ``unit`` (:data:`UNITS`; default SI).
@@ -117,7 +118,7 @@ class Variable:
 
 @dataclass(frozen=True)
 class Study:
-    """A checked study (see the module docstring). ``arm`` is a paper arm's name or a file's absolute path."""
+    """A checked study (see the module docstring). ``arm`` is an arm's name or a file's absolute path."""
 
     arm: str
     vary: tuple[Variable, ...]
@@ -271,9 +272,7 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     name = data["arm"]
     if not isinstance(name, str):
         raise ValueError(f"arm = {json.dumps(name)} must be a name or a file")
-    if name not in ARMS:
-        if Path(name).suffix.lower() not in (".urdf", ".csv"):
-            raise ValueError(f"unknown arm {name!r}; allowed: {', '.join(ARMS)}, or a .urdf or DH .csv file")
+    if name not in ARMS and Path(name).suffix:  # a file: relative to the study's folder (get_arm says what it is)
         name = str((base / name).resolve())
     nominal = get_arm(name)
     known = [f.name for f in fields(ARMS[name].Parameters)] if name in ARMS else []

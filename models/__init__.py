@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import importlib
 import math
-import numbers
 import pkgutil
 from collections.abc import Sequence
 from dataclasses import fields
@@ -26,8 +25,7 @@ from importlib.resources import files
 from pathlib import Path
 from types import ModuleType
 
-import numpy as np
-
+from armlab.limits import real_number
 from armlab.models.arm import MODELS_DIR, Arm
 from armlab.models.arm_file import MAX_FILE_NUMBER
 from armlab.values import shown
@@ -93,19 +91,21 @@ def get_arm(name: str, tool: str | None = None, package_paths: Sequence[str | Pa
     (:func:`armlab.models.read_urdf.from_urdf`, :func:`armlab.models.read_sdf.from_model_file`); ``ValueError``
     if given for another arm.
     """
+    known = [f.name for f in fields(ARMS[name].Parameters)] if name in ARMS else []
+    if overrides and not known:
+        takes = ", ".join(arm for arm, module in ARMS.items() if fields(module.Parameters))
+        raise ValueError(f"{name}: takes no parameters (got {', '.join(overrides)}): only a paper arm's can be "
+                         f"overridden ({takes}); write a DH table to change its numbers")
     path = Path(name)
     if path.suffix.lower() not in (".urdf", ".sdf", ".xml") or name in ARMS:
         given = [option for option, value in (("tool", tool), ("package_paths", package_paths)) if value]
         if given:
             raise ValueError(f"{' and '.join(given)} apply to a URDF, SDFormat or MJCF file's arm, not to {name!r}")
     if name in ARMS:
-        known = [f.name for f in fields(ARMS[name].Parameters)]
         for key, value in overrides.items():
             if key not in known:
                 raise ValueError(f"{name}: unknown parameter {key!r}; allowed: {', '.join(known)}")
-            if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
-                raise TypeError(f"{name}: parameter {key} = {shown(value)} is a {type(value).__name__}, not a real "
-                                "number")
+            real_number(value, f"{name}: parameter {key} = {shown(value)}")
             if not (math.isfinite(value) and abs(value) <= MAX_FILE_NUMBER):
                 raise ValueError(f"{name}: parameter {key} = {value:g} is out of range: allowed |{key}| ≤ "
                                  f"{MAX_FILE_NUMBER:g} (m, rad or kg, like the numbers of an arm file)")
@@ -134,9 +134,6 @@ def get_arm(name: str, tool: str | None = None, package_paths: Sequence[str | Pa
     from armlab.models.library import LIBRARY, library_arm
 
     if name in LIBRARY:
-        if overrides:
-            raise ValueError(f"{name}: a library arm takes no parameters (its numbers are its sources'; "
-                             f"got {', '.join(overrides)}); write a DH table to change them")
         return library_arm(name)
     raise ValueError(f"unknown arm {name!r}; allowed: a paper arm ({', '.join(ARMS)}), a library arm "
                      f"({', '.join(LIBRARY)}), an example ({_names(examples())}), or a .urdf, .sdf, MJCF .xml or "

@@ -8,9 +8,10 @@ so Pinocchio's, needs both; armlab reads 0 as unknown and gives Drake none). A U
 link names (``link1`` … ``linkN``) and drawn visuals, not its meshes. ``export(arm, dh=FILE)`` writes the DH
 table of an arm made from one, in the format :mod:`armlab.models.read_dh` reads (radians, the link mass data
 back in the DH frames (:func:`~armlab.models.read_dh.dh_inertials`), its base and tool poses as header
-lines), every number as the shortest decimal that reads back to the same float. Both files read back to the
-same arm (tests/test_export.py: forward kinematics, Jacobian and inverse dynamics equal to 1e-9, through
-Drake and through Pinocchio).
+lines, its drive train as the joint-side drive columns (:data:`armlab.drives.train.DRIVE_FIELDS`) and its
+collision capsules as the ``radius`` column), every number as the shortest decimal that reads back to the same
+float. Both files read back to the same arm (tests/test_export.py: forward kinematics, Jacobian and inverse
+dynamics equal to 1e-9, through Drake and through Pinocchio; the DH table's drive train and radii too).
 
 Every path is checked before anything is written (:func:`check_output`), and each file is written completely
 or not at all (:func:`armlab.files.write_file`).
@@ -24,6 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armlab.drives.train import COULOMB_SPEED, DRIVE_FIELDS
 from armlab.files import write_file
 from armlab.kinematics.locating import orientation_angles
 from armlab.models.read_dh import dh_base_tool, dh_inertials
@@ -60,11 +62,23 @@ def _number(value: float) -> str:
 def dh_text(arm: Arm) -> str:
     """The DH table file of ``arm`` (made from a DH table: ``arm.dh``), in :mod:`armlab.models.read_dh`'s format.
 
-    ``ValueError`` for an arm without a DH description (its geometry is a URDF's or a paper's matrix).
+    The drive train (``arm.drives``, if any) leaves as the columns :data:`~armlab.drives.train.DRIVE_FIELDS`
+    (joint side, as :func:`armlab.drives.read.drive_train` reads them), the collision capsules (if any link
+    collides) as ``radius`` (m). ``ValueError`` for an arm without a DH description (its geometry is a URDF's or
+    a paper's matrix), and for what a DH table cannot hold: collision geometry on some links only, a drive
+    train's Coulomb speed other than :data:`~armlab.drives.train.COULOMB_SPEED`.
     """
     table = arm.dh
     if table is None:
         raise ValueError(f"{arm.name} has no DH description (its geometry is not a DH table): export it with --urdf")
+    drives = arm.drives
+    if drives is not None and drives.coulomb_speed != COULOMB_SPEED:  # exact: the default is the one a table reads
+        raise ValueError(f"{arm.name}: its drive train's coulomb_speed = {drives.coulomb_speed:g} rad/s cannot be "
+                         f"written in a DH table (it reads {COULOMB_SPEED:g} rad/s): export it with --urdf")
+    colliding = [body.collides for body in arm.bodies]
+    if any(colliding) and not all(colliding):
+        raise ValueError(f"{arm.name}: only some links have collision geometry; a DH table's radius column gives "
+                         "every link its capsule: export it with --urdf")
     base, tool = dh_base_tool(arm)
     lines = [f"# {arm.name}: exported by armlab from {arm.paper}", f"# convention: {table.convention}",
              "# units: rad"]
@@ -76,7 +90,12 @@ def dh_text(arm: Arm) -> str:
     header = ["type", "a", "alpha", "d", "theta", "lower", "upper"]
     if inertials is not None:
         header += ["mass", "cx", "cy", "cz", "Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz"]
-    lines.append(",".join([*header, "effort", "velocity"]))
+    header += ["effort", "velocity"]
+    if drives is not None:
+        header += DRIVE_FIELDS
+    if all(colliding):
+        header.append("radius")
+    lines.append(",".join(header))
     for i, (row, lim) in enumerate(zip(table.rows, arm.limits, strict=True)):
         cells = [row.kind, *map(_number, (row.a, row.alpha, row.d, row.theta))]
         cells += ["" if value is None else _number(value) for value in (lim.lower, lim.upper)]
@@ -86,6 +105,10 @@ def dh_text(arm: Arm) -> str:
             cells += [_number(body.mass), *map(_number, body.com),
                       *(_number(inertia[j, k]) for j, k in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)))]
         cells += ["" if value is None else _number(value) for value in (lim.effort, lim.velocity)]
+        if drives is not None:
+            cells += [_number(getattr(drives, name)[i]) for name in DRIVE_FIELDS]
+        if all(colliding):
+            cells.append(_number(arm.bodies[i].radius))
         lines.append(",".join(cells))
     return "\n".join(lines) + "\n"
 
@@ -94,8 +117,9 @@ def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = Non
            drives: DriveTrain | None = None) -> list[Path]:
     """Write ``arm``'s URDF to ``urdf`` and/or its DH table to ``dh`` (module docstring); the files written.
 
-    ``drives``: the drive train written into the URDF as Drake's tags; ``None``: the arm's own, if it carries
-    one. Both paths are checked (and the DH description's existence) before anything is written.
+    ``drives``: the drive train written into both files (the URDF's Drake tags, the DH table's drive columns);
+    ``None``: the arm's own, if it carries one. Both paths are checked (and the DH description's existence)
+    before anything is written.
     """
     if urdf is None and dh is None:
         raise ValueError("nothing to export: give a URDF file (urdf=, --urdf) or a DH table file (dh=, --dh)")
@@ -104,8 +128,9 @@ def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = Non
         check_output(urdf, ".urdf", "URDF file")
     if dh is not None:
         check_output(dh, ".csv", "DH table file")
-        texts.append((dh, dh_text(arm)))
+    train = drives if drives is not None else arm.drives
+    if dh is not None:
+        texts.append((dh, dh_text(arm.with_drives(train))))
     if urdf is not None:
-        train = drives if drives is not None else getattr(arm, "drives", None)  # Arm.drives (issue 19), if any
         texts.insert(0, (urdf, arm.urdf(train, ros_limits=True)))
     return [write_file(path, text) for path, text in texts]

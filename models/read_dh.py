@@ -46,7 +46,7 @@ from armlab.models.arm import Arm, Forward
 from armlab.models.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
-__all__ = ["DHInertial", "dh_base_tool", "dh_inertials", "from_dh", "from_dh_csv", "read_dh_csv", "read_dh_poses"]
+__all__ = ["DHInertial", "dh_base_tool", "dh_inertials", "from_dh", "from_dh_csv", "read_dh_csv"]
 
 _DH_COLUMNS = ("type", "a", "alpha", "d", "theta", "lower", "upper")
 _COM_COLUMNS = ("cx", "cy", "cz")
@@ -155,11 +155,13 @@ def read_dh_csv(path: str | Path) -> tuple[DHTable, list[JointLimits], list[DHIn
 
 
 def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | None, dict[str, list[str]],
-                              list[float] | None]:
-    """:func:`read_dh_csv`'s three, the text cells of the drive columns given (column → one cell per row) and the
-    links' collision radii (m; ``None`` without the ``radius`` column)."""
+                              list[float] | None, NDArray | None, NDArray | None]:
+    """:func:`read_dh_csv`'s three, the text cells of the drive columns given (column → one cell per row), the
+    links' collision radii (m; ``None`` without the ``radius`` column) and the ``# base:`` and ``# tool:`` header
+    lines as 4×4 poses (``None`` where absent)."""
     settings, lines = _header_comments(path, read_text(path, "DH table").splitlines())
     deg = settings.get("units") == "deg"
+    base, tool = (_pose(path, key, settings[key], deg) if key in settings else None for key in _POSES)
     header, records = csv_table(lines, f"{path}: the DH table")  # trailing commas dropped
     columns = _columns(path, header)
     rows: list[DHRow] = []
@@ -205,7 +207,7 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
     # _header_comments let only "standard" or "modified" through; absent is standard
     table = DHTable(tuple(rows), "modified" if settings.get("convention") == "modified" else "standard")
     return (table, limits, inertials if "mass" in columns else None, drive_cells,
-            radii if "radius" in columns else None)
+            radii if "radius" in columns else None, base, tool)
 
 
 def _radius(text: str, what: str) -> float:
@@ -238,15 +240,6 @@ def _pose(path: Path, key: str, text: str, deg: bool) -> NDArray:
     x, y, z, *angles = (file_number(part, f"{path}: {key}") for part in parts)
     roll, pitch, yaw = np.radians(angles) if deg else angles
     return homogeneous((T_Z6(yaw) @ T_Z5(pitch) @ T_Z4(roll))[:3, :3], np.array([x, y, z]))
-
-
-def read_dh_poses(path: str | Path) -> tuple[NDArray | None, NDArray | None]:
-    """A DH table file's ``# base:`` and ``# tool:`` header lines as 4×4 poses (``None`` where absent)."""
-    path = Path(path)
-    settings, _ = _header_comments(path, read_text(path, "DH table").splitlines())
-    deg = settings.get("units") == "deg"
-    base, tool = (_pose(path, key, settings[key], deg) if key in settings else None for key in _POSES)
-    return base, tool
 
 
 def _dh_in_links(table: DHTable, locating: LocatingTable, base: NDArray) -> list[NDArray]:
@@ -336,11 +329,10 @@ def _moved(body: DHInertial, X: NDArray) -> Body:
 
 
 def from_dh_csv(path: str | Path) -> Arm:
-    """An arm from a DH table file (:func:`read_dh_csv`, :func:`read_dh_poses`), named after the file, with the drive
-    train of its drive columns (:func:`armlab.drives.read.drive_train`; none: ideal drives) and the collision
-    capsules of its ``radius`` column."""
-    table, limits, inertials, drive_cells, radii = _read(Path(path))
-    base, tool = read_dh_poses(path)
+    """An arm from a DH table file (:func:`read_dh_csv`), named after the file, placed by its ``# base:`` and
+    ``# tool:`` lines, with the drive train of its drive columns (:func:`armlab.drives.read.drive_train`; none:
+    ideal drives) and the collision capsules of its ``radius`` column."""
+    table, limits, inertials, drive_cells, radii, base, tool = _read(Path(path))
     arm = from_dh(table, limits, inertials, radii, name=Path(path).stem, base=base, tool=tool)
     return arm.with_drives(drive_train(drive_cells, arm.n, str(path)) if drive_cells else None)
 

@@ -40,24 +40,19 @@ from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm
 from armlab.models.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
 from armlab.models.meshes import Meshes, check_meshes, without_doctype
-from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
+from armlab.models.write_urdf import DRAKE_NAMESPACE, Body, JointLimits, Point, check_inertia
 
 __all__ = ["check_com_distances", "check_numbers", "from_urdf", "package_roots", "read_xml"]
 
 #: The namespaces of xacro, the macro language ROS URDFs are often written in (expanded by ``xacro``).
 _XACRO = ("{http://www.ros.org/wiki/xacro}", "{http://ros.org/wiki/xacro}", "{http://wiki.ros.org/xacro}")
-#: Drake's URDF extensions (``<drake:gear_ratio>`` …) keep their prefix when armlab writes a URDF back out
-#: (:func:`_drake_text`): Drake's parser reads the prefixed names, not namespaces.
-ET.register_namespace("drake", "http://drake.mit.edu")
 #: How deep below a ``--package-path`` / ``ROS_PACKAGE_PATH`` folder packages are looked for (as ``rospack``).
 _PACKAGE_DEPTH = 4
 
 _TEXT_ATTRIBUTES = {"name", "filename", "link", "joint", "type", "version", "reference", "xmlns"}
 _JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed")
-#: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …); a URDF may use them undeclared.
-DRAKE_NAMESPACE = "http://drake.mit.edu"
-# the URDF handed to Drake (Arm.model_text) is written back by ElementTree: its Drake tags keep the prefix Drake's
-# parser looks for (``drake:gear_ratio``, not ``ns0:gear_ratio``)
+# the URDF handed to Drake (Arm.model_text, :func:`_drake_text`) is written back by ElementTree: its Drake tags (a
+# URDF may use them undeclared) keep the prefix Drake's parser looks for (``drake:gear_ratio``, not ``ns0:gear_ratio``)
 ET.register_namespace("drake", DRAKE_NAMESPACE)
 
 

@@ -31,8 +31,11 @@ from numpy.typing import NDArray
 from armlab.drives.train import DriveTrain
 from armlab.kinematics.locating import LocatingTable, orientation_angles
 
-__all__ = ["Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_inertials", "merge_inertials",
-           "urdf_text"]
+__all__ = ["DRAKE_NAMESPACE", "Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_inertials",
+           "merge_inertials", "urdf_text"]
+
+#: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …), declared as ``xmlns:drake``.
+DRAKE_NAMESPACE = "http://drake.mit.edu"
 
 
 @dataclass(frozen=True)
@@ -237,7 +240,7 @@ def urdf_text(
     out = ['<?xml version="1.0"?>']
     if comment:
         out.append(f"<!-- {comment} -->")
-    drake = ' xmlns:drake="http://drake.mit.edu"' if drives is not None or collision_filters else ""
+    drake = f' xmlns:drake="{DRAKE_NAMESPACE}"' if drives is not None or collision_filters else ""
     out.append(f'<robot name="{escape(name, quote=True)}"{drake}>')  # html, not xml.sax.saxutils: that imports urllib
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
     out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')

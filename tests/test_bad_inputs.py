@@ -182,8 +182,9 @@ API_TYPES = [
     (lambda armlab, arm: armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.2), payload=True),
      "payload: expected a real number, got bool"),
     (lambda armlab, arm: arm.ik([0.5, 0.2], all="yes"), "all: expected True or False, got str"),
-    (lambda armlab, arm: armlab.load("urm6", r1=True), "parameter r1 = True is a bool, not a real number"),
-    (lambda armlab, arm: armlab.load("urm6", theta3="x"), "parameter theta3 = 'x' is a str, not a real number"),
+    (lambda armlab, arm: armlab.load("urm6", r1=True), "urm6: parameter r1 = True: expected a real number, got bool"),
+    (lambda armlab, arm: armlab.load("urm6", theta3="x"),
+     "urm6: parameter theta3 = 'x': expected a real number, got str"),
 ]
 
 
@@ -200,6 +201,9 @@ def test_api_refuses_values_of_the_wrong_type(call, fragment):
     ("rr", {"L1": 1e300}, "rr: parameter L1 = 1e+300 is out of range: allowed |L1| ≤ 1e+12"),
     ("urm6", {"theta3": 1e300}, "parameter theta3 = 1e+300 is out of range"),
     ("urm6", {"theta3": float("nan")}, "parameter theta3 = nan is out of range"),
+    ("ur5", {"d1": 0.1}, "ur5: takes no parameters (got d1)"),  # a library arm
+    ("example:arm3r", {"L1": 5.0}, "example:arm3r: takes no parameters (got L1)"),  # a DH table file's arm
+    ("tests/data/two_link.urdf", {"L1": 5.0}, "tests/data/two_link.urdf: takes no parameters (got L1)"),
 ])
 def test_load_checks_its_overrides(name, override, fragment):
     import armlab

@@ -191,6 +191,19 @@ def test_cli_check_and_strict_exit(tmp_path, capsys):
     assert not data["in_contact"] and data["clearances"][0]["pair"] == "link4–link2"
 
 
+def test_cli_check_reads_a_urdf_with_its_tool_option(tmp_path, capsys):
+    """``armlab check`` takes the URDF options of every arm command (--tool, --package-path)."""
+    urdf = tmp_path / "rrrr.urdf"
+    urdf.write_text(get_arm("rrrr").urdf())
+    assert main(["check", str(urdf), "--tool", "link4", "--package-path", str(tmp_path), "--q", "0,80,160,60",
+                 "--deg", "--top", "1"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "rrrr: 3 pair(s) checked; 2 in contact; the 1 smallest clearances:"
+    assert out[1].split()[:2] == ["link4–link1", "-60.0000"]
+    assert main(["check", "rrrr", "--tool", "link4", "--q", "0,0,0,0"]) == 2
+    assert "tool apply to a URDF, SDFormat or MJCF file's arm, not to 'rrrr'" in capsys.readouterr().err
+
+
 def _scene_file(tmp_path, text: str):
     path = tmp_path / "scene.json"
     path.write_text(text)

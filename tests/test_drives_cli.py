@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import armlab_main
+from helpers import DATA, armlab_main
 
 import armlab
 from armlab.drives.duty import read_duty_cycle, read_load_cases
@@ -67,6 +68,18 @@ def test_no_feasible_drive_exits_3_with_the_nearest_candidates(tmp_path):
     assert "joint1: no feasible motor and gearbox among" in done.stdout
     assert "> gearbox rated" in done.stdout or "> rated" in done.stdout
     assert sorted(p.name for p in (tmp_path / "s").iterdir()) == ["sizing.csv", "sizing.md"]
+
+
+def test_size_reads_a_urdf_with_its_tool_option(tmp_path):
+    """``armlab size`` takes the URDF options of every arm command: --tool moves the payload to the elbow."""
+    peaks = []
+    for tool in ([], ["--tool", "fore"]):
+        done = armlab_main("size", str(DATA / "two_link.urdf"), *tool, "--package-path", str(tmp_path), "--payload",
+                           "5", "--from", "0,0", "--to", "0.5,0.5", "--out", str(tmp_path / f"s{len(tool)}"))
+        assert done.returncode == 0, done.stderr
+        elbow = next(line for line in done.stdout.splitlines() if line.startswith("elbow:"))
+        peaks.append(float(re.search(r"peak ([0-9.e+-]+) N·m", elbow)[1]))
+    assert peaks[1] < 0.5 * peaks[0]  # 5 kg at the elbow axis, not 0.4 m beyond it
 
 
 def test_load_cases_from_a_file(tmp_path):

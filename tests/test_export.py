@@ -9,12 +9,14 @@ are refused before any work, and nothing is written unless everything can be.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from helpers import DATA, armlab_main, random_q
 
 import armlab
-from armlab.drives.train import DriveTrain
+from armlab.drives.train import DRIVE_FIELDS, DriveTrain
 from armlab.models.meshes import MeshWarning
 from armlab.models.read_dh import dh_inertials, read_dh_csv
 from armlab.scripts.bench_kinematics import Drake, Pinocchio
@@ -98,6 +100,33 @@ def test_dh_round_trip(key, tmp_path):
     for body, typed in zip(inertials, typed_inertials, strict=True):  # back in the DH frames the user typed
         np.testing.assert_allclose(body.com, typed.com, atol=1e-12, rtol=0)
         np.testing.assert_allclose(body.inertia, typed.inertia, atol=1e-12, rtol=0)
+
+
+def test_dh_round_trip_carries_drives_and_radii(tmp_path):
+    puma = armlab.load("puma560")  # a library arm with its drive train
+    assert puma.drives is not None
+    radii = np.linspace(0.03, 0.08, puma.n)
+    original = replace(puma, bodies=tuple(replace(body, radius=float(r), collides=True)
+                                          for body, r in zip(puma.bodies, radii, strict=True)))
+    (path,) = armlab.export(original, dh=tmp_path / "puma560.csv")
+    copy = armlab.load(path)
+    _assert_same_arm(original, copy)  # inverse dynamics through each arm's own drive train
+    assert copy.drives is not None
+    for name in DRIVE_FIELDS:
+        np.testing.assert_allclose(getattr(copy.drives, name), getattr(original.drives, name), atol=TOL, rtol=TOL)
+    assert [body.collides for body in copy.bodies] == [True] * puma.n
+    assert [body.radius for body in copy.bodies] == list(radii)  # exact: the shortest decimal reads back
+
+
+def test_dh_export_refuses_what_a_table_cannot_hold(tmp_path):
+    puma = armlab.load("puma560")
+    some = replace(puma, bodies=(replace(puma.bodies[0], collides=True), *puma.bodies[1:]))
+    with pytest.raises(ValueError, match="only some links have collision geometry"):
+        armlab.export(some, dh=tmp_path / "some.csv")
+    slow = puma.with_drives(replace(puma.drives, coulomb_speed=0.1))
+    with pytest.raises(ValueError, match=r"coulomb_speed = 0\.1 rad/s cannot be written in a DH table"):
+        armlab.export(slow, dh=tmp_path / "slow.csv")
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_dh_inertials_are_the_typed_ones():

@@ -197,6 +197,18 @@ def test_a_given_motion_instead_of_the_paper_motion(tmp_path: Path) -> None:
         load_study(write_study(tmp_path, base | {"tf": 2.0}, "bad.json"))
 
 
+def test_a_study_takes_any_arm_get_arm_takes(tmp_path: Path) -> None:
+    """A library arm by name (get_arm decides, not the study): its torques along a given motion."""
+    (tmp_path / "move.json").write_text(json.dumps({"segments": [
+        {"tf": 1.0, "from": [0, -1, 1, 0, 0, 0], "to": [0.5, -0.5, 0.5, 0, 0, 0]}]}))
+    study = load_study(write_study(tmp_path, {"arm": "ur5", "vary": {"payload": {"values": [0, 2]}},
+                                              "evaluate": ["peak_torque"], "segments": "move.json"}))
+    assert study.arm == "ur5"
+    light, heavy = (evaluate(study, values) for values in study.candidates)
+    assert sorted(light) == [f"peak_torque_{i}" for i in range(1, 7)]
+    assert heavy["peak_torque_2"] > light["peak_torque_2"]  # the payload weighs on the shoulder
+
+
 def test_a_sweep_refuses_a_folder_another_sweep_is_writing(tmp_path: Path) -> None:
     """Two sweeps into one folder: the second is refused while the first runs (SIGINT ends it: the lock goes with
     it), and a third resumes; every candidate is in results.csv once."""

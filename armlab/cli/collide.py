@@ -6,8 +6,7 @@ import argparse
 import json
 from typing import Any
 
-from armlab.cli.args import ARM_HELP, positive_int
-from armlab.models import get_arm
+from armlab.cli.args import add_arm, arm_of, positive_int
 from armlab.values import joint_values
 
 __all__ = ["SCENE_HELP", "register"]
@@ -21,7 +20,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     # lazy: armlab --help loads armlab.cli.collide but not this (Drake; start-up time)
     from armlab.collision.clearance import as_scene
 
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     q = joint_values(arm, args.q, args.deg)
     rows = arm.clearance(q, as_scene(args.scene))
     touching = [row for row in rows if row["distance"] < 0]
@@ -45,7 +44,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``check`` subcommand to the CLI's subparsers."""
     p = subparsers.add_parser("check", help="collision check: the clearance of every pair of links (and obstacles)")
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--q", required=True, help="joint values v1,v2,… (rad and m; see --deg)")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees")
     p.add_argument("--scene", help=SCENE_HELP)

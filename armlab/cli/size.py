@@ -13,13 +13,12 @@ import argparse
 import textwrap
 from typing import Any
 
-from armlab.cli.args import ARM_HELP
+from armlab.cli.args import add_arm, arm_of
 from armlab.cli.simulate import motion_from_args
 from armlab.diagrams.motions import SEGMENTS_FILE_HELP
 from armlab.drives.catalogue import GEARBOX_COLUMNS, MOTOR_COLUMNS
 from armlab.drives.duty import DEFAULT_RATE, DUTY_FILE_HELP, LOAD_CASES_HELP
 from armlab.drives.select import RANKS
-from armlab.models import get_arm
 from armlab.values import parse_floats
 
 __all__ = ["EXIT_INFEASIBLE", "cmd_size", "register"]
@@ -35,7 +34,7 @@ def cmd_size(args: argparse.Namespace) -> int:
     from armlab.drives.duty import DutyCycle, load_cases_of, read_load_cases
     from armlab.drives.report import sizing_folder, summary_lines, write_sizing
 
-    arm = get_arm(args.arm)
+    arm = arm_of(args)
     arm.require_dynamics("armlab size")
     if args.duty_cycle is not None:
         if args.q_from or args.q_to or args.path or args.tf is not None or args.segments is not None:
@@ -81,7 +80,7 @@ def register(subparsers: Any) -> None:
             exit status: 0 a drive for every joint; 2 bad input; {EXIT_INFEASIBLE} a joint without a feasible motor and
             gearbox (its nearest candidates and the check each fails are printed)."""),
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("arm", help=ARM_HELP)
+    add_arm(p)
     p.add_argument("--from", dest="q_from", metavar="Q", help="start joints q1,q2,… (rad and m; see --deg)")
     p.add_argument("--to", dest="q_to", metavar="Q", help="end joints q1,q2,…: a rest-to-rest quintic")
     p.add_argument("--tf", metavar="T", help="duration, s (--from/--to: default 2; paper motions: their own)")

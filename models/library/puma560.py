@@ -27,8 +27,7 @@ The drive train (:func:`drive_train`): motor inertia J_m, gear ratio G, viscous 
 T_c,m, all motor side as the source gives them, to the joint side by
 :meth:`armlab.drives.train.DriveTrain.from_motor_side`. The source's Coulomb friction differs by direction
 (T_c+, T_c−); armlab's drive train has one T_c per joint: the mean (T_c+ + |T_c−|)/2. Efficiency is not in the
-source: 1 (an ideal gearbox). ``Arm.drives`` does not exist on this branch yet (issue 19, another change): the train
-is this module's function.
+source: 1 (an ideal gearbox). :func:`build` gives the arm this train: its ``Arm.drives``.
 
 Its closed form (``Arm.closed_form``): the spherical wrist's 8 branches,
 :func:`armlab.kinematics.ik_wrist.spherical_wrist_ik`.
