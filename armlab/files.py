@@ -69,6 +69,7 @@ __all__ = [
     "recover",
     "signals_held",
     "stop_on_signals",
+    "suffix_format",
     "write_csv",
     "write_file",
 ]
@@ -257,6 +258,15 @@ def file_path(path: str | Path) -> Path:
     if isinstance(path, str) and path.endswith(("/", os.sep)):
         raise ValueError(f"--out {shown(path)}: ends with '/', a folder; give a file name")
     return Path(path)
+
+
+def suffix_format(path: str | Path, formats: Sequence[str]) -> str:
+    """The format ``path``'s suffix names (lower case, no dot), one of ``formats``; ``ValueError`` for any other
+    suffix or a folder's name (:func:`file_path`)."""
+    fmt = file_path(path).suffix.lower().lstrip(".")
+    if fmt not in formats:
+        raise ValueError(f"--out {path}: the suffix must be one of {', '.join('.' + f for f in formats)}")
+    return fmt
 
 
 def write_file(path: str | Path, data: bytes | str) -> Path:

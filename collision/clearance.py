@@ -85,12 +85,10 @@ def motion_clearance(arm: Arm, t: ArrayLike, q: ArrayLike, scene: Scene | str | 
     """
     t = np.asarray(t, dtype=float)
     scene = as_scene(scene)
-    try:
-        model = CollisionModel(arm, scene)
-    except NoGeometryError as error:
-        if scene is not None:
-            raise
-        return {"collision_check": f"not checked: {error}", "collisions": None, "min_clearance": None}, None
+    model = CollisionModel.optional(arm, scene)
+    if model is None:
+        return {"collision_check": f"not checked: {NoGeometryError.of(arm)}", "collisions": None,
+                "min_clearance": None}, None
     found = model.distances(q)
     where = "itself" if scene is None else f"itself and the {len(scene.obstacles)} obstacle(s) of {scene.source}"
     return ({"collision_check": f"{len(found.pairs)} pair(s) checked: the arm against {where}",

@@ -19,7 +19,6 @@ about 2e-4 m, never below; its sphere and floor distances are closed forms, as n
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -27,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.collision.capsules import capsule_box, capsule_capsule, capsule_floor
-from armlab.diagrams.plant import PlantOptions, add_arm_plant
+from armlab.diagrams.plant import PlantOptions, add_arm_plant, default_context
 from armlab.kinematics.batch import as_batch, blocks
 
 if TYPE_CHECKING:
@@ -39,6 +38,12 @@ __all__ = ["Clearances", "CollisionModel", "NoGeometryError", "Part", "geometry_
 
 class NoGeometryError(ValueError):
     """The arm has no collision geometry: nothing of it can be checked."""
+
+    @classmethod
+    def of(cls, arm: Arm) -> NoGeometryError:
+        """The error for ``arm``, saying how to give it collision geometry."""
+        return cls(f"{arm.name} has no collision geometry, so nothing can be checked: give its DH table a radius "
+                   "column (a capsule per link) or its URDF <collision> elements")
 
 
 @dataclass(frozen=True)
@@ -108,13 +113,7 @@ class CollisionModel:
         assert scene_graph is not None, "PlantOptions(geometry=True) gives a scene graph"
         self.plant, self.scene_graph = plant, scene_graph
         self.diagram = builder.Build()
-        logger = logging.getLogger("drake")
-        level = logger.level
-        logger.setLevel(logging.ERROR)  # a floor's warning that deformable contact ignores it: armlab has none
-        try:
-            self.context = self.diagram.CreateDefaultContext()
-        finally:
-            logger.setLevel(level)
+        self.context = default_context(self.diagram)
         self._plant_context = plant.GetMyMutableContextFromRoot(self.context)
         self._scene_context = scene_graph.GetMyContextFromRoot(self.context)
         inspector = scene_graph.model_inspector()
@@ -123,8 +122,7 @@ class CollisionModel:
         frames = self._frame_of_body()
         self._parts = {g: self._part(g, frames) for g in ids}
         if not any(part.frame > 0 for part in self._parts.values()):
-            raise NoGeometryError(f"{arm.name} has no collision geometry, so nothing can be checked: give its DH table "
-                                  "a radius column (a capsule per link) or its URDF <collision> elements")
+            raise NoGeometryError.of(arm)
         owners = {g: part.owner for g, part in self._parts.items()}
         pairs: dict[tuple[str, str], list[tuple[Any, Any]]] = {}
         for a, b in sorted(inspector.GetCollisionCandidates(), key=lambda p: (owners[p[0]], owners[p[1]])):
@@ -134,6 +132,17 @@ class CollisionModel:
         self.pairs = tuple(pairs)
         self._geometry_pairs = [pair for group in pairs.values() for pair in group]
         self._group = np.repeat(np.arange(len(pairs)), [len(group) for group in pairs.values()])
+
+    @classmethod
+    def optional(cls, arm: Arm, scene: Scene | None = None) -> CollisionModel | None:
+        """The model of ``arm`` in ``scene``, or None when the arm has no collision geometry and there is no
+        scene (nothing to check: the caller says so, never "no collision"); with a scene, :class:`NoGeometryError`."""
+        try:
+            return cls(arm, scene)
+        except NoGeometryError:
+            if scene is not None:
+                raise
+            return None
 
     # ------------------------------------------------------------------ set-up
     def _frame_of_body(self) -> dict[Any, tuple[int, NDArray[np.float64]]]:

@@ -26,14 +26,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.files import is_json_number, read_json
+from armlab.kinematics.ik_target import pose
+from armlab.limits import LIMITS
 
 __all__ = ["SHAPES", "Obstacle", "Scene", "read_scene", "scene_from_dict"]
 
 #: Each shape's keys beyond ``name``, ``shape``, ``xyz`` and ``rpy``.
 SHAPES: dict[str, tuple[str, ...]] = {"box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",),
                                       "floor": ("z",)}
-#: The largest obstacle size or coordinate (m): no scene is a thousand kilometres across.
-MAX_SIZE = 1e6
+#: The largest obstacle size or coordinate (m): :data:`~armlab.limits.LIMITS`' coordinate bound.
+_LARGEST = LIMITS["coordinate"].high
 
 
 @dataclass(frozen=True)
@@ -61,8 +63,8 @@ class Scene:
 
 
 def _number(raw: Any, what: str, positive: bool = False) -> float:
-    if not is_json_number(raw) or not math.isfinite(raw) or abs(raw) > MAX_SIZE or (positive and raw <= 0):
-        need = "a finite number > 0 (m)" if positive else f"a finite number within ±{MAX_SIZE:g}"
+    if not is_json_number(raw) or not math.isfinite(raw) or abs(raw) > _LARGEST or (positive and raw <= 0):
+        need = "a finite number > 0 (m)" if positive else f"a finite number within ±{_LARGEST:g}"
         raise ValueError(f"{what} = {raw!r} is not allowed: give {need}")
     return float(raw)
 
@@ -71,15 +73,6 @@ def _triple(raw: Any, what: str, positive: bool = False) -> NDArray[np.float64]:
     if not isinstance(raw, list) or len(raw) != 3:
         raise ValueError(f"{what} = {raw!r} is not allowed: give a list of 3 numbers")
     return np.array([_number(v, f"{what}[{k}]", positive) for k, v in enumerate(raw)])
-
-
-def _rpy(roll: float, pitch: float, yaw: float) -> NDArray[np.float64]:
-    """URDF's roll-pitch-yaw: R = Rz(yaw)·Ry(pitch)·Rx(roll)."""
-    cr, sr, cp, sp, cy, sy = (math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch), math.cos(yaw),
-                              math.sin(yaw))
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
 
 
 def _obstacle(raw: Any, where: str) -> Obstacle:
@@ -97,15 +90,14 @@ def _obstacle(raw: Any, where: str) -> Obstacle:
     if unknown:
         raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; a {shape} takes name, shape, "
                          + ", ".join(dict.fromkeys((*SHAPES[shape], *pose_keys))))
-    X = np.eye(4)
     if shape == "floor":
+        X = np.eye(4)
         X[2, 3] = _number(raw.get("z", 0.0), f"{where}: z")
         size: tuple[float, ...] = ()
     else:
         if "xyz" not in raw:
             raise ValueError(f"{where}: the pose needs xyz (m), the {shape}'s centre")
-        X[:3, 3] = _triple(raw["xyz"], f"{where}: xyz")
-        X[:3, :3] = _rpy(*_triple(raw.get("rpy", [0, 0, 0]), f"{where}: rpy"))
+        X = pose(_triple(raw["xyz"], f"{where}: xyz"), _triple(raw.get("rpy", [0, 0, 0]), f"{where}: rpy"))
         missing = [key for key in SHAPES[shape] if key not in raw]
         if missing:
             raise ValueError(f"{where}: a {shape} needs {', '.join(missing)} (m)")

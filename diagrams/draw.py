@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.files import write_file
+from armlab.files import suffix_format, write_file
 from armlab.kinematics.dh import DHRow, DHTable
 
 if TYPE_CHECKING:
@@ -229,7 +229,7 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
     # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
     import matplotlib.pyplot as plt
 
-    _format(path)  # before drawing
+    suffix_format(path, FORMATS)  # before drawing
     fig = scheme_figure(arm, q)
     try:
         return write_figure(fig, path)
@@ -237,22 +237,15 @@ def draw_arm(arm: Arm, q: ArrayLike, path: str | Path) -> Path:
         plt.close(fig)
 
 
-def _format(path: str | Path) -> str:
-    fmt = Path(path).suffix.lower().lstrip(".")
-    if fmt not in FORMATS:
-        raise ValueError(f"--out {path}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
-    return fmt
-
-
 def write_figure(fig: Any, path: str | Path) -> Path:
     """``fig`` saved to ``path`` in the format of its suffix (:data:`FORMATS`), completely or not at all."""
     # lazy: armlab --help loads armlab.diagrams.draw but not this (start-up time)
     from armlab.scripts.figures import DPI
 
-    fmt = _format(path)
+    fmt = suffix_format(path, FORMATS)
     buffer = io.BytesIO()
     fig.savefig(buffer, format=fmt, dpi=DPI)
-    return write_file(Path(path), buffer.getvalue())
+    return write_file(path, buffer.getvalue())
 
 
 def scheme_figure(arm: Arm, q: ArrayLike) -> Any:

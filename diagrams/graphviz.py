@@ -29,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from armlab.files import file_path, write_file
+from armlab.files import suffix_format, write_file
 
 __all__ = ["FORMATS", "Connection", "DotMissingWarning", "DrakeGraph", "fig6_dot", "parse_drake_dot", "render",
            "require_dot", "write_graph", "write_pictures"]
@@ -104,10 +104,7 @@ def _subscripts(svg: str) -> str:
 
 def graph_format(path: str | Path) -> str:
     """The format :func:`write_graph` writes for ``path`` (its suffix); ``ValueError`` for any other suffix."""
-    fmt = file_path(path).suffix.lower().lstrip(".")
-    if fmt not in FORMATS:
-        raise ValueError(f"--out {path}: the suffix must be one of {', '.join('.' + f for f in FORMATS)}")
-    return fmt
+    return suffix_format(path, FORMATS)
 
 
 def write_graph(dot_text: str, path: str | Path) -> Path:

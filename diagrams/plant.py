@@ -32,7 +32,10 @@ arm-ordered vectors (q, q̇, sliders, trajectories) to the plant directly, with 
 
 from __future__ import annotations
 
+import logging
 import math
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -52,8 +55,8 @@ if TYPE_CHECKING:
     from armlab.collision.scene import Obstacle, Scene
     from armlab.models.arm import Arm
 
-__all__ = ["GRAVITY_NAMES", "G", "PlantOptions", "add_arm_plant", "check_payload", "check_time_step", "gravity_vector",
-           "make_plant", "parse_model_file", "resolve_gravity"]
+__all__ = ["GRAVITY_NAMES", "G", "PlantOptions", "add_arm_plant", "check_payload", "check_time_step", "default_context",
+           "gravity_vector", "make_plant", "parse_model_file", "quiet_drake", "resolve_gravity"]
 
 #: Standard gravity (m/s²), the magnitude of every arm's default gravity.
 G = 9.81
@@ -154,6 +157,26 @@ class PlantOptions:
     def gravity_of(self, arm: Arm) -> NDArray[np.float64]:
         """The gravity vector (m/s², ``(3,)``) of ``arm``'s plant: the options' own, or the arm's."""
         return np.asarray(arm.gravity if self.gravity is None else self.gravity, dtype=float)
+
+
+@contextmanager
+def quiet_drake(below: int = logging.WARNING) -> Iterator[None]:
+    """Silence Drake's log lines below ``below`` (default: INFO, e.g. "Meshcat listening for connections at …")
+    inside the block."""
+    logger = logging.getLogger("drake")
+    level = logger.level
+    logger.setLevel(below)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
+
+
+def default_context(diagram: Any) -> Any:
+    """``diagram.CreateDefaultContext()`` without Drake's warning that deformable contact ignores a scene's floor
+    (a half space; armlab has no deformable bodies)."""
+    with quiet_drake(logging.ERROR):
+        return diagram.CreateDefaultContext()
 
 
 def add_arm_plant(

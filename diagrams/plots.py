@@ -17,12 +17,14 @@ the motion is written as a note with the share of it the motion uses (:data:`OFF
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.scripts.figures import DPI, new_figure, set_equal_3d
+from armlab.diagrams.draw import write_figure
+from armlab.scripts.figures import new_figure, set_equal_3d
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -30,7 +32,7 @@ if TYPE_CHECKING:
     from armlab.diagrams.simulate import SimulationLog
     from armlab.models.arm import Arm
 
-__all__ = ["PLOTS", "figures", "write_plots"]
+__all__ = ["PLOTS", "figures", "save_figures", "write_plots"]
 
 #: File names of the plots :func:`write_plots` writes.
 PLOTS = ("joints.png", "torques.png", "tool_path.png", "tool_motion.png")
@@ -259,14 +261,21 @@ def figures(log: SimulationLog) -> dict[str, Any]:
     return {name: draw(log) for name, draw in zip(PLOTS, (_joints, _torques, _tool_path, _tool_motion), strict=True)}
 
 
+def save_figures(shown: Mapping[str, Any], folder: str | Path) -> list[Path]:
+    """Write each ``file name → figure`` of ``shown`` into ``folder`` (made if missing) in the format of its suffix,
+    at the reproduction's resolution, each file completely or not at all (:func:`~armlab.diagrams.draw.write_figure`);
+    returns their paths."""
+    return [write_figure(fig, Path(folder) / name) for name, fig in shown.items()]
+
+
 def write_plots(log: SimulationLog, folder: str | Path) -> list[Path]:
-    """Write :data:`PLOTS` into ``folder`` (PNG, the reproduction's resolution); returns their paths."""
+    """Write :data:`PLOTS` into ``folder`` (PNG, the reproduction's resolution, :func:`save_figures`); returns their
+    paths."""
     import matplotlib.pyplot as plt
 
-    folder = Path(folder)
-    paths = []
-    for name, fig in figures(log).items():
-        fig.savefig(folder / name, dpi=DPI)
-        plt.close(fig)
-        paths.append(folder / name)
-    return paths
+    shown = figures(log)
+    try:
+        return save_figures(shown, folder)
+    finally:
+        for fig in shown.values():
+            plt.close(fig)

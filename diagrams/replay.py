@@ -15,9 +15,6 @@ reads out t, q and τ; a motion of several runs (a branch switch) pauses at each
 from __future__ import annotations
 
 import json
-import logging
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -34,7 +31,7 @@ from armlab.diagrams.replay_graphs import (
     graph_data,
     log_graphs,
 )
-from armlab.files import write_file
+from armlab.files import file_path, write_file
 
 if TYPE_CHECKING:
     from pydrake.geometry import Meshcat
@@ -115,19 +112,6 @@ class Scene:
             visualizer.ForcedPublish(visualizer.GetMyContextFromRoot(self.context))
 
 
-@contextmanager
-def _quiet_drake(below: int = logging.WARNING) -> Iterator[None]:
-    """Silence Drake's log lines below ``below`` (default: INFO, e.g. "Meshcat listening for connections at …")
-    inside the block."""
-    logger = logging.getLogger("drake")
-    level = logger.level
-    logger.setLevel(below)
-    try:
-        yield
-    finally:
-        logger.setLevel(level)
-
-
 def start_meshcat(port: int | None = 0) -> Meshcat:
     """A Meshcat server on localhost only, without Drake's "listening" log line.
 
@@ -136,10 +120,13 @@ def start_meshcat(port: int | None = 0) -> Meshcat:
     """
     from pydrake.geometry import Meshcat, MeshcatParams
 
+    # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
+    from armlab.diagrams.plant import quiet_drake
+
     params = MeshcatParams(host="localhost", show_stats_plot=False)
     if port is not None:
         params.port = port
-    with _quiet_drake():
+    with quiet_drake():  # "Meshcat listening for connections at …"
         return Meshcat(params)
 
 
@@ -158,7 +145,7 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
     from pydrake.systems.framework import DiagramBuilder
 
     # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
-    from armlab.diagrams.plant import PlantOptions, add_arm_plant
+    from armlab.diagrams.plant import PlantOptions, add_arm_plant, default_context
 
     builder = DiagramBuilder()
     plant, scene_graph = add_arm_plant(builder, arm, PlantOptions(geometry=True, scene=obstacles))
@@ -174,9 +161,7 @@ def build_scene(arm: Arm, meshcat: Meshcat, publish_period: float = 1 / MAX_FPS,
     if extra is not None:
         extra(builder, plant)
     diagram = builder.Build()
-    with _quiet_drake(logging.ERROR):  # a floor's warning that deformable contact ignores it: armlab has none
-        context = diagram.CreateDefaultContext()
-    return Scene(diagram, plant, visualizer, context, scene_graph, layers)
+    return Scene(diagram, plant, visualizer, default_context(diagram), scene_graph, layers)
 
 
 def display_rotation(arm: Arm) -> NDArray[np.float64]:
@@ -390,13 +375,11 @@ def _check_run(arm: Arm, times: ArrayLike, q: ArrayLike, tool_path: ArrayLike | 
     return times, q, tool_path
 
 
-def write_replay(arm: Arm, times: NDArray, q: NDArray, path: Path, **options: Any) -> Path:
+def write_replay(arm: Arm, times: NDArray, q: NDArray, path: str | Path, **options: Any) -> Path:
     """:func:`replay_page` of the run ``q(times)`` (N, n) of ``arm`` (``options``: its keywords) saved as one
     self-contained HTML file at ``path``, atomically (:func:`~armlab.files.write_file`)."""
-    path = Path(path)
-    page = replay_page(arm, times, q, **options)
-    write_file(path, page)
-    return path
+    path = file_path(path)  # before the page is made
+    return write_file(path, replay_page(arm, times, q, **options))
 
 
 def replay_page(
@@ -429,7 +412,7 @@ def replay_page(
     (with a ``scene``: a ``ValueError``, as a run's check).
     """
     # lazy: armlab --help loads armlab.diagrams.replay but not this (start-up time)
-    from armlab.collision.model import CollisionModel, NoGeometryError
+    from armlab.collision.model import CollisionModel
 
     times, q, tool_path = _check_run(arm, times, q, tool_path)
     tau = None if tau is None else np.asarray(tau, dtype=float)
@@ -447,12 +430,7 @@ def replay_page(
     fps, k, t, frame_run = _frames(times, run)
     frames_q = _interpolate(t, frame_run, times, run, q)
     frames_tau = None if tau is None else _interpolate(t, frame_run, times, run, tau)
-    try:
-        model: CollisionModel | None = CollisionModel(arm, scene)
-    except NoGeometryError:
-        if scene is not None:
-            raise
-        model = None
+    model = CollisionModel.optional(arm, scene)
 
     meshcat = start_meshcat()
     shown_scene = build_scene(arm, meshcat, publish_period=1 / fps, obstacles=scene, collision=model is not None)
@@ -536,10 +514,11 @@ def log_page(log: SimulationLog, deg: bool = False, clearance: Clearances | None
                        graphs=log_graphs(log, deg, clearance), scene=scene)
 
 
-def replay_log(log: SimulationLog, path: Path, deg: bool = False, clearance: Clearances | None = None,
+def replay_log(log: SimulationLog, path: str | Path, deg: bool = False, clearance: Clearances | None = None,
                scene: Obstacles | None = None) -> Path:
     """:func:`log_page` written to ``path`` (atomically)."""
-    return write_file(Path(path), log_page(log, deg, clearance, scene))
+    path = file_path(path)  # before the page is made
+    return write_file(path, log_page(log, deg, clearance, scene))
 
 
 def _visibility(meshcat: Meshcat, k: NDArray[np.int64], path: str, visible: NDArray[np.bool_]) -> None:

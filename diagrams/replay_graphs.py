@@ -28,8 +28,6 @@ __all__ = ["GRAPHS_PCT", "MAX_GRAPH_POINTS", "Graph", "arm_graphs", "graph_data"
 GRAPHS_PCT = 40
 #: Most samples per run a graph keeps (the log is thinned by a stride; a 15 s run at 1 ms keeps every 5th).
 MAX_GRAPH_POINTS = 3000
-#: Optional per-joint logs a simulation may carry (attribute, title, symbol): shown where the log has them.
-OPTIONAL_JOINT_LOGS = (("tau_motor", "motor-side torques", "τm"),)
 
 
 @dataclass(frozen=True)
@@ -52,10 +50,11 @@ def _units(arm: Arm, order: int, deg: bool = False) -> list[str]:
 
 
 def _joint_graph(arm: Arm, title: str, symbol: str, order: int, values: ArrayLike, kind: str | None,
-                 deg: bool) -> Graph:
-    """Graph of one value per joint (``order`` 0: positions, 1: velocities, 2: torques) with its ``kind`` limits."""
+                 deg: bool, units: list[str] | None = None) -> Graph:
+    """Graph of one value per joint (``order`` 0: positions, 1: velocities, 2: torques) with its ``kind`` limits;
+    ``units``: each joint's unit (default: the joint side's of ``order``)."""
     values = np.asarray(values, dtype=float)
-    units = _units(arm, order, deg)
+    units = _units(arm, order, deg) if units is None else units
     scale = np.where(np.asarray(arm.revolute) & deg, np.degrees(1.0), 1.0) if order < 2 else np.ones(arm.n)
     limits: list[tuple[int, str, float, float]] = []
     notes: list[str] = []
@@ -83,15 +82,14 @@ def arm_graphs(arm: Arm, q: ArrayLike, qd: ArrayLike | None = None, tau: ArrayLi
 
 
 def log_graphs(log: SimulationLog, deg: bool = False, clearance: Clearances | None = None) -> list[Graph]:
-    """A simulation's graphs: :func:`arm_graphs` of its q, q̇, τ, then each of :data:`OPTIONAL_JOINT_LOGS` the log
-    has (e.g. motor-side torques, drawn without limits), then the clearance of each pair the run checked
-    (``clearance``, :class:`~armlab.collision.model.Clearances` at the log's samples, m; zero drawn as the contact
-    line) if it has them."""
+    """A simulation's graphs: :func:`arm_graphs` of its q, q̇, τ, then its motor-side torques (N·m at every motor,
+    a prismatic joint's too; drawn without limits) if the arm has a drive train, then the clearance of each pair
+    the run checked (``clearance``, :class:`~armlab.collision.model.Clearances` at the log's samples, m; zero drawn
+    as the contact line) if it has them."""
     graphs = arm_graphs(log.arm, log.q, log.qd, log.tau, deg)
-    for name, title, symbol in OPTIONAL_JOINT_LOGS:
-        values = getattr(log, name, None)
-        if values is not None:
-            graphs.append(_joint_graph(log.arm, title, symbol, 2, values, None, deg))
+    if log.tau_motor is not None:
+        graphs.append(_joint_graph(log.arm, "motor-side torques", "τm", 2, log.tau_motor, None, deg,
+                                   units=["N·m"] * log.arm.n))
     if clearance is not None and clearance.pairs:
         c = np.asarray(clearance.distance, dtype=float).reshape(log.t.size, -1)
         labels = tuple(f"{name} [m]" for name in clearance.names())

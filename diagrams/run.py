@@ -28,10 +28,9 @@ from armlab.diagrams.drives import (
 )
 from armlab.diagrams.graphviz import fig6_dot, write_pictures
 from armlab.diagrams.output import run_folder, write_log_csv, write_summary
-from armlab.diagrams.plots import figures
+from armlab.diagrams.plots import figures, save_figures
 from armlab.diagrams.replay import log_page, replay_log
 from armlab.diagrams.simulate import summarize
-from armlab.scripts.figures import DPI
 
 if TYPE_CHECKING:
     from armlab.collision.model import Clearances
@@ -180,10 +179,7 @@ class Run:
         if self.clearance is not None and self.clearance.pairs:
             shown["clearance.png"] = clearance_figure(self.log.arm, self.log.t, self.clearance)
         if folder is not None:
-            folder = Path(folder)
-            folder.mkdir(parents=True, exist_ok=True)
-            for name, fig in shown.items():
-                fig.savefig(folder / name, dpi=DPI)
+            save_figures(shown, folder)
         return shown
 
     def save(self, out: str | Path, deg: bool = False) -> list[str]:

@@ -181,16 +181,17 @@ class SimulationLog:
     wall_time: float
     diagram: Diagram = field(repr=False, compare=False)
 
-    @property
+    @cached_property
     def tau_motor(self) -> NDArray[np.float64] | None:
         """Motor-side torques ``(m, n)`` (N·m) of :attr:`tau` by :func:`armlab.drives.train.motor_torque` (τ/(G·η)
-        delivering, τ·η/G driven back), ``None`` for ideal drives (the arm has no drive train)."""
+        delivering, τ·η/G driven back), ``None`` for ideal drives (the arm has no drive train); made when first
+        asked for (the log's files, summary and replay all read it)."""
         drives = self.arm.drives
         return None if drives is None else motor_torque(drives, self.tau, self.qd)
 
-    @property
+    @cached_property
     def motor_speed(self) -> NDArray[np.float64] | None:
-        """Motor speeds G·q̇ ``(m, n)`` (rad/s), ``None`` for ideal drives."""
+        """Motor speeds G·q̇ ``(m, n)`` (rad/s), ``None`` for ideal drives; made when first asked for."""
         drives = self.arm.drives
         return None if drives is None else motor_speed(drives, self.qd)
 
@@ -411,7 +412,7 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
     options = SimulationOptions() if options is None else options
     mode, accuracy = options.mode, options.accuracy
     motion.check_limits(arm)
-    log_period = check_log_period(options.log_period)
+    log_period = float(options.log_period)  # checked by SimulationOptions; against the runs by check_work
     check_work(motion, log_period, mode)  # the log period against the motion's runs too
     n = arm.n
     parts: list[dict[str, Any]] = []

@@ -81,6 +81,7 @@ class Viewer:
         self.meshcat, self.guard = open_meshcat(port, out=out, log=log)
         lower, upper = self.arm.limit_arrays(_UNLIMITED)
         lowest, highest = np.minimum(lower, q0), np.maximum(upper, q0)
+        steps = np.where(arm.revolute, 0.1 if deg else 1e-3, 1e-4)  # the sliders' steps (°, rad; m)
         holder: dict[str, Any] = {}
 
         def add_sliders(builder: Any, plant: Any) -> None:
@@ -88,18 +89,18 @@ class Viewer:
                 return
             holder["sliders"] = builder.AddSystem(JointSliders(  # the plant's positions are in joint order
                 self.meshcat, plant, initial_value=q0, lower_limit=lowest, upper_limit=highest,
-                step=np.where(arm.revolute, 1e-3, 1e-4),
+                step=steps,
             ))
 
         self.scene = build_scene(arm, self.meshcat, extra=add_sliders)
         self.sliders = holder.get("sliders")
         self._sliders_context = None if self.sliders is None else self.sliders.GetMyContextFromRoot(self.scene.context)
         scale = np.where(arm.revolute & deg, 180 / np.pi, 1.0)
-        for name, r, lo, hi, value in zip(self.slider_names, arm.revolute, lowest * scale, highest * scale,
-                                          q0 * scale, strict=True):
+        for name, lo, hi, step, value in zip(self.slider_names, lowest * scale, highest * scale, steps, q0 * scale,
+                                             strict=True):
             if deg:
-                self.meshcat.AddSlider(name, float(lo), float(hi), 0.1 if r else 1e-4, float(value))
-            self.guard.allow_slider(name, lo, hi)  # the only values the page may send
+                self.meshcat.AddSlider(name, float(lo), float(hi), float(step), float(value))
+            self.guard.allow_slider(name, lo, hi, step)  # the only values the page may send
         plant = self.scene.plant
         self._tool = plant.GetFrameByName(arm.tool_name)
         reach = reach_points(arm, self._reach_samples())

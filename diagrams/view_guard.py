@@ -14,7 +14,10 @@ Drake's server:
   origin, ``http://localhost:PORT`` or ``http://127.0.0.1:PORT`` (403 otherwise), and relays to Drake only the
   events the viewer uses, checked: a click of one of its buttons, a finite value of one of its sliders within
   that slider's range. Anything else (not msgpack, another event type, an unknown name, a non-finite or
-  out-of-range value) is dropped with one log line.
+  out-of-range value) is dropped with one log line. The page's slider (dat.gui) rounds its value to the step
+  after clamping it to the range, ``Math.round(value / step) * step``, so at an end that is not a whole number
+  of steps it sends up to half a step beyond it (±π/2 with a step of 1e-3: ±1.571): such a value is relayed
+  clamped onto the end (:func:`relayed_event`), so that the slider reaches its joint's limit.
 """
 
 from __future__ import annotations
@@ -43,7 +46,7 @@ if TYPE_CHECKING:
 
     from pydrake.geometry import Meshcat
 
-__all__ = ["BROWSER_BLOCKED_PORTS", "MAX_MESSAGE", "Guard", "check_event", "start_hidden_meshcat"]
+__all__ = ["BROWSER_BLOCKED_PORTS", "MAX_MESSAGE", "Guard", "check_event", "relayed_event", "start_hidden_meshcat"]
 
 #: The Fetch standard's "bad ports" above 1023 (no browser connects to them), in the order tried for Drake's
 #: own server; 6000 (X11) last.
@@ -66,10 +69,21 @@ def start_hidden_meshcat() -> Meshcat:
     raise ValueError(f"no free port among {BROWSER_BLOCKED_PORTS} for the viewer's Meshcat; stop another viewer")
 
 
-def check_event(message: bytes | str, sliders: Mapping[str, tuple[float, float]], buttons: set[str]) -> str | None:
+#: A slider: its (lowest, highest, step) value, in the slider's own units.
+SliderRange = tuple[float, float, float]
+
+
+def _beyond(step: float) -> float:
+    """How far beyond an end a slider of ``step`` may send: half a step (its rounding), and the rounding's float
+    error (``Math.round(e / step) * step`` is a product, not the exact multiple)."""
+    return 0.5 * step * (1 + 1e-9)
+
+
+def check_event(message: bytes | str, sliders: Mapping[str, SliderRange], buttons: set[str]) -> str | None:
     """Why a page's WebSocket ``message`` must not reach Meshcat, or None when it is one of the viewer's events.
 
-    ``sliders``: name → (lowest, highest) value of each slider; ``buttons``: the names of the buttons.
+    ``sliders``: name → (lowest, highest, step) value of each slider (a value up to half a step beyond an end is
+    the page's rounding, allowed: :func:`relayed_event` clamps it); ``buttons``: the names of the buttons.
     """
     if isinstance(message, str):
         return "a text frame (Meshcat's events are binary msgpack)"
@@ -90,10 +104,22 @@ def check_event(message: bytes | str, sliders: Mapping[str, tuple[float, float]]
     value = event.get("value")
     if isinstance(value, bool) or not isinstance(value, int | float):
         return f"slider {name}: value {shown(value)} is not a number"
-    lowest, highest = sliders[name]
-    if not math.isfinite(value) or not lowest <= value <= highest:
+    lowest, highest, step = sliders[name]
+    if not math.isfinite(value) or not lowest - _beyond(step) <= value <= highest + _beyond(step):
         return f"slider {name}: value {shown(value)} is outside {lowest:g} … {highest:g}"
     return None
+
+
+def relayed_event(message: bytes, sliders: Mapping[str, SliderRange]) -> bytes:
+    """The ``message`` that passed :func:`check_event` as it goes to Meshcat: a slider's value beyond an end (the
+    page's rounding to the step) re-encoded clamped onto that end; any other message unchanged."""
+    event = msgpack.unpackb(message, raw=False)
+    if event["type"] != "slider":
+        return message
+    lowest, highest, _step = sliders[event["name"]]
+    if lowest <= event["value"] <= highest:
+        return message
+    return msgpack.packb({**event, "value": min(max(float(event["value"]), lowest), highest)})
 
 
 class Guard:
@@ -110,7 +136,7 @@ class Guard:
         self._upstream = f"127.0.0.1:{meshcat.port()}"
         self._sockets: list[socket.socket] = bind_sockets(port, address="localhost")
         self.port: int = self._sockets[0].getsockname()[1]
-        self.sliders: dict[str, tuple[float, float]] = {}
+        self.sliders: dict[str, SliderRange] = {}
         self.buttons: set[str] = set()
         self.log = log
         self.hosts = {f"localhost:{self.port}", f"127.0.0.1:{self.port}"}
@@ -127,9 +153,12 @@ class Guard:
         """The page's address, ``http://localhost:PORT``."""
         return f"http://localhost:{self.port}"
 
-    def allow_slider(self, name: str, lowest: float, highest: float) -> None:
-        """Let the page set slider ``name`` to values in ``lowest`` … ``highest`` (the slider's own units)."""
-        self.sliders = {**self.sliders, name: (float(lowest), float(highest))}
+    def allow_slider(self, name: str, lowest: float, highest: float, step: float) -> None:
+        """Let the page set slider ``name`` to values in ``lowest`` … ``highest`` in steps of ``step`` (> 0; the
+        slider's own units: an end's value rounded to the step arrives clamped onto the end)."""
+        if not step > 0:
+            raise ValueError(f"slider {name}: step = {step} must be > 0")
+        self.sliders = {**self.sliders, name: (float(lowest), float(highest), float(step))}
 
     def allow_button(self, name: str) -> None:
         """Let the page click button ``name``."""
@@ -203,11 +232,13 @@ class _Relay(WebSocketHandler):
         self.close()
 
     async def on_message(self, message: bytes | str) -> None:
-        reason = check_event(message, self.guard.sliders, self.guard.buttons)
+        sliders = self.guard.sliders
+        reason = check_event(message, sliders, self.guard.buttons)
         if reason is not None:
             self.guard.note(f"ignored a message from the page: {reason}")
             return
-        await self.upstream.write_message(message, binary=True)
+        assert isinstance(message, bytes), "check_event refuses a text frame"
+        await self.upstream.write_message(relayed_event(message, sliders), binary=True)
 
     def on_close(self) -> None:
         if self.upstream is not None:

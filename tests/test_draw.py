@@ -12,7 +12,7 @@ import pytest
 from helpers import ARM_NAMES, arm_and_plant, random_q
 from matplotlib.image import imread
 
-from armlab.diagrams.draw import _view, default_q, draw_arm, scheme
+from armlab.diagrams.draw import _view, default_q, draw_arm, scheme, write_figure
 from armlab.models import get_arm
 
 
@@ -111,6 +111,20 @@ def test_draw_command_and_its_errors(tmp_path):
     assert main(["draw", "rr", "--out", str(tmp_path / "rr.jpg")]) == 2
     assert main(["draw", "arm4r", "--q", "0,200,0,0", "--deg", "--out", str(tmp_path / "a.png")]) == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rr.pdf"]
+
+
+def test_a_path_ending_in_a_slash_is_refused_and_nothing_is_written(tmp_path):
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure()
+    try:
+        with pytest.raises(ValueError, match="ends with '/', a folder"):
+            write_figure(fig, f"{tmp_path / 'b.png'}/")
+    finally:
+        plt.close(fig)
+    with pytest.raises(ValueError, match="ends with '/', a folder"):
+        draw_arm(get_arm("rr"), [0.0, 0.0], f"{tmp_path / 'rr.svg'}/")
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_without_q_a_paper_arm_is_drawn_at_its_paper_motions_start():

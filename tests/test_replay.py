@@ -23,7 +23,7 @@ from helpers import ARM_NAMES, data
 from replay_pictures import assert_shows_arm_moving, image, screenshots, solid
 
 from armlab.cli.view import register
-from armlab.diagrams.replay import JOIN_PAUSE, MAX_FPS, MAX_FRAMES, display_rotation, write_replay
+from armlab.diagrams.replay import JOIN_PAUSE, MAX_FPS, MAX_FRAMES, display_rotation, replay_log, write_replay
 from armlab.diagrams.view import Viewer, open_meshcat, run_view
 from armlab.models import get_arm
 
@@ -76,6 +76,40 @@ def test_replay_rejects_bad_runs(tmp_path, times, q, message):
     with pytest.raises(ValueError, match=message):
         write_replay(get_arm("urm6"), times, q, tmp_path / "replay.html")
     assert not (tmp_path / "replay.html").exists()
+
+
+def test_replay_refuses_a_path_ending_in_a_slash(tmp_path):
+    t = np.linspace(0, 1, 5)
+    with pytest.raises(ValueError, match="ends with '/', a folder"):
+        write_replay(get_arm("rr"), t, np.zeros((5, 2)), f"{tmp_path / 'x.html'}/")
+    with pytest.raises(ValueError, match="ends with '/', a folder"):
+        replay_log(None, f"{tmp_path / 'y.html'}/")  # refused before the log is read
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_motor_side_torques_are_in_newton_metres_at_every_joint_a_prismatic_ones_too():
+    """:func:`~armlab.drives.train.motor_torque` is a motor's torque (N·m) for every joint: the graph says so where
+    the joint side of a prismatic joint is a force (N)."""
+    import dataclasses
+    import types
+
+    from armlab.diagrams.replay_graphs import log_graphs
+    from armlab.drives.train import DriveTrain, motor_torque
+
+    arm = get_arm("r2t")  # joints 2 and 3 prismatic
+    drives = DriveTrain(np.array([50.0, 100.0, 200.0]), np.zeros(3), np.array([0.9, 0.8, 0.7]), np.zeros(3),
+                        np.zeros(3))
+    arm = dataclasses.replace(arm, drives=drives)
+    t = np.linspace(0.0, 1.0, 5)
+    q, qd, tau = sweep(arm, t), np.ones((5, 3)), np.ones((5, 3))
+    log = types.SimpleNamespace(arm=arm, t=t, q=q, qd=qd, tau=tau, tau_motor=motor_torque(drives, tau, qd))
+    joint, motor = (next(g for g in log_graphs(log) if g.title.startswith(title))
+                    for title in ("joint torques", "motor-side torques"))
+    assert joint.labels == ("τ1 [N·m]", "τ2 [N]", "τ3 [N]")
+    assert motor.labels == ("τm1 [N·m]", "τm2 [N·m]", "τm3 [N·m]") and motor.ylabel == "τm [N·m]"
+    np.testing.assert_allclose(motor.values, tau / (drives.gear_ratio * drives.efficiency), rtol=1e-15)
+    assert not [g for g in log_graphs(types.SimpleNamespace(arm=get_arm("r2t"), t=t, q=q, qd=qd, tau=tau,
+                                                              tau_motor=None)) if g.title.startswith("motor")]
 
 
 def test_replay_rejects_a_bad_tool_path(tmp_path):

@@ -20,10 +20,10 @@ from tornado.httpclient import HTTPClientError, HTTPRequest
 from tornado.websocket import websocket_connect
 
 from armlab.diagrams.view import Viewer
-from armlab.diagrams.view_guard import BROWSER_BLOCKED_PORTS, check_event
+from armlab.diagrams.view_guard import BROWSER_BLOCKED_PORTS, check_event, relayed_event
 from armlab.models import get_arm
 
-SLIDERS = {"joint1": (-1.0, 2.0)}
+SLIDERS = {"joint1": (-1.0, 2.0, 0.1)}
 BUTTONS = {"Stop viewer"}
 
 
@@ -40,6 +40,8 @@ def _event(**fields) -> bytes:
     (_event(type="slider", name="joint1", value=math.inf), "value inf is outside"),
     (_event(type="slider", name="joint1", value=1e308), "value 1e+308 is outside -1 … 2"),
     (_event(type="slider", name="joint1", value=2.5), "value 2.5 is outside"),
+    (_event(type="slider", name="joint1", value=2.06), "value 2.06 is outside -1 … 2"),  # beyond half a step
+    (_event(type="slider", name="joint1", value=-1.06), "value -1.06 is outside"),
     (_event(type="slider", name="joint1", value="1"), "value '1' is not a number"),
     (_event(type="slider", name="joint1", value=True), "value True is not a number"),
     (_event(type="slider", name="joint1"), "value None is not a number"),
@@ -56,6 +58,30 @@ def test_check_event_passes_the_viewers_own_events():
     assert check_event(_event(type="slider", name="joint1", value=1.5), SLIDERS, BUTTONS) is None
     assert check_event(_event(type="slider", name="joint1", value=-1), SLIDERS, BUTTONS) is None
     assert check_event(_event(type="button", name="Stop viewer"), SLIDERS, BUTTONS) is None
+
+
+def _page_value(value: float, lowest: float, highest: float, step: float) -> float:
+    """What the page's slider (dat.gui) sends for ``value``: clamped to the range, then Math.round(v / step) * step."""
+    return math.floor(min(max(value, lowest), highest) / step + 0.5) * step
+
+
+def test_a_slider_at_its_end_passes_clamped_onto_the_end():
+    """At the end of a joint limited to ±π/2 with the viewer's step of 1e-3 rad the page sends ±1.571, beyond the
+    limit by its rounding: the guard lets it through, clamped onto the limit, so that the arm reaches it."""
+    end, step = math.pi / 2, 1e-3
+    sliders = {"joint1": (-end, end, step)}
+    for side in (-1, 1):
+        sent = _page_value(side * 10.0, -end, end, step)
+        assert abs(sent) > end  # the page's own value is beyond the limit
+        message = _event(type="slider", name="joint1", value=sent)
+        assert check_event(message, sliders, BUTTONS) is None
+        relayed = msgpack.unpackb(relayed_event(message, sliders))
+        assert relayed == {"type": "slider", "name": "joint1", "value": pytest.approx(side * end, abs=1e-15)}
+        assert -end <= relayed["value"] <= end
+    inside = _event(type="slider", name="joint1", value=0.25)
+    assert relayed_event(inside, sliders) is inside  # within the range: relayed as sent
+    assert relayed_event(_event(type="button", name="Stop viewer"), sliders) == _event(type="button",
+                                                                                        name="Stop viewer")
 
 
 @pytest.fixture(scope="module")
@@ -132,3 +158,27 @@ def test_hostile_frames_from_the_own_page_are_dropped_and_the_real_slider_moves(
     assert viewer.step()  # the viewer lives on: its slider moved joint 2
     np.testing.assert_allclose(viewer.q, [0.5, -1.25], atol=1e-3)
     assert np.all(np.isfinite(viewer.tool_position()))
+
+
+def test_a_slider_sent_to_its_end_by_the_page_reaches_the_end(viewer):
+    """Through the guard to Drake: the page's value at the end of a ±π/2 slider (1.571) sets it to π/2."""
+    end, step = math.pi / 2, 1e-3
+    viewer.meshcat.AddSlider("end test", -end, end, step, 0.0)
+    viewer.guard.allow_slider("end test", -end, end, step)
+
+    async def session() -> float:
+        connection = await _socket(viewer, f"http://localhost:{viewer.guard.port}")
+        await asyncio.wait_for(connection.read_message(), 10)
+        await connection.write_message(_event(type="slider", name="end test", value=_page_value(end, -end, end, step)),
+                                       binary=True)
+        for _ in range(200):
+            if abs(viewer.meshcat.GetSliderValue("end test") - end) < 1e-12:
+                break
+            await asyncio.sleep(0.025)
+        connection.close()
+        return viewer.meshcat.GetSliderValue("end test")
+
+    try:
+        assert asyncio.run(session()) == pytest.approx(end, abs=1e-12)
+    finally:
+        viewer.meshcat.DeleteSlider("end test")
