@@ -24,6 +24,7 @@ __all__ = [
     "clearance",
     "clearance_figure",
     "collisions",
+    "contacts",
     "format_collision",
     "motion_clearance",
     "pair_minima",
@@ -51,6 +52,15 @@ def clearance(arm: Arm, q: ArrayLike, scene: Scene | str | Path | None = None) -
             for name, (a, b), d, pa, pb in zip(found.names(), found.pairs, found.distance, found.point_a,
                                                found.point_b, strict=True)]
     return sorted(rows, key=lambda row: row["distance"])
+
+
+def contacts(arm: Arm, q: ArrayLike, scene: Scene | str | Path | None = None) -> list[tuple[list[str], float | None]]:
+    """Per configuration of ``q`` ``(m, n)`` (rad, m; e.g. the IK solutions of one target): the pairs in contact
+    (their names, "A–B") and the smallest clearance (m; ``None`` where the arm has no pair to check).
+    ``ValueError`` as :func:`clearance`."""
+    found = CollisionModel(arm, as_scene(scene)).distances(np.asarray(q, dtype=float).reshape(-1, arm.n))
+    return [([name for name, d in zip(found.names(), row, strict=True) if d < 0],
+             float(row.min()) if row.size else None) for row in found.distance]
 
 
 def pair_minima(t: NDArray[np.float64], found: Clearances) -> list[dict[str, Any]]:

@@ -409,3 +409,17 @@ def test_cli_simulate_warns_of_a_collision_and_strict_limits_exit_3(tmp_path, ca
     bad = _scene_file(tmp_path, '{"obstacles": [{"name": "ball", "shape": "sphere", "radius": 0, "xyz": [0, 0, 0]}]}')
     assert main([*argv[:-3], "--scene", bad, "--out", str(tmp_path / "bad")]) == 2
     assert not (tmp_path / "bad").exists()
+
+
+def test_contacts_name_the_pairs_in_contact_per_configuration():
+    """armlab.collision.clearance.contacts (what ``armlab ik --collision-free`` marks each solution with): the pairs
+    in contact and the smallest clearance of each configuration, the same as ``Arm.clearance`` gives one by one."""
+    from armlab.collision.clearance import contacts
+
+    arm = get_arm("rrrr")
+    q = np.radians([[0.0, 100.0, 150.0, 60.0], [0.0, 30.0, 30.0, 30.0]])
+    (touching, smallest), (free, least) = contacts(arm, q)
+    assert "link4–link1" in touching and smallest is not None and smallest < 0
+    assert free == [] and least is not None and least > 0
+    for (_, got), row in zip(contacts(arm, q), q, strict=True):
+        np.testing.assert_allclose(got, arm.clearance(row)[0]["distance"], atol=1e-12)  # the same Drake query

@@ -211,7 +211,13 @@ def _cmd_ik(args: argparse.Namespace) -> int:
         pitch = math.radians(pitch) if args.deg else pitch
     near = joint_values(arm, args.near, args.deg, "--near") if args.near else None
     solutions = solve(arm, target, pitch=pitch, near=near, all_solutions=args.all)
-    marks = _collision_marks(arm, solutions, args) if args.collision_free or args.scene else None
+    if args.collision_free or args.scene:
+        # lazy: armlab.collision imports Drake (start-up time)
+        from armlab.collision.clearance import contacts
+
+        marks = contacts(arm, np.array(solutions), args.scene)
+    else:
+        marks = None
     if marks is not None and args.collision_free:
         kept = [k for k, (touching, _) in enumerate(marks) if not touching]
         if not kept:
@@ -236,18 +242,6 @@ def _mark(touching: list[str], clearance: float | None) -> str:
     if touching:
         return "  colliding: " + ", ".join(touching)
     return "  collision-free" + ("" if clearance is None else f" (clearance {clearance * 1e3:.4g} mm)")
-
-
-def _collision_marks(arm: Arm, solutions: list[np.ndarray], args: argparse.Namespace
-                     ) -> list[tuple[list[str], float | None]]:
-    """Per IK solution: the pairs in contact and the smallest clearance (m; ``None`` without a pair to check)."""
-    # lazy: armlab.collision imports Drake (start-up time)
-    from armlab.collision.clearance import as_scene
-    from armlab.collision.model import CollisionModel
-
-    found = CollisionModel(arm, as_scene(args.scene)).distances(np.array(solutions))
-    return [([name for name, d in zip(found.names(), row, strict=True) if d < 0],
-             float(row.min()) if row.size else None) for row in found.distance]
 
 
 def register(subparsers: Any) -> None:
