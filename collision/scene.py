@@ -121,5 +121,6 @@ def scene_from_dict(data: Any, source: str = "scene") -> Scene:
 
 
 def read_scene(path: str | Path) -> Scene:
-    """The scene in the JSON file ``path`` (the module docstring gives the format); one-line ``ValueError``s."""
+    """The scene in the JSON file ``path`` (the module docstring gives the format); a one-line ``ValueError`` for
+    what is wrong in it."""
     return scene_from_dict(read_json(path, "--scene"), f"--scene {path}")

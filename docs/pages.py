@@ -24,11 +24,13 @@ ROOT = Path(os.environ.get("ARMLAB_DOCS_ROOT", Path(__file__).resolve().parent.p
 #: The subpackages whose modules get an API page each, with a line saying what they hold.
 SUBPACKAGES = {
     "armlab.models": "the arms (one module per paper arm) and the readers of users' own arms",
+    "armlab.models.library": "well-known arms by name, one module each, their numbers' sources cited",
     "armlab.kinematics": "one module per method: each paper's formulation, IK, inverse dynamics, trajectories",
     "armlab.controllers": "the inverse-dynamics controller",
     "armlab.diagrams": "the Drake Systems diagram of a run, simulation, plots, replay, viewer",
     "armlab.analysis": "workspaces, singular configurations and design studies",
     "armlab.drives": "drive trains and drive sizing",
+    "armlab.collision": "collision geometry, scenes and clearances",
 }
 
 #: The paper pages: number → (title, the modules whose docstrings give its arm and its equations).
