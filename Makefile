@@ -61,15 +61,15 @@ docs: setup run-deps
 
 bench: setup
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
-	$(BIN)/python scripts/bench_kinematics.py
-	$(BIN)/python scripts/bench_ik.py
-	$(BIN)/python scripts/bench_simulate.py
-	$(BIN)/python scripts/bench_plan.py
-	$(BIN)/python scripts/bench_analysis.py
-	$(BIN)/python scripts/bench_reproduce.py
-	$(BIN)/python scripts/bench_drives.py
-	$(BIN)/python scripts/bench_collision.py
-	$(BIN)/python scripts/bench_replay.py
+	$(BIN)/python scripts/bench/bench_kinematics.py
+	$(BIN)/python scripts/bench/bench_ik.py
+	$(BIN)/python scripts/bench/bench_simulate.py
+	$(BIN)/python scripts/bench/bench_plan.py
+	$(BIN)/python scripts/bench/bench_analysis.py
+	$(BIN)/python scripts/bench/bench_reproduce.py
+	$(BIN)/python scripts/bench/bench_drives.py
+	$(BIN)/python scripts/bench/bench_collision.py
+	$(BIN)/python scripts/bench/bench_replay.py
 
 clean:
 	rm -rf $(VENV) out *.egg-info

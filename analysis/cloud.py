@@ -1,7 +1,7 @@
 """A workspace as a self-contained 3-D point cloud: one HTML file (Meshcat's ``StaticHtml``).
 
 The tool points are a Drake ``PointCloud`` coloured by manipulability (viridis) in a Meshcat scene
-with the arm itself at q = 0 (:mod:`armlab.diagrams.replay`'s scene, turned so that gravity points
+with the arm itself at q = 0 (:mod:`armlab.presentation.replay`'s scene, turned so that gravity points
 down, and camera), saved with
 ``Meshcat.StaticHtml()``, which inlines the three.js viewer: no server, no network needed.
 """
@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armlab.analysis.plots import manipulability_norm
-from armlab.diagrams.replay import SCENE, build_scene, frame_camera, start_meshcat, style_scene
 from armlab.files import write_file
+from armlab.presentation.replay import SCENE, build_scene, frame_camera, start_meshcat, style_scene
 
 if TYPE_CHECKING:
     from armlab.analysis.workspace import Workspace

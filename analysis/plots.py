@@ -9,21 +9,19 @@
 
 from __future__ import annotations
 
-import io
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.files import write_file
-from armlab.scripts.figures import DPI, new_figure
+from armlab.presentation.figures import new_figure, save_png
 
 if TYPE_CHECKING:
     from armlab.analysis.study import Study
     from armlab.analysis.workspace import Workspace
 
-__all__ = ["manipulability_norm", "save_png", "workspace_figures", "write_plots"]
+__all__ = ["manipulability_norm", "workspace_figures", "write_plots"]
 
 
 def manipulability_norm(w: np.ndarray) -> Any:
@@ -33,17 +31,6 @@ def manipulability_norm(w: np.ndarray) -> Any:
     import matplotlib.colors
 
     return matplotlib.colors.PowerNorm(0.5, vmin=float(w.min()), vmax=float(w.max()))
-
-
-def save_png(fig: Any, path: Path) -> str:
-    """Save ``fig`` as a PNG at ``path`` atomically (:func:`~armlab.files.write_file`), close it; its name."""
-    import matplotlib.pyplot as plt
-
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=DPI)
-    plt.close(fig)
-    write_file(path, buffer.getvalue())
-    return Path(path).name
 
 
 def _label(name: str, unit: str) -> str:

@@ -20,7 +20,7 @@ candidate's own, :func:`~armlab.analysis.workspace.default_resolution`), ``seed`
 ``simulate`` (false: torques by batch inverse dynamics along the motion sampled every 1 ms; true: by
 paper 000's Fig. 6 simulation), ``segments`` (a segments file, as ``armlab simulate --segments``,
 instead of the arm's paper motion). The drive objectives (:data:`DRIVES`) choose every joint's motor and gearbox
-for the motion, carrying the payload throughout (:func:`armlab.drives.sizing.size`, with the mass iteration):
+for the motion, carrying the payload throughout (:func:`armlab.sizing.sizing.size`, with the mass iteration):
 ``drive_mass`` (kg, the chosen drives' total; NaN when infeasible), ``drives_feasible`` (1 or 0) and
 ``drive_margin`` (the chosen pairs' smallest margin; NaN when infeasible); optional ``safety_factor`` (≥ 1, default
 1), ``motors`` and ``gearboxes`` (catalogue CSV files, relative to the study file; default armlab's examples).
@@ -51,20 +51,20 @@ from armlab.analysis.workspace import (
     workspace,
     workspace_plane,
 )
+from armlab.arm_file import MAX_FILE_NUMBER
 from armlab.diagrams.drives import torque_stats
-from armlab.diagrams.motions import paper_motion, read_segments
-from armlab.diagrams.plant import PlantOptions, check_payload
 from armlab.diagrams.simulate import DEFAULT_LOG_PERIOD, SimulationOptions, check_work, simulate
-from armlab.drives.catalogue import read_gearboxes, read_motors
-from armlab.drives.duty import DutyCycle, LoadCase
-from armlab.drives.select import check_safety_factor
-from armlab.drives.sizing import size
 from armlab.files import json_number, read_json
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.limits import check_range
 from armlab.models import ARMS, get_arm
-from armlab.models.arm_file import MAX_FILE_NUMBER
-from armlab.values import shown
+from armlab.models.plant import PlantOptions
+from armlab.planning.motions import paper_motion, read_segments
+from armlab.sizing.catalogue import read_gearboxes, read_motors
+from armlab.sizing.duty import DutyCycle, LoadCase
+from armlab.sizing.select import check_safety_factor
+from armlab.sizing.sizing import size
+from armlab.values import check_payload, shown
 
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion

@@ -10,9 +10,13 @@ The Python API (:mod:`armlab.api`), in one session::
     sols = arm.ik(target, all=True)             # every branch, (k, n)
     run = armlab.simulate(arm, armlab.quintic(arm, q0, qf, 2.0))
 
-The subpackages are ``armlab.models`` (the arms and their URDF files), ``armlab.kinematics``
-(each paper's method), ``armlab.controllers``, ``armlab.diagrams``, ``armlab.analysis`` and
-``armlab.scripts``. Drake is imported only where needed.
+The rooms, lowest first; a room imports only the rooms below it (tests/test_layers.py holds it): the base modules
+(:mod:`armlab.limits`, :mod:`armlab.values`, :mod:`armlab.files`, :mod:`armlab.arm_file`: ranges, values, files),
+``armlab.kinematics`` (each paper's method), ``armlab.drives`` (drive trains), ``armlab.models`` (the arms, their
+URDF files and plants), ``armlab.collision``, ``armlab.presentation`` (plots, drawings, replays),
+``armlab.planning`` (motions and their timing), ``armlab.controllers``, ``armlab.diagrams`` (the Systems diagram),
+``armlab.sizing``, ``armlab.analysis``, then this API (:mod:`armlab.api`), ``armlab.papers`` (the reproduction),
+``armlab.cli`` and ``armlab.scripts`` (examples). Drake is imported only where needed.
 """
 
 from importlib import import_module
@@ -34,6 +38,7 @@ if TYPE_CHECKING:
         through,
         trapezoidal,
     )
+    from armlab.collision.clearance import clearance
     from armlab.diagrams.run import Run
     from armlab.drives.train import DriveTrain
     from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment
@@ -51,6 +56,7 @@ _EXPORTS = {
     "Motion": "armlab.kinematics.quintic",
     "QuinticSegment": "armlab.kinematics.quintic",
     "Run": "armlab.diagrams.run",
+    "clearance": "armlab.collision.clearance",
     "export": "armlab.models.export",
     **{name: "armlab.api" for name in ("constant_rate", "draw", "load", "paper_motion", "quintic", "read_segments",
                                        "simulate", "size_drives", "through")},
@@ -66,6 +72,7 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "Run",
     "__version__",
     "arc",
+    "clearance",
     "constant_rate",
     "draw",
     "export",

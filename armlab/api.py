@@ -25,10 +25,6 @@ from numpy.typing import ArrayLike
 
 from armlab.collision.clearance import as_scene
 from armlab.collision.scene import Scene
-from armlab.diagrams.motions import paper_motion as motion_of_paper
-from armlab.diagrams.motions import quintic_motion
-from armlab.diagrams.motions import read_segments as read
-from armlab.diagrams.plant import PlantOptions
 from armlab.diagrams.run import Run
 from armlab.diagrams.simulate import (
     DEFAULT_ACCURACY,
@@ -39,10 +35,7 @@ from armlab.diagrams.simulate import (
     SimulationOptions,
 )
 from armlab.diagrams.simulate import simulate as run_diagram
-from armlab.drives.catalogue import Gearboxes, Motors, read_gearboxes, read_motors
-from armlab.drives.duty import DEFAULT_RATE, DutyCycle, LoadCase, load_cases_of, read_duty_cycle
 from armlab.drives.read import with_drives
-from armlab.drives.sizing import Sizing, size
 from armlab.kinematics.cartesian import (
     DEFAULT_SAMPLES,
     arc_path,
@@ -54,10 +47,17 @@ from armlab.kinematics.cartesian import (
 from armlab.kinematics.profiles import spline
 from armlab.kinematics.profiles import trapezoidal as joint_trapezoid
 from armlab.kinematics.quintic import ConstantRate, Motion, QuinticSegment, check_duration
-from armlab.kinematics.timing import DEFAULT_GRID, Fastest
-from armlab.kinematics.timing import fastest as time_optimal
 from armlab.models import get_arm
 from armlab.models.arm import Arm
+from armlab.models.plant import PlantOptions
+from armlab.planning.motions import paper_motion as motion_of_paper
+from armlab.planning.motions import quintic_motion
+from armlab.planning.motions import read_segments as read
+from armlab.planning.timing import DEFAULT_GRID, Fastest
+from armlab.planning.timing import fastest as time_optimal
+from armlab.sizing.catalogue import Gearboxes, Motors, read_gearboxes, read_motors
+from armlab.sizing.duty import DEFAULT_RATE, DutyCycle, LoadCase, load_cases_of, read_duty_cycle
+from armlab.sizing.sizing import Sizing, size
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -184,7 +184,7 @@ def fastest(arm: Arm, path: Motion, velocity: float | ArrayLike | None = None,
     """The fastest timing of ``path`` (any motion, its geometric path kept; a tool line or arc) within the joint
     limits, by Drake's ``Toppra`` (MATLAB ``contopptraj``, plus torque limits): the arm file's velocity and effort
     limits unless given, an ``acceleration`` limit if given, motor-side limits through ``drives``. Returns a
-    :class:`~armlab.kinematics.timing.Fastest`: ``.motion`` (what :func:`simulate` takes), ``.duration`` (s),
+    :class:`~armlab.planning.timing.Fastest`: ``.motion`` (what :func:`simulate` takes), ``.duration`` (s),
     ``.active`` (the constraint active along the path) and ṡ against its limit curve."""
     return time_optimal(arm, path, velocity, acceleration, effort, drives, motor_speed, motor_torque, grid,
                         payload=payload)
@@ -252,15 +252,15 @@ def size_drives(
     rate: float = DEFAULT_RATE,
 ) -> Sizing:
     """The motor and gearbox of every joint of ``arm`` for a duty cycle and every load case; a
-    :class:`~armlab.drives.sizing.Sizing` (``.joints[k].chosen``, ``.feasible``, ``.drive_mass``, ``.iterations``).
+    :class:`~armlab.sizing.sizing.Sizing` (``.joints[k].chosen``, ``.feasible``, ``.drive_mass``, ``.iterations``).
 
-    ``cycle``: a :class:`~armlab.drives.duty.DutyCycle`, a duty-cycle JSON file, a :class:`Motion` (repeated,
+    ``cycle``: a :class:`~armlab.sizing.duty.DutyCycle`, a duty-cycle JSON file, a :class:`Motion` (repeated,
     carrying the payload throughout) or ``None`` (the arm's paper motion); ``payloads``: point masses (kg) or
-    :class:`~armlab.drives.duty.LoadCase` objects, each a load case; ``motors``, ``gearboxes``: catalogues (CSV
+    :class:`~armlab.sizing.duty.LoadCase` objects, each a load case; ``motors``, ``gearboxes``: catalogues (CSV
     files or read ones; ``None``: armlab's example catalogues, illustrative values); ``safety_factor`` ≥ 1 on every
     torque; ``rank``: ``"mass"`` (lightest first), ``"margin"`` or ``"inertia"`` (smallest inertia ratio);
     ``mass_iteration``: put the chosen drives' masses on the links and repeat until the choice holds; ``rate``:
-    samples per second of motion. See :mod:`armlab.drives.select` for what feasible means.
+    samples per second of motion. See :mod:`armlab.sizing.select` for what feasible means.
     """
     if cycle is None:
         cycle = motion_of_paper(arm)
@@ -278,7 +278,7 @@ def draw(arm: Arm, q: ArrayLike | None = None, path: str | Path | None = None) -
     as a matplotlib figure (a notebook shows it); written to ``path`` (``.png``, ``.svg``, ``.pdf``) only if given.
     """
     # lazy: the drawing needs matplotlib, which armlab.load does not
-    from armlab.diagrams.draw import default_q, scheme_figure, write_figure
+    from armlab.presentation.draw import default_q, scheme_figure, write_figure
 
     fig = scheme_figure(arm, default_q(arm) if q is None else q)
     if path is not None:

@@ -17,7 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LIMITS", "Limit", "NotRealError", "allowed", "check_positive", "check_range", "real_array", "real_number",
+__all__ = ["LIMITS", "LIMIT_SLACK", "Limit", "NotRealError", "allowed", "check_positive", "check_range", "real_array",
+           "real_number",
            "whole_text"]
 
 
@@ -27,6 +28,10 @@ class NotRealError(TypeError, ValueError):
     A ``TypeError`` (the value's type is wrong) that is also a ``ValueError``, so that everything catching armlab's
     one-line input errors catches it too."""
 
+
+#: Round-off allowed past a joint limit (rad or m): a value this close outside it counts as on it
+#: (:meth:`armlab.models.arm.Arm.check_q`, :meth:`armlab.kinematics.quintic.Motion.check_limits`).
+LIMIT_SLACK = 1e-12
 
 _REAL_KINDS = "iuf"  # numpy dtype kinds of real numbers: signed and unsigned integers, floats
 

@@ -10,13 +10,26 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
-from armlab.limits import check_range
+from armlab.limits import NotRealError, allowed, check_range, real_number
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["SHOWN", "cut", "joint_rates", "joint_values", "parse_floats", "shown"]
+__all__ = [
+    "GRAVITY_NAMES",
+    "SHOWN",
+    "G",
+    "check_payload",
+    "cut",
+    "gravity_vector",
+    "joint_rates",
+    "joint_values",
+    "parse_floats",
+    "resolve_gravity",
+    "shown",
+]
 
 #: The most characters of a user's value an error message echoes (:func:`shown`).
 SHOWN = 60
@@ -73,3 +86,57 @@ def joint_rates(arm: Arm, text: str | None, deg: bool, name: str) -> np.ndarray:
     values = _per_joint(arm, text, name)
     return check_range(np.where(arm.revolute, np.radians(values), values) if deg else values, name,
                        key="qdd" if name == "--qdd" else "qd")
+
+
+#: Standard gravity (m/s²), the magnitude of every arm's default gravity.
+G = 9.81
+
+#: Named gravity settings: "off", and a direction of magnitude G along a base axis.
+GRAVITY_NAMES = ("default", "off", "+x", "-x", "+y", "-y", "+z", "-z")
+
+
+def resolve_gravity(arm: Arm, gravity: str | ArrayLike | None = None) -> NDArray[np.float64]:
+    """The gravity vector (m/s², base frame) for ``gravity`` (see :func:`gravity_vector`); ``None`` or
+    ``"default"`` → the arm's default (rr: −y, the vertical plane of paper 000's Adams model; the others: −z)."""
+    g = gravity_vector(gravity)
+    return np.asarray(arm.gravity, dtype=float) if g is None else g
+
+
+def gravity_vector(gravity: str | ArrayLike | None) -> NDArray[np.float64] | None:
+    """The gravity vector (m/s², base frame) for ``gravity``, ``None`` for the arm's own.
+
+    ``None`` or ``"default"`` → ``None``; ``"off"`` → zero; ``"+x"`` … ``"-z"`` → 9.81 m/s² along that
+    base axis; or three numbers (a sequence, or text ``"gx,gy,gz"``). ``ValueError`` for anything else.
+    """
+    if gravity is None:
+        return None
+    if isinstance(gravity, str):
+        text = gravity.strip().lower()
+        if text == "default":
+            return None
+        if text == "off":
+            return np.zeros(3)
+        if text in GRAVITY_NAMES:
+            g = np.zeros(3)
+            g["xyz".index(text[1])] = G if text[0] == "+" else -G
+            return g
+
+        try:
+            values = parse_floats(gravity, "--gravity")
+        except ValueError as error:
+            raise ValueError(f"{error}; or one of {', '.join(GRAVITY_NAMES)}") from None
+        gravity = values
+
+    g = np.asarray(gravity, dtype=float)
+    if g.shape != (3,) or not np.all(np.isfinite(g)):
+        raise ValueError(f"gravity {np.ravel(g).tolist()} is not allowed: give 3 finite numbers gx,gy,gz (m/s²) "
+                         f"or one of {', '.join(GRAVITY_NAMES)}")
+    return check_range(g, "gravity", math.hypot(*g))
+
+
+def check_payload(payload: float, name: str = "payload") -> float:
+    """``payload`` (kg) as a float; ``ValueError`` (naming it ``name``) unless it is a mass in
+    :data:`armlab.limits.LIMITS`' range."""
+    if isinstance(payload, str):
+        raise NotRealError(f"{name} {shown(payload)} is not allowed: a payload is a mass, {allowed('payload')}")
+    return float(check_range(real_number(payload, name), name))

@@ -1,4 +1,4 @@
-"""Clearances by pair: of one configuration (``armlab check``, ``Arm.clearance``) and along a motion (simulate).
+"""Clearances by pair: of one configuration (``armlab check``, ``armlab.clearance``) and along a motion (simulate).
 
 A clearance is a pair's signed distance (m): positive apart, negative in contact, −clearance the penetration
 depth. Along a motion, a pair whose clearance drops below zero is a *collision*, reported like a passed joint
@@ -22,7 +22,6 @@ if TYPE_CHECKING:
 __all__ = [
     "as_scene",
     "clearance",
-    "clearance_figure",
     "collisions",
     "contacts",
     "format_collision",
@@ -103,23 +102,6 @@ def motion_clearance(arm: Arm, t: ArrayLike, q: ArrayLike, scene: Scene | str | 
     where = "itself" if scene is None else f"itself and the {len(scene.obstacles)} obstacle(s) of {scene.source}"
     return ({"collision_check": f"{len(found.pairs)} pair(s) checked: the arm against {where}",
              "collisions": collisions(t, found), "min_clearance": pair_minima(t, found)}, found)
-
-
-def clearance_figure(arm: Arm, t: NDArray[np.float64], found: Clearances) -> Any:
-    """Each pair's clearance (mm) over the run, the contact line at 0 (a matplotlib figure; the caller closes it)."""
-    # lazy: matplotlib is loaded by the commands that plot (armlab._lazy)
-    from armlab.scripts.figures import new_figure
-
-    fig, ax = new_figure(f"{arm.name}: clearance of each checked pair along the run (below 0: in contact)",
-                         size=(8.0, 4.8))
-    order = np.argsort(found.distance.min(axis=0)) if len(t) else np.arange(len(found.pairs))
-    for j in order:
-        ax.plot(t, found.distance[:, j] * 1e3, lw=1.2, label=found.names()[j])
-    ax.axhline(0.0, color="black", lw=0.8, ls="--", label="contact (clearance 0)")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("clearance [mm]")
-    ax.legend(fontsize=7, ncols=2, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    return fig
 
 
 def format_collision(c: dict[str, Any]) -> str:

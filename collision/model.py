@@ -1,7 +1,7 @@
 """An arm and its scene in Drake's ``SceneGraph``: which pairs are checked, and their signed distances.
 
 :class:`CollisionModel` builds the arm's plant with its collision geometry and the scene's obstacles through
-the one plant builder (:func:`armlab.diagrams.plant.add_arm_plant`, ``PlantOptions(scene=…)``) and takes the
+the one plant builder (:func:`armlab.models.plant.add_arm_plant`, ``PlantOptions(scene=…)``) and takes the
 pairs to check from ``SceneGraph``: every pair of geometries that is not filtered, i.e. not on adjacent links
 (Drake filters those), not both on the stand or the world, and not filtered by the arm's file. A pair is named
 by its two owners (a link's name, or an obstacle's), the arm's link first; geometries of the same two owners
@@ -26,8 +26,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.collision.capsules import capsule_box, capsule_capsule, capsule_floor
-from armlab.diagrams.plant import PlantOptions, add_arm_plant, default_context
 from armlab.kinematics.batch import as_batch, blocks
+from armlab.models.plant import PlantOptions, add_arm_plant, default_context
 
 if TYPE_CHECKING:
     from armlab.collision.scene import Scene

@@ -7,7 +7,7 @@ joint torques. Here, with Drake's own systems, named so that the graphviz pictur
                                                          │          ↑ state feedback ─────────┘
     loggers: log_reference, log_state, log_torque, log_tool (ToolPoint: p, v, a of the tool point)
 
-The plant carries the arm's drive train (rotor inertia, gear ratio, joint damping: :mod:`armlab.diagrams.plant`),
+The plant carries the arm's drive train (rotor inertia, gear ratio, joint damping: :mod:`armlab.models.plant`),
 and so does the controller's model, the plant itself. An arm whose drive train has Coulomb friction gets two
 more systems: ``joint_friction`` (−T_c·tanh(v/v_s) of the plant's rates into its applied generalized force)
 and ``friction_compensation`` + ``drive_torque`` (the same term added to the controller's torque; what
@@ -40,8 +40,8 @@ from armlab.controllers.inverse_dynamics import (
     add_inverse_dynamics_controller,
     gain_vector,
 )
-from armlab.diagrams.plant import add_arm_plant
 from armlab.kinematics.quintic import Motion, to_trajectory
+from armlab.models.plant import add_arm_plant
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant

@@ -191,7 +191,7 @@ def drives_figure(log: SimulationLog) -> Any:
     """Each joint's torque against its speed along the run, inside its effort/speed limit box, with its peak and
     RMS points (a matplotlib figure; the caller closes it)."""
     # lazy: armlab --help loads armlab.diagrams.drives but not this (start-up time)
-    from armlab.scripts.figures import new_figure
+    from armlab.presentation.figures import new_figure
 
     tau_motor, motor_speed = log.tau_motor, log.motor_speed  # evaluated once, for the table and the panels
     rows = _drive_rows(log, tau_motor, motor_speed)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.collision.clearance import clearance_figure, motion_clearance
+from armlab.collision.clearance import motion_clearance
 from armlab.diagrams.drives import (
     DIVERGENCE_TOLERANCE,
     divergence,
@@ -26,11 +26,11 @@ from armlab.diagrams.drives import (
     limit_violations,
     write_drives_csv,
 )
-from armlab.diagrams.graphviz import fig6_dot, write_pictures
-from armlab.diagrams.output import run_folder, write_log_csv, write_summary
-from armlab.diagrams.plots import figures, save_figures
-from armlab.diagrams.replay import log_page, replay_log
 from armlab.diagrams.simulate import summarize
+from armlab.presentation.graphviz import fig6_dot, write_pictures
+from armlab.presentation.output import run_folder, write_log_csv, write_summary
+from armlab.presentation.plots import clearance_figure, figures, save_figures
+from armlab.presentation.replay import log_page, replay_log
 
 if TYPE_CHECKING:
     from armlab.collision.model import Clearances
@@ -198,7 +198,7 @@ class Run:
         and ``diagram.dot`` (Drake's whole graph), the plots, ``drives.png`` and ``replay.html`` (the run as a
         3-D animation with its time slider and a readout of t, q — in degrees with ``deg`` — and τ). The two
         SVGs need graphviz's ``dot``: without it they are skipped with a
-        :class:`~armlab.diagrams.graphviz.DotMissingWarning`, and everything else is written.
+        :class:`~armlab.presentation.graphviz.DotMissingWarning`, and everything else is written.
         """
         log, folder = self.log, Path(folder)
         write_log_csv(log, folder / "log.csv")

@@ -44,12 +44,12 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, SAMPLINGS, RunDiagram, build_diagram, check_log_period
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, torque_stats
-from armlab.diagrams.plant import PlantOptions
 from armlab.drives.train import DRIVE_FIELDS, motor_speed, motor_torque
 from armlab.kinematics.differential import tool_motion
 from armlab.kinematics.quintic import Motion
 from armlab.kinematics.rnea import inverse_dynamics, inverse_dynamics_and_tool_point
 from armlab.limits import check_range
+from armlab.models.plant import PlantOptions
 
 if TYPE_CHECKING:
     from collections.abc import Callable

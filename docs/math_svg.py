@@ -1,7 +1,7 @@
 """A Sphinx HTML math renderer that needs no network: armlab's own LaTeX → inline SVG (matplotlib's mathtext).
 
 The site's mathematics (the notebooks', the report pages') is rendered at build time by
-:func:`armlab.scripts.math_html.latex_html`, as ``report.html`` renders it, so the pages show it opened from
+:func:`armlab.papers.math_html.latex_html`, as ``report.html`` renders it, so the pages show it opened from
 disk, with no MathJax to fetch.
 """
 
@@ -11,7 +11,7 @@ from typing import Any
 
 from docutils import nodes
 
-from armlab.scripts.math_html import latex_html
+from armlab.papers.math_html import latex_html
 
 
 def _inline(self: Any, node: nodes.Element) -> None:

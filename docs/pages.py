@@ -100,7 +100,7 @@ def reproduction(folder: Path) -> Path:
     given = os.environ.get("ARMLAB_DOCS_REPRODUCTION")
     if given:
         return Path(given) / "report.md"
-    from armlab.scripts.reproduce import reproduce
+    from armlab.papers.reproduce import reproduce
 
     out = folder / "reproduction"
     return reproduce(out, fast=True, progress=lambda line: print(f"docs: {line}", flush=True)).report

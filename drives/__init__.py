@@ -1,1 +1,4 @@
-"""Drive trains (gear ratio, rotor inertia, efficiency, friction) and the sizing of motors and gearboxes."""
+"""An arm's drive train per joint (gear ratio, rotor inertia, efficiency, friction), read from drive files and DH
+columns, and its Coulomb friction as a Drake system.
+May import: base, kinematics.
+"""

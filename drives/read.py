@@ -27,9 +27,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from armlab.arm_file import file_number, read_text
 from armlab.drives.train import DRIVE_FIELDS, DriveTrain
 from armlab.files import csv_table
-from armlab.models.arm_file import file_number, read_text
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm

@@ -238,7 +238,7 @@ def tool_motion_along(arm: Arm, path: ToolPath, duration: float | None = None, p
 def tool_joint_path(arm: Arm, path: ToolPath, q0: ArrayLike | None = None, branch: int | None = None,
                     samples: int = DEFAULT_SAMPLES) -> PiecewisePolynomial:
     """The joint path q(s) ``(n, 1)``, s in [0, 1], that puts ``arm``'s tool on ``path``, untimed (what
-    :func:`tool_motion_along` times, and what :func:`armlab.kinematics.timing.fastest` takes): IK at ``samples``
+    :func:`tool_motion_along` times, and what :func:`armlab.planning.timing.fastest` takes): IK at ``samples``
     values of s on one branch from ``q0``, IK ``branch`` or the solution nearest zero, as there."""
     if not isinstance(samples, int) or isinstance(samples, bool) or samples < 2:
         raise ValueError(f"samples = {samples!r} is not allowed: a whole number ≥ 2")

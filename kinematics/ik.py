@@ -1,7 +1,7 @@
 """Inverse kinematics: the one dispatcher, :func:`solve`, between an arm's closed form and the numerical solver.
 
 * A paper arm's module gives its arm its paper's closed form (:attr:`armlab.models.arm.Arm.closed_form`,
-  a :class:`armlab.models.extras.ClosedForm`: rr, arm4r and r2t, the functions of
+  a :class:`armlab.kinematics.ik_closed_form.ClosedForm`: rr, arm4r and r2t, the functions of
   :mod:`armlab.kinematics.ik_closed_form`); :func:`solve` uses it when the arm has one.
 * Any other arm (urm6, rrrr, users' arms) is solved numerically: one solution nearest ``near`` by one start on one
   configuration, :func:`armlab.kinematics.ik_local.local_ik` (a few ms), every solution by the batched multi-start
@@ -40,13 +40,11 @@ from armlab.kinematics.ik_target import (
     target_text,
 )
 from armlab.limits import check_range
-from armlab.models import paper_arms
-from armlab.models.write_urdf import JointLimits
 from armlab.values import shown
 
 if TYPE_CHECKING:
+    from armlab.kinematics.ik_closed_form import ClosedForm
     from armlab.models.arm import Arm
-    from armlab.models.extras import ClosedForm
 
 __all__ = ["ORDER_TOL", "SEEDS", "solve", "solve_branch", "target_pose"]
 
@@ -106,30 +104,30 @@ def _closed_form(arm: Arm, form: ClosedForm, position: NDArray, rotation: NDArra
 
 
 def _check_options(arm: Arm, options: dict[str, float]) -> None:
-    """``ValueError`` for an option (``pitch``) the arm's closed form does not take, naming the arms that take it."""
+    """``ValueError`` for an option (``pitch``) the arm's closed form does not take, naming those it takes."""
     form = arm.closed_form
     for name, value in options.items():
         if form is None or name not in form.options:
-            takers = ", ".join(f"{other.name} ({other.closed_form.options[name]})" for other in paper_arms()
-                               if other.closed_form is not None and name in other.closed_form.options)
-            raise ValueError(f"{name} = {value} applies only to {takers}, not to {arm.name}")
+            takes = ", ".join(f"{option} ({what})" for option, what in (form.options if form else {}).items())
+            raise ValueError(f"{name} = {value} is not an option of {arm.name}'s inverse kinematics; it takes "
+                             f"{takes or 'none'}")
 
 
 def solve_branch(arm: Arm, point: ArrayLike, branch: int) -> NDArray[np.float64]:
     """Branch ``branch`` of ``arm``'s closed form reaching ``point`` (the closed form's coordinates, rr: x,y or
     x,y,0), fitted into the joint limits nearest itself: ``(n,)``.
 
-    Only a closed form whose branches can be chosen (:attr:`armlab.models.extras.ClosedForm.selectable`: rr's
-    two elbows, paper 000's Table 2) takes a branch; ``ValueError`` for any other arm or branch, or a branch
+    Only a closed form whose branches can be chosen (:attr:`~armlab.kinematics.ik_closed_form.ClosedForm.selectable`:
+    rr's two elbows, paper 000's Table 2) takes a branch; ``ValueError`` for any other arm or branch, or a branch
     outside the joint limits.
     """
     form = arm.closed_form
     if form is None or not form.selectable or branch not in range(len(form.branches)):
-        choices = "; ".join(" and ".join(f"{k} ({text})" for k, text in enumerate(other.closed_form.branches))
-                            + f" of the {other.name} arm" for other in paper_arms()
-                            if other.closed_form is not None and other.closed_form.selectable)
-        raise ValueError(f"IK branch {branch!r} is not allowed: branches are {choices}; for other arms give no "
-                         "branch (the solution nearest the previous joints is taken)")
+        choices = (" and ".join(f"{k} ({text})" for k, text in enumerate(form.branches))
+                   if form is not None and form.selectable else "")
+        raise ValueError(f"IK branch {branch!r} is not allowed for {arm.name}: "
+                         + (f"its branches are {choices}" if choices else "it has no branch to choose; give none (the "
+                            "solution nearest the previous joints is taken)"))
     own = np.asarray(point, dtype=float)
     own = own if form.coordinates is None else form.coordinates(own)
     q = form.solve(np.append(own, np.zeros(3 - own.size)), None, np.zeros(arm.n))[branch]
@@ -187,7 +185,7 @@ def _local(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArray,
 
 def _held(arm: Arm, joints: range, q: NDArray) -> Arm:
     """``arm`` with ``joints`` held at ``q``'s values (their limits closed onto them)."""
-    limits = tuple(JointLimits(float(q[i]), float(q[i]), lim.effort, lim.velocity) if i in joints else lim
+    limits = tuple(replace(lim, lower=float(q[i]), upper=float(q[i])) if i in joints else lim
                    for i, lim in enumerate(arm.limits))
     return replace(arm, limits=limits)
 

@@ -12,7 +12,8 @@ Each arm's module hands its own to the dispatcher (:attr:`armlab.models.arm.Arm.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -21,7 +22,34 @@ from armlab.kinematics.batch import as_batch
 from armlab.kinematics.ik_target import fmt, single
 from armlab.values import shown
 
-__all__ = ["REACH_RTOL", "arm4r_ik", "planar_target", "r2t_ik", "rr_ik"]
+__all__ = ["REACH_RTOL", "ClosedForm", "arm4r_ik", "planar_target", "r2t_ik", "rr_ik"]
+
+
+@dataclass(frozen=True)
+class ClosedForm:
+    """A paper's closed-form inverse kinematics of one arm, its parameters bound.
+
+    ``solve(position, rotation, near, **options)`` gives every branch reaching the tool position
+    ``position`` (3,) m, shape ``(len(branches), n)``, in the order of ``branches``, not fitted into the
+    joint limits; ``rotation`` (3, 3) (a pose target) or ``None`` and ``near`` (n,) are there for a
+    closed form that uses them (arm4r reads θ1 and its pitch off the rotation; on the z0 axis its θ1 is
+    ``near``'s); ``ValueError`` for an unreachable position. The dispatcher keeps the branches whose
+    orientation matches a pose target.
+    """
+
+    solve: Callable[..., NDArray[np.float64]]
+    #: What each branch is, in ``solve``'s order (their number is the branch count): rr ("θ2 ≥ 0", "θ2 ≤ 0").
+    branches: tuple[str, ...]
+    #: Extra keyword arguments ``solve`` takes, and what each is: arm4r {"pitch": "its tool pitch θ2+θ3+θ4"}.
+    options: Mapping[str, str] = field(default_factory=dict)
+    #: A position target as the user gives it → the coordinates the closed form takes, the rest of the tool
+    #: position being 0 (rr: x,y or x,y,0 → (x, y)); ``None``: x, y, z.
+    coordinates: Callable[[NDArray], NDArray[np.float64]] | None = None
+    #: Whether a user may choose a branch by its number (rr: paper 000's Table 2 names the elbow of each point).
+    selectable: bool = False
+    #: Whether it solves a full pose only (a six-axis arm's: ``rotation`` must be given); a position target is then
+    #: solved as :func:`armlab.kinematics.ik.solve` says for a continuum.
+    needs_pose: bool = False
 
 #: Relative tolerance on lengths when deciding reachability at a workspace boundary (round-off only).
 REACH_RTOL = 1e-12

@@ -22,9 +22,8 @@ from numpy.typing import NDArray
 
 from armlab.kinematics.basic_movements import T_Z5, T_Z6
 from armlab.kinematics.dh import DHTable
-from armlab.kinematics.ik_closed_form import REACH_RTOL
+from armlab.kinematics.ik_closed_form import REACH_RTOL, ClosedForm
 from armlab.kinematics.ik_target import target_text
-from armlab.models.extras import ClosedForm
 
 __all__ = ["spherical_wrist_closed_form", "spherical_wrist_ik", "ur_closed_form", "ur_ik"]
 

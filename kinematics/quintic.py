@@ -15,7 +15,7 @@ A segment is a :class:`QuinticSegment` (rest to rest), a :class:`ConstantRate`, 
 :class:`PolynomialSegment` (any degree-≤5 polynomial per joint, which may start and end moving: the
 profiles and via-point splines of :mod:`armlab.kinematics.profiles`) or a :class:`TrajectorySegment`
 (a Drake ``Trajectory``: a ``PiecewisePolynomial`` or a ``PathParameterizedTrajectory``, e.g. a tool
-path by IK, :mod:`armlab.kinematics.cartesian`, or Toppra's timing, :mod:`armlab.kinematics.timing`).
+path by IK, :mod:`armlab.kinematics.cartesian`, or Toppra's timing, :mod:`armlab.planning.timing`).
 Consecutive segments need not join in joint space (paper 000's Table 2 leaves C on another IK branch
 than it reaches it on): :meth:`Motion.joins` checks q and q̇ where they meet (to :data:`JOIN_TOL`) and
 :meth:`Motion.runs` splits a motion into the continuous pieces that can be simulated as one run each.
@@ -33,8 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
-from armlab.limits import check_positive, check_range, real_number
-from armlab.models.arm import LIMIT_SLACK
+from armlab.limits import LIMIT_SLACK, check_positive, check_range, real_number
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial, Trajectory
@@ -310,7 +309,7 @@ class TrajectorySegment:
     """A segment given by a Drake ``Trajectory`` of the joints, ``(n, 1)`` values, over its own
     [start_time, end_time]: a ``PiecewisePolynomial`` or a ``PathParameterizedTrajectory`` q(s(t)) (a tool
     path by IK timed by a profile, :mod:`armlab.kinematics.cartesian`; Toppra's timing of a path,
-    :mod:`armlab.kinematics.timing`). Local time τ = 0 is the trajectory's start time.
+    :mod:`armlab.planning.timing`). Local time τ = 0 is the trajectory's start time.
     """
 
     trajectory: Trajectory

@@ -37,13 +37,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch, blocks, cos_sin, cross, turn_z
-from armlab.models.write_urdf import merge_inertials
+from armlab.values import check_payload, resolve_gravity
 
 if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
     from armlab.models.arm import Arm
 
-__all__ = ["LinkInertias", "inverse_dynamics", "inverse_dynamics_and_tool_point", "link_inertias"]
+__all__ = ["LinkInertias", "inverse_dynamics", "inverse_dynamics_and_tool_point", "link_inertias", "merge_inertials"]
 
 
 @dataclass(frozen=True)
@@ -59,13 +59,24 @@ class LinkInertias:
     inertia: NDArray[np.float64]
 
 
+def merge_inertials(parts: list[tuple[float, NDArray, NDArray]]) -> tuple[float, NDArray, NDArray]:
+    """One rigid body of ``parts`` welded together: ``(mass, com, inertia)`` from each part's (kg, m (3,), kg·m² (3, 3)
+    about its own centre of mass, all in one frame); the inertia is about the joint centre of mass (parallel axes)."""
+    total = float(sum(m for m, _, _ in parts))
+    if total == 0:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    com = np.sum([m * np.asarray(c, dtype=float) for m, c, _ in parts], axis=0) / total
+    inertia = np.zeros((3, 3))
+    for m, c, I in parts:
+        d = np.asarray(c, dtype=float) - com
+        inertia = inertia + np.asarray(I, dtype=float) + m * (d @ d * np.eye(3) - np.outer(d, d))
+    return total, com, inertia
+
+
 def link_inertias(arm: Arm, payload: float = 0.0) -> LinkInertias:
     """Each moving link's mass properties (:meth:`Arm.mass_properties`, the numbers its URDF and so its
     Drake plant are built from), with a ``payload`` (kg) as a point mass at the tool frame's origin added to
-    link n, as :func:`armlab.diagrams.plant.make_plant` welds it there."""
-    # lazy: armlab.diagrams sits above armlab.kinematics and imports it
-    from armlab.diagrams.plant import check_payload
-
+    link n, as :func:`armlab.models.plant.make_plant` welds it there."""
     payload = check_payload(payload)
     mass, com, inertia = arm.mass_properties()
     if payload > 0:
@@ -159,7 +170,7 @@ def inverse_dynamics(
     """Joint torques/forces τ = M(q) q̈ + C(q, q̇) q̇ − τ_g(q) + the drive train's (N·m or N), ``(n,)`` or ``(..., n)``.
 
     ``q, qd, qdd``: joint positions (rad or m), rates and accelerations, ``(n,)`` or ``(..., n)``,
-    broadcast together. ``gravity``: as :func:`armlab.diagrams.plant.resolve_gravity` (default the arm's);
+    broadcast together. ``gravity``: as :func:`armlab.models.plant.resolve_gravity` (default the arm's);
     ``payload``: a point mass (kg) at the tool frame's origin; ``drives``: the drive train whose
     G²·J_m·q̈ + B·q̇ + T_c·tanh(q̇/v_s) (:meth:`~armlab.drives.train.DriveTrain.torque`) is added, ``None``: the
     arm's own (``arm.drives``; none: ideal drives, the rigid arm alone). Equal to Drake's ``CalcInverseDynamics``
@@ -190,9 +201,6 @@ def _newton_euler(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, gravity
                   drives: DriveTrain | None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """τ ``(..., n)`` (with the drive train ``drives``, ``None``: the arm's) and, if ``tool``, the tool point's
     [p v a] ``(..., 9)`` (else an empty array)."""
-    # lazy: armlab.diagrams sits above armlab.kinematics and imports it
-    from armlab.diagrams.plant import resolve_gravity
-
     arm.require_dynamics("inverse dynamics")
     n = arm.n
     arrays = (as_batch(q, n, "q"), as_batch(qd, n, "qd"), as_batch(qdd, n, "qdd"))

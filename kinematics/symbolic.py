@@ -17,7 +17,7 @@ This module does the same in sympy, from each paper's own formulation:
 * :func:`arm_kinematics` — any paper arm's end-point position, rotation, velocity and
   acceleration (:class:`ArmKinematics`), with batched numpy functions from
   :meth:`ArmKinematics.numeric` (``lambdify``, cached);
-* :func:`r2t` — paper 003's T04, R04, p4 (as corrected, see :mod:`armlab.kinematics.errata`)
+* :func:`r2t` — paper 003's T04, R04, p4 (as corrected, see :mod:`armlab.papers.errata`)
   and the end effector's ω4, v4, ω̇4, v̇4 in {0} and in its own frame {4};
 * :func:`latex_table` — the expressions the papers print, as labelled LaTeX strings.
 
@@ -29,14 +29,16 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cache
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 import sympy as sp
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch
-from armlab.models import get_arm
+
+if TYPE_CHECKING:
+    from armlab.models.arm import Arm
 
 __all__ = [
     "T_Z1",
@@ -289,7 +291,7 @@ def locating_matrix(
 
     T_Δ = [R(k; q Δ) | (1 − Δ) q k] with Δ = 1 for a rotation and 0 for a translation.
     ``k`` is taken as printed (no unit-length check), so that a misprinted axis can be
-    evaluated too (see :mod:`armlab.kinematics.errata`).
+    evaluated too (see :mod:`armlab.papers.errata`).
     """
     delta = 1 if kind == "R" else 0
     fixed = sp.eye(4)
@@ -304,7 +306,7 @@ def locating_matrix(
 def r2t_chain(k2: Sequence[sp.Expr] = (0, 0, 1)) -> tuple[tuple, tuple, tuple[sp.Matrix, ...]]:
     """(q, l, [T01, T12, T23, T34]) of paper 003, Table 1 and eqs. (13)–(18).
 
-    ``k2`` is joint 2's axis (eq. 12: z2); Table 1 misprints it, see :mod:`armlab.kinematics.errata`.
+    ``k2`` is joint 2's axis (eq. 12: z2); Table 1 misprints it, see :mod:`armlab.papers.errata`.
     """
     q = joint_symbols(3)
     l = tuple(sp.Symbol(f"l{i}", real=True) for i in range(1, 6))
@@ -490,7 +492,8 @@ class ArmKinematics:
 
     name: str
     source: str
-    overrides: tuple[tuple[str, float], ...]
+    #: The arm's parameter values (SI) the numbers are built from, by name, sorted.
+    values: tuple[tuple[str, float], ...]
     q: tuple[sp.Symbol, ...]
     qd: tuple[sp.Symbol, ...]
     qdd: tuple[sp.Symbol, ...]
@@ -502,35 +505,32 @@ class ArmKinematics:
 
     def numeric(self) -> NumericKinematics:
         """Batched numpy functions with the parameter values substituted (built once per arm)."""
-        return _numeric(self.name, self.overrides)
+        return _numeric(self.name, self.values)
 
 
 @cache
-def _arm_kinematics(name: str, overrides: tuple[tuple[str, float], ...]) -> ArmKinematics:
-    arm = get_arm(name, **dict(overrides))
-    params = {key: sp.Symbol(key, real=True) for key in arm.parameters}
+def _arm_kinematics(name: str, parameters: tuple[tuple[str, float], ...]) -> ArmKinematics:
+    params = {key: sp.Symbol(key, real=True) for key, _ in parameters}
     q, position, rotation = _BUILDERS[name](params)
     motion = end_point_kinematics(position, q)
     used = position.free_symbols | rotation.free_symbols
-    values = {s: float(arm.parameters[key]) for key, s in params.items() if s in used}
-    return ArmKinematics(name, _SOURCES[name], overrides, motion.q, motion.qd, motion.qdd, values,
+    values = {s: float(dict(parameters)[key]) for key, s in params.items() if s in used}
+    return ArmKinematics(name, _SOURCES[name], parameters, motion.q, motion.qd, motion.qdd, values,
                          position, rotation, motion.velocity, motion.acceleration)
 
 
-def arm_kinematics(name: str, **overrides: float) -> ArmKinematics:
-    """The symbolic end-point kinematics of paper arm ``name`` (rr, rrrr, arm4r, r2t, urm6).
-
-    Parameter ``overrides`` are passed to :func:`armlab.models.get_arm` (they set the
-    numbers substituted by :meth:`ArmKinematics.numeric`). Unknown arms raise ``ValueError``.
-    """
-    if name not in _BUILDERS:
-        raise ValueError(f"no symbolic kinematics for arm {name!r}; allowed: {', '.join(_BUILDERS)}")
-    return _arm_kinematics(name, tuple(sorted(overrides.items())))
+def arm_kinematics(arm: Arm) -> ArmKinematics:
+    """The symbolic end-point kinematics of the paper arm ``arm`` (rr, rrrr, arm4r, r2t, urm6), its parameters'
+    values (``arm.parameters``) the numbers substituted by :meth:`ArmKinematics.numeric`. Other arms raise
+    ``ValueError``."""
+    if arm.name not in _BUILDERS:
+        raise ValueError(f"no symbolic kinematics for arm {arm.name!r}; allowed: {', '.join(_BUILDERS)}")
+    return _arm_kinematics(arm.name, tuple(sorted((key, float(v)) for key, v in arm.parameters.items())))
 
 
 @cache
-def _numeric(name: str, overrides: tuple[tuple[str, float], ...]) -> NumericKinematics:
-    k = _arm_kinematics(name, overrides)
+def _numeric(name: str, values: tuple[tuple[str, float], ...]) -> NumericKinematics:
+    k = _arm_kinematics(name, values)
     subs = k.parameters
     return NumericKinematics(
         n=len(k.q),

@@ -1,4 +1,5 @@
-"""The arms: one module per paper arm, each citing its paper, plus users' own arms.
+"""The arms: one module per paper arm, each citing its paper, the library arms, users' own arms, and their plant.
+May import: base, kinematics, drives.
 
 ``get_arm(name)`` returns an :class:`~armlab.models.arm.Arm` for a paper arm's name
 (see ``ARMS``), an example arm shipped with armlab (``example:arm3r``, see :func:`examples`),
@@ -19,18 +20,18 @@ from __future__ import annotations
 import importlib
 import math
 import pkgutil
-from collections.abc import Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import fields
 from importlib.resources import files
 from pathlib import Path
 from types import ModuleType
 
+from armlab.arm_file import MAX_FILE_NUMBER
 from armlab.limits import real_number
 from armlab.models.arm import MODELS_DIR, Arm
-from armlab.models.arm_file import MAX_FILE_NUMBER
 from armlab.values import shown
 
-__all__ = ["ARMS", "EXAMPLE", "Arm", "examples", "get_arm", "paper_arms", "register"]
+__all__ = ["ARMS", "EXAMPLE", "Arm", "examples", "get_arm", "paper_arms", "register", "unregister"]
 
 
 def _is_arm_module(module: ModuleType) -> bool:
@@ -50,8 +51,42 @@ def _package_arms() -> dict[str, ModuleType]:
     return {module.__name__.rpartition(".")[2]: module for module in found}
 
 
-#: Paper arms by name: their modules (each with ``Parameters``, ``build(**overrides)``, ``PAPER``).
-ARMS: dict[str, ModuleType] = _package_arms()
+class _Arms(Mapping[str, ModuleType]):
+    """The paper arms by name, found on first lookup (:func:`_package_arms`), not when :mod:`armlab.models` is
+    imported: importing the package imports no arm module. Registered arms (:func:`register`) follow."""
+
+    def __init__(self) -> None:
+        self._found: dict[str, ModuleType] | None = None
+        self._registered: dict[str, ModuleType] = {}
+
+    def _arms(self) -> dict[str, ModuleType]:
+        if self._found is None:
+            self._found = _package_arms()
+        return self._found | self._registered
+
+    def __getitem__(self, name: str) -> ModuleType:
+        return self._arms()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._arms())
+
+    def __len__(self) -> int:
+        return len(self._arms())
+
+    def add(self, name: str, module: ModuleType) -> None:
+        """Register ``module`` as the arm ``name``, after the arms found."""
+        self._registered[name] = module
+
+    def remove(self, name: str) -> None:
+        """Take the registered arm ``name`` back; ``ValueError`` for a name not registered (a package arm's too)."""
+        if name not in self._registered:
+            raise ValueError(f"arm {name!r} was not registered")
+        del self._registered[name]
+
+
+#: Paper arms by name: their modules (each with ``Parameters``, ``build(**overrides)``, ``PAPER``), found on first
+#: lookup.
+ARMS = _Arms()
 
 
 def register(module: ModuleType) -> None:
@@ -62,7 +97,12 @@ def register(module: ModuleType) -> None:
         raise ValueError(f"module {module.__name__} is not an arm module: it needs build, PAPER and Parameters")
     if name in ARMS and ARMS[name] is not module:
         raise ValueError(f"arm {name!r} is registered already (by {ARMS[name].__name__})")
-    ARMS[name] = module
+    ARMS.add(name, module)
+
+
+def unregister(name: str) -> None:
+    """Take back the arm ``name`` that :func:`register` added (a plug-in unloaded, a test's arm)."""
+    ARMS.remove(name)
 
 
 def paper_arms() -> list[Arm]:

@@ -1,4 +1,4 @@
-"""The :class:`Arm`: one serial arm's parameters, geometry, URDF and Drake plant (:mod:`armlab.diagrams.plant`).
+"""The :class:`Arm`: one serial arm's parameters, geometry, URDF and Drake plant (:mod:`armlab.models.plant`).
 
 An arm is described once, by its paper's parameters, as paper 003's matrix of nominal
 geometry plus bodies, limits and named points (see :mod:`armlab.models.write_urdf`). From
@@ -21,25 +21,21 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.kinematics.batch import as_batch, chain_points
 from armlab.kinematics.locating import LocatingTable
-from armlab.limits import check_range
+from armlab.limits import LIMIT_SLACK, check_range
 from armlab.models.write_urdf import Body, JointLimits, Point, link_inertials, urdf_text
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
 
-    from armlab.diagrams.plant import PlantOptions
     from armlab.drives.train import DriveTrain
     from armlab.kinematics.dh import DHTable
-    from armlab.models.extras import ClosedForm, MotionFn, PaperScheme
+    from armlab.kinematics.ik_closed_form import ClosedForm
+    from armlab.models.extras import MotionFn, PaperScheme
+    from armlab.models.plant import PlantOptions
 
-__all__ = ["LIMIT_SLACK", "MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
+__all__ = ["MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
 
 MODELS_DIR = Path(__file__).resolve().parent
-
-#: Round-off allowed past a joint limit (rad or m): a value this close outside it counts as on it
-#: (:meth:`Arm.check_q`, :meth:`armlab.kinematics.quintic.Motion.check_limits`).
-LIMIT_SLACK = 1e-12
-
 
 @dataclass(frozen=True)
 class Forward:
@@ -118,7 +114,7 @@ class Arm:
     # What only a paper arm has, from its module (:mod:`armlab.models.extras`); a user's arm has none.
     #: Its paper's closed-form inverse kinematics; ``None``: solved numerically (:func:`armlab.kinematics.ik.solve`).
     closed_form: ClosedForm | None = None
-    #: Its paper motion, what ``armlab simulate ARM`` runs (:func:`armlab.diagrams.motions.paper_motion`).
+    #: Its paper motion, what ``armlab simulate ARM`` runs (:func:`armlab.planning.motions.paper_motion`).
     motion: MotionFn | None = None
     #: Its named multi-segment paths (``--path``; rr: ``"abcd"``).
     paths: Mapping[str, MotionFn] = field(default_factory=dict)
@@ -303,9 +299,9 @@ class Arm:
     # ----------------------------------------------------------------- Drake
     def make_plant(self, options: PlantOptions | None = None) -> MultibodyPlant:
         """A finalized ``MultibodyPlant`` of the arm (default: continuous, the arm's gravity, no payload), in the arm's
-        joint order: :func:`armlab.diagrams.plant.make_plant`, the one plant builder, with ``options``."""
+        joint order: :func:`armlab.models.plant.make_plant`, the one plant builder, with ``options``."""
         # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
-        from armlab.diagrams.plant import make_plant
+        from armlab.models.plant import make_plant
 
         return make_plant(self, options)
 
@@ -322,7 +318,7 @@ class Arm:
 
         Column j maps q̇_j (rad/s or m/s) to the tool point's velocity (m/s) and angular velocity (rad/s).
         """
-        # lazy: armlab.kinematics sits above armlab.models and imports it
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.kinematics.differential import jacobian
 
         return jacobian(self, self.check_q(q))
@@ -334,7 +330,7 @@ class Arm:
 
         Each ``(6,)`` for one state, ``(N, 6)`` for a batch; ``qd``, ``qdd`` shaped like ``q``.
         """
-        # lazy: armlab.kinematics sits above armlab.models and imports it
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.kinematics.differential import tool_motion
 
         return tool_motion(self, self.check_q(q), *self._rates(qd, qdd))
@@ -369,7 +365,7 @@ class Arm:
         ``axes``: ``"trans"`` (rows v), ``"rot"`` (ω) or ``"all"``; default ``"all"`` for n ≥ 6, else ``"trans"``.
         A float for one ``q``, ``(N,)`` for a batch; 0 at a singular configuration.
         """
-        # lazy: armlab.kinematics sits above armlab.models and imports it
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.kinematics.differential import manipulability
 
         return manipulability(self.jacobian(q), axes)
@@ -378,24 +374,10 @@ class Arm:
         self, q: ArrayLike, axes: Literal["all", "trans", "rot"] | None = None,
     ) -> NDArray[np.float64] | float:
         """The smallest singular value of the tool Jacobian's rows ``axes`` (see :meth:`manipulability`)."""
-        # lazy: armlab.kinematics sits above armlab.models and imports it
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.kinematics.differential import sigma_min
 
         return sigma_min(self.jacobian(q), axes)
-
-    def clearance(self, q: ArrayLike, scene: Any = None) -> list[dict[str, Any]]:
-        """Every checked pair's clearance at ``q`` ``(n,)`` (rad, m), smallest first: the links that are not adjacent
-        (nor filtered by the arm's file) and, with ``scene`` (a scene file's path or a
-        :class:`~armlab.collision.scene.Scene`), each link against each obstacle.
-
-        Each ``{"pair": "A–B", "a", "b", "distance" (m, signed: < 0 in contact), "depth" (m), "point_a",
-        "point_b" (m, world)}`` (:func:`armlab.collision.clearance.clearance`). ``ValueError`` for an arm
-        without collision geometry, a bad scene or ``q``.
-        """
-        # lazy: armlab.collision sits above armlab.models and imports it
-        from armlab.collision.clearance import clearance
-
-        return clearance(self, q, scene)
 
     def ik(
         self, target: ArrayLike, all: bool = False, near: ArrayLike | None = None, pitch: float | None = None,
@@ -410,7 +392,7 @@ class Arm:
         ``pitch``: arm4r's tool pitch θ2+θ3+θ4 (rad).
         ``ValueError`` for an unreachable target (with the closest distance) or one outside the joint limits.
         """
-        # lazy: armlab.kinematics sits above armlab.models and imports it
+        # lazy: armlab --help loads armlab.models.arm but not this (start-up time)
         from armlab.kinematics.ik import solve
 
         if not isinstance(all, bool | np.bool_):

@@ -26,10 +26,10 @@ from numpy.typing import NDArray
 
 from armlab.kinematics.batch import chain_points
 from armlab.kinematics.dh import DHRow, DHTable
-from armlab.kinematics.ik_closed_form import arm4r_ik
+from armlab.kinematics.ik_closed_form import ClosedForm, arm4r_ik
 from armlab.kinematics.quintic import Motion, QuinticSegment, check_duration
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, parameter_notes
-from armlab.models.extras import ClosedForm, PaperScheme, motion_start
+from armlab.models.extras import PaperScheme, motion_start
 from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "001: Qin et al., Four degree of freedom manipulator's kinematics simulation analysis based on MATLAB, Table 1"

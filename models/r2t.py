@@ -23,11 +23,11 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from armlab.kinematics.ik_closed_form import r2t_ik
+from armlab.kinematics.ik_closed_form import ClosedForm, r2t_ik
 from armlab.kinematics.locating import JointRow, LocatingTable
 from armlab.kinematics.quintic import Motion, QuinticSegment, check_duration
 from armlab.models.arm import MODELS_DIR, Arm, chosen, from_paper, parameter_notes
-from armlab.models.extras import ClosedForm, PaperScheme, motion_start
+from armlab.models.extras import PaperScheme, motion_start
 from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = (

@@ -22,7 +22,7 @@ A **DH table** is a CSV file (the README's section "Your own arm: the DH table f
 
 A table without the ``mass`` column is a *kinematic* arm (``Arm.has_dynamics`` False): no masses
 are invented. Missing effort/velocity limits are unknown (``None``). At most
-:data:`~armlab.models.arm_file.MAX_JOINTS` rows; every number bounded (:mod:`armlab.models.arm_file`).
+:data:`~armlab.arm_file.MAX_JOINTS` rows; every number bounded (:mod:`armlab.arm_file`).
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ from typing import Literal, TypeGuard
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
 from armlab.drives.read import DRIVE_COLUMNS, drive_train
 from armlab.files import csv_table
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
@@ -43,7 +44,6 @@ from armlab.kinematics.batch import ZStep, chain_points
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm, Forward
-from armlab.models.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
 __all__ = ["DHInertial", "dh_base_tool", "dh_inertials", "from_dh", "from_dh_csv", "read_dh_csv"]

@@ -5,20 +5,20 @@ document-type or entity definitions, every number finite, and every file it name
 MJCF ``file=`` of a mesh, texture, height field or ``<include>``, below the ``<compiler>``'s ``meshdir``,
 ``texturedir`` or ``assetdir``) inside its folder or its ROS packages (:func:`~armlab.models.read_urdf.package_roots`,
 ``package://`` and ``model://``), and existing. Then Drake's parser loads it
-(:func:`armlab.diagrams.plant.parse_model_file`) and the arm is read out of Drake's plant:
+(:func:`armlab.models.plant.parse_model_file`) and the arm is read out of Drake's plant:
 
 * one model; its joints revolute, prismatic or fixed (welds): a floating base (MJCF's ``<freejoint/>`` or
   ``type="free"``, found in the file: Drake leaves such a body free, with no joint), ball,
   planar or universal joint is refused, as in a URDF; one root body, welded to the world where the file leaves
   it free (as a URDF's root link) or attached to the world by the file's own joint; no body branching into two
-  moving chains; at most :data:`~armlab.models.arm_file.MAX_JOINTS` moving joints; a closed loop is refused by
+  moving chains; at most :data:`~armlab.arm_file.MAX_JOINTS` moving joints; a closed loop is refused by
   Drake (its one-line error);
 * link frame {i} is joint i's frame at q = 0 and row i of the matrix of nominal geometry is its pose in {i−1},
   with the joint's axis: the arm's URDF (:meth:`armlab.models.arm.Arm.urdf`, drawn visuals, not the file's
   meshes) has the file's kinematics;
 * link i's body is the joint's child with every body welded to it, their spatial inertia combined by Drake
   (``CalcSpatialInertia``) about {i}, checked physical (:func:`~armlab.models.write_urdf.check_inertia`) and
-  its centre of mass within reach of the arm (:func:`~armlab.models.arm_file.check_com_distance`);
+  its centre of mass within reach of the arm (:func:`~armlab.arm_file.check_com_distance`);
 * limits from the joints (infinite: none), effort limits from their actuators (MJCF ``<motor ctrlrange>``);
 * the tool frame: ``tool`` (a body or frame of the file on the last moving link or welded to it), else the
   last body reached from the last moving link through welds (the first declared at each step).
@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
+from armlab.arm_file import MAX_JOINTS
 from armlab.kinematics.locating import JointRow, LocatingTable
 from armlab.models.arm import Arm
-from armlab.models.arm_file import MAX_JOINTS
 from armlab.models.meshes import check_references
 from armlab.models.read_urdf import check_com_distances, package_roots, read_xml
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
@@ -82,7 +82,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     from pydrake.multibody.tree import JointActuatorIndex
 
     # lazy: the arm readers sit below armlab.diagrams (its plant module imports armlab.models.arm's package)
-    from armlab.diagrams.plant import parse_model_file
+    from armlab.models.plant import parse_model_file
 
     path = Path(path)
     kind, tag = FORMATS[path.suffix.lower()]

@@ -12,8 +12,8 @@ with a warning (:mod:`armlab.models.meshes`). ``<mimic>`` on a fixed joint does 
 Refused with a one-line ``ValueError``: XML document-type or entity definitions (outside comments),
 an empty ``<robot>``, an unexpanded xacro file, joint cycles, mimic on a moving joint, floating and
 planar joints, reversed limits, a non-physical inertia or a centre of mass far beyond the arm
-(:func:`~armlab.models.arm_file.check_com_distance`), non-finite numbers, more than
-:data:`~armlab.models.arm_file.MAX_JOINTS` joints, and mesh files (and the files a mesh pulls in)
+(:func:`~armlab.arm_file.check_com_distance`), non-finite numbers, more than
+:data:`~armlab.arm_file.MAX_JOINTS` joints, and mesh files (and the files a mesh pulls in)
 outside the URDF's folder and its ROS packages.
 
 The arm's drive train (``Arm.drives``) is what the URDF says of it, as Drake reads it: each joint's
@@ -34,11 +34,11 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
 from armlab.drives.train import DriveTrain
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm
-from armlab.models.arm_file import MAX_JOINTS, check_com_distance, file_number, read_text
 from armlab.models.meshes import Meshes, check_meshes, without_doctype
 from armlab.models.write_urdf import DRAKE_NAMESPACE, Body, JointLimits, Point, check_inertia
 
@@ -422,7 +422,7 @@ def from_urdf(path: str | Path, tool: str | None = None, package_paths: Sequence
 def check_com_distances(path: Path, table: LocatingTable, bodies: list[Body], limits: list[JointLimits],
                 names: list[str]) -> None:
     """``ValueError`` for a link whose centre of mass lies far beyond the arm's size (its frames' offsets and its
-    prismatic strokes summed): :func:`~armlab.models.arm_file.check_com_distance`."""
+    prismatic strokes summed): :func:`~armlab.arm_file.check_com_distance`."""
     size = sum(float(np.linalg.norm(row.P)) for row in table.rows) + float(np.linalg.norm(table.tool[:3, 3])) + sum(
         max(abs(lim.lower or 0.0), abs(lim.upper or 0.0)) for row, lim in zip(table.rows, limits, strict=True)
         if row.kind == "T")

@@ -34,10 +34,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.kinematics.dh import DHRow, DHTable
-from armlab.kinematics.ik_closed_form import planar_target, rr_ik
+from armlab.kinematics.ik_closed_form import ClosedForm, planar_target, rr_ik
 from armlab.kinematics.quintic import Motion, QuinticSegment, Segment, check_duration
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
-from armlab.models.extras import ClosedForm, PaperScheme, motion_start
+from armlab.models.extras import PaperScheme, motion_start
 from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "000: Hroncová et al., Robot trajectory planning, MM Science Journal 2022, Fig. 1, eqs. (1)-(2)"

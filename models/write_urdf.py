@@ -32,7 +32,7 @@ from armlab.drives.train import DriveTrain
 from armlab.kinematics.locating import LocatingTable, orientation_angles
 
 __all__ = ["DRAKE_NAMESPACE", "Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_inertials",
-           "merge_inertials", "urdf_text"]
+           "urdf_text"]
 
 #: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …), declared as ``xmlns:drake``.
 DRAKE_NAMESPACE = "http://drake.mit.edu"
@@ -146,20 +146,6 @@ def check_inertia(mass: float, inertia: NDArray, what: str) -> None:
         raise ValueError(f"{what}: the inertia is not physical: its principal moments "
                          f"({', '.join(f'{m:.6g}' for m in moments)}) kg·m² must be ≥ 0 and each at most "
                          "the sum of the other two (the triangle inequality)")
-
-
-def merge_inertials(parts: list[tuple[float, NDArray, NDArray]]) -> tuple[float, NDArray, NDArray]:
-    """One rigid body of ``parts`` welded together: ``(mass, com, inertia)`` from each part's (kg, m (3,), kg·m² (3, 3)
-    about its own centre of mass, all in one frame); the inertia is about the joint centre of mass (parallel axes)."""
-    total = float(sum(m for m, _, _ in parts))
-    if total == 0:
-        return 0.0, np.zeros(3), np.zeros((3, 3))
-    com = np.sum([m * np.asarray(c, dtype=float) for m, c, _ in parts], axis=0) / total
-    inertia = np.zeros((3, 3))
-    for m, c, I in parts:
-        d = np.asarray(c, dtype=float) - com
-        inertia = inertia + np.asarray(I, dtype=float) + m * (d @ d * np.eye(3) - np.outer(d, d))
-    return total, com, inertia
 
 
 def link_inertials(table: LocatingTable, bodies: tuple[Body, ...]) -> list[tuple[float, NDArray, NDArray]]:

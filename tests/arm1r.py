@@ -17,10 +17,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.kinematics.dh import DHRow, DHTable
+from armlab.kinematics.ik_closed_form import ClosedForm
 from armlab.kinematics.quintic import Motion, QuinticSegment, check_duration
 from armlab.models import register
 from armlab.models.arm import Arm, chosen, parameter_notes
-from armlab.models.extras import ClosedForm, PaperScheme
+from armlab.models.extras import PaperScheme
 from armlab.models.write_urdf import Body, JointLimits, Point
 
 PAPER = "test: a one-joint arm of tests/arm1r.py"

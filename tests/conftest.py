@@ -54,7 +54,7 @@ def reproduction(shared_root):
     read the same result (pickled: the rows as ``reproduce`` returned them). Tests only read the folder; a test
     that changes a reproduction works on a copy.
     """
-    from armlab.scripts.reproduce import reproduce
+    from armlab.papers.reproduce import reproduce
 
     out, saved = shared_root / "reproduction" / "out", shared_root / "reproduction" / "result.pickle"
     with _locked(shared_root, "reproduction"):

@@ -11,8 +11,8 @@ import pytest
 from browser import BrowserError, screenshot
 from matplotlib.image import imread
 
-from armlab.diagrams.replay import BAR_HEIGHT
-from armlab.diagrams.replay_graphs import GRAPHS_PCT
+from armlab.presentation.replay import BAR_HEIGHT
+from armlab.presentation.replay_graphs import GRAPHS_PCT
 
 WINDOW = (1000, 800)
 #: Seek the replay's animation to a playback time once the page has loaded it (test-only script).

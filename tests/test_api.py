@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 
 import armlab
 from armlab.cli import main
-from armlab.diagrams.plots import PLOTS
+from armlab.presentation.plots import PLOTS
 
 TWO_LINK_URDF = data("two_link.urdf")
 
@@ -66,7 +66,7 @@ def test_jacobian_and_tool_motion_equal_drake(arm_name, rng):
 def test_inverse_dynamics_equals_drake_with_gravity_and_payload(arm_name, rng):
     from pydrake.multibody.tree import MultibodyForces
 
-    from armlab.diagrams.plant import PlantOptions, make_plant
+    from armlab.models.plant import PlantOptions, make_plant
 
     arm = armlab.load(arm_name)
     q, qd, qdd = random_q(arm, rng, 6), rng.normal(size=(6, arm.n)), rng.normal(size=(6, arm.n))
@@ -264,7 +264,7 @@ def test_the_scheme_is_a_figure_written_only_when_asked(tmp_path):
 
 
 def test_the_live_viewer_in_a_notebook_says_what_to_do_when_localhost_is_not_reachable():
-    from armlab.diagrams.view import notebook_note
+    from armlab.presentation.view import notebook_note
 
     note = notebook_note("http://localhost:7001")
     assert '<iframe src="http://localhost:7001"' in note

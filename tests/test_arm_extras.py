@@ -17,8 +17,8 @@ import pytest
 from helpers import armlab_main
 
 import armlab
-from armlab.diagrams.draw import default_q, draw_arm, scheme
-from armlab.models import ARMS, get_arm, register
+from armlab.models import ARMS, get_arm, register, unregister
+from armlab.presentation.draw import default_q, draw_arm, scheme
 
 TOL = 1e-9  # the IK's own check of every solution: FK reaches the target to 1e-9 m
 
@@ -26,12 +26,10 @@ TOL = 1e-9  # the IK's own check of every solution: FK reaches the target to 1e-
 @pytest.fixture
 def arm1r():
     """The arm1r module, imported afresh (so that it registers itself); the registry as before afterwards."""
-    saved = dict(ARMS)
     sys.modules.pop("arm1r", None)
     module = importlib.import_module("arm1r")
     yield module
-    ARMS.clear()
-    ARMS.update(saved)
+    unregister("arm1r")
     sys.modules.pop("arm1r", None)
 
 
@@ -69,7 +67,8 @@ def test_the_sixth_arms_closed_form_is_used(arm1r, monkeypatch, rng):
             np.testing.assert_allclose(arm.fk(solution)[:3, 3], target, rtol=0, atol=TOL)
         with pytest.raises(ValueError, match="out of reach of arm1r: its tip moves on the circle of radius"):
             arm.ik([L + 0.1, 0.0, 0.0])
-        with pytest.raises(ValueError, match=r"pitch = 0\.2 applies only to arm4r .*, not to arm1r"):
+        with pytest.raises(ValueError, match=r"pitch = 0\.2 is not an option of arm1r's inverse kinematics; it takes "
+                                             "none"):
             arm.ik(arm.fk([0.3])[:3, 3], pitch=0.2)
 
 
@@ -112,7 +111,7 @@ def test_a_users_arm_named_like_a_paper_arm_has_no_extras(tmp_path):
     with pytest.raises(ValueError, match="rr has no paper motion"):
         armlab.paper_motion(arm)
     with pytest.raises(ValueError, match="IK branch 0 is not allowed"):
-        from armlab.diagrams.motions import point_to_joints
+        from armlab.planning.motions import point_to_joints
 
         point_to_joints(arm, (0.4, 0.3, 0.0), 0)
 

@@ -20,9 +20,9 @@ from contract import Sandbox, check
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from armlab.diagrams.motions import read_segments
 from armlab.files import MAX_INPUT_BYTES
 from armlab.models import get_arm
+from armlab.planning.motions import read_segments
 from armlab.values import joint_values, parse_floats
 
 pytestmark = pytest.mark.timeout(120)

@@ -96,7 +96,7 @@ def test_fk_urm6_table1_human_output():
         (("ik", "rr", "--target", "2,0"), "2"),
         (("ik", "rr", "--target", "0.5,nan"), "nan"),
         (("ik", "arm4r", "--target", "1,1,1.4", "--pitch", "1,2"), "--pitch 1,2: give one angle"),
-        (("ik", "rr", "--target", "0.5,0.2", "--pitch", "0.1"), "pitch = 0.1 applies only to arm4r"),
+        (("ik", "rr", "--target", "0.5,0.2", "--pitch", "0.1"), "pitch = 0.1 is not an option of rr's"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(args, message):

@@ -14,7 +14,7 @@ from armlab.analysis.workspace import workspace
 from armlab.api import quintic, simulate
 from armlab.cli import main
 from armlab.collision.capsules import segment_box
-from armlab.collision.clearance import motion_clearance
+from armlab.collision.clearance import clearance, motion_clearance
 from armlab.collision.model import CollisionModel
 from armlab.collision.scene import read_scene, scene_from_dict
 from armlab.models import ARMS, get_arm
@@ -109,7 +109,7 @@ def test_straight_arm_next_to_a_box_and_the_floor():
     scene = scene_from_dict({"obstacles": [
         {"name": "box", "shape": "box", "size": [0.1, 0.1, 0.1], "xyz": [0.55, 0.0, 0.2 + 0.025 + 0.1 + 0.05]},
         {"name": "floor", "shape": "floor", "z": -0.05}]})
-    rows = {row["pair"]: row for row in arm.clearance(np.zeros(4), scene)}
+    rows = {row["pair"]: row for row in clearance(arm, np.zeros(4), scene)}
     assert_allclose(rows["link3–box"]["distance"], 0.1, rtol=0, atol=1e-9)
     x, y, z = rows["link3–box"]["point_b"]  # on the box's bottom face, over link 3 (the face is parallel to it)
     assert_allclose([y, z], [0.0, 0.325], rtol=0, atol=1e-9)
@@ -236,7 +236,7 @@ def test_dh_radius_column(tmp_path, capsys):
     rows = ["R,0.4,0,0,0,-3,3", "R,0.3,0,0,0,-3,3", "R,0.3,0,0,0,-3,3"]
     good = tmp_path / "planar3.csv"
     good.write_text("\n".join([head + ",radius"] + [r + ",0.02" for r in rows]) + "\n")
-    (row,) = get_arm(str(good)).clearance([0.0, 0.0, 0.0])
+    (row,) = clearance(get_arm(str(good)), [0.0, 0.0, 0.0])
     # link 3 runs from x = 0.7 to 1.0, link 1 from 0 to 0.4: 0.3 m apart, less two radii
     assert row["pair"] == "link3–link1" and abs(row["distance"] - 0.26) < 1e-9
     bad = tmp_path / "bad.csv"
@@ -304,7 +304,7 @@ def test_ik_marks_and_drops_colliding_branches(tmp_path, capsys):
     data = json.loads(capsys.readouterr().out)
     (q,) = data["solutions"]
     assert data["colliding_pairs"] == [[]] and data["min_clearance"][0] > 0
-    rows = get_arm("rr").clearance(q, disc)
+    rows = clearance(get_arm("rr"), q, disc)
     assert_allclose(min(row["distance"] for row in rows), data["min_clearance"][0], rtol=0, atol=1e-12)
 
 
@@ -374,7 +374,7 @@ def test_user_urdf_mesh_and_cylinder_against_the_floor(tmp_path, fore):
     arm = get_arm(_user_urdf(tmp_path, fore))
     floor = scene_from_dict({"obstacles": [{"name": "floor", "shape": "floor", "z": -0.05}]})
     for q2 in (0.0, 0.5, -1.0):
-        rows = {row["pair"]: row["distance"] for row in arm.clearance([0.0, q2, 0.0], floor)}
+        rows = {row["pair"]: row["distance"] for row in clearance(arm, [0.0, q2, 0.0], floor)}
         # joints about +y turn x towards −z: fore's axis is (cos q2, 0, −sin q2) from the elbow at (0.4, 0, 0.1)
         centre_z = 0.1 - 0.15 * np.sin(q2)
         extent = (0.15 * abs(np.sin(q2)) + 0.02 * abs(np.cos(q2)) if "mesh" in fore
@@ -386,7 +386,7 @@ def test_user_urdf_mesh_and_cylinder_against_the_floor(tmp_path, fore):
     (tmp_path / "part.stl").write_bytes(b"solid x\nendsolid x\n")
     with pytest.warns(UserWarning, match=r"collision mesh\(es\) left out"):
         stl = get_arm(_user_urdf(tmp_path, '<mesh filename="part.stl"/>'))
-    pairs = {row["pair"] for row in stl.clearance([0.0, 0.0, 0.0], floor)}
+    pairs = {row["pair"] for row in clearance(stl, [0.0, 0.0, 0.0], floor)}
     assert "hand–floor" in pairs and not any("fore" in pair for pair in pairs)
 
 
@@ -413,7 +413,7 @@ def test_cli_simulate_warns_of_a_collision_and_strict_limits_exit_3(tmp_path, ca
 
 def test_contacts_name_the_pairs_in_contact_per_configuration():
     """armlab.collision.clearance.contacts (what ``armlab ik --collision-free`` marks each solution with): the pairs
-    in contact and the smallest clearance of each configuration, the same as ``Arm.clearance`` gives one by one."""
+    in contact and the smallest clearance of each configuration, the same as ``armlab.clearance`` gives one by one."""
     from armlab.collision.clearance import contacts
 
     arm = get_arm("rrrr")
@@ -422,4 +422,4 @@ def test_contacts_name_the_pairs_in_contact_per_configuration():
     assert "link4–link1" in touching and smallest is not None and smallest < 0
     assert free == [] and least is not None and least > 0
     for (_, got), row in zip(contacts(arm, q), q, strict=True):
-        np.testing.assert_allclose(got, arm.clearance(row)[0]["distance"], atol=1e-12)  # the same Drake query
+        np.testing.assert_allclose(got, clearance(arm, row)[0]["distance"], atol=1e-12)  # the same Drake query

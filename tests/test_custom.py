@@ -115,7 +115,7 @@ def test_user_urdf_meshes_from_its_ros_package(tmp_path, capsys):
     arm = get_arm(str(path))
     q = np.random.default_rng(6).uniform(-3, 3, (20, 2))
     np.testing.assert_allclose(arm.forward(q).tool, _drake_tool(arm, q), atol=1e-9)
-    from armlab.diagrams.replay import build_scene, start_meshcat
+    from armlab.presentation.replay import build_scene, start_meshcat
 
     scene = build_scene(arm, start_meshcat())  # with a scene graph, so the mesh is loaded
     assert len(scene.plant.GetVisualGeometriesForBody(scene.plant.GetBodyByName("fore"))) == 1

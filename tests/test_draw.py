@@ -12,8 +12,8 @@ import pytest
 from helpers import ARM_NAMES, arm_and_plant, random_q
 from matplotlib.image import imread
 
-from armlab.diagrams.draw import _view, default_q, draw_arm, scheme, write_figure
 from armlab.models import get_arm
+from armlab.presentation.draw import _view, default_q, draw_arm, scheme, write_figure
 
 
 def drake_axes(name: str, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, str]]:

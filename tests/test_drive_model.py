@@ -11,9 +11,9 @@ import pytest
 from helpers import DATA, armlab_main, random_q, rnea_in_dh_frames
 
 import armlab
-from armlab.diagrams.plant import PlantOptions
 from armlab.diagrams.simulate import SimulationOptions, simulate
 from armlab.drives.train import COULOMB_SPEED, DriveTrain
+from armlab.models.plant import PlantOptions
 
 DAMPED = DATA / "damped_two_link.urdf"
 PUMA = DATA / "puma560_drives_dh.csv"
@@ -227,7 +227,7 @@ def test_motor_side_of_a_run(tmp_path):
     """A run with a drive train gives its motor side: the log's τ_m and ω_m, log.csv's tau_m/w_m columns and
     drives.csv's motor columns (Run's own writers), against the rule written out in the test."""
     from armlab.diagrams.drives import drive_table
-    from armlab.diagrams.output import write_log_csv
+    from armlab.presentation.output import write_log_csv
 
     rr = armlab.load("rr", drives=RR_DRIVES)
     log = simulate(rr, armlab.paper_motion(rr))

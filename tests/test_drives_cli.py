@@ -12,7 +12,7 @@ import pytest
 from helpers import DATA, armlab_main
 
 import armlab
-from armlab.drives.duty import read_duty_cycle, read_load_cases
+from armlab.sizing.duty import read_duty_cycle, read_load_cases
 
 
 def _cycle_file(tmp_path: Path) -> Path:

@@ -20,11 +20,11 @@ import numpy as np
 import pytest
 from helpers import arm_and_plant
 
-from armlab.drives.catalogue import Gearboxes, Motors
-from armlab.drives.duty import DutyCycle, Dwell, LoadCase, Move, sample
-from armlab.drives.loads import joint_loads, with_link_masses, with_payload
-from armlab.drives.select import JointTask, evaluate
-from armlab.models import ARMS, get_arm
+from armlab.models import get_arm, unregister
+from armlab.sizing.catalogue import Gearboxes, Motors
+from armlab.sizing.duty import DutyCycle, Dwell, LoadCase, Move, sample
+from armlab.sizing.loads import joint_loads, with_link_masses, with_payload
+from armlab.sizing.select import JointTask, evaluate
 
 #: Samples per second: Simpson's rule on the quintic's polynomials is then exact to ~1e-12 relative.
 RATE = 2000.0
@@ -34,12 +34,10 @@ G_RATIO, ETA, J_MOTOR, J_GEAR = 20.0, 0.8, 3e-5, 1e-5
 @pytest.fixture
 def arm1r():
     """The one-joint test arm (its module registers it; the registry is restored afterwards)."""
-    saved = dict(ARMS)
     sys.modules.pop("arm1r", None)
     module = importlib.import_module("arm1r")
     yield module.build()
-    ARMS.clear()
-    ARMS.update(saved)
+    unregister("arm1r")
     sys.modules.pop("arm1r", None)
 
 

@@ -10,14 +10,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from armlab.drives.catalogue import RPM, Gearboxes, Motors, read_gearboxes, read_motors
-from armlab.drives.duty import DutyCycle, Dwell, LoadCase, Move, sample
-from armlab.drives.loads import joint_loads, with_link_masses
-from armlab.drives.select import RANKS, SLACK, JointTask, evaluate, screen, select_joint
-from armlab.drives.sizing import size
 from armlab.drives.train import DriveTrain
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.models import get_arm
+from armlab.sizing.catalogue import RPM, Gearboxes, Motors, read_gearboxes, read_motors
+from armlab.sizing.duty import DutyCycle, Dwell, LoadCase, Move, sample
+from armlab.sizing.loads import joint_loads, with_link_masses
+from armlab.sizing.select import RANKS, SLACK, JointTask, evaluate, screen, select_joint
+from armlab.sizing.sizing import size
 
 
 def _catalogues(rng: np.random.Generator, motors: int, gearboxes: int) -> tuple[Motors, Gearboxes]:
@@ -123,7 +123,7 @@ def test_the_mass_iteration_converges_and_the_result_holds_for_the_arm_it_carrie
 def test_the_torque_speed_figure_plots_the_torques_the_selection_checked():
     """The joints' own friction (B, T_c of the arm's drive train) is in the load τ_L once: the figure's operating
     points are the selection's, their peak the chosen pair's peak torque (not the friction counted again)."""
-    from armlab.drives.report import torque_speed_figure
+    from armlab.sizing.report import torque_speed_figure
 
     rr = get_arm("rr")
     arm = rr.with_drives(DriveTrain(np.ones(2), np.zeros(2), np.ones(2), np.array([2.0, 1.0]), np.array([3.0, 2.0])))

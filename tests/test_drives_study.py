@@ -44,8 +44,8 @@ def test_paper_000s_beyond_the_paper_drives_are_armlab_sizes(tmp_path):
     API the CLI calls) chooses, and each joint's torque–speed figure is written."""
     import csv
 
-    from armlab.scripts.beyond import OVERSIZE, RR_PAYLOADS, rr_drives_chosen
-    from armlab.scripts.paper_output import PaperOutput
+    from armlab.papers.beyond import OVERSIZE, RR_PAYLOADS, rr_drives_chosen
+    from armlab.papers.paper_output import PaperOutput
 
     out = PaperOutput("000", tmp_path, lambda *_: None)
     out.group("beyond")

@@ -8,8 +8,8 @@ import sympy as sp
 from helpers import arm_and_plant, random_q
 
 from armlab.kinematics import symbolic as sym
-from armlab.kinematics.errata import ERRATA, Erratum, drake_sample, wrap_angle
 from armlab.models import get_arm
+from armlab.papers.errata import ERRATA, Erratum, drake_sample, wrap_angle
 
 N = 100
 TOL = 1e-9
@@ -124,7 +124,7 @@ def test_004_general_formulas_at_table1_configuration():
 
 def test_003_atan2_table_misses_the_case_eq23_uses():
     """Eq. (22)'s printed table has no case for sα = 0, cα < 0, which eq. (23) needs (α_x = A tan 2(0; −1) = π)."""
-    from armlab.kinematics.errata import _003_atan2
+    from armlab.papers.errata import _003_atan2
 
     arm = get_arm("r2t")
     from dataclasses import replace
@@ -154,7 +154,7 @@ def test_001_eq19_corrected_form_is_what_the_ik_module_returns(rng):
 
 def test_one_papers_check_gives_the_numbers_of_the_whole_check():
     """Each erratum draws its own samples, so a worker checking one paper's errata reports what a check of all does."""
-    from armlab.kinematics.errata import check
+    from armlab.papers.errata import check
 
     whole = {id(e): (printed, corrected) for e, printed, corrected in check(5)}
     for paper in {e.paper for e in ERRATA}:

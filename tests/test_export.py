@@ -13,13 +13,13 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from bench_kinematics import Drake, Pinocchio  # scripts/bench/ (pytest's pythonpath): the benchmark's references
 from helpers import DATA, armlab_main, random_q
 
 import armlab
 from armlab.drives.train import DRIVE_FIELDS, DriveTrain
 from armlab.models.meshes import MeshWarning
 from armlab.models.read_dh import dh_inertials, read_dh_csv
-from armlab.scripts.bench_kinematics import Drake, Pinocchio
 
 #: The arms sent out and read back: paper arms (revolute, prismatic), DH tables (with base and tool header lines,
 #: a prismatic joint, products of inertia) and a ROS-style URDF (world root, tool0 chosen).

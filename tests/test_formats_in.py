@@ -12,7 +12,7 @@ import pytest
 from helpers import DATA, armlab_main
 
 import armlab
-from armlab.diagrams.plant import PlantOptions, parse_model_file
+from armlab.models.plant import PlantOptions, parse_model_file
 
 FILES = [DATA / "formats" / "two_link.sdf", DATA / "formats" / "two_link.xml"]
 TOL = 1e-9

@@ -365,7 +365,7 @@ def test_wrong_number_of_coordinates(name: str, target: list[float]) -> None:
 def test_other_bad_requests() -> None:
     with pytest.raises(ValueError, match=r"z = 0\.5"):
         solve(get_arm("rr"), [0.4, 0.3, 0.5])
-    with pytest.raises(ValueError, match=r"pitch = 0\.3 applies only to arm4r"):
+    with pytest.raises(ValueError, match=r"pitch = 0\.3 is not an option of urm6's inverse kinematics; it takes none"):
         solve(get_arm("urm6"), [0.1, 0.1, 0.5], pitch=0.3)
     with pytest.raises(ValueError, match=r"near.*expected 4"):
         solve(get_arm("arm4r"), [1.0, 1.0, 1.4], near=[0.0, 0.0])

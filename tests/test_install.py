@@ -15,9 +15,9 @@ import pytest
 from helpers import armlab_main
 
 import armlab
-from armlab.diagrams.graphviz import DotMissingWarning
-from armlab.diagrams.output import RUN_OUTPUTS
 from armlab.models import examples
+from armlab.presentation.graphviz import DotMissingWarning
+from armlab.presentation.output import RUN_OUTPUTS
 
 ROOT = Path(__file__).resolve().parents[1]
 ARM3R = ROOT / "scripts" / "examples" / "arm3r.csv"

@@ -264,7 +264,7 @@ def test_against_pinocchio_reading_armlabs_urdf(name: str, rng: np.random.Genera
 def test_models_readme_puma560_gravity_table_is_computed() -> None:
     """The models/README.md table of the Puma 560's gravity torques at qz, qr, qs, qn is what the script computes
     (to its printed 4 decimals); the toolbox's gravload at the same configurations: the next test."""
-    from armlab.scripts.library_tables import puma560_gravity
+    from armlab.papers.library_tables import puma560_gravity
 
     text = MODELS_README.read_text(encoding="utf-8")
     computed = puma560_gravity()
@@ -277,7 +277,7 @@ def test_models_readme_puma560_gravity_table_is_computed() -> None:
 @pytest.mark.slow  # importing the toolbox takes 10-15 s
 def test_puma560_gravity_at_the_named_configurations_is_the_toolboxs() -> None:
     from armlab.models.library import puma560
-    from armlab.scripts.library_tables import puma560_gravity
+    from armlab.papers.library_tables import puma560_gravity
 
     robot = _rtb("puma560")
     for name, tau in puma560_gravity().items():

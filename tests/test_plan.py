@@ -24,8 +24,8 @@ from armlab.kinematics.quintic import (
     quintic_coefficients,
     to_trajectory,
 )
-from armlab.kinematics.timing import fastest, limit_curve
 from armlab.models import get_arm
+from armlab.planning.timing import fastest, limit_curve
 
 
 def _finite_differences(motion: Motion, t: np.ndarray, h: float = 1e-6) -> None:
@@ -343,7 +343,7 @@ def test_fastest_motor_side_limits():
 
     arm = get_arm("rr")
     drives = DriveTrain(np.array([50.0, 20.0]), np.zeros(2), np.array([0.9, 0.8]), np.zeros(2), np.zeros(2))
-    from armlab.kinematics.timing import arm_limits
+    from armlab.planning.timing import arm_limits
 
     limits = arm_limits(arm, drives=drives, motor_speed=100.0, motor_torque=1.0)
     np.testing.assert_allclose(limits.velocity, [2.0, 5.0], rtol=1e-12)  # ω_m/|G| (file: 10 rad/s)
@@ -423,7 +423,7 @@ def test_cli_plan_bad_input(box, argv, fragment):
 
 
 def test_segments_file_takes_lines_arcs_and_trapezoids(tmp_path):
-    from armlab.diagrams.motions import read_segments
+    from armlab.planning.motions import read_segments
 
     path = tmp_path / "seg.json"
     path.write_text(json.dumps({"segments": [
@@ -453,7 +453,7 @@ def test_segments_file_takes_fastest_segments(tmp_path):
     one-line errors."""
     from pydrake.trajectories import PiecewisePolynomial
 
-    from armlab.diagrams.motions import read_segments
+    from armlab.planning.motions import read_segments
 
     arm = get_arm("rr")
     path = tmp_path / "seg.json"

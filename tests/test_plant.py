@@ -1,4 +1,4 @@
-"""The one plant builder (armlab.diagrams.plant): its options, the joint order rule, payload, drives, scene graph."""
+"""The one plant builder (armlab.models.plant): its options, the joint order rule, payload, drives, scene graph."""
 
 from __future__ import annotations
 
@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 from helpers import ARM_NAMES
 
-from armlab.diagrams.plant import PlantOptions, add_arm_plant, make_plant
 from armlab.diagrams.simulate import SimulationOptions
 from armlab.models import get_arm
 from armlab.models.arm import Arm
+from armlab.models.plant import PlantOptions, add_arm_plant, make_plant
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The one module that makes a MultibodyPlant, adds one with a SceneGraph or parses a URDF.
@@ -231,7 +231,7 @@ def test_the_scene_graph_variant_registers_the_arms_geometry():
 
 def test_the_scene_poses_the_plant_in_the_arms_joint_order():
     """build_scene wires arm-ordered q straight to the plant: Drake's tool pose is the arm's forward kinematics."""
-    from armlab.diagrams.replay import build_scene, start_meshcat
+    from armlab.presentation.replay import build_scene, start_meshcat
 
     arm = get_arm("urm6")
     scene = build_scene(arm, start_meshcat())
@@ -243,7 +243,7 @@ def test_the_scene_poses_the_plant_in_the_arms_joint_order():
 
 
 def test_only_the_builder_makes_plants_or_parses_urdfs():
-    """No module but diagrams/plant.py constructs a MultibodyPlant, calls AddMultibodyPlantSceneGraph or uses Drake's
+    """No module but models/plant.py constructs a MultibodyPlant, calls AddMultibodyPlantSceneGraph or uses Drake's
     parser (the CLI's argparse ``Parser`` is another thing)."""
     pattern = re.compile(r"(?<!\w)(MultibodyPlant\(|AddMultibodyPlantSceneGraph|pydrake\.multibody\.parsing)")
     found = sorted(str(path.relative_to(ROOT)) for d in SOURCE_DIRS for path in (ROOT / d).rglob("*.py")

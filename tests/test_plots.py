@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 
 from armlab.diagrams.build import build_diagram
-from armlab.diagrams.graphviz import fig6_dot, parse_drake_dot, render
-from armlab.diagrams.motions import paper_motion
-from armlab.diagrams.plots import PLOTS, figures, limit_values, write_plots
 from armlab.diagrams.simulate import SimulationOptions, simulate
 from armlab.models import get_arm
+from armlab.planning.motions import paper_motion
+from armlab.presentation.graphviz import fig6_dot, parse_drake_dot, render
+from armlab.presentation.plots import PLOTS, figures, limit_values, write_plots
 
 
 def connections(diagram) -> set[str]:

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from helpers import ARM_NAMES, random_q
 
-from armlab.diagrams.motions import paper_motion, point_to_joints, read_segments
 from armlab.kinematics.quintic import (
     ConstantRate,
     Motion,
@@ -20,6 +19,7 @@ from armlab.kinematics.quintic import (
 )
 from armlab.models import get_arm
 from armlab.models.rr import ABCD_POINTS
+from armlab.planning.motions import paper_motion, point_to_joints, read_segments
 
 
 def test_paper_000_coefficients_to_4_decimals():

@@ -23,9 +23,9 @@ from helpers import ARM_NAMES, data
 from replay_pictures import assert_shows_arm_moving, image, screenshots, solid
 
 from armlab.cli.view import register
-from armlab.diagrams.replay import JOIN_PAUSE, MAX_FPS, MAX_FRAMES, display_rotation, replay_log, write_replay
-from armlab.diagrams.view import Viewer, open_meshcat, run_view
 from armlab.models import get_arm
+from armlab.presentation.replay import JOIN_PAUSE, MAX_FPS, MAX_FRAMES, display_rotation, replay_log, write_replay
+from armlab.presentation.view import Viewer, open_meshcat, run_view
 
 
 def sweep(arm, times: np.ndarray) -> np.ndarray:
@@ -93,8 +93,8 @@ def test_motor_side_torques_are_in_newton_metres_at_every_joint_a_prismatic_ones
     import dataclasses
     import types
 
-    from armlab.diagrams.replay_graphs import log_graphs
     from armlab.drives.train import DriveTrain, motor_torque
+    from armlab.presentation.replay_graphs import log_graphs
 
     arm = get_arm("r2t")  # joints 2 and 3 prismatic
     drives = DriveTrain(np.array([50.0, 100.0, 200.0]), np.zeros(3), np.array([0.9, 0.8, 0.7]), np.zeros(3),
@@ -216,7 +216,7 @@ def test_run_view_ends_cleanly_on_ctrl_c(monkeypatch):
     def interrupt(_seconds):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("armlab.diagrams.view.time.sleep", interrupt)
+    monkeypatch.setattr("armlab.presentation.view.time.sleep", interrupt)
     out = io.StringIO()
     assert run_view(get_arm("rr"), out=out) == 0
     assert out.getvalue().splitlines()[-1] == "stopped"
@@ -325,7 +325,7 @@ def test_a_urdf_without_materials_is_coloured_and_a_payload_is_drawn(tmp_path):
 
 
 def test_the_rr_arms_plane_is_seen_face_on_and_a_spatial_arm_from_above_the_horizon():
-    from armlab.diagrams.replay import frame_camera, reach_points, start_meshcat
+    from armlab.presentation.replay import frame_camera, reach_points, start_meshcat
 
     meshcat = start_meshcat()
     rr = get_arm("rr")
@@ -441,7 +441,7 @@ def test_a_software_renderer_draws_the_replay_without_multisampling_on_a_plain_w
     from browser import Page
     from replay_pictures import WINDOW, chromium
 
-    from armlab.diagrams.replay import SOFTWARE_GL
+    from armlab.presentation.replay import SOFTWARE_GL
 
     html = simulated("rr", "--dt", "0.01") / "replay.html"
     text = html.read_text()

@@ -16,8 +16,8 @@ from armlab.api import quintic
 from armlab.cli import main
 from armlab.collision.model import CollisionModel
 from armlab.collision.scene import read_scene
-from armlab.diagrams.replay import replay_page, write_replay
 from armlab.models import get_arm
+from armlab.presentation.replay import replay_page, write_replay
 
 #: rrrr folded (q2 = 100°, q3 = 150°) turning q4 0 → 60° in 2 s: link 4 reaches the column (link 1) after 1.5 s
 #: (tests/test_collision.py checks that contact), and a ball put where the tool point is at 0.6 s.

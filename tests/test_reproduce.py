@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from helpers import assert_same_file_contents, assert_same_numbers
 
-from armlab.scripts.report_rows import MATCHES, Row, compare, matches, verdict_counts
-from armlab.scripts.reproduce import MARKER, PAPERS, output_folder, reproduce
+from armlab.papers.report_rows import MATCHES, Row, compare, matches, verdict_counts
+from armlab.papers.reproduce import MARKER, PAPERS, output_folder, reproduce
 
 
 @pytest.fixture
@@ -146,7 +146,7 @@ def test_files(run):
                 assert len(list(csv.reader(handle))) >= 2
             assert (folder / f"{stem}.md").read_text().count("|") > 10
         manifest = json.loads((folder / "manifest.json").read_text())
-        ours = [f["png"] for f in manifest["figures"] if not f["png"].startswith("beyond_")]  # scripts/beyond.py's
+        ours = [f["png"] for f in manifest["figures"] if not f["png"].startswith("beyond_")]  # papers/beyond.py's
         assert sorted(ours) == sorted(f"{s}.png" for s in figures[paper])
     for paper in ("000", "003"):
         text = (out / paper / "symbolic.md").read_text()
@@ -221,9 +221,9 @@ def test_report_html_is_self_contained_with_a_linked_summary(run):
 @pytest.mark.slow  # renders every expression of the report (pictures, no number)
 def test_every_expression_renders_with_mathtext():
     """Every erratum's printed and corrected form and every symbolic expression becomes SVG images (no raw LaTeX)."""
-    from armlab.kinematics.errata import ERRATA
     from armlab.kinematics.symbolic import latex_table
-    from armlab.scripts.math_html import latex_html, to_mathtext
+    from armlab.papers.errata import ERRATA
+    from armlab.papers.math_html import latex_html, to_mathtext
 
     texts = [form for e in ERRATA for form in (e.printed_form, e.corrected_form)]
     items = latex_table(include_accelerations=False)
@@ -249,7 +249,7 @@ def test_math_images_are_what_matplotlib_draws(tmp_path):
     from PIL import Image
     from replay_pictures import chromium
 
-    from armlab.scripts.math_html import FONT_SIZE, math_svg
+    from armlab.papers.math_html import FONT_SIZE, math_svg
 
     texts = [r"\sqrt{x^{2} + y^{2}} = \frac{a_{1}}{b^{2}}", r"{}^4\overline{\omega}_4 = (0, 0, -\dot{q}_1)^T",
              r"L_{2} \cos{(q_{1})} \cos{(q_{2})} - L_{3} \sin{(q_{2})} \sin{(q_{3})} \cos{(q_{1})}"]
@@ -295,7 +295,7 @@ def test_report_renders_in_chromium(run, tmp_path):
     from PIL import Image
     from replay_pictures import chromium
 
-    from armlab.scripts.math_html import latex_html
+    from armlab.papers.math_html import latex_html
 
     out, _, _ = run
     page = tmp_path / "equation.html"
@@ -364,9 +364,9 @@ def test_csv_cells():
 def test_001_fig4_splits_put_the_tool_on_the_target():
     """The lengths with which Fig. 4's claim holds (a2 + a3 = 2): found by root-finding, checked by armlab's forward
     kinematics and Drake's plant of the arm with those lengths."""
-    from armlab.kinematics.errata import drake_sample
     from armlab.models import get_arm
-    from armlab.scripts.paper_001 import PAPER_TARGET, fig4_splits
+    from armlab.papers.errata import drake_sample
+    from armlab.papers.paper_001 import PAPER_TARGET, fig4_splits
 
     splits = fig4_splits(PAPER_TARGET, 2.0)
     assert len(splits) >= 2
@@ -387,7 +387,7 @@ def test_report_of_a_manifest_from_an_earlier_armlab(tmp_path):
     description) still reports its rows and links its files."""
     from dataclasses import asdict
 
-    from armlab.scripts.report import write_report
+    from armlab.papers.report import write_report
 
     row = compare("004", "Table 2, p1 z [mm]", 300.0, 300.0, 2e-4)
     (tmp_path / "004").mkdir()
@@ -470,7 +470,7 @@ def test_a_failed_reproduction_leaves_the_previous_one(run, tmp_path, monkeypatc
     def broken(*args, **kwargs):
         raise ValueError("boom")
 
-    monkeypatch.setattr("armlab.scripts.report.write_report", broken)
+    monkeypatch.setattr("armlab.papers.report.write_report", broken)
     with pytest.raises(ValueError, match="boom"):
         reproduce(out, ("004",), fast=True, progress=lambda line: None)
     assert sorted(p.relative_to(out) for p in out.rglob("*")) == before
@@ -505,7 +505,7 @@ def test_paper_script_runs_alone(tmp_path):
     import sys
 
     out = tmp_path / "004"
-    done = subprocess.run([sys.executable, "-m", "armlab.scripts.paper_004", "--out", str(out), "--fast"],
+    done = subprocess.run([sys.executable, "-m", "armlab.papers.paper_004", "--out", str(out), "--fast"],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert "24 rows: 22 matches, 2 differs" in done.stdout and (out / "fig04_arm_3d.png").exists()
@@ -538,7 +538,7 @@ def test_workers_pass_on_progress_values_warnings_and_errors(jobs):
     cause), the workers then stopped."""
     import multiprocessing
 
-    from armlab.scripts.reproduce import _Pool
+    from armlab.papers.reproduce import _Pool
 
     lines: list[str] = []
     with pytest.warns(UserWarning) as caught, _Pool(jobs, lines.append) as pool:
@@ -561,7 +561,7 @@ def test_without_worker_processes_the_tasks_run_here(monkeypatch):
     worker started before is stopped."""
     import multiprocessing
 
-    from armlab.scripts.reproduce import _Pool
+    from armlab.papers.reproduce import _Pool
 
     spawn = multiprocessing.get_context("spawn")
 

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from helpers import arm_and_plant, random_q
 
-from armlab.diagrams.plant import PlantOptions, make_plant
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.models import get_arm
+from armlab.models.plant import PlantOptions, make_plant
 
 SAMPLES = 100
 
@@ -32,7 +32,7 @@ def _drake_inverse_dynamics(arm, gravity, payload, q, qd, qdd):
 
 @pytest.mark.parametrize(("gravity", "payload"), [(None, 0.0), ("off", 0.0), ((1.0, -4.0, -9.0), 2.5)])
 def test_inverse_dynamics_matches_drake(dynamic_arm, rng, gravity, payload):
-    from armlab.diagrams.plant import resolve_gravity
+    from armlab.values import resolve_gravity
 
     arm = dynamic_arm
     q = random_q(arm, rng, SAMPLES)

@@ -12,8 +12,8 @@ import pytest
 from helpers import DATA, armlab_main, two_link_urdf
 
 import armlab
-from armlab.diagrams.plant import PlantOptions, add_arm_plant
 from armlab.models.meshes import MeshWarning
+from armlab.models.plant import PlantOptions, add_arm_plant
 
 UR = DATA / "ros" / "robots" / "ur_like.urdf"
 PACKAGES = DATA / "ros" / "pkgs"

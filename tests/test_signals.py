@@ -135,7 +135,7 @@ REPRODUCE_MOMENTS = [
 
 def _earlier_reproduction(box: Sandbox) -> dict[str, str]:
     """An earlier reproduction in ``rep`` (its marker and a report), part of the sandbox; its files' contents."""
-    from armlab.scripts.reproduce import MARKER
+    from armlab.papers.reproduce import MARKER
 
     files = {MARKER: "armlab reproduce output\n", "report.md": "# the earlier report\n"}
     for name, text in files.items():

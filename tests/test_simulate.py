@@ -19,9 +19,6 @@ from helpers import assert_rounding_close
 
 from armlab.cli import main
 from armlab.diagrams.build import build_diagram
-from armlab.diagrams.motions import paper_motion
-from armlab.diagrams.output import RUN_OUTPUTS, csv_header
-from armlab.diagrams.plant import PlantOptions, make_plant, resolve_gravity
 from armlab.diagrams.simulate import (
     DEFAULT_ACCURACY,
     DEFAULT_INTEGRATOR,
@@ -36,6 +33,10 @@ from armlab.diagrams.simulate import (
 )
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.models import get_arm
+from armlab.models.plant import PlantOptions, make_plant
+from armlab.planning.motions import paper_motion
+from armlab.presentation.output import RUN_OUTPUTS, csv_header
+from armlab.values import resolve_gravity
 
 #: Every paper motion armlab simulate runs by default (arm, --path).
 PAPER_MOTIONS = [("rr", None), ("rr", "abcd"), ("rrrr", None), ("arm4r", None), ("r2t", None), ("urm6", None)]

@@ -13,6 +13,7 @@ from armlab.kinematics import basic_movements
 from armlab.kinematics import symbolic as sym
 from armlab.kinematics.basic_movements import T_Z2, T_Z5, rrrr_dh_chain, rrrr_yup_chain
 from armlab.kinematics.iterative import iterative_kinematics
+from armlab.models import get_arm
 
 N = 100
 TOL = 1e-9
@@ -48,7 +49,7 @@ def drake_end_point(name: str, seed: int) -> tuple[np.ndarray, ...]:
 def test_position_rotation_velocity_acceleration_match_numeric_modules_and_drake(arm_name):
     arm, _, _ = arm_and_plant(arm_name)
     q, qd, qdd, X, v, a = drake_end_point(arm_name, 1)
-    f = sym.arm_kinematics(arm_name).numeric()
+    f = sym.arm_kinematics(get_arm(arm_name)).numeric()
     fk = arm.forward(q)  # the paper's numeric forward kinematics
     motion = iterative_kinematics(arm.table, q, qd, qdd)  # paper 003 eqs. (24)-(27)
     position, rotation = f.position(q), f.rotation(q)
@@ -71,7 +72,7 @@ def test_finite_differences_of_position_and_velocity(arm_name):
     that still catches any wrong term (those are of order 1).
     """
     q, qd, qdd, *_ = drake_end_point(arm_name, 2)
-    f = sym.arm_kinematics(arm_name).numeric()
+    f = sym.arm_kinematics(get_arm(arm_name)).numeric()
     h = 1e-5
 
     def path(tau: float) -> tuple[np.ndarray, np.ndarray]:
@@ -177,7 +178,7 @@ def test_end_point_kinematics_is_the_time_derivative(rng):
 
 def test_rrrr_constant_rate_run_matches_numeric_time_differences():
     """Figs. 18-19: L = (0.2, 0.4, 0.3, 0.2) m, ω = (7, 0.05, 0.05, 0.05) rad/s, t = 0:0.05:15 s."""
-    f = sym.arm_kinematics("rrrr").numeric()
+    f = sym.arm_kinematics(get_arm("rrrr")).numeric()
     omega = np.array([7.0, 0.05, 0.05, 0.05])
     t = np.arange(0.0, 15.0 + 1e-12, 0.05)
     q = t[:, None] * omega
@@ -244,7 +245,7 @@ def test_latex_table_labels_and_sources():
 
 
 def test_batches_of_any_shape_and_bad_input(rng):
-    f = sym.arm_kinematics("arm4r").numeric()
+    f = sym.arm_kinematics(get_arm("arm4r")).numeric()
     q = rng.normal(size=(3, 5, 4))
     assert f.position(q).shape == (3, 5, 3)
     assert f.rotation(q).shape == (3, 5, 3, 3)
@@ -255,12 +256,12 @@ def test_batches_of_any_shape_and_bad_input(rng):
         f.position(np.zeros(3))
     with pytest.raises(ValueError, match=r"qd\[1\] = nan is not a finite number"):
         f.velocity(np.zeros(4), [0, np.nan, 0, 0])
-    with pytest.raises(ValueError, match="no symbolic kinematics for arm 'nope'"):
-        sym.arm_kinematics("nope")
+    with pytest.raises(ValueError, match="no symbolic kinematics for arm 'puma560'"):
+        sym.arm_kinematics(get_arm("puma560"))
 
 
 def test_parameter_overrides_change_the_numbers():
-    default = sym.arm_kinematics("rr").numeric().position(np.zeros(2))
-    longer = sym.arm_kinematics("rr", L2=0.5).numeric().position(np.zeros(2))
+    default = sym.arm_kinematics(get_arm("rr")).numeric().position(np.zeros(2))
+    longer = sym.arm_kinematics(get_arm("rr", L2=0.5)).numeric().position(np.zeros(2))
     np.testing.assert_allclose(default, [0.7, 0, 0], atol=1e-15)
     np.testing.assert_allclose(longer, [0.9, 0, 0], atol=1e-15)

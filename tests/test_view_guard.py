@@ -19,9 +19,9 @@ import pytest
 from tornado.httpclient import HTTPClientError, HTTPRequest
 from tornado.websocket import websocket_connect
 
-from armlab.diagrams.view import Viewer
-from armlab.diagrams.view_guard import BROWSER_BLOCKED_PORTS, check_event, relayed_event
 from armlab.models import get_arm
+from armlab.presentation.view import Viewer
+from armlab.presentation.view_guard import BROWSER_BLOCKED_PORTS, check_event, relayed_event
 
 SLIDERS = {"joint1": (-1.0, 2.0, 0.1)}
 BUTTONS = {"Stop viewer"}

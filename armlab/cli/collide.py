@@ -18,11 +18,11 @@ SCENE_HELP = ("a scene file (JSON: boxes, cylinders, spheres, a floor, each with
 
 def _cmd_check(args: argparse.Namespace) -> int:
     # lazy: armlab --help loads armlab.cli.collide but not this (Drake; start-up time)
-    from armlab.collision.clearance import as_scene
+    from armlab.collision.clearance import as_scene, clearance
 
     arm = arm_of(args)
     q = joint_values(arm, args.q, args.deg)
-    rows = arm.clearance(q, as_scene(args.scene))
+    rows = clearance(arm, q, as_scene(args.scene))
     touching = [row for row in rows if row["distance"] < 0]
     if args.json:
         print(json.dumps({"arm": arm.name, "q": q.tolist(), "units": "m", "in_contact": len(touching) > 0,

@@ -1,4 +1,4 @@
-"""``armlab draw ARM``: the arm's kinematic scheme (:func:`armlab.diagrams.draw.draw_arm`) into a picture file."""
+"""``armlab draw ARM``: the arm's kinematic scheme (:func:`armlab.presentation.draw.draw_arm`) into a picture file."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import argparse
 from typing import Any
 
 from armlab.cli.args import add_arm, arm_of
-from armlab.diagrams.draw import default_q, draw_arm
+from armlab.presentation.draw import default_q, draw_arm
 from armlab.values import joint_values
 
 __all__ = ["register"]

@@ -21,13 +21,13 @@ from armlab.drives.read import with_drives
 from armlab.files import write_file
 from armlab.kinematics.cartesian import DEFAULT_SAMPLES, PROFILES
 from armlab.limits import per_joint
-from armlab.scripts.figures import DPI
+from armlab.presentation.figures import DPI
 from armlab.values import joint_values, parse_floats
 
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
-    from armlab.kinematics.timing import Fastest
     from armlab.models.arm import Arm
+    from armlab.planning.timing import Fastest
 
 __all__ = ["register"]
 

@@ -1,5 +1,5 @@
-"""``armlab reproduce`` (:func:`armlab.scripts.reproduce.reproduce`), and the command line of each paper script run
-alone (``python -m armlab.scripts.paper_000``, :func:`run_alone`)."""
+"""``armlab reproduce`` (:func:`armlab.papers.reproduce.reproduce`), and the command line of each paper script run
+alone (``python -m armlab.papers.paper_000``, :func:`run_alone`)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ from pathlib import Path
 from typing import Any
 
 from armlab.cli.args import positive_int
-from armlab.scripts.report_rows import verdict_counts
-from armlab.scripts.reproduce import (
+from armlab.papers.report_rows import verdict_counts
+from armlab.papers.reproduce import (
     MAX_JOBS,
     default_jobs,
     reproduce,

@@ -1,10 +1,10 @@
 """``armlab simulate`` and ``armlab diagram``: paper 000's Fig. 6 run for any arm, and its picture.
 
-``armlab simulate ARM --out DIR`` runs the arm's paper motion (:func:`armlab.diagrams.motions.paper_motion`)
+``armlab simulate ARM --out DIR`` runs the arm's paper motion (:func:`armlab.planning.motions.paper_motion`)
 or the motion the options give, through the Drake diagram of :mod:`armlab.diagrams.build`, and writes
-``log.csv``, ``summary.json``, ``diagram.svg`` (the Fig. 6 view, :func:`~armlab.diagrams.graphviz.fig6_dot`),
+``log.csv``, ``summary.json``, ``diagram.svg`` (the Fig. 6 view, :func:`~armlab.presentation.graphviz.fig6_dot`),
 ``diagram_full.svg`` (Drake's whole graph, also as ``diagram.dot``), the plots and ``replay.html`` (the run as
-a 3-D animation, :mod:`armlab.diagrams.replay`) into DIR, all or nothing.
+a 3-D animation, :mod:`armlab.presentation.replay`) into DIR, all or nothing.
 ``armlab diagram ARM --out FILE.{dot,svg,png,pdf}`` writes the diagram alone.
 
 Drake is imported only when a command runs, so ``armlab --help`` stays fast.
@@ -22,10 +22,10 @@ import numpy as np
 from armlab.cli.args import add_arm, add_drives, arm_of
 from armlab.cli.collide import SCENE_HELP
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
-from armlab.diagrams.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
 from armlab.drives.read import with_drives
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.limits import allowed, check_range
+from armlab.planning.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
 from armlab.values import joint_values, parse_floats
 
 if TYPE_CHECKING:
@@ -85,7 +85,7 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
     runs: ``ValueError`` naming a value outside its range (:data:`armlab.limits.LIMITS`)."""
     # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP, gain_vector
-    from armlab.diagrams.plant import check_payload, resolve_gravity
+    from armlab.values import check_payload, resolve_gravity
 
     if getattr(args, "accuracy", None) is not None:
         check_range(args.accuracy, "--accuracy")
@@ -107,7 +107,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from armlab.api import simulate
     from armlab.collision.clearance import as_scene, format_collision
     from armlab.diagrams.build import check_log_period
-    from armlab.diagrams.output import run_folder
+    from armlab.presentation.output import run_folder
 
     arm = with_drives(arm_of(args), args.drives)
     arm.require_dynamics("armlab simulate")  # before anything is printed (the plant checks it again)
@@ -154,9 +154,9 @@ def cmd_diagram(args: argparse.Namespace) -> int:
     """``armlab diagram``: the Fig. 6 diagram of ARM as DOT, SVG, PNG or PDF (by the suffix of --out)."""
     # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.diagrams.build import build_diagram
-    from armlab.diagrams.graphviz import fig6_dot, graph_format, write_graph
-    from armlab.diagrams.plant import PlantOptions
     from armlab.diagrams.simulate import SimulationOptions
+    from armlab.models.plant import PlantOptions
+    from armlab.presentation.graphviz import fig6_dot, graph_format, write_graph
 
     arm = with_drives(arm_of(args), args.drives)
     graph_format(args.out)

@@ -15,10 +15,10 @@ from typing import Any
 
 from armlab.cli.args import add_arm, arm_of
 from armlab.cli.simulate import motion_from_args
-from armlab.diagrams.motions import SEGMENTS_FILE_HELP
-from armlab.drives.catalogue import GEARBOX_COLUMNS, MOTOR_COLUMNS
-from armlab.drives.duty import DEFAULT_RATE, DUTY_FILE_HELP, LOAD_CASES_HELP
-from armlab.drives.select import RANKS
+from armlab.planning.motions import SEGMENTS_FILE_HELP
+from armlab.sizing.catalogue import GEARBOX_COLUMNS, MOTOR_COLUMNS
+from armlab.sizing.duty import DEFAULT_RATE, DUTY_FILE_HELP, LOAD_CASES_HELP
+from armlab.sizing.select import RANKS
 from armlab.values import parse_floats
 
 __all__ = ["EXIT_INFEASIBLE", "cmd_size", "register"]
@@ -31,8 +31,8 @@ def cmd_size(args: argparse.Namespace) -> int:
     """``armlab size``: see the module docstring."""
     # lazy: armlab --help loads armlab.cli.size but not these (start-up time)
     from armlab.api import size_drives
-    from armlab.drives.duty import DutyCycle, load_cases_of, read_load_cases
-    from armlab.drives.report import sizing_folder, summary_lines, write_sizing
+    from armlab.sizing.duty import DutyCycle, load_cases_of, read_load_cases
+    from armlab.sizing.report import sizing_folder, summary_lines, write_sizing
 
     arm = arm_of(args)
     arm.require_dynamics("armlab size")

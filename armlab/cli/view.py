@@ -1,4 +1,4 @@
-"""``armlab view ARM``: the arm in Meshcat with a slider per joint (:func:`armlab.diagrams.view.run_view`)."""
+"""``armlab view ARM``: the arm in Meshcat with a slider per joint (:func:`armlab.presentation.view.run_view`)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import argparse
 from typing import Any
 
 from armlab.cli.args import add_arm, arm_of
-from armlab.diagrams.view import PORT_TRIES, run_view
+from armlab.presentation.view import PORT_TRIES, run_view
 from armlab.values import joint_values
 
 __all__ = ["register"]

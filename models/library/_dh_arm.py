@@ -13,8 +13,8 @@ from dataclasses import replace
 import numpy as np
 
 from armlab.kinematics.dh import DHRow, DHTable
+from armlab.kinematics.ik_closed_form import ClosedForm
 from armlab.models.arm import Arm
-from armlab.models.extras import ClosedForm
 from armlab.models.read_dh import DHInertial, from_dh
 from armlab.models.write_urdf import JointLimits
 
