@@ -9,7 +9,7 @@ PYTHON ?= $(shell for p in python3.12 $$HOME/.pyenv/versions/3.12*/bin/python3.1
 RUN_PACKAGES := graphviz:dot
 TEST_PACKAGES := $(RUN_PACKAGES) chromium:chromium
 
-.PHONY: run test check setup run-deps test-deps lint bench clean typecheck docs
+.PHONY: run test check setup run-deps test-deps lint bench clean typecheck docs lock
 
 run: setup run-deps
 	$(BIN)/armlab reproduce --out out
@@ -26,11 +26,14 @@ check: setup
 
 setup: $(VENV)/.installed
 
-$(VENV)/.installed: pyproject.toml
+# the exact versions the suite last passed with (constraints.txt, refreshed by `make lock`)
+CONSTRAINTS := -c constraints.txt
+
+$(VENV)/.installed: pyproject.toml constraints.txt
 	@if [ -z "$(PYTHON)" ]; then echo "armlab needs Python 3.12: install it (e.g. 'pyenv install 3.12' or 'apt-get install python3.12') and re-run"; exit 1; fi
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet $(CONSTRAINTS) -e '.[test]'
 	@touch $@
 
 # The system packages $(1) (package:command pairs): installed when missing and running as root, else named.
@@ -60,7 +63,7 @@ docs: setup run-deps
 	@echo "docs: build/docs/html/index.html"
 
 bench: setup
-	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
+	$(BIN)/python -m pip install --quiet $(CONSTRAINTS) -e '.[test,bench]'
 	$(BIN)/python scripts/bench/bench_kinematics.py
 	$(BIN)/python scripts/bench/bench_ik.py
 	$(BIN)/python scripts/bench/bench_simulate.py
@@ -70,6 +73,18 @@ bench: setup
 	$(BIN)/python scripts/bench/bench_drives.py
 	$(BIN)/python scripts/bench/bench_collision.py
 	$(BIN)/python scripts/bench/bench_replay.py
+
+# constraints.txt afresh: the newest versions within pyproject.toml's ranges, resolved in a scratch environment
+# (build/lock); run `make test` with them before committing the file
+LOCK := build/lock
+lock:
+	@if [ -z "$(PYTHON)" ]; then echo "armlab needs Python 3.12: install it (e.g. 'pyenv install 3.12') and re-run"; exit 1; fi
+	rm -rf $(LOCK) && $(PYTHON) -m venv $(LOCK)
+	$(LOCK)/bin/python -m pip install --quiet --upgrade pip
+	$(LOCK)/bin/python -m pip install --quiet -e '.[test,bench]'
+	{ sed -n '/^#/p' constraints.txt; $(LOCK)/bin/python -m pip freeze --exclude-editable; } > $(LOCK)/constraints.txt
+	mv $(LOCK)/constraints.txt constraints.txt && rm -rf $(LOCK)
+	@echo "constraints.txt refreshed: now run make test"
 
 clean:
 	rm -rf $(VENV) out *.egg-info

@@ -22,15 +22,18 @@ from pathlib import Path
 ROOT = Path(os.environ.get("ARMLAB_DOCS_ROOT", Path(__file__).resolve().parent.parent))
 
 #: The subpackages whose modules get an API page each, with a line saying what they hold.
-SUBPACKAGES = {
-    "armlab.models": "the arms (one module per paper arm) and the readers of users' own arms",
-    "armlab.models.library": "well-known arms by name, one module each, their numbers' sources cited",
+SUBPACKAGES = {  # in the order of the rooms (README's layout)
     "armlab.kinematics": "one module per method: each paper's formulation, IK, inverse dynamics, trajectories",
-    "armlab.controllers": "the inverse-dynamics controller",
-    "armlab.diagrams": "the Drake Systems diagram of a run, simulation, plots, replay, viewer",
-    "armlab.analysis": "workspaces, singular configurations and design studies",
-    "armlab.drives": "drive trains and drive sizing",
+    "armlab.drives": "drive trains: gear ratio, rotor inertia, efficiency, friction",
+    "armlab.models": "the arms (one module per paper arm), the readers of users' own arms, the plant builder",
+    "armlab.models.library": "well-known arms by name, one module each, their numbers' sources cited",
     "armlab.collision": "collision geometry, scenes and clearances",
+    "armlab.presentation": "the pictures: plots, drawings, graphviz files, the replay and the viewer",
+    "armlab.planning": "motions to run and their fastest timing",
+    "armlab.controllers": "the inverse-dynamics controller",
+    "armlab.diagrams": "the Drake Systems diagram of a run and its simulation",
+    "armlab.sizing": "drive sizing: catalogues, duty cycles, load cases, the selection",
+    "armlab.analysis": "workspaces, singular configurations and design studies",
 }
 
 #: The paper pages: number → (title, the modules whose docstrings give its arm and its equations).

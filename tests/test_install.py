@@ -7,12 +7,16 @@ import shutil
 import subprocess
 import sys
 import sysconfig
+import tomllib
 import zipfile
+from importlib import metadata
 from pathlib import Path
 
 import numpy as np
 import pytest
 from helpers import armlab_main
+from packaging.requirements import Requirement
+from packaging.utils import canonicalize_name
 
 import armlab
 from armlab.models import examples
@@ -33,6 +37,28 @@ def no_dot(tmp_path, monkeypatch):
     empty = tmp_path / "empty-path"
     empty.mkdir()
     monkeypatch.setenv("PATH", str(empty))
+
+
+# --------------------------------------------------------------------------- the tested versions
+def _pins() -> dict[str, str]:
+    """constraints.txt's ``name==version`` lines, by normalised name."""
+    lines = (ROOT / "constraints.txt").read_text().splitlines()
+    pins = [line.split("==") for line in lines if line and not line.startswith("#")]
+    assert all(len(pin) == 2 for pin in pins), "constraints.txt holds name==version lines only"
+    return {canonicalize_name(name): version for name, version in pins}
+
+
+def test_the_environment_has_the_versions_the_suite_last_passed_with():
+    """make's set-up installs exactly constraints.txt's versions (pip's -c): every pin is what this environment runs,
+    and every dependency pyproject.toml names (runtime and extras) is pinned."""
+    pins = _pins()
+    wrong = {name: (version, metadata.version(name)) for name, version in pins.items()
+             if metadata.version(name) != version}
+    assert not wrong, f"installed versions differ from constraints.txt (pinned, installed): {wrong}"
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    named = [*project["dependencies"], *(d for extra in project["optional-dependencies"].values() for d in extra)]
+    unpinned = {canonicalize_name(Requirement(d).name) for d in named} - set(pins) - {"armlab"}
+    assert not unpinned, f"dependencies without a pinned version in constraints.txt: {sorted(unpinned)}"
 
 
 # --------------------------------------------------------------------------- the example arms by name
@@ -130,6 +156,9 @@ def test_the_wheel_holds_the_examples_and_the_licence_and_works_outside_the_repo
     # exact: the licence text, not numbers
     assert zipfile.ZipFile(wheel).read(licence[0]).decode() == (ROOT / "LICENSE").read_text()
     assert {n.split("/")[0] for n in names} == {"armlab", wheel.name.split("-py3")[0] + ".dist-info"}
+    # the product, not the benchmarks: the reproduction and the pictures are in, scripts/bench/ is not
+    assert {"armlab/papers/reproduce.py", "armlab/papers/errata.py", "armlab/presentation/replay.py"} <= names
+    assert not [n for n in names if "bench" in n]
 
     venv = tmp_path / "venv"
     _run([sys.executable, "-m", "venv", str(venv)], tmp_path)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -17,8 +18,9 @@ from armlab.models.plant import PlantOptions, add_arm_plant, make_plant
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The one module that makes a MultibodyPlant, adds one with a SceneGraph or parses a URDF.
-BUILDER = ROOT / "diagrams" / "plant.py"
-SOURCE_DIRS = ("armlab", "models", "kinematics", "controllers", "diagrams", "scripts", "analysis")
+BUILDER = ROOT / "models" / "plant.py"
+#: Every folder pyproject.toml installs a package from.
+SOURCE_DIRS = tuple(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-dir"].values())
 
 
 def _two_link(transmissions: tuple[str, ...] = ()) -> str:
