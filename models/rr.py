@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.kinematics.dh import DHRow, DHTable
+from armlab.kinematics.ik import solve_branch
 from armlab.kinematics.ik_closed_form import ClosedForm, planar_target, rr_ik
 from armlab.kinematics.quintic import Motion, QuinticSegment, Segment, check_duration
 from armlab.models.arm import MODELS_DIR, Arm, Forward, chosen, from_paper, parameter_notes
@@ -99,9 +100,6 @@ def fig3_motion(arm: Arm, tf: float | None = None) -> Motion:
 
 def abcd_motion(arm: Arm, tf: float | None = None) -> Motion:
     """Paper 000's A → B → C → D → A (Tables 1–2, Figs. 8–10), ``tf`` seconds per segment (default 2 s)."""
-    # lazy: armlab.kinematics sits above armlab.models and imports it
-    from armlab.kinematics.ik import solve_branch
-
     tf = 2.0 if tf is None else check_duration(tf)
     segments: list[Segment] = []
     for start, start_branch, end, end_branch in ABCD_SEGMENTS:

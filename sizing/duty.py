@@ -237,7 +237,7 @@ def _flag(raw: Any, where: str) -> bool:
 
 def read_duty_cycle(arm: Arm, path: str | Path) -> DutyCycle:
     """The duty cycle in a file (JSON, :data:`DUTY_FILE_HELP`), every move's ends checked against the limits."""
-    # lazy: armlab.planning.motions imports Drake-free IK; only the CLI and sizing read cycles
+    # lazy: armlab --help loads armlab.sizing.duty but not the IK (start-up time)
     from armlab.planning.motions import parse_segments
 
     path = Path(path)
