@@ -5,6 +5,10 @@ value, the range and the reason (:func:`check_range`): a finite but absurd numbe
 1e308, gravity of 1e308 m/s², a payload of a thousand tonnes) would otherwise overflow, stall
 the integrator or end in a run that leaves its reference. The options' help texts quote the same
 bounds (:func:`allowed`).
+
+These are checks of the values a user gives (typed, or in a file), not of computed ones: the ranges are orders of
+magnitude beyond any physical value, so a value is compared with them exactly, without the slack that
+:mod:`armlab.bounds` applies to a computed value against a physical bound (a joint limit, a tolerance).
 """
 
 from __future__ import annotations
@@ -121,7 +125,7 @@ def check_range(value: ArrayLike, name: str, size: ArrayLike | None = None, key:
     measured = np.ravel(values if size is None else real_array(size, name))
     key = name if key is None else key
     limit = LIMITS[_key(key)]
-    bad = ~(np.isfinite(measured) & (measured >= limit.low) & (measured <= limit.high))
+    bad = ~(np.isfinite(measured) & (measured >= limit.low) & (measured <= limit.high))  # not a bound: a user's value
     if np.any(bad):
         first = _num(measured[np.argmax(bad)])
         given = first if size is None else f"{','.join(_num(v) for v in np.ravel(values))} ({limit.symbol} = {first})"

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import below
 from armlab.diagrams.replay_graphs import (
     GRAPHS_PCT,
     GRAPHS_SCRIPT,
@@ -550,7 +551,7 @@ def _collision_layer(scene: Scene, model: CollisionModel, meshcat: Meshcat, k: N
 
     inspector = scene.scene_graph.model_inspector()
     found = model.distances(frames_q)
-    touching = found.distance < 0  # (F, P)
+    touching = below(found.distance, 0.0)  # (F, P)
     owners: dict[str, list[str]] = {}
     world = inspector.world_frame_id()
     for g in inspector.GetAllGeometryIds():

@@ -16,40 +16,21 @@ says ``# lazy: <reason>``.
 from __future__ import annotations
 
 import ast
-import importlib.util
-import pkgutil
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
 import pytest
+from helpers import ROOT, is_program, package_modules
 
 from armlab._lazy import LAZY_IMPORTS
 
-ROOT = Path(__file__).resolve().parents[1]
 CLI = "armlab.cli"
 #: What only the CLI may import.
 CLI_ONLY = (CLI, "argparse")
 
 
-def _packages() -> list[str]:
-    return tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]
-
-
-def _modules() -> dict[str, Path]:
-    """Every module of the installed packages: dotted name → source file (found without importing the modules)."""
-    modules = {}
-    for package in _packages():
-        spec = importlib.util.find_spec(package)
-        assert spec is not None and spec.submodule_search_locations, package
-        if spec.origin is None:  # a data-only package (e.g. armlab.analysis.studies): no code to read
-            continue
-        modules[package] = Path(spec.origin)
-        for info in pkgutil.iter_modules(spec.submodule_search_locations):
-            if not info.ispkg:
-                modules[f"{package}.{info.name}"] = Path(info.module_finder.path) / f"{info.name}.py"
-    return modules
+_modules = package_modules
 
 
 def _is_main_block(node: ast.AST) -> bool:
@@ -94,10 +75,7 @@ def _is_cli(module: str) -> bool:
     return _names(CLI, module)
 
 
-def _is_program(module: str) -> bool:
-    """A developer benchmark (``scripts/bench_*.py``) or an example script for users
-    (``armlab.scripts.examples.*``, run as ``python -m``): programs with command lines of their own."""
-    return module.rsplit(".", 1)[-1].startswith("bench_") or module.startswith("armlab.scripts.examples.")
+_is_program = is_program
 
 
 def test_modules_are_found():
