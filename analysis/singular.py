@@ -14,7 +14,8 @@ Singular configurations (:func:`singular_configurations`):
   other joints (checked at several random values of them);
 * otherwise the sampled configurations with the smallest σ_min are each refined by a golden-section
   search along the joint that changes σ_min most, which crosses the singular hypersurface when J is
-  square; a configuration is listed as singular when σ_min < :data:`SINGULAR_TOL` there.
+  square; a configuration is listed as singular when σ_min ≤ :data:`SINGULAR_TOL` there
+  (:func:`armlab.bounds.tolerated`).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.analysis.workspace import joint_box, tool_positions
+from armlab.bounds import above, tolerated
 from armlab.kinematics.differential import default_axes, jacobian, manipulability, sigma_min
 
 if TYPE_CHECKING:
@@ -33,7 +35,7 @@ if TYPE_CHECKING:
 
 __all__ = ["SINGULAR_TOL", "add_manipulability", "singular_configurations", "task_sigma"]
 
-#: σ_min below this (m per rad, or mixed units for six rows) counts as singular.
+#: σ_min up to this (m per rad, or mixed units for six rows) counts as singular.
 SINGULAR_TOL = 1e-9
 #: Kept configurations whose Jacobian is evaluated.
 JACOBIAN_SAMPLES = 20_000
@@ -90,7 +92,7 @@ def _depends_on(arm: Arm, q: NDArray, sigma: NDArray, rng: np.random.Generator) 
     for j in range(arm.n):
         moved = q.copy()
         moved[:, j] = lower[j] + (upper[j] - lower[j]) * rng.random(len(q))
-        if np.max(np.abs(task_sigma(arm, moved)[1] - sigma)) > 1e-9 * scale:
+        if above(np.max(np.abs(task_sigma(arm, moved)[1] - sigma)) / scale, 0.0):  # more than round-off
             joints.append(j)
     return joints
 
@@ -131,7 +133,7 @@ def singular_configurations(arm: Arm, q: NDArray[np.float64], sigma: NDArray[np.
                     np.array([lo]), np.array([hi]))[0]
         refined = _moved(row[None], j, x)[0]
         s = float(task_sigma(arm, refined[None])[1][0])
-        if s < SINGULAR_TOL:
+        if tolerated(s, SINGULAR_TOL):
             found.append({"q": refined.tolist(), "sigma_min": s})
     points = tool_positions(arm, np.array([f["q"] for f in found])) if found else np.zeros((0, 3))
     return out | {"configurations": found, "_tool_points": points}
@@ -150,13 +152,13 @@ def _loci(arm: Arm, j: int, others: NDArray, lower: NDArray, upper: NDArray) -> 
     found = []
     for row in others:
         sigma = task_sigma(arm, _moved(np.broadcast_to(row, (grid.size, arm.n)), j, grid))[1]
-        minima = [k for k in range(grid.size) if sigma[k] <= sigma[max(k - 1, 0)] and sigma[k] <= sigma[
-            min(k + 1, grid.size - 1)]]
+        minima = [k for k in range(grid.size) if sigma[k] <= sigma[max(k - 1, 0)]  # not a bound: local minima
+                  and sigma[k] <= sigma[min(k + 1, grid.size - 1)]]  # not a bound: against its neighbours
         lo = grid[[max(k - 1, 0) for k in minima]]
         hi = grid[[min(k + 1, grid.size - 1) for k in minima]]
         x = _golden(lambda t, r=row: task_sigma(arm, _moved(np.broadcast_to(r, (t.size, arm.n)), j, t))[1], lo, hi)
         s = task_sigma(arm, _moved(np.broadcast_to(row, (x.size, arm.n)), j, x))[1]
-        found.append(np.sort(x[s < SINGULAR_TOL]))
+        found.append(np.sort(x[tolerated(s, SINGULAR_TOL)]))
     values = found[0]
     same = all(f.shape == values.shape and np.allclose(f, values, atol=1e-7) for f in found[1:])
     return {"joint": arm.joint_names[j], "index": j, "values": values.tolist(),

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import above, below, tolerated
 from armlab.kinematics.differential import jacobian
 from armlab.limits import LIMITS, check_range, whole_text
 
@@ -109,7 +110,7 @@ def motion_rank(arm: Arm, q: NDArray[np.float64], basis: NDArray[np.float64]) ->
     translational Jacobian over the configurations ``q`` (k, n) (:func:`armlab.kinematics.differential.jacobian`)."""
     J = basis @ jacobian(arm, q)[:, :3, :]  # (k, d, n)
     s = np.linalg.svd(J, compute_uv=False)
-    return int(np.max(np.sum(s > 1e-9 * max(float(s.max()), 1e-300), axis=-1)))
+    return int(np.max(np.sum(above(s / max(float(s.max()), 1e-300), 0.0), axis=-1)))  # beyond round-off of the largest
 
 
 def reach_bound(arm: Arm) -> float:
@@ -130,11 +131,11 @@ def workspace_plane(points: ArrayLike, tol: float = 1e-9) -> tuple[NDArray[np.fl
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     origin = pts.mean(axis=0)
     _, s, vt = np.linalg.svd(pts - origin, full_matrices=False)
-    d = int(np.sum(s > tol * max(s[0], 1e-300)))
+    d = int(np.sum(~tolerated(s / max(s[0], 1e-300), tol)))
     if d == 0:
         raise ValueError("the tool point does not move: the workspace is a single point")
     basis = vt[:d]
-    axes = np.flatnonzero(np.abs(basis).max(axis=0) > tol)
+    axes = np.flatnonzero(~tolerated(np.abs(basis).max(axis=0), tol))
     if len(axes) == d:  # the subspace is spanned by coordinate axes: use them
         basis = np.eye(3)[axes]
         origin = np.where(np.isin(np.arange(3), axes), 0.0, origin)
@@ -149,10 +150,10 @@ def _check_measurable(arm: Arm, bound: float, motions: int) -> None:
         raise ValueError(f"{arm.name}: the tool point does not move (every joint's range is empty or moves it "
                          "nowhere): there is no workspace to measure")
     far, fine = LIMITS["coordinate"], LIMITS["resolution"]
-    if bound > far.high:
+    if above(bound, far.high):
         raise ValueError(f"{arm.name}: the tool point reaches up to {bound:.3g} m, beyond {far.high:g} m ({far.why}): "
                          "its workspace cannot be measured")
-    if bound < fine.low:
+    if below(bound, fine.low):
         raise ValueError(f"{arm.name}: the tool point reaches only {bound:.3g} m, less than the smallest voxel edge "
                          f"{fine.low:g} m: its workspace cannot be measured")
 
@@ -354,7 +355,7 @@ def workspace(
         grid.add(coords)
         if model is not None:
             clearance = model.distances(q).distance
-            free = np.all(clearance >= 0, axis=-1)
+            free = np.all(~below(clearance, 0.0), axis=-1)  # in contact only below zero (armlab.bounds)
             nearest = min(nearest, float(clearance.min(initial=np.inf)))
             free_grid.add(coords[free])
             free_count += int(np.count_nonzero(free))
@@ -399,7 +400,7 @@ def _whole(value: Any, name: str, low: int, high: int, why: str) -> int:
     """``value`` as an int if it is a whole number in ``low … high``; else a one-line ``ValueError`` naming ``name``."""
     whole = (isinstance(value, (int, np.integer)) and not isinstance(value, bool)) or \
         (isinstance(value, float) and value.is_integer())
-    if not whole or not low <= value <= high:
+    if not whole or not low <= value <= high:  # not a bound: a user's count checked against its accepted range
         shown = whole_text(value) if whole and abs(value) <= 1e308 else repr(value)[:40]
         raise ValueError(f"{name} {shown} is not allowed: give a whole number {low} … {whole_text(high)} ({why})")
     return int(value)

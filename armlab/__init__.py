@@ -11,7 +11,8 @@ The Python API (:mod:`armlab.api`), in one session::
     run = armlab.simulate(arm, armlab.quintic(arm, q0, qf, 2.0))
 
 The rooms, lowest first; a room imports only the rooms below it (tests/test_layers.py holds it): the base modules
-(:mod:`armlab.limits`, :mod:`armlab.values`, :mod:`armlab.files`, :mod:`armlab.arm_file`: ranges, values, files),
+(:mod:`armlab.limits`, :mod:`armlab.bounds`, :mod:`armlab.values`, :mod:`armlab.files`, :mod:`armlab.arm_file`:
+ranges, the one boundary rule, values, files),
 ``armlab.kinematics`` (each paper's method), ``armlab.drives`` (drive trains), ``armlab.models`` (the arms, their
 URDF files and plants), ``armlab.collision``, ``armlab.presentation`` (plots, drawings, replays),
 ``armlab.planning`` (motions and their timing), ``armlab.controllers``, ``armlab.diagrams`` (the Systems diagram),

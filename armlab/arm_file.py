@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from armlab.bounds import above
 from armlab.files import read_input
 
 __all__ = ["COM_REACH", "MAX_FILE_NUMBER", "MAX_JOINTS", "check_com_distance", "file_number", "read_text"]
@@ -68,7 +69,7 @@ def check_com_distance(distance: float, size: float, what: str) -> None:
     """``ValueError`` naming ``what`` if a centre of mass ``distance`` m from its link frame's origin lies beyond
     :data:`COM_REACH` × ``size`` + 1 m, ``size`` (m) the arm's own (its links' lengths summed): not physical."""
     bound = COM_REACH * size + 1.0
-    if distance > bound:
+    if above(distance, bound):
         raise ValueError(f"{what}: the centre of mass is {distance:.6g} m from its link frame, beyond "
                          f"{bound:.6g} m ({COM_REACH:g} × the arm's size {size:.6g} m + 1 m): not physical; "
                          "check the centre of mass (m, in the link's frame)")

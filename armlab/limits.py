@@ -5,6 +5,10 @@ value, the range and the reason (:func:`check_range`): a finite but absurd numbe
 1e308, gravity of 1e308 m/s², a payload of a thousand tonnes) would otherwise overflow, stall
 the integrator or end in a run that leaves its reference. The options' help texts quote the same
 bounds (:func:`allowed`).
+
+These are checks of the values a user gives (typed, or in a file), not of computed ones: the ranges are orders of
+magnitude beyond any physical value, so a value is compared with them exactly, without the slack that
+:mod:`armlab.bounds` applies to a computed value against a physical bound (a joint limit, a tolerance).
 """
 
 from __future__ import annotations
@@ -17,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LIMITS", "LIMIT_SLACK", "Limit", "NotRealError", "allowed", "check_positive", "check_range", "real_array",
+__all__ = ["LIMITS", "Limit", "NotRealError", "allowed", "check_positive", "check_range", "real_array",
            "real_number",
            "whole_text"]
 
@@ -28,10 +32,6 @@ class NotRealError(TypeError, ValueError):
     A ``TypeError`` (the value's type is wrong) that is also a ``ValueError``, so that everything catching armlab's
     one-line input errors catches it too."""
 
-
-#: Round-off allowed past a joint limit (rad or m): a value this close outside it counts as on it
-#: (:meth:`armlab.models.arm.Arm.check_q`, :meth:`armlab.kinematics.quintic.Motion.check_limits`).
-LIMIT_SLACK = 1e-12
 
 _REAL_KINDS = "iuf"  # numpy dtype kinds of real numbers: signed and unsigned integers, floats
 
@@ -126,7 +126,7 @@ def check_range(value: ArrayLike, name: str, size: ArrayLike | None = None, key:
     measured = np.ravel(values if size is None else real_array(size, name))
     key = name if key is None else key
     limit = LIMITS[_key(key)]
-    bad = ~(np.isfinite(measured) & (measured >= limit.low) & (measured <= limit.high))
+    bad = ~(np.isfinite(measured) & (measured >= limit.low) & (measured <= limit.high))  # not a bound: a user's value
     if np.any(bad):
         first = _num(measured[np.argmax(bad)])
         given = first if size is None else f"{','.join(_num(v) for v in np.ravel(values))} ({limit.symbol} = {first})"

@@ -38,7 +38,7 @@ SHOWN = 60
 def cut(text: str, limit: int = SHOWN) -> str:
     """``text`` cut to ``limit`` characters (``…`` marks the cut): an error line stays readable whatever the input
     (a 1 MB key, a 10⁷-row array)."""
-    return text if len(text) <= limit else text[:limit - 1] + "…"
+    return text if len(text) <= limit else text[:limit - 1] + "…"  # not a bound: a count of characters
 
 
 def shown(value: object, limit: int = SHOWN) -> str:

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import below
 from armlab.collision.model import Clearances, CollisionModel, NoGeometryError
 from armlab.collision.scene import Scene, read_scene
 
@@ -58,7 +59,7 @@ def contacts(arm: Arm, q: ArrayLike, scene: Scene | str | Path | None = None) ->
     (their names, "A–B") and the smallest clearance (m; ``None`` where the arm has no pair to check).
     ``ValueError`` as :func:`clearance`."""
     found = CollisionModel(arm, as_scene(scene)).distances(np.asarray(q, dtype=float).reshape(-1, arm.n))
-    return [([name for name, d in zip(found.names(), row, strict=True) if d < 0],
+    return [([name for name, d in zip(found.names(), row, strict=True) if below(d, 0.0)],
              float(row.min()) if row.size else None) for row in found.distance]
 
 
@@ -75,7 +76,7 @@ def collisions(t: NDArray[np.float64], found: Clearances) -> list[dict[str, Any]
     (s)}`` in the order they first touch."""
     out = []
     for j, name in enumerate(found.names()):
-        touching = np.flatnonzero(found.distance[:, j] < 0)
+        touching = np.flatnonzero(below(found.distance[:, j], 0.0))
         if len(touching):
             deepest = int(np.argmin(found.distance[:, j]))
             out.append({"pair": name, "first_time": float(t[touching[0]]), "depth": float(-found.distance[deepest, j]),

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.bounds import above, below, tolerated
 from armlab.files import write_csv
 from armlab.limits import check_positive
 
@@ -44,10 +45,6 @@ __all__ = [
 #: reference: far above what the computed-torque loop leaves (≤ 1e-6 at the default accuracy).
 DIVERGENCE_TOLERANCE = 1e-2
 
-#: Slack (relative to the limit) under which a value on its limit counts as within it.
-_SLACK = 1e-9
-
-
 def _units(log: SimulationLog) -> dict[str, list[str]]:
     revolute = log.arm.revolute
     return {
@@ -58,15 +55,15 @@ def _units(log: SimulationLog) -> dict[str, list[str]]:
 
 
 def _first_exceeding(t: NDArray, values: NDArray, lower: float, upper: float) -> tuple[float, float, float] | None:
-    """(peak value past the limit, the limit it passes, first time) for samples outside [lower, upper]."""
-    above = values > upper + _SLACK * max(1.0, abs(upper))
-    below = values < lower - _SLACK * max(1.0, abs(lower))
-    if not (above.any() or below.any()):
+    """(peak value past the limit, the limit it passes, first time) for samples outside [lower, upper] (a value on
+    a limit, within the slack of :mod:`armlab.bounds`, is within it)."""
+    over, under = above(values, upper), below(values, lower)
+    if not (over.any() or under.any()):
         return None
-    first = float(t[np.argmax(above | below)])
-    over_upper = float(values.max() - upper) if above.any() else -np.inf
-    under_lower = float(lower - values.min()) if below.any() else -np.inf
-    if over_upper >= under_lower:
+    first = float(t[np.argmax(over | under)])
+    over_upper = float(values.max() - upper) if over.any() else -np.inf
+    under_lower = float(lower - values.min()) if under.any() else -np.inf
+    if over_upper >= under_lower:  # not a bound: which of two excesses is larger (both are past their limits)
         return float(values.max()), upper, first
     return float(values.min()), lower, first
 
@@ -121,7 +118,7 @@ def divergence(log: SimulationLog, tolerance: float = DIVERGENCE_TOLERANCE) -> d
     tolerance = check_tolerance(tolerance)
     error = np.abs(log.q - log.q_ref)
     error = np.where(np.isfinite(error), error, np.inf)  # a NaN state has left the reference too
-    outside = error > tolerance
+    outside = ~tolerated(error, tolerance)
     if not outside.any():
         return None
     first = int(np.argmax(outside.any(axis=1)))
@@ -178,13 +175,15 @@ def write_drives_csv(log: SimulationLog, path: str | Path) -> Path:
     return write_csv(path, list(rows[0]), [list(row.values()) for row in rows])
 
 
-#: A value below this share of the largest of its kind (or of 1 in its unit) is round-off: printed as 0.
-ROUND_OFF = 1e-9
+def _round_off(value: float, largest: float) -> bool:
+    """Whether ``value`` is zero within the slack (:mod:`armlab.bounds`) relative to the largest of its kind
+    ``largest`` (or to 1 in its unit): round-off, printed as 0."""
+    return not above(abs(value) / max(largest, 1.0), 0.0)
 
 
 def _value(value: float, largest: float) -> str:
-    """``value`` to 4 significant digits, or ``0`` when it is round-off (:data:`ROUND_OFF` of ``largest``)."""
-    return "0" if abs(value) <= ROUND_OFF * max(largest, 1.0) else f"{value:.4g}"
+    """``value`` to 4 significant digits, or ``0`` when it is round-off (:func:`_round_off` beside ``largest``)."""
+    return "0" if _round_off(value, largest) else f"{value:.4g}"
 
 
 def drives_figure(log: SimulationLog) -> Any:
@@ -238,7 +237,7 @@ def drives_figure(log: SimulationLog) -> Any:
         rms_speed = float(np.sqrt(np.mean(log.qd[:, i] ** 2)))
         ax.plot([rms_speed], [row["rms_torque"]], "*", ms=13, mfc="none", mec="#e67e22", mew=1.5, zorder=5,
                 label="RMS point (RMS q̇, RMS τ): the continuous duty")
-        still = row["peak_speed"] <= ROUND_OFF * max(speeds, 1.0)
+        still = _round_off(row["peak_speed"], speeds)
         if still:  # round-off, not motion: a readable axis around zero instead of ±1e-15
             span = w if w is not None else 1.0
             ax.set_xlim(-span * 1.1, span * 1.1)

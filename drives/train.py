@@ -26,6 +26,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import below
+
 __all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "motor_speed", "motor_torque"]
 
 #: v_s (rad/s or m/s) of the smooth Coulomb friction T_c·tanh(q̇/v_s): 99.5 % of T_c at 3·v_s = 0.03 rad/s.
@@ -139,10 +141,11 @@ class DriveTrain:
 def motor_torque(train: DriveTrain, tau: ArrayLike, qd: ArrayLike) -> NDArray[np.float64]:
     """Motor-side torque (N·m) of joint-side torques ``tau`` at rates ``qd``, both ``(..., n)``.
 
-    τ/(G·η) where the drive delivers power (τ·q̇ ≥ 0), τ·η/G where it is driven back (τ·q̇ < 0).
+    τ/(G·η) where the drive delivers power (τ·q̇ ≥ 0), τ·η/G where it is driven back (τ·q̇ < 0; a power of zero
+    within the slack, :func:`armlab.bounds.below`, is delivered: at rest, round-off in q̇ does not decide).
     """
     tau = np.asarray(tau, dtype=float)
-    delivering = tau * np.asarray(qd, dtype=float) >= 0
+    delivering = ~below(tau * np.asarray(qd, dtype=float), 0.0)
     return np.where(delivering, tau / (train.gear_ratio * train.efficiency),
                     tau * train.efficiency / train.gear_ratio)
 

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import tolerated
 from armlab.kinematics.ik_local import local_ik
 from armlab.kinematics.ik_numeric import DISTINCT_TOL, SEEDS, numeric_ik
 from armlab.kinematics.ik_target import (
@@ -33,6 +34,7 @@ from armlab.kinematics.ik_target import (
     POSITION_TOL,
     check_pose,
     fit_limits,
+    on_target,
     outside_limits_message,
     pose,
     pose_error,
@@ -96,11 +98,11 @@ def _closed_form(arm: Arm, form: ClosedForm, position: NDArray, rotation: NDArra
     if rotation is None or form.needs_pose:  # a closed form of the pose matches its orientation by construction
         return candidates  # (solve's own FK check of what it returns still has the last word)
     miss = np.linalg.norm(pose_error(arm, position, rotation, candidates)[:, 3:], axis=-1)
-    if not np.any(miss <= ORIENTATION_TOL):
+    if not np.any(tolerated(miss, ORIENTATION_TOL)):
         raise ValueError(f"{target_text(position, rotation)} is out of reach of {arm.name}: its position is "
                          f"reachable, but not with this orientation (the {len(miss)} branches of the closed form "
                          f"reaching it miss the orientation by {miss.min():.3g} rad at least)")
-    return candidates[miss <= ORIENTATION_TOL]
+    return candidates[tolerated(miss, ORIENTATION_TOL)]
 
 
 def _check_options(arm: Arm, options: dict[str, float]) -> None:
@@ -150,7 +152,7 @@ def _distinct(arm: Arm, q: NDArray, tol: float) -> NDArray[np.float64]:
     for i in range(q.shape[0]):
         d = q[keep] - q[i]
         d = np.where(arm.revolute, np.remainder(d + np.pi, 2 * np.pi) - np.pi, d)
-        if not keep or np.abs(d).max(axis=-1).min() > tol:
+        if not keep or not tolerated(np.abs(d).max(axis=-1).min(), tol):
             keep.append(i)
     return q[keep]
 
@@ -161,9 +163,9 @@ def _ordered(arm: Arm, q: NDArray, near: NDArray) -> list[NDArray[np.float64]]:
     distance = np.linalg.norm(_joint_difference(arm, q, near), axis=-1)
 
     def compare(i: int, j: int) -> int:
-        if abs(distance[i] - distance[j]) > ORDER_TOL:
-            return -1 if distance[i] < distance[j] else 1
-        apart = np.flatnonzero(np.abs(q[i] - q[j]) > ORDER_TOL)
+        if not tolerated(abs(distance[i] - distance[j]), ORDER_TOL):
+            return -1 if distance[i] < distance[j] else 1  # not a bound: the order of two distances, not a tie
+        apart = np.flatnonzero(~tolerated(np.abs(q[i] - q[j]), ORDER_TOL))
         return 0 if apart.size == 0 else (-1 if q[i, apart[0]] < q[j, apart[0]] else 1)
 
     return [q[i] for i in sorted(range(q.shape[0]), key=cmp_to_key(compare))]
@@ -278,11 +280,12 @@ def solve(
     if kept.shape[0] == 0:
         raise ValueError(outside_limits_message(arm, target_text(position, rotation), violations))
     error = pose_error(arm, position, rotation, kept)  # the last word: the arm's own FK of what is returned
-    miss = np.maximum(np.linalg.norm(error[:, :3], axis=-1) / POSITION_TOL,
-                      np.linalg.norm(error[:, 3:], axis=-1) / ORIENTATION_TOL)
-    if not np.any(miss <= 1.0):
+    reached = on_target(error)
+    if not np.any(reached):
+        miss = np.maximum(np.linalg.norm(error[:, :3], axis=-1) / POSITION_TOL,
+                          np.linalg.norm(error[:, 3:], axis=-1) / ORIENTATION_TOL)
         raise ValueError(f"{target_text(position, rotation)}: no solution of {arm.name} reaches it to "
                          f"{POSITION_TOL:g} m and {ORIENTATION_TOL:g} rad (the closest misses by "
                          f"{np.linalg.norm(error[np.argmin(miss)]):.3g})")
-    unique = _ordered(arm, _distinct(arm, kept[miss <= 1.0], tol), near)
+    unique = _ordered(arm, _distinct(arm, kept[reached], tol), near)
     return unique if all_solutions else unique[:1]

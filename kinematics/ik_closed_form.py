@@ -18,11 +18,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import below, outside
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.ik_target import fmt, single
 from armlab.values import shown
 
-__all__ = ["REACH_RTOL", "ClosedForm", "arm4r_ik", "planar_target", "r2t_ik", "rr_ik"]
+__all__ = ["ClosedForm", "arm4r_ik", "planar_target", "r2t_ik", "rr_ik"]
 
 
 @dataclass(frozen=True)
@@ -51,8 +52,9 @@ class ClosedForm:
     #: solved as :func:`armlab.kinematics.ik.solve` says for a continuum.
     needs_pose: bool = False
 
-#: Relative tolerance on lengths when deciding reachability at a workspace boundary (round-off only).
-REACH_RTOL = 1e-12
+#: A target this close to arm4r's z0 axis, relative to the arm's size (m/m), with |d2| as small, has no azimuth
+#: of its own: θ1 is free there (a switch between two formulas; the reach is decided by :mod:`armlab.bounds`).
+ON_AXIS_RTOL = 1e-12
 
 
 def _positive_lengths(**lengths: float) -> None:
@@ -108,12 +110,11 @@ def rr_ik(target: ArrayLike, L1: float, L2: float, strict: bool = True) -> NDArr
     x, y = p[..., 0], p[..., 1]
     distance = np.hypot(x, y)
     inner, outer = abs(L1 - L2), L1 + L2
-    tol = REACH_RTOL * outer
-    unreachable = (distance > outer + tol) | (distance < inner - tol)
+    unreachable = outside(distance, inner, outer)
     _unreachable(unreachable, p, strict, lambda xy: (
         f"target {fmt(xy)} is out of reach of the RR arm: |target| = {np.hypot(*xy):.6g} m, "
         f"reachable annulus {inner:.6g} m ≤ |target| ≤ {outer:.6g} m"))
-    r = np.clip(distance, inner, outer)  # round-off beyond a rim: onto it
+    r = np.clip(distance, inner, outer)  # round-off beyond a rim: onto it (beyond that: NaN below)
     half = np.arctan2(np.sqrt((outer - r) * (outer + r)), np.sqrt((r - inner) * (r + inner)))  # θ2/2 ≥ 0
     theta2 = np.stack([2 * half, -2 * half], axis=-1)  # branch 0: θ2 ≥ 0, branch 1: θ2 ≤ 0
     theta1 = np.arctan2(y, x)[..., None] - np.arctan2(L2 * np.sin(theta2), L1 + L2 * np.cos(theta2))
@@ -167,11 +168,10 @@ def arm4r_ik(
         raise ValueError(f"pitch = {pitch} is not a finite number")
     pitch = np.broadcast_to(pitch, p.shape[:-1])
     px, py, pz = p[..., 0], p[..., 1], p[..., 2]
-    tol = REACH_RTOL * (a2 + a3 + abs(d2))
     rho = np.hypot(px, py)
     in_plane = np.sqrt(np.maximum(px**2 + py**2 + pz**2 - d2**2, 0.0))  # |(r, pz)|: shoulder → wrist in the plane
-    too_close = rho < abs(d2) - tol
-    too_far = (in_plane > a2 + a3 + tol) | (in_plane < abs(a2 - a3) - tol)
+    too_close = below(rho, abs(d2))
+    too_far = outside(in_plane, abs(a2 - a3), a2 + a3)
     _unreachable(too_close, p, strict, lambda x: (
         f"target {fmt(x)} is out of reach of arm4r: its distance from the z0 axis, {np.hypot(x[0], x[1]):.6g} m, "
         f"is less than the offset |d2| = {abs(d2):.6g} m (eq. 9 has no solution)"))
@@ -179,7 +179,8 @@ def arm4r_ik(
         f"target {fmt(x)} is out of reach of arm4r: √(px²+py²+pz²−d2²) = {np.sqrt(max(x @ x - d2**2, 0)):.6g} m "
         f"must lie in [|a2 − a3|, a2 + a3] = [{abs(a2 - a3):.6g}, {a2 + a3:.6g}] m (eq. 13 has no solution)"))
     h = np.sqrt(np.maximum(rho**2 - d2**2, 0.0))
-    azimuth = np.where((rho <= tol) & (abs(d2) <= tol), theta1_free, np.arctan2(py, px))
+    axis = ON_AXIS_RTOL * (a2 + a3 + abs(d2))
+    azimuth = np.where((rho <= axis) & (abs(d2) <= axis), theta1_free, np.arctan2(py, px))
     offset = np.arctan2(d2, h)
     theta1 = np.stack([azimuth - offset, azimuth - (np.pi - offset)], axis=-1)  # eq. (11), the two roots
     c3 = np.clip((px**2 + py**2 + pz**2 - d2**2 - a2**2 - a3**2) / (2 * a2 * a3), -1.0, 1.0)
@@ -220,7 +221,7 @@ def r2t_ik(
     p = as_batch(position, 3, "target")
     px, py, pz = p[..., 0], p[..., 1], p[..., 2]
     rho = np.hypot(px, py)
-    too_close = rho < abs(l3) - REACH_RTOL * (abs(l3) + abs(l4))
+    too_close = below(rho, abs(l3))
     _unreachable(too_close, p, strict, lambda x: (
         f"target {fmt(x)} is out of reach of r2t: its distance from the column axis, {np.hypot(x[0], x[1]):.6g} m, "
         f"is less than the arm offset |l3| = {abs(l3):.6g} m"))

@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.bounds import above, below
 from armlab.kinematics.ik_target import (
-    ORIENTATION_TOL,
-    POSITION_TOL,
     fit_limits,
+    on_target,
     project_into_limits,
     rotation_log,
 )
@@ -125,7 +125,7 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     damping = 1e-3
     for _ in range(LM_ITERATIONS):
         gradient = J.T @ error
-        held = ((q <= lower) & (gradient < 0)) | ((q >= upper) & (gradient > 0))  # by a limit
+        held = (~above(q, lower) & (gradient < 0)) | (~below(q, upper) & (gradient > 0))  # by a limit
         Jf = J
         if held.any():
             gradient[held] = 0.0
@@ -156,6 +156,6 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
         if trial_error @ trial_error >= error @ error:
             break
         q, J, error = trial, trial_J[:rows], trial_error
-    if np.linalg.norm(error[:3]) <= POSITION_TOL and np.linalg.norm(error[3:]) <= ORIENTATION_TOL:
+    if on_target(error):
         return q
     return None

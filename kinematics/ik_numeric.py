@@ -14,13 +14,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import above, below
 from armlab.kinematics.differential import jacobian
 from armlab.kinematics.ik_local import LM_ITERATIONS, NEWTON_STEPS, first_start
 from armlab.kinematics.ik_target import (
-    ORIENTATION_TOL,
-    POSITION_TOL,
     check_pose,
     fit_limits,
+    on_target,
     outside_limits_message,
     pose_error,
     project_into_limits,
@@ -67,7 +67,7 @@ def _levenberg_marquardt(
         J = _jacobian_rows(arm, q[running], rows)
         Jt = np.swapaxes(J, -1, -2)
         gradient = (Jt @ error[running, :, None])[..., 0]
-        held = ((q[running] <= lower) & (gradient < 0)) | ((q[running] >= upper) & (gradient > 0))  # by a limit
+        held = (~above(q[running], lower) & (gradient < 0)) | (~below(q[running], upper) & (gradient > 0))  # limit
         gradient = np.where(held, 0.0, gradient)
         stationary = np.linalg.norm(gradient, axis=-1) <= 1e-6 * np.linalg.norm(J, axis=(-2, -1)) * np.sqrt(
             cost[running])
@@ -127,8 +127,7 @@ def _search(
     close = np.linalg.norm(error, axis=-1) < 1e-5
     q, polished = _newton(arm, position, rotation, q[close], lower, upper)
     error[close] = polished
-    reached = (np.linalg.norm(polished[:, :3], axis=-1) <= POSITION_TOL) & (
-        np.linalg.norm(polished[:, 3:], axis=-1) <= ORIENTATION_TOL)
+    reached = on_target(polished)
     return q[reached], error
 
 
@@ -175,7 +174,7 @@ def numeric_ik(
             raise ValueError(outside_limits_message(arm, what, violations))
     if rotation is not None:
         _, position_error = _search(arm, position, None, starts, limited=True)
-        if np.linalg.norm(position_error, axis=-1).min() <= POSITION_TOL:
+        if on_target(position_error).any():
             best = error[np.argmin(np.linalg.norm(error, axis=-1))]
             raise ValueError(
                 f"{what} is out of reach of {arm.name}: its position is reachable, but not with this "

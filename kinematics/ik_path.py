@@ -18,7 +18,9 @@ converge, or it converges only off the branch), the path passes a singularity (�
 configuration's free directions is followed: paper 000's circle touches the reach at B, stretched, and at D,
 folded), a joint
 leaves its limits, or a joint steps further between two samples than the path step allows (a jump between
-branches: more than :data:`STEP_FACTOR` times the first-order step J⁺Δx).
+branches: more than :data:`STEP_FACTOR` times the first-order step J⁺Δx). Each of these bounds is applied by
+:mod:`armlab.bounds` (one slack): a sample round-off beyond a joint limit is on it (paper 000's circle ends on
+joint 2's), and is moved exactly onto it.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.bounds import above, clamp, outside, tolerated
 from armlab.kinematics.differential import jacobian, tool_motion
 from armlab.kinematics.ik import solve
 from armlab.kinematics.ik_target import pose_error, rotation_log
@@ -42,11 +45,11 @@ __all__ = ["BLOCK", "PATH_TOL", "SINGULAR_TOL", "STEP_FACTOR", "PathJoints", "so
 BLOCK = 64
 #: The tool is on the path when its position error is ≤ this (m) and its orientation error ≤ this (rad).
 PATH_TOL = 1e-12
-#: The path passes a singularity where the task Jacobian's smallest singular value is below this (m/rad).
+#: The path passes a singularity where the task Jacobian's smallest singular value is at most this (m/rad).
 SINGULAR_TOL = 1e-6
-#: A joint step between samples larger than this many times the first-order step (plus 1e-9) is a branch jump.
+#: A joint step between samples larger than this many times the first-order step (beyond the slack) is a branch jump.
 STEP_FACTOR = 3.0
-#: Where σ_min/σ_max of the task Jacobian is below this, q' and q'' come from the samples (finite differences).
+#: Where σ_min/σ_max of the task Jacobian is at most this, q' and q'' come from the samples (finite differences).
 NEAR_SINGULAR = 1e-2
 #: Samples each local slope is fitted through there.
 STENCIL = 7
@@ -92,7 +95,7 @@ def _newton(arm: Arm, p: NDArray, R: NDArray | None, q: NDArray, rows: NDArray) 
     eye = np.eye(arm.n)
     for _ in range(ITERATIONS):
         error = _task_error(arm, p, R, q, rows)
-        done = np.max(np.abs(error), axis=-1) <= PATH_TOL
+        done = tolerated(np.max(np.abs(error), axis=-1), PATH_TOL)
         if done.all():
             return q, done
         active = ~done
@@ -100,7 +103,7 @@ def _newton(arm: Arm, p: NDArray, R: NDArray | None, q: NDArray, rows: NDArray) 
         Jt = np.swapaxes(J, -1, -2)
         damping = (np.sum(e * e, axis=-1) + 1e-12)[:, None, None] * eye
         q[active] += np.linalg.solve(Jt @ J + damping, np.einsum("mnr,mr->mn", Jt, e)[..., None])[..., 0]
-    return q, np.max(np.abs(_task_error(arm, p, R, q, rows)), axis=-1) <= PATH_TOL
+    return q, tolerated(np.max(np.abs(_task_error(arm, p, R, q, rows)), axis=-1), PATH_TOL)
 
 
 def _unwrapped(arm: Arm, previous: NDArray, q: NDArray) -> NDArray[np.float64]:
@@ -176,6 +179,7 @@ def solve_path(arm: Arm, what: str, s: NDArray, p: NDArray, dp: NDArray, ddp: ND
         else:
             q[js] = _unwrapped(arm, q[i], solved)
         i = int(js[-1])
+    q = clamp(q, *arm.limit_arrays())  # a sample on a limit, round-off beyond it: onto it (_check: the others)
     xd = (dp if w is None else np.concatenate([dp, w], axis=-1))[:, rows]
     J = _task_jacobian(arm, q, rows)
     sigma = np.linalg.svd(J, compute_uv=False)
@@ -184,7 +188,7 @@ def solve_path(arm: Arm, what: str, s: NDArray, p: NDArray, dp: NDArray, ddp: ND
     dq = _pinv_solve(J, xd)
     _, bias = tool_motion(arm, q, dq, np.zeros_like(dq))
     ddq = _pinv_solve(J, xdd - bias[:, rows])
-    near = sigma[:, rank - 1] < NEAR_SINGULAR * sigma[:, 0]  # J⁺ loses its digits there: the samples' own slopes
+    near = tolerated(sigma[:, rank - 1], NEAR_SINGULAR * sigma[:, 0])  # J⁺ loses its digits: the samples' slopes
     if near.any():
         dq[near], ddq[near] = _local_slopes(s, q, np.flatnonzero(near))
     return PathJoints(s, q, dq, ddq)
@@ -222,20 +226,20 @@ def _check(arm: Arm, what: str, s: NDArray, p: NDArray, R: NDArray | None, q: ND
     first. ``J`` ``(m, len(rows), n)``: the task Jacobian at each sample, ``sigma`` its singular values
     ``(m, min(len(rows), n))``, largest first."""
     lower, upper = arm.limit_arrays()
-    outside = np.argwhere((q < lower) | (q > upper))
-    if outside.size:
-        j, k = outside[0]
+    beyond = np.argwhere(outside(q, lower, upper))
+    if beyond.size:
+        j, k = beyond[0]
         raise ValueError(f"{what} takes joint {arm.joint_names[k]} of {arm.name} out of its limits "
                          f"[{lower[k]:.4g}, {upper[k]:.4g}] at s = {s[j]:.4g}, {_point(p[j])} "
                          f"({arm.joint_names[k]} = {q[j, k]:.6g})")
-    for j in np.flatnonzero(sigma[1:-1, rank - 1] < SINGULAR_TOL) + 1:  # a path may start or end at one
+    for j in np.flatnonzero(tolerated(sigma[1:-1, rank - 1], SINGULAR_TOL)) + 1:  # a path may start or end at one
         u = np.linalg.svd(J[j])[0][:, rank - 1]  # the direction the tool cannot move in there
-        if abs(u @ xd[j]) > 1e-3 * np.linalg.norm(xd[j]):  # the path goes that way: unbounded joint rates
+        if not tolerated(abs(u @ xd[j]), 1e-3 * np.linalg.norm(xd[j])):  # the path goes that way: unbounded rates
             raise ValueError(f"{what} passes a singularity of {arm.name} at s = {s[j]:.4g}, {_point(p[j])}")
     predicted = np.abs(_pinv_solve(J[:-1], np.concatenate([np.diff(p, axis=0)] + (
         [] if R is None else [rotation_log(R[1:] @ np.swapaxes(R[:-1], -1, -2))]), axis=-1)[:, rows]))
     step = np.abs(np.diff(q, axis=0))
-    jump = np.argwhere(step > STEP_FACTOR * predicted.max(axis=-1, keepdims=True) + 1e-9)
+    jump = np.argwhere(above(step, STEP_FACTOR * predicted.max(axis=-1, keepdims=True)))
     if jump.size:
         j, k = jump[0]
         raise ValueError(f"{what}: the IK of {arm.name} jumps between branches at s = {s[j + 1]:.4g}, "

@@ -4,7 +4,7 @@
   checks one (homogeneous, a proper rotation).
 * :func:`pose_error` is the tool pose error of joint values by the arm's own forward kinematics,
   [target − p(q); log(R* R(q)ᵀ)], with :func:`rotation_log` the orientation error's rotation vector;
-  a solution must meet :data:`POSITION_TOL` and :data:`ORIENTATION_TOL`.
+  a solution must meet :data:`POSITION_TOL` and :data:`ORIENTATION_TOL` (:func:`on_target`).
 * :func:`fit_limits` fits solutions into the joint limits by 2π shifts, :func:`project_into_limits` a solver's step;
   :func:`outside_limits_message` says which joint cannot be fitted.
 
@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import above, allowance, outside, tolerated
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.locating import homogeneous, orientation_angles
@@ -33,6 +34,7 @@ __all__ = [
     "check_pose",
     "fit_limits",
     "fmt",
+    "on_target",
     "outside_limits_message",
     "pose",
     "pose_error",
@@ -110,11 +112,19 @@ def pose_error(arm: Arm, position: NDArray, rotation: NDArray | None, q: NDArray
     return np.concatenate([error, rotation_log(rotation @ np.swapaxes(T[..., :3, :3], -1, -2))], axis=-1)
 
 
+def on_target(error: NDArray) -> NDArray[np.bool_]:
+    """Whether each tool pose error ``(..., 3)`` or ``(..., 6)`` (:func:`pose_error`: m, then rad) is within
+    :data:`POSITION_TOL` in position and :data:`ORIENTATION_TOL` in orientation (:func:`armlab.bounds.tolerated`),
+    ``(...)``: the test every IK solution passes before it is returned."""
+    return (tolerated(np.linalg.norm(error[..., :3], axis=-1), POSITION_TOL)
+            & tolerated(np.linalg.norm(error[..., 3:], axis=-1), ORIENTATION_TOL))
+
+
 def project_into_limits(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray) -> NDArray[np.float64]:
     """``q`` moved into the limits: a revolute angle by a 2π shift when one fits, else clipped onto the limit."""
     base = np.where(np.isfinite(lower), lower, 0.0)
     shifted = base + np.mod(q - base, 2 * np.pi)  # in [lower, lower + 2π)
-    shift = arm.revolute & ((q < lower) | (q > upper)) & (shifted <= upper)
+    shift = arm.revolute & outside(q, lower, upper) & ~above(shifted, upper)
     return np.clip(np.where(shift, shifted, q), lower, upper)
 
 
@@ -125,7 +135,7 @@ def check_pose(T: NDArray) -> tuple[NDArray, NDArray]:
     if np.abs(T[3] - [0.0, 0.0, 0.0, 1.0]).max() > 0:
         raise ValueError(f"target pose's last row {T[3].tolist()} must be [0, 0, 0, 1]")
     deviation = np.abs(R.T @ R - np.eye(3)).max()
-    if deviation > 1e-9:
+    if not tolerated(deviation, 1e-9):
         raise ValueError(f"target pose's rotation {R.tolist()} is not orthonormal (|RᵀR − I| = {deviation:.3g} "
                          "> 1e-9): give it to full precision")
     if np.linalg.det(R) < 0:
@@ -145,7 +155,7 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
 
     A limited revolute angle becomes the q + 2πm within [lower, upper] nearest ``near``
     (ties keep the smaller shift); an unlimited one is wrapped to (−π, π]; a prismatic value
-    is left as is. Values within round-off (1e-12) of a limit are clipped onto it.
+    is left as is. A value on a limit within the slack (:mod:`armlab.bounds`) fits, and is clipped onto it.
 
     Returns the fitted array and, per solution, ``None`` if it is within limits or else
     ``(joint index, value, lower, upper)`` of its first joint that cannot be fitted.
@@ -157,10 +167,10 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
     two_pi = 2 * np.pi
     wrapped = q - two_pi * np.ceil((q - np.pi) / two_pi)  # (−π, π] up to round-off:
     wrapped = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi, wrapped))
-    lo, hi = lower - 1e-12, upper + 1e-12
+    lo, hi = lower - allowance(lower), upper + allowance(upper)  # what counts as within the limits
     m_lo, m_hi = np.ceil((lo - q) / two_pi), np.floor((hi - q) / two_pi)  # the 2π shifts that fit (±inf: unlimited)
     m = np.clip(np.round((near - q) / two_pi), m_lo, m_hi)
-    fits = np.where(arm.revolute, m_lo <= m_hi, (q >= lo) & (q <= hi)) | ~limited
+    fits = np.where(arm.revolute, m_lo <= m_hi, ~outside(q, lower, upper)) | ~limited  # not a bound: shift counts
     shifted = np.where(arm.revolute, q + two_pi * np.where(fits, m, 0.0), q)
     inside = np.where(fits, np.clip(shifted, lower, upper), q)
     fitted = np.where(limited, inside, np.where(arm.revolute, wrapped, q))

@@ -20,9 +20,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.bounds import above, below
 from armlab.kinematics.basic_movements import T_Z5, T_Z6
 from armlab.kinematics.dh import DHTable
-from armlab.kinematics.ik_closed_form import REACH_RTOL, ClosedForm
+from armlab.kinematics.ik_closed_form import ClosedForm
 from armlab.kinematics.ik_target import target_text
 
 __all__ = ["spherical_wrist_closed_form", "spherical_wrist_ik", "ur_closed_form", "ur_ik"]
@@ -42,7 +43,7 @@ def _row(table: DHTable, i: int, theta: float) -> NDArray[np.float64]:
 def _shoulder(point: NDArray, offset: float, what: str) -> tuple[float, float]:
     """The two θ1 with ``point``·z1 = ``offset``, z1 = (sin θ1, −cos θ1, 0): r sin(θ1 − φ) = offset."""
     r = float(np.hypot(point[0], point[1]))
-    if r < abs(offset) * (1 - REACH_RTOL):
+    if below(r, abs(offset)):
         raise ValueError(f"{what} is out of reach: the wrist point is {r:.6g} m from the base axis, closer than "
                          f"the shoulder offset {abs(offset):.6g} m")
     phi, s = float(np.arctan2(point[1], point[0])), float(np.arcsin(np.clip(offset / r, -1.0, 1.0)))
@@ -51,7 +52,7 @@ def _shoulder(point: NDArray, offset: float, what: str) -> tuple[float, float]:
 
 def _acos(c: float) -> float | None:
     """arccos of ``c`` clipped at ±1 within round-off; ``None`` beyond (that branch does not exist)."""
-    if abs(c) > 1 + 1e-9:
+    if above(abs(c), 1.0):
         return None
     return float(np.arccos(np.clip(c, -1.0, 1.0)))
 
@@ -87,7 +88,8 @@ def ur_ik(table: DHTable, position: NDArray, rotation: NDArray, near: NDArray) -
         for t5s in (t5, -t5):
             v = rotation.T @ z1  # z1 in frame 6: (s5 c6, −s5 s6, c5)
             s5 = np.sin(t5s)
-            t6 = theta_near[5] if abs(s5) < SINGULAR_SIN else float(np.arctan2(-v[1] / s5, v[0] / s5))
+            t6 = (theta_near[5] if abs(s5) < SINGULAR_SIN  # not a bound: a switch of formula where v/s5 has no digits
+                  else float(np.arctan2(-v[1] / s5, v[0] / s5)))
             T14 = np.linalg.solve(_row(table, 0, t1), target) @ np.linalg.inv(_row(table, 4, t5s) @ _row(table, 5, t6))
             x, y = T14[0, 3], T14[1, 3]
             t234 = float(np.arctan2(T14[1, 0], T14[0, 0]))
@@ -123,7 +125,8 @@ def spherical_wrist_ik(table: DHTable, position: NDArray, rotation: NDArray, nea
             b = float(np.arctan2(np.hypot(R36[0, 2], R36[1, 2]), R36[2, 2]))
             for bs in (b, -b):
                 sb = np.sin(bs)
-                t4 = theta_near[3] if abs(sb) < SINGULAR_SIN else float(np.arctan2(R36[1, 2] / sb, R36[0, 2] / sb))
+                t4 = (theta_near[3] if abs(sb) < SINGULAR_SIN  # not a bound: a switch of formula (as in ur_ik)
+                      else float(np.arctan2(R36[1, 2] / sb, R36[0, 2] / sb)))
                 M = T_Z5(-bs)[:3, :3] @ T_Z6(-t4)[:3, :3] @ R36  # = Rz(θ6)
                 solutions.append([t1, t2, float(t3), t4, -bs, float(np.arctan2(M[1, 0], M[0, 0]))])
     return _rows_or_raise(solutions, table, what)

@@ -17,7 +17,8 @@ profiles and via-point splines of :mod:`armlab.kinematics.profiles`) or a :class
 (a Drake ``Trajectory``: a ``PiecewisePolynomial`` or a ``PathParameterizedTrajectory``, e.g. a tool
 path by IK, :mod:`armlab.kinematics.cartesian`, or Toppra's timing, :mod:`armlab.planning.timing`).
 Consecutive segments need not join in joint space (paper 000's Table 2 leaves C on another IK branch
-than it reaches it on): :meth:`Motion.joins` checks q and q̇ where they meet (to :data:`JOIN_TOL`) and
+than it reaches it on): :meth:`Motion.joins` checks q and q̇ where they meet (to the slack,
+:func:`armlab.bounds.within`) and
 :meth:`Motion.runs` splits a motion into the continuous pieces that can be simulated as one run each.
 :func:`to_trajectory` gives the Drake ``Trajectory`` of a motion (:func:`to_piecewise_polynomial`,
 exactly the same polynomials, when every segment is a polynomial).
@@ -32,8 +33,9 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import outside, within
 from armlab.kinematics.batch import as_batch
-from armlab.limits import LIMIT_SLACK, check_positive, check_range, real_number
+from armlab.limits import check_positive, check_range, real_number
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial, Trajectory
@@ -41,7 +43,6 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = [
-    "JOIN_TOL",
     "ConstantRate",
     "Motion",
     "PolynomialSegment",
@@ -56,9 +57,6 @@ __all__ = [
     "to_trajectory",
 ]
 
-#: Two segments join where q and q̇ agree to this, relative to max(1, |value|) (rad, m, rad/s, m/s): the
-#: ends of segments computed independently (a via-point spline's pieces) differ by round-off only.
-JOIN_TOL = 1e-9
 #: A trajectory segment's limits are checked at its knots and this many points between each two.
 KNOT_SAMPLES = 8
 
@@ -491,10 +489,11 @@ class Motion:
         return out
 
     def joins(self) -> list[bool]:
-        """For each segment after the first: does it start where (q and q̇) the previous one ends, to
-        :data:`JOIN_TOL` relative to max(1, |value|)?"""
+        """For each segment after the first: does it start where (q and q̇) the previous one ends, to the slack
+        (:func:`armlab.bounds.within`: the ends of segments computed independently, a via-point spline's pieces,
+        differ by round-off only)?"""
         def close(a: NDArray, b: NDArray) -> bool:
-            return bool(np.all(np.abs(a - b) <= JOIN_TOL * np.maximum(1.0, np.maximum(np.abs(a), np.abs(b)))))
+            return bool(np.all(within(b, a, a)))
 
         return [close(a.q_end, b.q_start) and close(a.v_end, b.v_start)
                 for a, b in zip(self.segments[:-1], self.segments[1:], strict=True)]
@@ -539,11 +538,11 @@ class Motion:
         for k, (label, start) in enumerate(zip(self.labels, self.breaks, strict=False)):
             tau = self.check_times(k)
             q = self.evaluate(start + np.clip(tau, 0.0, self.segments[k].duration), 1)[0]
-            outside = np.flatnonzero(np.any((q < lower - LIMIT_SLACK) | (q > upper + LIMIT_SLACK), axis=1)
-                                     | ~np.all(np.isfinite(q), axis=1))  # the slack arm.check_q allows
-            if outside.size == 0:
+            beyond = np.flatnonzero(np.any(outside(q, lower, upper), axis=1)
+                                    | ~np.all(np.isfinite(q), axis=1))  # the rule arm.check_q applies
+            if beyond.size == 0:
                 continue
-            i = outside[0]
+            i = beyond[0]
             where = ("start" if tau[i] == 0.0 else "end" if tau[i] == self.segments[k].duration  # exact: the ends
                      else f"at t = {start + tau[i]:.6g} s")
             try:

@@ -19,9 +19,10 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import outside
 from armlab.kinematics.batch import as_batch, chain_points
 from armlab.kinematics.locating import LocatingTable
-from armlab.limits import LIMIT_SLACK, check_range
+from armlab.limits import check_range
 from armlab.models.write_urdf import Body, JointLimits, Point, link_inertials, urdf_text
 
 if TYPE_CHECKING:
@@ -201,7 +202,8 @@ class Arm:
         return lower, upper
 
     def check_q(self, q: ArrayLike, name: str = "q", deg: bool = False) -> NDArray[np.float64]:
-        """``q`` as an array, raising ``ValueError`` for a wrong count, NaN/inf or a value outside limits.
+        """``q`` as an array, raising ``ValueError`` for a wrong count, NaN/inf or a value outside limits
+        (:func:`armlab.bounds.outside`: a value round-off beyond a limit is on it).
 
         An unlimited joint's value is held to ``armlab.limits.LIMITS["q"]`` (±1e6 rad). ``deg``: the user gave
         revolute values in degrees, so the error quotes them in degrees.
@@ -211,7 +213,7 @@ class Arm:
             if lim.lower is None or lim.upper is None:  # an unlimited revolute joint has neither
                 continue
             values = q[..., i]
-            bad = (values < lim.lower - LIMIT_SLACK) | (values > lim.upper + LIMIT_SLACK)
+            bad = outside(values, lim.lower, lim.upper)
             if np.any(bad):
                 shown = np.array([values[bad].flat[0], lim.lower, lim.upper])
                 unit = "m" if row.kind == "T" else ("deg" if deg else "rad")

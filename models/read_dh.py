@@ -100,7 +100,8 @@ def _columns(path: Path, names: list[str]) -> list[str]:
     """The header's column names (:func:`~armlab.files.csv_table`'s; optional ones spelt as documented); errors name
     what is wrong."""
     lowered = [name.lower() for name in names]
-    repeated = sorted({name for name, low in zip(names, lowered, strict=True) if lowered.count(low) > 1})
+    repeated = sorted({name for name, low in zip(names, lowered, strict=True)
+                       if lowered.count(low) > 1})  # not a bound: a count of names
     if repeated:
         raise ValueError(f"{path}: column(s) {', '.join(repeated)} appear more than once in the header")
     if tuple(names[:7]) != _DH_COLUMNS:
@@ -193,7 +194,7 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
             lo, hi = (file_number(record[k], f"{where}: {k}") for k in ("lower", "upper"))
             if kind == "R" and deg:
                 lo, hi = float(np.radians(lo)), float(np.radians(hi))
-            if lo >= hi:
+            if lo >= hi:  # not a bound: a file's own limits, as given
                 raise ValueError(f"{where}: lower = {lo} must be below upper = {hi}")
             limits.append(JointLimits(lo, hi, effort, velocity))
         if "mass" in record:

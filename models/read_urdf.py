@@ -255,7 +255,7 @@ def _joint_limits(path: Path, joint: ET.Element) -> JointLimits:
         raise ValueError(f"{path}: {kind} joint {name!r} needs <limit lower=… upper=…>")
     lo = file_number(attrs["lower"], f"{path}: joint {name!r} lower")
     hi = file_number(attrs["upper"], f"{path}: joint {name!r} upper")
-    if lo > hi:
+    if lo > hi:  # not a bound: a file's own limits, as given
         raise ValueError(f"{path}: joint {name!r} has lower = {lo:g} above upper = {hi:g}: the limits are reversed")
     return JointLimits(lo, hi, *rates)
 

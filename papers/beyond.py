@@ -147,7 +147,7 @@ def _label_places(lines: Any, x: Any, y: Any) -> list[tuple[float, float]]:
         if not segments:
             continue
         line = max(segments, key=lambda s: float(np.sum(np.linalg.norm(np.diff(s, axis=0), axis=1))))
-        inside = np.all((line > lo + margin) & (line < hi - margin), axis=1)
+        inside = np.all((line > lo + margin) & (line < hi - margin), axis=1)  # not a bound: where a label goes
         if not inside.any():
             continue
         along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(line / (hi - lo), axis=0), axis=1))])

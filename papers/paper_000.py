@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from armlab.api import arc, fastest
+from armlab.bounds import tolerated
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD
 from armlab.diagrams.simulate import SimulationOptions, simulate, summarize
 from armlab.kinematics.basic_movements import rrrr_dh_chain, rrrr_point_M, rrrr_yup_chain
@@ -401,7 +402,7 @@ def _branch_switches(out: PaperOutput, motion: Any) -> None:
         end, start = _deg(a.qf), _deg(b.q0)
         jump = float(np.abs(start - end).max())
         jumps.append([f"{labels[k]} → {labels[(k + 1) % 4]}", *end.tolist(), *start.tolist(), jump])
-        if jump > 1e-9:
+        if not tolerated(jump, 1e-9):
             shown = np.round(np.concatenate([end, start]), 2) + 0.0  # + 0.0: no "-0.00"
             reconfigurations.append(f"at {labels[k][-1]} (reached at ({shown[0]:.2f}°, {shown[1]:.2f}°), left at "
                                     f"({shown[2]:.2f}°, {shown[3]:.2f}°))")
@@ -483,7 +484,7 @@ def _rrrr(out: PaperOutput) -> None:
     norm_gap = float(np.abs(np.linalg.norm(dh, axis=1) - np.linalg.norm(yup, axis=1)).max())
     out.add(Row(PAPER, "§7 claim: |r0M| of the y-up form (Fig. 20) identical to the DH form's (Fig. 17), max "
                 "difference on the run of Figs. 18/24 [m]", "identical", norm_gap, norm_gap,
-                MATCHES if norm_gap <= 1e-12 else differs(f"the two forms differ by {norm_gap:.3g} m"),
+                MATCHES if tolerated(norm_gap, 1e-12) else differs(f"the two forms differ by {norm_gap:.3g} m"),
                 f"basic-movement chains eqs. (21)-(34) and (36)-(47); sympy's r0M agrees with eqs. (21)-(34) to "
                 f"{sym_gap:.1e} m; tolerance 1e-12 m"))
     for number, points, form in ((18, dh, "DH form, Fig. 13"), (24, yup, "y-up form, Fig. 20")):
@@ -533,7 +534,7 @@ def _symbolic(out: PaperOutput) -> None:
         f_printed, f_derived = (sp.lambdify(args, e, "numpy") for e in (printed, derived[key]))
         inputs = [values[s.name] for s in args]
         gap = float(np.max(np.abs(f_printed(*inputs) - f_derived(*inputs))))
-        verdict = MATCHES if gap <= 1e-12 else differs(f"the printed form is off by up to {gap:.3g}")
+        verdict = MATCHES if tolerated(gap, 1e-12) else differs(f"the printed form is off by up to {gap:.3g}")
         out.add(Row(PAPER, f"{key}, printed symbolic expression", "printed (Matlab)", "sympy, rederived", gap, verdict,
                     "max |printed − rederived| at 200 random (q, L); tolerance 1e-12"))
         notes[key] = "matches the paper's printed form" if verdict == MATCHES else verdict

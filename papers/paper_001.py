@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from armlab.bounds import above, below, tolerated, within
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD
 from armlab.diagrams.simulate import SimulationOptions, simulate
 from armlab.kinematics.ik import solve
@@ -73,12 +74,12 @@ def fig4_splits(target: tuple[float, float, float] = PAPER_TARGET, reach: float 
 
     grid = np.linspace(-np.pi, np.pi, samples)
     a2, values = a2_of(grid), g(grid)
-    inside = (a2 > 0) & (a2 < reach)
+    inside = ~np.isnan(a2) & above(a2, 0.0) & below(a2, reach)  # positive lengths beyond round-off (NaN: both)
     k = np.nonzero(inside[:-1] & inside[1:] & (np.sign(values[:-1]) * np.sign(values[1:]) < 0))[0]
     lo, hi = grid[k], grid[k + 1]
     for _ in range(60):  # bisection, all brackets at once
         mid = (lo + hi) / 2
-        left = np.sign(g(lo)) * np.sign(g(mid)) <= 0
+        left = np.sign(g(lo)) * np.sign(g(mid)) <= 0  # not a bound: the sign change bisection follows
         lo, hi = np.where(left, lo, mid), np.where(left, mid, hi)
     theta = (lo + hi) / 2
     roots = np.stack([a2_of(theta), theta], axis=-1)
@@ -100,7 +101,7 @@ def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.
     out.add(Row(PAPER, "eq. (6): T04 at θ = 0, max |entry difference|", "[[1,0,0,a2+a3],[0,0,1,d2],[0,-1,0,0]]",
                 gap, gap,
                 (matches(f"holds for the chosen lengths: with d2 = {p['d2']:g} Table 1 read as standard DH gives the "
-                         "same T04") if gap <= 1e-12 else differs(f"entries differ by {gap:.3g}")),
+                         "same T04") if tolerated(gap, 1e-12) else differs(f"entries differ by {gap:.3g}")),
                 f"modified DH of Table 1 (kinematics.dh); Drake's plant agrees to {np.abs(T - drake_T).max():.1e}; "
                 f"a2 = {p['a2']:g}, a3 = {p['a3']:g}, d2 = {p['d2']:g} m; with d2 = {D2_PROBE:g} m the modified "
                 f"reading still gives eq. (6) (to {modified:.1e}), the standard one is off by {standard:.3g}; "
@@ -109,7 +110,8 @@ def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.
     miss = float(np.linalg.norm(start - PAPER_START))
     out.add(Row(PAPER, "§3: start (2, 0, 0) m reached stretched horizontally (θ = 0), |miss| [m]",
                 "(2, 0, 0)", f"({start[0]:.6g}, {start[1]:.6g}, {start[2]:.6g})", miss,
-                (matches("by construction: a2 + a3 = 2 and d2 = 0 were chosen from this sentence") if miss <= 1e-9
+                (matches("by construction: a2 + a3 = 2 and d2 = 0 were chosen from this sentence")
+                 if tolerated(miss, 1e-9)
                  else differs(f"θ = 0 puts the tool {miss:.3g} m away")),
                 "forward kinematics at the start's IK solution; tolerance 1e-9 m"))
     q0 = motion.segments[0].q_start
@@ -120,7 +122,7 @@ def _rows(out: PaperOutput, arm: Any, motion: Any) -> tuple[np.ndarray, list[np.
     raw = arm4r_ik(PAPER_TARGET, pitch, p["a2"], p["a3"], p["d2"])
     out.add(Row(PAPER, "§3: target (1, 1, 1.4) m reachable; max |FK(IK) − target| over the solutions [m]",
                 "reachable", f"{len(solutions)} of {raw.shape[0]} IK solutions within Table 1's limits", miss,
-                (matches("holds for the chosen lengths a2 = a3 = 1 m") if solutions and miss <= 1e-9
+                (matches("holds for the chosen lengths a2 = a3 = 1 m") if solutions and tolerated(miss, 1e-9)
                  else differs("no solution within the limits reaches it")),
                 "eqs. (9)-(21) as corrected (kinematics.ik_closed_form.arm4r_ik) with the start's pitch; "
                 "tolerance 1e-9 m"))
@@ -144,9 +146,9 @@ def _fig4_claim(out: PaperOutput, arm: Any, q: np.ndarray) -> None:
         miss = float(np.abs(split.forward(joints).tool[:3, 3] - PAPER_TARGET).max())
         text = (f"a2 = {a2:.4f} m, a3 = {reach - a2:.4f} m with θ2 = θ3 = {np.degrees(theta):.2f}°, θ1 = θ4 = "
                 f"{np.degrees(theta1):g}° (FK reaches the target to {miss:.0e} m)")
-        within = bool(np.all((joints >= lo) & (joints <= hi)))
-        (holds if within else outside).append(text)
-        lengths += [f"a2 = {a2:.4f} m"] if within else []
+        inside = bool(np.all(within(joints, lo, hi)))
+        (holds if inside else outside).append(text)
+        lengths += [f"a2 = {a2:.4f} m"] if inside else []
     note = (f"armlab's motion (a2 = a3 = {reach / 2:g} m, the start's pitch kept) gives max |θ1 − θ4| = {gap14:.4g}°, "
             f"|θ2 − θ3| = {gap23:.4g}°. With a2 + a3 = {reach:g} m the claim holds exactly for "
             + " or ".join(holds) + (f"; outside Table 1's limits also for {'; '.join(outside)}" if outside else ""))

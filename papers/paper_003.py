@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from armlab.bounds import tolerated
 from armlab.kinematics.iterative import iterative_kinematics
 from armlab.kinematics.locating import orientation_angles
 from armlab.models import get_arm
@@ -69,7 +70,7 @@ def _wrap(x: np.ndarray) -> np.ndarray:
 def _check(out: PaperOutput, quantity: str, printed: str, computed: str, gap: float, tol: float, note: str) -> None:
     """A row comparing a printed form with what armlab computes (``computed`` says what, at the samples)."""
     out.add(Row(PAPER, quantity, printed, computed, gap,
-                MATCHES if gap <= tol else differs(f"the printed form is off by up to {gap:.3g}"), note))
+                MATCHES if tolerated(gap, tol) else differs(f"the printed form is off by up to {gap:.3g}"), note))
 
 
 def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> Any:
@@ -111,7 +112,7 @@ def _rows(out: PaperOutput, arm: Any, q: np.ndarray, qd: np.ndarray, qdd: np.nda
     samples = 20
     for e, printed, corrected in errata_checked(samples, PAPER):
         out.add(Row(PAPER, f"{e.equation} (misprint), max |printed − Drake|", "printed form", "corrected form",
-                    printed, differs("misprint (see the errata below)") if printed > 1e-9 else MATCHES,
+                    printed, MATCHES if tolerated(printed, 1e-9) else differs("misprint (see the errata below)"),
                     f"the corrected form agrees with Drake to {corrected:.1e} at {samples} random configurations "
                     "within the joint limits; tolerance 1e-9"))
     return sample, motion

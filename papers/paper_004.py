@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from armlab.bounds import tolerated
 from armlab.kinematics.urm import position_vectors_homogeneous
 from armlab.models import get_arm
 from armlab.models.urm6 import TABLE1_PHI_DEG
@@ -111,7 +112,8 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
               note=f"armlab: the paper's eqs. (1)-(7); Drake: the URDF plant's frames p1…p7. {note}.")
     out.add(Row(PAPER, "Table 2: two independent models give the same p1…p7 (max |difference| [mm])",
                 "the same (Simulink and Simscape Multibody)", drake_gap, drake_gap,
-                MATCHES if drake_gap <= 1e-9 else differs(f"eqs. (1)-(7) and Drake differ by {drake_gap:.3g} mm"),
+                MATCHES if tolerated(drake_gap, 1e-9)
+                else differs(f"eqs. (1)-(7) and Drake differ by {drake_gap:.3g} mm"),
                 "here: the paper's eqs. (1)-(7) vs Drake's plant from the URDF; tolerance 1e-9 mm"))
     _figure(out, rotation_form, names, np.asarray(TABLE1_PHI_DEG))
     demo = paper_motion(arm)
@@ -127,7 +129,7 @@ def run(out_dir: Path, fast: bool = False, progress: Callable[[str], Any] = prin
         corrected = float(np.abs(e.corrected(sample)[0] - e.reference(sample)[0]).max()) * 1e3
         out.add(Row(PAPER, f"{e.equation} (misprint): p2…p7 as printed at Table 1's configuration, "
                     "max |printed − Drake| [mm]", "printed form", "corrected form", float(off.max()),
-                    differs("misprint (see the errata below)") if off.max() > 1e-6 else MATCHES,
+                    MATCHES if tolerated(off.max(), 1e-6) else differs("misprint (see the errata below)"),
                     "|printed − Drake| per point: " + ", ".join(f"p{k + 2} {v:.4g} mm" for k, v in enumerate(off))
                     + f"; the corrected form agrees with Drake to {corrected:.1e} mm"))
     out.chosen_parameters(arm, ("module_mass",))

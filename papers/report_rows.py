@@ -18,6 +18,8 @@ from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from armlab.bounds import within
+
 __all__ = [
     "DIFFERS",
     "MATCHES",
@@ -87,13 +89,15 @@ def compare(
     note: str = "",
     reason: str | None = None,
 ) -> Row:
-    """A numeric row: ``"matches"`` when |armlab − paper| ≤ ``tol``, else ``"differs: <reason>"``.
+    """A numeric row: ``"matches"`` when armlab's value is within [paper − ``tol``, paper + ``tol``]
+    (:func:`armlab.bounds.within`: a deviation of exactly half a printed digit matches on every machine), else
+    ``"differs: <reason>"``.
 
     ``tol`` is the resolution of the paper's printed value (half its last digit) unless
     ``note`` says otherwise; the default reason quotes the deviation and the tolerance.
     """
     deviation = float(armlab_value) - float(paper_value)
-    if abs(deviation) <= tol:
+    if within(float(armlab_value), float(paper_value) - tol, float(paper_value) + tol):
         verdict = MATCHES
     else:
         verdict = differs(reason or f"|deviation| {abs(deviation):.3g} exceeds the tolerance {tol:.3g}")

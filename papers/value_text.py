@@ -6,13 +6,15 @@ import numbers
 from collections.abc import Sequence
 from typing import Any
 
-__all__ = ["DEVIATION_DIGITS", "ROUND_OFF", "VALUE_DIGITS", "markdown_table", "paper_value_text", "value_text"]
+from armlab.bounds import above
 
-#: Significant digits: armlab's values and table cells, and deviations (paper values are shown as printed).
+__all__ = ["DEVIATION_DIGITS", "VALUE_DIGITS", "markdown_table", "paper_value_text", "value_text"]
+
+#: Significant digits: armlab's values and table cells, and deviations (paper values are shown as printed); a
+#: magnitude that is zero within the slack (:func:`armlab.bounds.above` of 0) is round-off, shown with
+#: :data:`DEVIATION_DIGITS` digits.
 VALUE_DIGITS = 7
 DEVIATION_DIGITS = 2
-#: Magnitudes below this are round-off (shown with :data:`DEVIATION_DIGITS` digits).
-ROUND_OFF = 1e-9
 
 
 def value_text(value: Any, digits: int = VALUE_DIGITS) -> str:
@@ -26,7 +28,7 @@ def value_text(value: Any, digits: int = VALUE_DIGITS) -> str:
     value = float(value) + 0.0
     if value == 0:
         return "0"
-    if abs(value) < ROUND_OFF:  # round-off: its digits mean nothing
+    if not above(abs(value), 0.0):  # round-off: its digits mean nothing
         digits = min(digits, DEVIATION_DIGITS)
     if abs(value) < 1e-3 or abs(value) >= 1e7:
         return f"{value:.{max(digits - 1, 0)}e}".replace("e-0", "e-").replace("e+0", "e+")

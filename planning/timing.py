@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import above, below, outside, tolerated
 from armlab.kinematics.quintic import Motion, TrajectorySegment, to_trajectory
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.limits import check_positive, per_joint
@@ -169,14 +170,14 @@ def limit_curve(a: NDArray, b: NDArray, c: NDArray, lo: NDArray, hi: NDArray) ->
         bound = -A0 / np.where(A1 == 0, 1.0, A1)
         upper = np.where(pair & (A1 > 0), bound, np.inf).reshape(m, -1).min(axis=1)
         lower = np.where(pair & (A1 < 0), bound, -np.inf).reshape(m, -1).max(axis=1)
-        never = (pair & (A1 == 0) & (A0 > 0)).reshape(m, -1).any(axis=1)
+        never = (pair & (A1 == 0) & above(A0, 0.0)).reshape(m, -1).any(axis=1)
         # rows with a = 0: lo − c ≤ b x ≤ hi − c
         fixed = ~moving & (b != 0)
         bx_hi, bx_lo = np.where(b > 0, (hi - c) / b, (lo - c) / b), np.where(b > 0, (lo - c) / b, (hi - c) / b)
         upper = np.minimum(upper, np.where(fixed & ~np.isnan(bx_hi), bx_hi, np.inf).min(axis=1))
         lower = np.maximum(lower, np.where(fixed & ~np.isnan(bx_lo), bx_lo, -np.inf).max(axis=1))
-        never |= (~moving & (b == 0) & ((c > hi) | (c < lo))).any(axis=1)
-    infeasible = never | (upper < np.maximum(lower, 0.0)) | (upper < 0)
+        never |= (~moving & (b == 0) & outside(c, lo, hi)).any(axis=1)
+    infeasible = never | below(upper, np.maximum(lower, 0.0))
     return np.where(infeasible, np.nan, np.sqrt(np.maximum(upper, 0.0)))
 
 
@@ -228,11 +229,11 @@ class Fastest:
 def _infeasible(arm: Arm, s: NDArray, c: NDArray, lo: NDArray, hi: NDArray, names: list[str],
                 friction: NDArray) -> ValueError:
     """The one-line error for limits no timing meets: where even standing still on the path breaks one."""
-    still = (c > hi + 1e-12) | (c < lo - 1e-12)
+    still = outside(c, lo, hi)
     where = np.argwhere(still)
     if where.size:
         i, k = where[0]
-        limit = hi[k] if c[i, k] > hi[k] else lo[k]
+        limit = hi[k] if above(c[i, k], hi[k]) else lo[k]
         unit = "N·m" if arm.revolute[k % arm.n] else "N"
         kept = friction[k - 2 * arm.n] if k >= 2 * arm.n else 0.0  # the torque rows are the last n
         less = f" (the effort limit less its friction {kept:.6g} {unit})" if kept > 0 else ""
@@ -318,8 +319,9 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
             rate = np.where(np.isfinite(rate), rate,
                             np.abs(a[:, arm.n:2 * arm.n] * _rates(unbounded, s)[0][:, None]).max(axis=0))
         friction = np.where(train.viscous > 0, train.viscous * rate, 0.0) + train.coulomb
-        if np.any(friction >= limits.effort):
-            k = int(np.argmax(friction >= limits.effort))
+        whole = ~below(friction, limits.effort)  # the friction takes the whole effort limit (or more)
+        if np.any(whole):
+            k = int(np.argmax(whole))
             unit = "N·m" if arm.revolute[k] else "N"
             raise ValueError(f"the limits cannot be met: {arm.joint_names[k]}'s friction at {rate[k]:.6g} "
                              f"{'rad/s' if arm.revolute[k] else 'm/s'} ({friction[k]:.6g} {unit}) takes its whole "
@@ -336,5 +338,5 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
     span = np.where(np.isfinite(hi - lo), hi - lo, np.where(np.isfinite(hi), np.abs(hi), 1.0))
     slack = np.minimum(hi - value, value - lo) / np.maximum(span, 1e-300)
     tight = np.argmin(np.where(np.isfinite(slack), slack, np.inf), axis=1)
-    active = tuple(names[k] if slack[i, k] <= ACTIVE_TOL else "" for i, k in enumerate(tight))
+    active = tuple(names[k] if tolerated(slack[i, k], ACTIVE_TOL) else "" for i, k in enumerate(tight))
     return Fastest(motion, float(scaling.end_time()), s, sd, limit_curve(a, b, c, lo, hi), active, limits, friction)

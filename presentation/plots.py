@@ -113,7 +113,8 @@ def limit_groups(arm: Arm, kind: str, values: np.ndarray) -> tuple[list[tuple[li
         units = sorted({("N·m" if arm.revolute[i] else "N") if kind == "effort"
                         else ("rad" if arm.revolute[i] else "m") + unit for i in joints})
         peak = float(np.max(np.abs(values[:, joints])))
-        if max(abs(low), abs(high)) <= OFF_SCALE * max(peak, float(np.max(np.abs(values))), 1e-12):
+        scale = OFF_SCALE * max(peak, float(np.max(np.abs(values))), 1e-12)
+        if max(abs(low), abs(high)) <= scale:  # not a bound: a figure's layout (draw the limits, or note them)
             drawn.append((joints, low, high))
         else:
             used = peak / max(abs(low), abs(high))

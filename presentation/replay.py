@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.files import file_path, write_file
 from armlab.presentation.replay_graphs import (
+from armlab.bounds import below
     GRAPHS_PCT,
     GRAPHS_SCRIPT,
     GRAPHS_STYLE,
@@ -550,7 +551,7 @@ def _collision_layer(scene: Scene, model: CollisionModel, meshcat: Meshcat, k: N
 
     inspector = scene.scene_graph.model_inspector()
     found = model.distances(frames_q)
-    touching = found.distance < 0  # (F, P)
+    touching = below(found.distance, 0.0)  # (F, P)
     owners: dict[str, list[str]] = {}
     world = inspector.world_frame_id()
     for g in inspector.GetAllGeometryIds():

@@ -105,7 +105,7 @@ def check_event(message: bytes | str, sliders: Mapping[str, SliderRange], button
     if isinstance(value, bool) or not isinstance(value, int | float):
         return f"slider {name}: value {shown(value)} is not a number"
     lowest, highest, step = sliders[name]
-    if not math.isfinite(value) or not lowest - _beyond(step) <= value <= highest + _beyond(step):
+    if not math.isfinite(value) or not lowest - _beyond(step) <= value <= highest + _beyond(step):  # not a bound: input
         return f"slider {name}: value {shown(value)} is outside {lowest:g} … {highest:g}"
     return None
 
@@ -117,7 +117,7 @@ def relayed_event(message: bytes, sliders: Mapping[str, SliderRange]) -> bytes:
     if event["type"] != "slider":
         return message
     lowest, highest, _step = sliders[event["name"]]
-    if lowest <= event["value"] <= highest:
+    if lowest <= event["value"] <= highest:  # not a bound: a page's event (its own rounding allowed above)
         return message
     return msgpack.packb({**event, "value": min(max(float(event["value"]), lowest), highest)})
 

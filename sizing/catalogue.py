@@ -159,7 +159,7 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
 def _check_pair(where: str, c: dict[str, Any], low: str, high: str, what: str) -> None:
     """``ValueError`` for the first row whose column ``high`` is below its column ``low`` (``what``: "torque")."""
     unit, scale = ("rpm", 1 / RPM) if low.endswith("rpm") else ("N·m", 1.0)
-    bad = np.asarray(c[high]) < np.asarray(c[low])
+    bad = np.asarray(c[high]) < np.asarray(c[low])  # not a bound: a catalogue's own numbers, as given
     if bad.any():
         k = int(np.argmax(bad))
         top, rated = np.asarray(c[high])[k] * scale, np.asarray(c[low])[k] * scale

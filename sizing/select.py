@@ -14,7 +14,9 @@ factor S on every torque (speeds as they are) and for every load case:
 * ``gearbox RMS`` / ``gearbox peak``: S·RMS(τ_L), S·max |τ_L| ≤ the gearbox's rated / peak output torque;
   ``gearbox speed``: max |ω_m| ≤ its maximum input speed.
 
-Each check's ratio limit / value; a pair's **margin** is the smallest ratio minus 1 (≥ 0: feasible).
+Each check's ratio limit / value passes when it is not below 1 (:func:`armlab.bounds.below`: a value on its limit
+passes); a pair's **margin** is the smallest ratio minus 1 (feasible: every check passes, a margin of 0 up to the
+slack).
 
 The screen (Giberti, Cinquemani & Legnani, *Mechatronics* 2010's accelerating factor) bounds the RMS motor
 torque from below without the samples: |τ_m| ≥ η·|τ_L + G²J q̈|/G whichever way power flows, so
@@ -23,7 +25,9 @@ has a ratio G meeting S·RMS ≤ T_rated only if the accelerating factor α = T_
 least the load factor β = 2(c + √(ab)), and then only G² between the roots of J²a x² + (2Jc − T_e²) x + b.
 Stage 1 drops the motors whose α with the most favourable gearbox is below β; stage 2 applies the bound, the
 speed checks (exact: G·max|q̇|, G·mean|q̇|) and the gearbox's torque checks (exact: they need only τ_L) to each
-pair. The screen never drops a pair the full check accepts (tests/test_drives_select.py, against brute force).
+pair. The screen keeps every pair whose bound is not below :data:`ACCEPTED` (the smallest ratio the full check
+accepts) by more than the slack, so it never drops a pair the full check accepts, round-off included
+(tests/test_drives_select.py, against brute force).
 """
 
 from __future__ import annotations
@@ -34,13 +38,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.bounds import above, allowance, below
 from armlab.drives.train import DriveTrain, motor_speed, motor_torque
 
 if TYPE_CHECKING:
     from armlab.sizing.catalogue import Gearboxes, Motors
 
-__all__ = ["CHECKS", "RANKS", "STATS", "Candidate", "Evaluation", "JointSelection", "JointTask", "candidate_train",
-           "check_rank", "check_safety_factor", "evaluate", "motor_side", "screen", "select_joint"]
+__all__ = ["ACCEPTED", "CHECKS", "RANKS", "STATS", "Candidate", "Evaluation", "JointSelection", "JointTask",
+           "candidate_train", "check_rank", "check_safety_factor", "evaluate", "motor_side", "screen", "select_joint"]
 
 #: The checks, in the order they are reported.
 CHECKS = ("RMS", "RMS speed", "peak", "envelope", "speed", "gearbox RMS", "gearbox peak", "gearbox speed")
@@ -52,8 +57,8 @@ CHUNK = 512
 FIRST = 64
 #: How many of the nearest infeasible pairs are reported.
 NEAREST = 5
-#: The screen's slack: a pair within this relative distance of its bound goes on to the full check (rounding).
-SLACK = 1e-9
+#: The smallest ratio limit/value the full check accepts: 1 less the slack (:func:`armlab.bounds.allowance`).
+ACCEPTED = 1.0 - float(allowance(1.0))
 
 
 def check_safety_factor(value: float) -> float:
@@ -139,6 +144,16 @@ class Evaluation:
         """Smallest ratio − 1 per candidate ``(C,)``."""
         return self.ratios.min(axis=0) - 1
 
+    @property
+    def passed(self) -> NDArray[np.bool_]:
+        """Whether each check of each candidate passes, ``(len(CHECKS), C)``: its ratio is not below 1."""
+        return ~below(self.ratios, 1.0)
+
+    @property
+    def feasible(self) -> NDArray[np.bool_]:
+        """Whether every check of each candidate passes, ``(C,)``."""
+        return self.passed.all(axis=0)
+
 
 def evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, motor: NDArray[np.intp],
              gearbox: NDArray[np.intp], safety: float, describe: bool = False) -> Evaluation:
@@ -208,7 +223,8 @@ def _evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDArray
 
 def screen(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float) -> tuple[NDArray, NDArray, NDArray]:
     """The screen of every pair (see the module docstring): ``(ratio (M, B), alpha_max (M,), beta (L,))``, ratio the
-    smallest of the bounds' limit/value (≥ 1 − :data:`SLACK`: go on to the full check; −inf: dropped in stage 1),
+    smallest of the bounds' limit/value (not below :data:`ACCEPTED`: go on to the full check; −inf: dropped in stage
+    1),
     alpha_max each motor's best accelerating factor (1/s²·N·m… = N²·m²/(kg·m²)), beta the load factors."""
     a = task.mean(task.qdd**2)
     b = task.mean(task.tau**2)  # (L,)
@@ -217,7 +233,7 @@ def screen(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float)
     gb = gearboxes
     alpha_max = (motors.rated_torque / (safety * gb.efficiency.min())) ** 2 / (motors.rotor_inertia
                                                                                 + gb.input_inertia.min())
-    stage1 = alpha_max >= beta.max() * (1 - SLACK)
+    stage1 = _stage1(alpha_max, beta)
     G = gb.ratio[None, :]
     J = motors.rotor_inertia[:, None] + gb.input_inertia[None, :]
     G2J = G**2 * J
@@ -236,6 +252,17 @@ def screen(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float)
     ]
     ratio = np.minimum.reduce(ratios)
     return np.where(stage1[:, None], ratio, -np.inf), alpha_max, beta
+
+
+def _stage1(alpha_max: NDArray, beta: NDArray) -> NDArray[np.bool_]:
+    """The motors ``(M,)`` stage 1 keeps: the RMS check accepts S·RMS up to T_rated/:data:`ACCEPTED`, so α up to
+    α_max/ACCEPTED², which must not be below the largest load factor β."""
+    return ~below(alpha_max / ACCEPTED**2, beta.max())
+
+
+def _screened(ratio: NDArray) -> NDArray[np.bool_]:
+    """The pairs the screen's ratios (an upper bound of the full check's smallest ratio) keep."""
+    return ~below(ratio, ACCEPTED)
 
 
 @dataclass(frozen=True)
@@ -291,8 +318,9 @@ _UNITS = {"RMS": ("RMS", "rated", "N·m"), "RMS speed": ("mean speed", "rated sp
 def _failed(ev: Evaluation, c: int, safety: float) -> tuple[str, ...]:
     out = []
     rpm = 60 / (2 * np.pi)
+    passed = ev.passed[:, c]
     for k, check in enumerate(CHECKS):
-        if ev.ratios[k, c] >= 1:
+        if passed[k]:
             continue
         what, limit_name, unit = _UNITS[check]
         scale = rpm if unit == "rpm" else 1.0
@@ -340,30 +368,33 @@ def select_joint(joint: str, task: JointTask, motors: Motors, gearboxes: Gearbox
     mass = (motors.mass[:, None] + gearboxes.mass[None, :]).ravel()
     reflected = gearboxes.ratio[None, :] ** 2 * (motors.rotor_inertia[:, None] + gearboxes.input_inertia[None, :])
     inertia = (task.inertia.max() / reflected).ravel()  # the largest inertia ratio of each pair
-    survivors = np.flatnonzero(flat >= 1 - SLACK)
+    survivors = np.flatnonzero(_screened(flat))
     order, bound = _order(rank, survivors, flat, mass, inertia)
-    checked, margins = [], []
+    checked, margins, feasible_parts = [], [], []
     start, size = 0, FIRST
     while start < order.size:
         part = order[start:start + size]
         size = min(2 * size, CHUNK)
         checked.append(part)
-        margins.append(evaluate(task, motors, gearboxes, part // B, part % B, safety).margin)
+        ev = evaluate(task, motors, gearboxes, part // B, part % B, safety)
+        margins.append(ev.margin)
+        feasible_parts.append(ev.feasible)
         start += part.size
-        so_far = np.concatenate(margins)
-        ok = np.concatenate(checked)[so_far >= 0]
+        so_far, good = np.concatenate(margins), np.concatenate(feasible_parts)
+        ok = np.concatenate(checked)[good]
         if ok.size >= keep and start < order.size:
-            true = -so_far[so_far >= 0] if rank == "margin" else bound[ok]  # the rank keys found
-            if bound[order[start]] > np.sort(true)[keep - 1]:  # no pair left can rank among the best keep
+            true = -so_far[good] if rank == "margin" else bound[ok]  # the rank keys found
+            if above(bound[order[start]], np.sort(true)[keep - 1]):  # no pair left can rank among the best keep
                 break
     done = np.concatenate(checked) if checked else np.empty(0, dtype=np.intp)
     margin = np.concatenate(margins) if margins else np.empty(0)
-    ok, bad = done[margin >= 0], done[margin < 0]
-    dropped = np.flatnonzero(flat < 1 - SLACK)
+    good = np.concatenate(feasible_parts) if feasible_parts else np.empty(0, dtype=bool)
+    ok, bad = done[good], done[~good]
+    dropped = np.flatnonzero(~_screened(flat))
     near = dropped[np.argsort(-flat[dropped], kind="stable")[:NEAREST]]
-    bad_margin = margin[margin < 0]
+    bad_margin = margin[~good]
     nearest_checked = bad[np.argsort(-bad_margin, kind="stable")[:NEAREST]]
-    ok_margin = margin[margin >= 0]
+    ok_margin = margin[good]
     keys = {"mass": (-ok_margin, mass[ok]), "margin": (mass[ok], -ok_margin), "inertia": (mass[ok], inertia[ok])}
     best = ok[np.lexsort(keys[rank])[:keep]]  # the last key first
     shown = np.concatenate([best, nearest_checked, near])
@@ -372,5 +403,5 @@ def select_joint(joint: str, task: JointTask, motors: Motors, gearboxes: Gearbox
     feasible = candidates[:best.size]
     others = sorted(candidates[best.size:], key=lambda c: -c.margin)[:NEAREST]
     return JointSelection(joint, feasible, int(ok.size), tuple(others), int(flat.size),
-                          int((alpha_max >= beta.max() * (1 - SLACK)).sum()), int(survivors.size), int(done.size),
+                          int(_stage1(alpha_max, beta).sum()), int(survivors.size), int(done.size),
                           beta)

@@ -10,10 +10,13 @@ from __future__ import annotations
 import contextlib
 import csv
 import functools
+import importlib.util
 import io
 import json
+import pkgutil
 import re
 import subprocess
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +26,8 @@ from armlab.models import ARMS, get_arm
 from armlab.models.arm import Arm
 
 ARM_NAMES = list(ARMS)
+#: The repository.
+ROOT = Path(__file__).resolve().parents[1]
 #: tests/data/: the test URDFs and DH tables, named for what they are.
 DATA = Path(__file__).resolve().parent / "data"
 EPS = np.finfo(float).eps
@@ -32,6 +37,28 @@ EPS = np.finfo(float).eps
 #: staying far tighter than any number the tests check (1e-9 and looser).
 RECOMPUTED_RTOL = RECOMPUTED_ATOL = 1e-12
 _NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|[-+]?\b(?:nan|inf)\b")
+
+
+def package_modules() -> dict[str, Path]:
+    """Every module of the packages pyproject.toml installs: dotted name → source file (found without importing
+    the modules; tests/test_layers.py and tests/test_bounds.py read them with ast)."""
+    modules = {}
+    for package in tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]:
+        spec = importlib.util.find_spec(package)
+        assert spec is not None and spec.submodule_search_locations, package
+        if spec.origin is None:  # a data-only package (e.g. armlab.analysis.studies): no code to read
+            continue
+        modules[package] = Path(spec.origin)
+        for info in pkgutil.iter_modules(spec.submodule_search_locations):
+            if not info.ispkg:
+                modules[f"{package}.{info.name}"] = Path(info.module_finder.path) / f"{info.name}.py"
+    return modules
+
+
+def is_program(module: str) -> bool:
+    """A developer benchmark (``scripts/bench/bench_*.py``, read as ``bench.NAME``) or an example script for users
+    (``armlab.scripts.examples.*``, run as ``python -m``): programs with command lines of their own."""
+    return module.startswith(("bench.", "armlab.scripts.examples."))
 
 
 @functools.cache

@@ -10,6 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from armlab.bounds import below
+from armlab.sizing.select import ACCEPTED, RANKS, JointTask, evaluate, screen, select_joint
 from armlab.drives.train import DriveTrain
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.models import get_arm
@@ -71,12 +73,11 @@ def _assert_screen_sound(seed: int, arm_name: str, safety: float) -> None:
     every = np.arange(len(motors) * B)
     for task in _tasks(arm_name, seed):
         ratio, _, _ = screen(task, motors, gearboxes, safety)
-        margin = evaluate(task, motors, gearboxes, every // B, every % B, safety).margin
-        feasible = margin >= 0
-        assert np.all(ratio.ravel()[feasible] >= 1 - SLACK)  # every feasible pair is past the screen
-        # the screen's ratio bounds the full check's smallest ratio from above
-        assert np.all(ratio.ravel()[np.isfinite(ratio.ravel())] >= (margin + 1)[np.isfinite(ratio.ravel())]
-                      * (1 - SLACK))
+        ev = evaluate(task, motors, gearboxes, every // B, every % B, safety)
+        assert not np.any(below(ratio.ravel()[ev.feasible], ACCEPTED))  # every feasible pair is past the screen
+        # the screen's ratio bounds the full check's smallest ratio from above (up to the slack)
+        finite = np.isfinite(ratio.ravel())
+        assert not np.any(below(ratio.ravel()[finite], (ev.margin + 1)[finite]))
 
 
 @pytest.mark.parametrize("rank", RANKS)
@@ -89,7 +90,7 @@ def test_the_ranked_checks_give_the_best_pairs_of_a_brute_force(rank):
     stopped_early = 0
     for task in _tasks("arm4r", 11):
         ev = evaluate(task, motors, gearboxes, every // B, every % B, 1.3, describe=True)
-        ok = np.flatnonzero(ev.margin >= 0)
+        ok = np.flatnonzero(ev.feasible)
         mass = motors.mass[every // B] + gearboxes.mass[every % B]
         inertia = ev.stats["inertia_ratio_max"].max(axis=0)
         keys = {"mass": (-ev.margin[ok], mass[ok]), "margin": (mass[ok], -ev.margin[ok]),

@@ -19,8 +19,6 @@ says ``# lazy: <reason>``.
 from __future__ import annotations
 
 import ast
-import importlib.util
-import pkgutil
 import subprocess
 import sys
 import tomllib
@@ -28,10 +26,10 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
+from helpers import ROOT, is_program, package_modules
 
 from armlab._lazy import LAZY_IMPORTS
 
-ROOT = Path(__file__).resolve().parents[1]
 CLI = "armlab.cli"
 #: What only the CLI may import.
 CLI_ONLY = (CLI, "argparse")
@@ -42,7 +40,7 @@ CLI_ONLY = (CLI, "argparse")
 ROOMS = ("base", "kinematics", "drives", "models", "collision", "presentation", "planning", "controllers", "diagrams",
          "sizing", "analysis", "api", "papers", "cli", "scripts")
 #: The modules of the base room.
-BASE = ("armlab._lazy", "armlab.limits", "armlab.values", "armlab.files", "armlab.arm_file")
+BASE = ("armlab._lazy", "armlab.limits", "armlab.bounds", "armlab.values", "armlab.files", "armlab.arm_file")
 
 
 def room_of(module: str) -> str:
@@ -62,23 +60,7 @@ def room_of(module: str) -> str:
     return room
 
 
-def _packages() -> list[str]:
-    return tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]
-
-
-def _modules() -> dict[str, Path]:
-    """Every module of the installed packages: dotted name → source file (found without importing the modules)."""
-    modules = {}
-    for package in _packages():
-        spec = importlib.util.find_spec(package)
-        assert spec is not None and spec.submodule_search_locations, package
-        if spec.origin is None:  # a data-only package (e.g. armlab.analysis.studies): no code to read
-            continue
-        modules[package] = Path(spec.origin)
-        for info in pkgutil.iter_modules(spec.submodule_search_locations):
-            if not info.ispkg:
-                modules[f"{package}.{info.name}"] = Path(info.module_finder.path) / f"{info.name}.py"
-    return modules
+_modules = package_modules
 
 
 def _benchmarks() -> dict[str, Path]:
@@ -130,10 +112,7 @@ def _is_cli(module: str) -> bool:
     return _names(CLI, module)
 
 
-def _is_program(module: str) -> bool:
-    """A developer benchmark (``scripts/bench/bench_*.py``) or an example script for users
-    (``armlab.scripts.examples.*``, run as ``python -m``): programs with command lines of their own."""
-    return module.startswith(("bench.", "armlab.scripts.examples."))
+_is_program = is_program
 
 
 def test_modules_are_found():

@@ -6,6 +6,7 @@ import argparse
 import json
 from typing import Any
 
+from armlab.bounds import below
 from armlab.cli.args import add_arm, arm_of, positive_int
 from armlab.values import joint_values
 
@@ -23,7 +24,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     arm = arm_of(args)
     q = joint_values(arm, args.q, args.deg)
     rows = clearance(arm, q, as_scene(args.scene))
-    touching = [row for row in rows if row["distance"] < 0]
+    touching = [row for row in rows if below(row["distance"], 0.0)]
     if args.json:
         print(json.dumps({"arm": arm.name, "q": q.tolist(), "units": "m", "in_contact": len(touching) > 0,
                           "clearances": rows}, indent=2))
@@ -36,7 +37,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
           + (f"{len(touching)} in contact" if touching else "none in contact")
           + (f"; the {len(shown)} smallest clearances:" if shown else ""))
     for row in shown:
-        state = f"in contact, penetration {row['depth'] * 1e3:.4g} mm" if row["distance"] < 0 else "apart"
+        state = f"in contact, penetration {row['depth'] * 1e3:.4g} mm" if below(row["distance"], 0.0) else "apart"
         print(f"  {row['pair']:28s} {row['distance'] * 1e3:+10.4f} mm  {state}")
     return 0
 

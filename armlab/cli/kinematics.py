@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from armlab.bounds import tolerated
 from armlab.cli.args import add_arm, arm_of
 from armlab.cli.collide import SCENE_HELP
 from armlab.drives.train import DRIVE_FIELDS
@@ -144,7 +145,7 @@ def _cmd_show(args: argparse.Namespace) -> int:
     return 0
 
 
-#: Smallest singular value of the tool Jacobian (m or rad per unit joint motion) below which ``fk`` flags a singularity.
+#: Smallest singular value of the tool Jacobian (m or rad per unit joint motion) up to which ``fk`` flags a singularity.
 SINGULAR_SIGMA = 1e-6
 
 
@@ -164,7 +165,7 @@ def _cmd_fk(args: argparse.Namespace) -> int:
         "jacobian_rows": axes,
         "manipulability": float(arm.manipulability(q, axes)),
         "sigma_min": sigma,
-        "singular": sigma < SINGULAR_SIGMA,
+        "singular": bool(tolerated(sigma, SINGULAR_SIGMA)),
     }
     if args.qd is not None or args.qdd is not None:
         twist, accel = arm.tool_motion(q, qd, qdd)
