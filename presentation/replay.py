@@ -22,9 +22,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import below
 from armlab.files import file_path, write_file
 from armlab.presentation.replay_graphs import (
-from armlab.bounds import below
     GRAPHS_PCT,
     GRAPHS_SCRIPT,
     GRAPHS_STYLE,

@@ -26,18 +26,18 @@ from hypothesis import strategies as st
 
 from armlab.bounds import SLACK, above, allowance, below, clamp, outside, tolerated, within
 from armlab.diagrams.drives import _first_exceeding
-from armlab.sizing.select import CHECKS, Evaluation
 from armlab.kinematics.cartesian import ToolPath, arc_path
 from armlab.kinematics.ik import solve_branch
 from armlab.kinematics.ik_closed_form import rr_ik
 from armlab.kinematics.ik_path import solve_path
 from armlab.kinematics.quintic import Motion, QuinticSegment
-from armlab.planning.timing import limit_curve
 from armlab.models import get_arm
 from armlab.models.rr import ABCD_POINTS
-from armlab.scripts import paper_000
 from armlab.papers.report_rows import compare
 from armlab.papers.reproduce import PAPERS, _script
+from armlab.planning.timing import limit_curve
+from armlab.scripts import paper_000
+from armlab.sizing.select import CHECKS, Evaluation
 
 # ----------------------------------------------------------------------------------------------- the guard
 #: Words that name a bound, as the start of an identifier's word (``limits``, ``POSITION_TOL``, ``sigma_min``).

@@ -11,14 +11,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from armlab.bounds import below
-from armlab.sizing.select import ACCEPTED, RANKS, JointTask, evaluate, screen, select_joint
 from armlab.drives.train import DriveTrain
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.models import get_arm
 from armlab.sizing.catalogue import RPM, Gearboxes, Motors, read_gearboxes, read_motors
 from armlab.sizing.duty import DutyCycle, Dwell, LoadCase, Move, sample
 from armlab.sizing.loads import joint_loads, with_link_masses
-from armlab.sizing.select import RANKS, SLACK, JointTask, evaluate, screen, select_joint
+from armlab.sizing.select import ACCEPTED, RANKS, JointTask, evaluate, screen, select_joint
 from armlab.sizing.sizing import size
 
 

@@ -21,7 +21,6 @@ from __future__ import annotations
 import ast
 import subprocess
 import sys
-import tomllib
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 

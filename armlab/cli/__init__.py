@@ -1,5 +1,6 @@
 """The ``armlab`` command line: a thin layer over the library that parses the options and prints the results.
-May import: base, kinematics, drives, models, collision, presentation, planning, controllers, diagrams, sizing, analysis, api, papers.
+May import: base, kinematics, drives, models, collision, presentation, planning, controllers,
+diagrams, sizing, analysis, api, papers.
 
 One module per command family: :mod:`~armlab.cli.kinematics` (``list``, ``show``, ``fk``, ``ik``),
 :mod:`~armlab.cli.simulate` (``simulate``, ``diagram``), :mod:`~armlab.cli.view`, :mod:`~armlab.cli.draw`,
