@@ -44,6 +44,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.diagrams.build import DEFAULT_LOG_PERIOD
 from armlab.diagrams.plant import PlantOptions, make_plant
 from armlab.kinematics.quintic import Motion, TrajectorySegment, to_trajectory
 from armlab.kinematics.rnea import inverse_dynamics
@@ -381,8 +382,6 @@ def _dense_check(arm: Arm, train: DriveTrain | None, path: _TimedPath, timing: _
     ``-inf`` where none does, ``(m − 1,)``; the path parameters s of those samples; and the worst sample as a
     phrase (``""`` when none passes).
     """
-    from armlab.diagrams.build import DEFAULT_LOG_PERIOD  # lazy: what a simulation samples
-
     knots = timing.knots
     start, end = float(knots[0]), float(knots[-1])
     fill = knots[:-1, None] + np.diff(knots)[:, None] * np.arange(CHECK_POINTS) / CHECK_POINTS
@@ -680,8 +679,8 @@ class _TimedPath:
             excess, where, worst = _dense_check(arm, train, self, timing, held, limits)
             bad = np.flatnonzero(np.isfinite(excess))
             if bad.size == 0:
-                return (TrajectorySegment(PathParameterizedTrajectory(self.path, timing.scaling), "time-optimal"),
-                        timing, len(points))
+                return (TrajectorySegment(PathParameterizedTrajectory(self.path, timing.scaling), "time-optimal",
+                                          limits), timing, len(points))
             if round_ == ROUNDS:
                 raise ValueError(f"the timing cannot be kept within the limits on a grid of {self.s.size} points: "
                                  f"{worst} after {ROUNDS} rounds of slowing down; give a finer grid")
