@@ -3,7 +3,7 @@
 * :func:`limit_violations` — every joint's position, velocity and effort limit checked along
   the run, for the reference and the simulated values: one entry per (joint, quantity, source)
   whose peak passes its limit, with the first time it does; and, for a segment timed within limits of
-  its own (:func:`armlab.fastest`), those (velocity, acceleration, effort) over its samples.
+  its own (:func:`armlab.fastest`), those over its samples (the reference's velocity, acceleration and torque).
 * :func:`divergence` — the first time the tracking error |q − q_d| passes a threshold (an
   open-loop run, or gains too low, leaving the reference), or ``None``.
 * :func:`drive_table`, :func:`write_drives_csv` and :func:`drives_figure` — per joint peak |τ|, RMS τ, peak |q̇| and peak
@@ -82,10 +82,14 @@ def limit_violations(log: SimulationLog) -> list[dict[str, Any]]:
     extreme value, ``limit`` the bound it passes, ``first_time`` the first sample time (s) outside. The limits
     are the arm's (``"planned": None``), and for a segment timed within limits of its own
     (:attr:`~armlab.kinematics.quintic.TrajectorySegment.limits`, :func:`armlab.fastest`'s) those too, over its
-    samples (``"planned"``: the segment's label). Empty when none.
+    samples (``"planned"``: the segment's label): the reference's velocity, acceleration and torque, the one the
+    timing asks for with the run's gravity, payload and drive train (the arm's inverse dynamics of the reference,
+    what the controller feeds forward; the feedback's share is the tracking's, checked against the arm's limits).
+    Empty when none.
     """
-    # lazy: armlab --help loads this module but not the trajectories' (start-up time)
+    # lazy: armlab --help loads this module but not the trajectories' and the dynamics' (start-up time)
     from armlab.kinematics.quintic import TrajectorySegment
+    from armlab.kinematics.rnea import inverse_dynamics
 
     units = _units(log)
     out = []
@@ -105,14 +109,14 @@ def limit_violations(log: SimulationLog) -> list[dict[str, Any]]:
         if planned is None:
             continue
         rows = log.segment == k
+        # the torques the timing itself asks for (what the controller feeds forward): its limits are the plan's
+        tau = inverse_dynamics(log.arm, log.q_ref[rows], log.qd_ref[rows], log.qdd_ref[rows], log.gravity,
+                               log.payload)
         for i, name in enumerate(log.arm.joint_names):
-            checks = []
-            for quantity, limit, series in (("velocity", planned.velocity[i], (("reference", log.qd_ref),
-                                                                              ("simulated", log.qd))),
-                                            ("acceleration", planned.acceleration[i], (("reference", log.qdd_ref),)),
-                                            ("effort", planned.effort[i], (("simulated", log.tau),))):
-                if np.isfinite(limit):
-                    checks += [(quantity, source, values[rows, i], -limit, limit) for source, values in series]
+            checks = [(quantity, "reference", values[:, i], -float(limit), float(limit))
+                      for quantity, limit, values in (("velocity", planned.velocity[i], log.qd_ref[rows]),
+                                                      ("acceleration", planned.acceleration[i], log.qdd_ref[rows]),
+                                                      ("effort", planned.effort[i], tau)) if np.isfinite(limit)]
             out += _passed(log.t[rows], checks, name, i, units, label)
     return out
 

@@ -349,8 +349,8 @@ class _Timing:
                              f"{s[i + 1]:.4g} of the path")
         knots = start + np.concatenate([[0.0], np.cumsum(2 * np.diff(s) / rate)])
         u = np.diff(x) / (2 * np.diff(s))
-        return cls(PiecewisePolynomial.CubicHermite(knots.tolist(), s[None, :], sd[None, :]), s, knots, sd,
-                   np.append(u, u[-1]))
+        scaling = PiecewisePolynomial.CubicHermite(knots.tolist(), [s.tolist()], [sd.tolist()])
+        return cls(scaling, s, knots, sd, np.append(u, u[-1]))
 
     @cached_property
     def derivatives(self) -> tuple[PiecewisePolynomial, PiecewisePolynomial]:
@@ -687,14 +687,14 @@ class _TimedPath:
             # J from the overshoot (Toppra's between its grid points, ∝ 1/J² at points 1/J apart), doubled after;
             # and the samples that passed a limit, held from now on
             index = np.clip(np.searchsorted(self.s, where, side="right") - 1, 0, last)
-            for i in bad:
-                i = int(i)
+            flagged = [int(i) for i in bad]
+            for i in flagged:
                 points[i] = min(MAX_LIMITED_POINTS, 2 * points[i] if i in points else max(
                     LIMITED_POINTS, int(np.ceil(np.sqrt(2 * (excess[i] + MARGIN) / MARGIN)))))
                 found = (where[index == i] - self.s[i]) / (self.s[i + 1] - self.s[i])
                 seen[i] = np.concatenate([seen.get(i, np.empty(0)), found[(found > 0) & (found < 1)]])
-            rows.update(self.dense({int(i): np.concatenate([np.arange(1, points[i]) / points[i], seen[i]])
-                                    for i in bad}))
+            rows.update(self.dense({i: np.concatenate([np.arange(1, points[i]) / points[i], seen[i]])
+                                    for i in flagged}))
             x = _slow_down(x, self.s, points, rows_of)
             timing = _Timing.from_rates(self.s, x, float(timing.knots[0]))
         raise AssertionError("unreachable: the last round returns or raises")
