@@ -79,6 +79,10 @@ CHECK_POINTS = 4
 #: Points per grid interval at which a slowed-down interval holds its constraints, at least and at most.
 LIMITED_POINTS = 8
 MAX_LIMITED_POINTS = 128
+#: The margin of an interval the slow-down changes outside the zone (its ramp into and out of a slowed interval):
+#: half Toppra's, so that Toppra's profile, on its limits less :data:`MARGIN` at the grid points, meets it again
+#: within a few intervals instead of being lowered along a whole arc.
+RAMP_MARGIN = MARGIN / 2
 #: Grid intervals on each side of one the slow-down changes whose rows are made with it (fewer, larger batches).
 BLOCK = 96
 #: Rounds of dense check and slow-down before :func:`fastest` gives up.
@@ -367,12 +371,13 @@ class _Timing:
         return self.knots[i] + np.where(ahead > 0, 2 * ahead / np.maximum(sd[i] + root, 1e-300), 0.0)
 
 
-def _dense_check(arm: Arm, train: DriveTrain | None, path: _TimedPath, timing: _Timing, more: dict[int, int],
-                 limits: Limits) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
+def _dense_check(arm: Arm, train: DriveTrain | None, path: _TimedPath, timing: _Timing,
+                 points: dict[int, int] | None, limits: Limits) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
     """The timed motion q(s(t)) (``path`` by ``timing``) against ``limits`` at a simulation's log samples (every
-    :data:`~armlab.diagrams.build.DEFAULT_LOG_PERIOD` s from 0, and the end), :data:`CHECK_POINTS` times in each
-    grid interval (``more[i]`` in interval i, where more), and where it passes the path's own knots (where q‴(s)
-    jumps: the torques' corners): |q̇|, |q̈| and |τ| — the joint torques with the drive train ``train`` (its
+    :data:`~armlab.diagrams.build.DEFAULT_LOG_PERIOD` s from 0, and the end), where it passes the path's own knots
+    (where q‴(s) jumps: the torques' corners) and at times uniform in grid intervals: :data:`CHECK_POINTS` in each
+    (``points`` ``None``) or ``points[i]`` in interval i (the ones a slow-down changed: the others' ṡ², s̈ and so
+    their values there are the last check's): |q̇|, |q̈| and |τ| — the joint torques with the drive train ``train`` (its
     reflected inertia and friction), the path's gravity and payload, by
     :func:`~armlab.kinematics.rnea.inverse_dynamics` — each against its limit. q, q̇ = q' ṡ and q̈ = q' s̈ + q'' ṡ²
     from Drake's trajectories of s(t), q(s) and their derivatives (the numbers ``PathParameterizedTrajectory``
@@ -384,10 +389,12 @@ def _dense_check(arm: Arm, train: DriveTrain | None, path: _TimedPath, timing: _
     """
     knots = timing.knots
     start, end = float(knots[0]), float(knots[-1])
-    fill = knots[:-1, None] + np.diff(knots)[:, None] * np.arange(CHECK_POINTS) / CHECK_POINTS
-    finer = [knots[i] + (knots[i + 1] - knots[i]) * np.arange(j) / j for i, j in more.items() if j > CHECK_POINTS]
-    t = np.unique(np.concatenate([fill.ravel(), *finer, start + np.arange(0.0, end - start, DEFAULT_LOG_PERIOD),
-                                  [end], timing.times_of(path.path_knots)]))
+    if points is None:
+        fill = [(knots[:-1, None] + np.diff(knots)[:, None] * np.arange(CHECK_POINTS) / CHECK_POINTS).ravel()]
+    else:
+        fill = [knots[i] + (knots[i + 1] - knots[i]) * np.arange(j) / j for i, j in points.items()]
+    t = np.unique(np.concatenate([*fill, start + np.arange(0.0, end - start, DEFAULT_LOG_PERIOD), [end],
+                                  timing.times_of(path.path_knots)]))
     times = t.tolist()
     s, sd, sdd = (np.asarray(f.vector_values(times))[0] for f in (timing.scaling, *timing.derivatives))
     points = s.tolist()
@@ -670,13 +677,12 @@ class _TimedPath:
         def rows_of(i: int) -> tuple[NDArray, NDArray, NDArray, NDArray, float]:
             if i not in rows:  # an interval the slow-down changes: held at LIMITED_POINTS points, with its neighbours
                 rows.update(self.dense({k: every for k in range(max(0, i - BLOCK), min(last, i + BLOCK) + 1)
-                                        if k not in rows}))
+                                        if k not in rows}, RAMP_MARGIN))
             return rows[i]
 
+        changed: dict[int, int] | None = None  # the first check: every interval
         for round_ in range(ROUNDS + 1):
-            # an interval the slow-down changed is checked at twice the points it was held at
-            held = {i: 2 * LIMITED_POINTS for i in rows} | {i: 2 * j for i, j in points.items()}
-            excess, where, worst = _dense_check(arm, train, self, timing, held, limits)
+            excess, where, worst = _dense_check(arm, train, self, timing, changed, limits)
             bad = np.flatnonzero(np.isfinite(excess))
             if bad.size == 0:
                 return (TrajectorySegment(PathParameterizedTrajectory(self.path, timing.scaling), "time-optimal",
@@ -695,6 +701,10 @@ class _TimedPath:
                 seen[i] = np.concatenate([seen.get(i, np.empty(0)), found[(found > 0) & (found < 1)]])
             rows.update(self.dense({i: np.concatenate([np.arange(1, points[i]) / points[i], seen[i]])
                                     for i in flagged}))
-            x = _slow_down(x, self.s, points, rows_of)
+            slower = _slow_down(x, self.s, points, rows_of)
+            # checked next: an interval the slow-down changed (or held: the zone) at twice the points it was held at
+            moved = np.flatnonzero((slower[:-1] != x[:-1]) | (slower[1:] != x[1:]))
+            changed = {int(i): 2 * LIMITED_POINTS for i in moved} | {i: 2 * j for i, j in points.items()}
+            x = slower
             timing = _Timing.from_rates(self.s, x, float(timing.knots[0]))
         raise AssertionError("unreachable: the last round returns or raises")
