@@ -28,10 +28,13 @@ densely (:func:`_dense_check`: at a simulation's log samples and :data:`CHECK_PO
 every velocity, acceleration and torque limit, the drive train's friction and the payload included), and where a
 sample passes a limit the grid intervals there are slowed down (:func:`_slow_down`): within each, ṡ² stays
 linear in s and s̈ constant, as Toppra's, and the constraint rows are held, less the margin, at points every
-1/J of the interval (J from the overshoot, ≥ :data:`LIMITED_POINTS`); a backward pass finds the largest ṡ² each
-grid point may have, a forward pass the fastest profile under Toppra's, and the check runs again, J doubled where
-a sample still passes, until none does (at most :data:`ROUNDS` rounds, else a one-line ``ValueError``). The
-returned motion is within every limit at every sample of the check, the final instant included.
+1/J of the interval (J from the overshoot, ≥ :data:`LIMITED_POINTS`), at the path's knots and where the check
+found a limit passed; a backward pass finds the largest ṡ² each grid point may have, a forward pass the fastest
+profile under Toppra's (the intervals it changes around them held at :data:`LIMITED_POINTS` points, less
+:data:`RAMP_MARGIN`), and the check runs again where the timing changed, J doubled where a sample still passes,
+until none does (at most :data:`ROUNDS` rounds, else a one-line ``ValueError``). The returned motion is within
+every limit at every sample of the check, the final instant included; Toppra's grid, its time-optimal profile
+elsewhere and the duration to ≤ 0.1 % are kept.
 """
 
 from __future__ import annotations
@@ -397,8 +400,8 @@ def _dense_check(arm: Arm, train: DriveTrain | None, path: _TimedPath, timing: _
                                   timing.times_of(path.path_knots)]))
     times = t.tolist()
     s, sd, sdd = (np.asarray(f.vector_values(times))[0] for f in (timing.scaling, *timing.derivatives))
-    points = s.tolist()
-    q, d1, d2 = (np.asarray(f.vector_values(points)).T for f in (path.path, *path.derivatives))
+    along = s.tolist()
+    q, d1, d2 = (np.asarray(f.vector_values(along)).T for f in (path.path, *path.derivatives))
     qd, qdd = d1 * sd[:, None], d1 * sdd[:, None] + d2 * (sd**2)[:, None]
     tau = inverse_dynamics(arm, q, qd, qdd, path.gravity, path.payload, drives=train)
     values = np.concatenate([qd, qdd, tau], axis=1)
@@ -422,7 +425,7 @@ def _dense_check(arm: Arm, train: DriveTrain | None, path: _TimedPath, timing: _
 @dataclass(frozen=True)
 class _Rows:
     """The constraint rows of grid intervals at points in them, in each interval's unknowns: ṡ² = X at its start
-    and s̈ = u throughout (ṡ² = X + 2 u (s − s_i)). Each row, held within its bounds less :data:`MARGIN`, bounds u
+    and s̈ = u throughout (ṡ² = X + 2 u (s − s_i)). Each row, held within its bounds less a margin, bounds u
     between two lines in X, ``lower_p + lower_q X ≤ u ≤ upper_p + upper_q X`` (``(I, R)`` each; p = ∓inf where it
     bounds no side), or, at a point where ṡ does not change it, X alone: ``cap`` ``(I,)``, the least such bound."""
 
@@ -443,7 +446,7 @@ def _interval_rows(a: NDArray, b: NDArray, c: NDArray, theta: NDArray, delta: ND
     ``c`` ``(I, J, K)`` at their points ``theta`` ``(I, J)`` (fractions of each interval), within ``lo``, ``hi``
     ``(K,)`` (:func:`_bounds`; a padding point has a = b = c = 0).
 
-    At s = s_i + θ Δ a row a s̈ + b ṡ² + c is (a + 2 Δ θ b) u + b X + c; its bounds are less :data:`MARGIN` of the
+    At s = s_i + θ Δ a row a s̈ + b ṡ² + c is (a + 2 Δ θ b) u + b X + c; its bounds are less ``margin`` of the
     range from c (what standing still needs; 0 for the kinematic rows) to each, so that X = u = 0 holds every row.
     """
     alpha = a + 2 * (delta[:, None] * theta)[:, :, None] * b
@@ -505,9 +508,9 @@ def _slow_down(x: NDArray, s: NDArray, zone: Collection[int],
                rows_of: Callable[[int], tuple[NDArray, NDArray, NDArray, NDArray, float]]) -> NDArray[np.float64]:
     """ṡ² at the grid points ``s`` ``(m,)``: the fastest profile under ``x`` (Toppra's, or the last round's) that
     holds the rows (``rows_of(i)``, :meth:`_Rows.row`) of every grid interval in the ``zone`` (where the dense check
-    found a limit passed: there at dense points) and of every other interval it changes (at its two ends, as
-    Toppra held them). A backward pass bounds ṡ² at each point by what can still slow down in time, a forward pass
-    takes the largest s̈ each interval allows; an interval outside the zone that neither changes stays as it was."""
+    found a limit passed) and of every other interval it changes (the ramps into and out of the zone). A backward
+    pass bounds ṡ² at each point by what can still slow down in time, a forward pass takes the largest s̈ each
+    interval allows; an interval outside the zone that neither has to change stays as it was."""
     delta = np.diff(s)
     most = x.copy()
     for i in range(s.size - 2, -1, -1):
@@ -638,8 +641,9 @@ class _TimedPath:
     def dense(self, theta: dict[int, NDArray],
               margin: float = MARGIN) -> dict[int, tuple[NDArray, NDArray, NDArray, NDArray, float]]:
         """The rows (:meth:`_Rows.row`) of the grid intervals ``theta`` (index → points inside, fractions of the
-        interval) at those points, at its two ends and at the path's knots in it; a one-line ``ValueError``
-        (:func:`_infeasible`) where standing still there passes a limit."""
+        interval) at those points, at its two ends and at the path's knots in it, held within their bounds less
+        ``margin`` (:func:`_interval_rows`); a one-line ``ValueError`` (:func:`_infeasible`) where standing still
+        there passes a limit."""
         s, order, knots = self.s, list(theta), self.path_knots
         inside = [np.unique(np.concatenate([theta[i], (knots[(knots > s[i]) & (knots < s[i + 1])] - s[i])
                                             / (s[i + 1] - s[i])])) for i in order]
