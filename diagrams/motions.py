@@ -276,7 +276,7 @@ def _through(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bo
 def read_segments(arm: Arm, path: str | Path, payload: float = 0.0, gravity: str | ArrayLike | None = None) -> Motion:
     """The motion in a segments file (JSON, :data:`SEGMENTS_FILE_HELP`), every end checked against the limits; its
     ``"fastest"`` segments timed with the ``payload`` (kg) and ``gravity`` the run will have (as
-    :class:`~armlab.diagrams.plant.PlantOptions`' ; ``None``: the arm's)."""
+    :class:`~armlab.diagrams.plant.PlantOptions` takes them; ``None``: the arm's)."""
     path = Path(path)
     data = read_json(path, "--segments")
     if not isinstance(data, dict) or not isinstance(data.get("segments"), list) or not data["segments"]:
