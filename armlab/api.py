@@ -180,14 +180,18 @@ def arc(arm: Arm, through: Sequence[ArrayLike] | None = None, tf: float | None =
 def fastest(arm: Arm, path: Motion, velocity: float | ArrayLike | None = None,
             acceleration: float | ArrayLike | None = None, effort: float | ArrayLike | None = None,
             drives: DriveTrain | None = None, motor_speed: float | ArrayLike | None = None,
-            motor_torque: float | ArrayLike | None = None, grid: int = DEFAULT_GRID, payload: float = 0.0) -> Fastest:
+            motor_torque: float | ArrayLike | None = None, grid: int = DEFAULT_GRID, payload: float = 0.0,
+            gravity: str | ArrayLike | None = None) -> Fastest:
     """The fastest timing of ``path`` (any motion, its geometric path kept; a tool line or arc) within the joint
     limits, by Drake's ``Toppra`` (MATLAB ``contopptraj``, plus torque limits): the arm file's velocity and effort
-    limits unless given, an ``acceleration`` limit if given, motor-side limits through ``drives``. Returns a
-    :class:`~armlab.planning.timing.Fastest`: ``.motion`` (what :func:`simulate` takes), ``.duration`` (s),
-    ``.active`` (the constraint active along the path) and ṡ against its limit curve."""
+    limits unless given, an ``acceleration`` limit if given, motor-side limits through ``drives``; ``payload``
+    (kg) and ``gravity`` as :func:`simulate` takes them (give the run the same). Checked densely afterwards (a
+    simulation's log samples among the points) and slowed down where it passes a limit between Toppra's grid
+    points: within every limit there. Returns a :class:`~armlab.planning.timing.Fastest`: ``.motion`` (what
+    :func:`simulate` takes; its run is checked against these limits too), ``.duration`` (s), ``.active`` (the
+    constraint active along the path) and ṡ against its limit curve."""
     return time_optimal(arm, path, velocity, acceleration, effort, drives, motor_speed, motor_torque, grid,
-                        payload=payload)
+                        gravity=gravity, payload=payload)
 
 
 def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> Motion:
@@ -195,9 +199,10 @@ def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> 
     return motion_of_paper(arm, path, tf)
 
 
-def read_segments(arm: Arm, path: str | Path) -> Motion:
-    """The motion in a segments file (JSON; ``armlab simulate --help`` documents the format)."""
-    return read(arm, path)
+def read_segments(arm: Arm, path: str | Path, payload: float = 0.0, gravity: str | ArrayLike | None = None) -> Motion:
+    """The motion in a segments file (JSON; ``armlab simulate --help`` documents the format); its ``"fastest"``
+    segments timed with the ``payload`` (kg) and ``gravity`` the run will carry (as :func:`simulate` takes them)."""
+    return read(arm, path, payload, gravity)
 
 
 def simulate(

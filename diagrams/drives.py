@@ -2,7 +2,8 @@
 
 * :func:`limit_violations` — every joint's position, velocity and effort limit checked along
   the run, for the reference and the simulated values: one entry per (joint, quantity, source)
-  whose peak passes its limit, with the first time it does.
+  whose peak passes its limit, with the first time it does; and, for a segment timed within limits of
+  its own (:func:`armlab.fastest`), those over its samples (the reference's velocity, acceleration and torque).
 * :func:`divergence` — the first time the tracking error |q − q_d| passes a threshold (an
   open-loop run, or gains too low, leaving the reference), or ``None``.
 * :func:`drive_table`, :func:`write_drives_csv` and :func:`drives_figure` — per joint peak |τ|, RMS τ, peak |q̇| and peak
@@ -50,6 +51,7 @@ def _units(log: SimulationLog) -> dict[str, list[str]]:
     return {
         "position": ["rad" if r else "m" for r in revolute],
         "velocity": ["rad/s" if r else "m/s" for r in revolute],
+        "acceleration": ["rad/s²" if r else "m/s²" for r in revolute],
         "effort": ["N·m" if r else "N" for r in revolute],
     }
 
@@ -69,13 +71,23 @@ def _first_exceeding(t: NDArray, values: NDArray, lower: float, upper: float) ->
 
 
 def limit_violations(log: SimulationLog) -> list[dict[str, Any]]:
-    """Every passed limit: ``[{"joint", "quantity", "source", "peak", "limit", "unit", "first_time"}]``.
+    """Every passed limit: ``[{"joint", "quantity", "source", "peak", "limit", "unit", "first_time", "planned"}]``.
 
     ``quantity`` is ``"position"`` (against [lower, upper]), ``"velocity"`` (|q̇| against the velocity
-    limit) or ``"effort"`` (|τ| against the effort limit); ``source`` is ``"reference"`` (the motion
-    asked for it) or ``"simulated"`` (the arm did it). ``peak`` is the signed extreme value, ``limit``
-    the bound it passes, ``first_time`` the first sample time (s) outside. Empty when none.
+    limit), ``"acceleration"`` (|q̈| of the reference) or ``"effort"`` (|τ| against the effort limit); ``source``
+    is ``"reference"`` (the motion asked for it) or ``"simulated"`` (the arm did it). ``peak`` is the signed
+    extreme value, ``limit`` the bound it passes, ``first_time`` the first sample time (s) outside. The limits
+    are the arm's (``"planned": None``), and for a segment timed within limits of its own
+    (:attr:`~armlab.kinematics.quintic.TrajectorySegment.limits`, :func:`armlab.fastest`'s) those too, over its
+    samples (``"planned"``: the segment's label): the reference's velocity, acceleration and torque, the one the
+    timing asks for with the run's gravity, payload and drive train (the arm's inverse dynamics of the reference,
+    what the controller feeds forward; the feedback's share is the tracking's, checked against the arm's limits).
+    Empty when none.
     """
+    # lazy: armlab --help loads this module but not the trajectories' and the dynamics' (start-up time)
+    from armlab.kinematics.quintic import TrajectorySegment
+    from armlab.kinematics.rnea import inverse_dynamics
+
     units = _units(log)
     out = []
     for i, (name, lim) in enumerate(zip(log.arm.joint_names, log.arm.limits, strict=True)):
@@ -88,19 +100,45 @@ def limit_violations(log: SimulationLog) -> list[dict[str, Any]]:
                        ("velocity", "simulated", log.qd[:, i], -lim.velocity, lim.velocity)]
         if lim.effort is not None:
             checks.append(("effort", "simulated", log.tau[:, i], -lim.effort, lim.effort))
-        for quantity, source, values, lower, upper in checks:
-            found = _first_exceeding(log.t, values, lower, upper)
-            if found is not None:
-                peak, limit, first = found
-                out.append({"joint": name, "quantity": quantity, "source": source, "peak": peak, "limit": limit,
-                            "unit": units[quantity][i], "first_time": first})
+        out += _passed(log.t, checks, name, i, units, None)
+    for k, (label, segment) in enumerate(zip(log.motion.labels, log.motion.segments, strict=True)):
+        planned = segment.limits if isinstance(segment, TrajectorySegment) else None
+        if planned is None:
+            continue
+        rows = log.segment == k
+        # the torques the timing itself asks for (what the controller feeds forward): its limits are the plan's
+        tau = inverse_dynamics(log.arm, log.q_ref[rows], log.qd_ref[rows], log.qdd_ref[rows], log.gravity,
+                               log.payload)
+        for i, name in enumerate(log.arm.joint_names):
+            checks = [(quantity, "reference", values[:, i], -float(limit), float(limit))
+                      for quantity, limit, values in (("velocity", planned.velocity[i], log.qd_ref[rows]),
+                                                      ("acceleration", planned.acceleration[i], log.qdd_ref[rows]),
+                                                      ("effort", planned.effort[i], tau)) if np.isfinite(limit)]
+            out += _passed(log.t[rows], checks, name, i, units, label)
+    return out
+
+
+def _passed(t: NDArray, checks: list[tuple[str, str, NDArray, float, float]], name: str, i: int,
+            units: dict[str, list[str]], planned: str | None) -> list[dict[str, Any]]:
+    """The entries of :func:`limit_violations` for joint ``i`` (``name``) of ``checks`` (quantity, source, values
+    at the times ``t``, lower and upper limit each) that pass their limits; ``planned``: the segment whose
+    planned limits these are, ``None`` for the arm's."""
+    out = []
+    for quantity, source, values, lower, upper in checks:
+        found = _first_exceeding(t, values, lower, upper)
+        if found is not None:
+            peak, limit, first = found
+            out.append({"joint": name, "quantity": quantity, "source": source, "peak": peak, "limit": limit,
+                        "unit": units[quantity][i], "first_time": first, "planned": planned})
     return out
 
 
 def format_violation(v: dict[str, Any]) -> str:
-    """One line for a violation: joint, quantity, peak, limit, first time, each with its unit."""
+    """One line for a violation: joint, quantity, peak, limit (the arm's, or the one its segment's timing was planned
+    within), first time, each with its unit."""
+    which = "" if v.get("planned") is None else f" (the one segment {v['planned']} was timed within)"
     return (f"{v['joint']}: {v['source']} {v['quantity']} reaches {v['peak']:.6g} {v['unit']}, past its limit "
-            f"{v['limit']:.6g} {v['unit']}, first at t = {v['first_time']:.4g} s")
+            f"{v['limit']:.6g} {v['unit']}{which}, first at t = {v['first_time']:.4g} s")
 
 
 def check_tolerance(tolerance: float) -> float:

@@ -41,6 +41,7 @@ if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial, Trajectory
 
     from armlab.models.arm import Arm
+    from armlab.planning.timing import Limits
 
 __all__ = [
     "ConstantRate",
@@ -307,11 +308,14 @@ class TrajectorySegment:
     """A segment given by a Drake ``Trajectory`` of the joints, ``(n, 1)`` values, over its own
     [start_time, end_time]: a ``PiecewisePolynomial`` or a ``PathParameterizedTrajectory`` q(s(t)) (a tool
     path by IK timed by a profile, :mod:`armlab.kinematics.cartesian`; Toppra's timing of a path,
-    :mod:`armlab.planning.timing`). Local time τ = 0 is the trajectory's start time.
+    :mod:`armlab.planning.timing`). Local time τ = 0 is the trajectory's start time. ``limits``: the joint
+    limits the timing was planned within (:func:`armlab.planning.timing.fastest`'s), which a simulated run of it
+    is checked against too (:func:`armlab.diagrams.drives.limit_violations`); ``None``: none beyond the arm's.
     """
 
     trajectory: Trajectory
     label: str = ""
+    limits: Limits | None = None
 
     def __post_init__(self) -> None:
         name = f"segment {self.label}" if self.label else "trajectory segment"

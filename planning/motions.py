@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
@@ -71,7 +72,7 @@ A segments file is JSON: {"deg": false, "segments": [SEGMENT, ...]}. Each SEGMEN
            "to" segment (the straight joint line) or a tool path as fast as the limits allow, rest to
            rest (Drake's Toppra, as armlab plan --fastest), without "tf": the joint limits are the
            arm's file's and its drive train's, or "velocity", "acceleration" and "effort" (one, or
-           one per joint).
+           one per joint); the payload and gravity are the run's (--payload, --gravity).
 With "deg": true, revolute joint values and rates are in degrees (prismatic ones stay m)."""
 
 
@@ -199,9 +200,9 @@ def _tool_path(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: 
 
 
 def _along(arm: Arm, spec: Mapping[str, Any], path: ToolPath, q0: NDArray[np.float64], deg: bool, label: str,
-           where: str) -> Motion:
+           where: str, load: _Load) -> Motion:
     """The tool along ``path`` from ``q0``: IK along it, timed by the segment's profile, or as fast as the limits
-    allow (``"profile": "fastest"``, :func:`_fastest` of the untimed joint path)."""
+    allow with ``load`` (``"profile": "fastest"``, :func:`_fastest` of the untimed joint path)."""
     samples = spec.get("samples", DEFAULT_SAMPLES)
     try:
         if spec.get("profile") == "fastest":
@@ -214,13 +215,23 @@ def _along(arm: Arm, spec: Mapping[str, Any], path: ToolPath, q0: NDArray[np.flo
             return tool_motion_along(arm, path, profile=profile, q0=q0, samples=samples, label=label)
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
-    return _fastest(arm, spec, joints, deg, label, where, tool_path_text(arm, path))
+    return _fastest(arm, spec, joints, deg, label, where, tool_path_text(arm, path), load)
+
+
+@dataclass(frozen=True)
+class _Load:
+    """What a run carries that a time-optimal segment is timed with, as the run's plant has it: the ``payload``
+    (kg, at the tool) and ``gravity`` (``None``: the arm's; :class:`~armlab.models.plant.PlantOptions`)."""
+
+    payload: float = 0.0
+    gravity: str | ArrayLike | None = None
 
 
 def _fastest(arm: Arm, spec: Mapping[str, Any], path: Trajectory, deg: bool, label: str, where: str,
-             what: str) -> Motion:
+             what: str, load: _Load) -> Motion:
     """The joint path ``path`` q(s) (``what`` it is, for the description) timed as fast as the limits allow
-    (:func:`armlab.planning.timing.fastest`), the segment's own joint limits where it gives them."""
+    (:func:`armlab.planning.timing.fastest`) with the ``load`` the run carries, the segment's own joint limits
+    where it gives them."""
     # lazy: Drake's Toppra, only for a time-optimal segment
     from armlab.kinematics.quintic import TrajectorySegment
     from armlab.planning.timing import fastest
@@ -231,11 +242,12 @@ def _fastest(arm: Arm, spec: Mapping[str, Any], path: Trajectory, deg: bool, lab
     velocity, acceleration, effort = (_rates(arm, spec, key, deg and key != "effort", where)
                                       for key in ("velocity", "acceleration", "effort"))
     try:
-        best = fastest(arm, path, velocity, acceleration, effort)
+        best = fastest(arm, path, velocity, acceleration, effort, gravity=load.gravity, payload=load.payload)
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
     timing = cast(TrajectorySegment, best.motion.segments[0])  # fastest's motion: one trajectory segment
-    return Motion((TrajectorySegment(timing.trajectory, label),), f"{what}, time-optimal timing (Toppra)")
+    return Motion((TrajectorySegment(timing.trajectory, label, timing.limits),),
+                  f"{what}, time-optimal timing (Toppra)")
 
 
 def _through(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bool, label: str,
@@ -261,8 +273,10 @@ def _through(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], deg: bo
                   motion.description)
 
 
-def read_segments(arm: Arm, path: str | Path) -> Motion:
-    """The motion in a segments file (JSON, :data:`SEGMENTS_FILE_HELP`), every end checked against the limits."""
+def read_segments(arm: Arm, path: str | Path, payload: float = 0.0, gravity: str | ArrayLike | None = None) -> Motion:
+    """The motion in a segments file (JSON, :data:`SEGMENTS_FILE_HELP`), every end checked against the limits; its
+    ``"fastest"`` segments timed with the ``payload`` (kg) and ``gravity`` the run will have (as
+    :class:`~armlab.models.plant.PlantOptions` takes them; ``None``: the arm's)."""
     path = Path(path)
     data = read_json(path, "--segments")
     if not isinstance(data, dict) or not isinstance(data.get("segments"), list) or not data["segments"]:
@@ -270,14 +284,18 @@ def read_segments(arm: Arm, path: str | Path) -> Motion:
     deg = data.get("deg", False)
     if not isinstance(deg, bool):
         raise ValueError(f"--segments {path}: \"deg\" = {json.dumps(deg)} must be true or false")
-    return parse_segments(arm, data["segments"], deg, f"--segments {path.name}", f"segments from {path.name}")
+    return parse_segments(arm, data["segments"], deg, f"--segments {path.name}", f"segments from {path.name}",
+                          payload=payload, gravity=gravity)
 
 
 def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, description: str,
-                   start: NDArray[np.float64] | None = None) -> Motion:
+                   start: NDArray[np.float64] | None = None, payload: float = 0.0,
+                   gravity: str | ArrayLike | None = None) -> Motion:
     """The motion of a list of SEGMENT objects (:data:`SEGMENTS_FILE_HELP`), read from JSON; ``where_file`` starts
     every message (``"--segments f.json"``); ``start`` (n,): where a first segment without a start begins (else it
-    needs one). Every end is checked against the limits."""
+    needs one); ``payload`` (kg), ``gravity``: what the run carries, the ``"fastest"`` segments' timing too. Every
+    end is checked against the limits."""
+    load = _Load(payload, gravity)
     if not isinstance(specs, list) or not specs:
         raise ValueError(f"{where_file}: expected a non-empty list of segments")
     segments: list[Segment] = []
@@ -307,7 +325,8 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
                 raise ValueError(f"{where}: the first segment needs \"from\" or \"from_point\"")
             q0 = previous
         if tool_path:
-            segments.extend(_along(arm, spec, _tool_path(arm, spec, q0, deg, where), q0, deg, label, where).segments)
+            segments.extend(_along(arm, spec, _tool_path(arm, spec, q0, deg, where), q0, deg, label, where,
+                                   load).segments)
             continue
         if "through" in spec:
             if "profile" in spec:
@@ -325,7 +344,7 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
 
             # the straight joint line q(s) = q0 + s (qf − q0), s in [0, 1]
             line = PiecewisePolynomial.FirstOrderHold([0.0, 1.0], np.stack([q0, qf], axis=1).tolist())
-            segments.extend(_fastest(arm, spec, line, deg, label, where, "the straight joint line").segments)
+            segments.extend(_fastest(arm, spec, line, deg, label, where, "the straight joint line", load).segments)
             continue
         if spec.get("profile") == "trapezoid" and qf is not None:
             try:

@@ -415,6 +415,9 @@ def test_cli_plan_fastest_as_the_drives_allow(box):
     (["plan", "rr", "line", "--from", "0.5,nan", "--to", "0.3,0.5", "--tf", "2"], "nan"),
     (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--fastest", "--effort", "0.1"],
      "joint1 torque needs"),
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--payload", "-1"], "--payload"),
+    (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--strict-limits"],
+     "--strict-limits checks the simulated run: give --simulate DIR too"),
 ])
 def test_cli_plan_bad_input(box, argv, fragment):
     from contract import check
@@ -484,3 +487,214 @@ def test_segments_file_takes_fastest_segments(tmp_path):
         with pytest.raises(ValueError) as error:
             read_segments(arm, path)
         assert fragment in str(error.value) and "\n" not in str(error.value), error.value
+
+
+# ----------------------------------------------------------- issue 29: a time-optimal timing that keeps its limits
+#: The UR5 standing upright (elbow straight: a singular start) and the limits of issue 29's line from there.
+UR5_UPRIGHT = np.array([0.0, -np.pi / 2, 0.0, -np.pi / 2, 0.0, 0.0])
+UR5_EFFORT = np.array([150.0, 150.0, 150.0, 28.0, 28.0, 28.0])
+#: The Panda's ready pose and Franka's joint acceleration limits (rad/s², its data sheet).
+PANDA_READY = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
+PANDA_ACCELERATION = np.array([15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0])
+
+
+@pytest.fixture(scope="module")
+def ur5_line():
+    arm = get_arm("ur5")
+    return arm, armlab.line(arm, None, [0.3, 0.3, 0.2], tf=2.0, q0=UR5_UPRIGHT)
+
+
+def _toppra_only(monkeypatch):
+    """``fastest`` as it was before issue 29: Toppra's timing as it comes, without the dense check and slow-down."""
+    from pydrake.trajectories import PathParameterizedTrajectory
+
+    from armlab.kinematics import timing
+
+    def within(self, arm, train, limits, toppra):
+        segment = TrajectorySegment(PathParameterizedTrajectory(self.path, toppra.scaling), "time-optimal", limits)
+        return segment, toppra, 0
+
+    monkeypatch.setattr(timing._TimedPath, "within", within)
+
+
+def _drake_torques(arm, run, payload):
+    """The torques the run's reference needs at every logged sample, by Drake's ``CalcInverseDynamics`` of the arm's
+    plant with the payload (gravity a force element): independent of armlab's Newton–Euler, which fastest uses."""
+    from pydrake.multibody.tree import MultibodyForces
+
+    from armlab.models.plant import PlantOptions, make_plant
+
+    plant = make_plant(arm, PlantOptions(payload=payload, ideal_drives=True))
+    context = plant.CreateDefaultContext()
+    forces = MultibodyForces(plant)
+    out = []
+    for q, qd, qdd in zip(run.q_ref, run.qd_ref, run.qdd_ref, strict=True):
+        plant.SetPositions(context, q)
+        plant.SetVelocities(context, qd)
+        plant.CalcForceElementsContribution(context, forces)
+        out.append(plant.CalcInverseDynamics(context, qdd, forces))
+    return np.array(out)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("payload", [0.0, 5.0])
+def test_fastest_keeps_the_ur5_torques_within_their_limits(ur5_line, payload, monkeypatch):
+    """Issue 29's UR5 line: Toppra's 500 points miss the torque's peaks between them (and at the end), so its timing
+    passes joint 2's 150 N·m; fastest's slows those intervals down, and every simulated sample is within the
+    limits — the simulated torques (the run's own check, against the limits the timing was planned within) and the
+    reference's by Drake's inverse dynamics."""
+    arm, line = ur5_line
+    best = fastest(arm, line, velocity=np.pi, effort=UR5_EFFORT, payload=payload)
+    assert best.slowed > 0
+    run = armlab.simulate(arm, best.motion, payload=payload)
+    assert run.violations == []  # UR5's file has no limits: the planned ones are what is checked
+    assert np.all(np.abs(_drake_torques(arm, run, payload)) <= UR5_EFFORT * (1 + 1e-9))
+    assert np.abs(run.qd_ref).max() <= np.pi * (1 + 1e-9)
+    with monkeypatch.context() as patch:
+        _toppra_only(patch)
+        toppra = fastest(arm, line, velocity=np.pi, effort=UR5_EFFORT, payload=payload)
+    assert toppra.duration < best.duration < toppra.duration * 1.005  # the slow-down costs < 0.5 %
+    raw = armlab.simulate(arm, toppra.motion, payload=payload)
+    assert np.max(np.abs(_drake_torques(arm, raw, payload)) / UR5_EFFORT) > 1.015  # 2.4 % (0 kg), 1.9 % (5 kg)
+    assert any(v["quantity"] == "effort" and v["planned"] == "time-optimal" for v in raw.violations)
+
+
+@pytest.mark.slow
+def test_fastest_keeps_a_panda_line_within_its_acceleration_limits(monkeypatch):
+    """A Panda line from its ready pose: q''(s) of joint 3 changes sign within one grid interval near its end, and
+    Toppra's timing passes its 10 rad/s² by half between grid points; fastest's does not, at any simulated
+    sample (the reference accelerations the simulation logs)."""
+    arm = get_arm("panda")
+    line = armlab.line(arm, None, [0.4, -0.3, 0.5], tf=2.0, q0=PANDA_READY)
+    best = fastest(arm, line, acceleration=PANDA_ACCELERATION)
+    run = armlab.simulate(arm, best.motion)
+    assert run.violations == []
+    assert np.all(np.abs(run.qdd_ref) <= PANDA_ACCELERATION * (1 + 1e-9))
+    with monkeypatch.context() as patch:
+        _toppra_only(patch)
+        toppra = fastest(arm, line, acceleration=PANDA_ACCELERATION)
+    raw = armlab.simulate(arm, toppra.motion)
+    assert np.max(np.abs(raw.qdd_ref) / PANDA_ACCELERATION) > 1.4  # 1.53
+    assert any(v["quantity"] == "acceleration" and v["joint"] == "joint3" for v in raw.violations)
+
+
+def test_fastest_keeps_the_final_instant_within_the_limits(rr_line, monkeypatch):
+    """Toppra holds no constraint at its last grid point (its forward pass repeats the one before): there rr's
+    line stopped with 9.02 N·m against 9 at its last sample; fastest's stays within it."""
+    arm, line = rr_line
+    best = fastest(arm, line, effort=[9.0, 3.0])
+    run = armlab.simulate(arm, best.motion)
+    assert run.violations == [] and abs(run.tau[-1, 0]) <= 9.0
+    with monkeypatch.context() as patch:
+        _toppra_only(patch)
+        toppra = fastest(arm, line, effort=[9.0, 3.0])
+    raw = armlab.simulate(arm, toppra.motion)
+    assert abs(raw.tau[-1, 0]) > 9.01 and np.abs(raw.tau[:-1, 0]).max() < abs(raw.tau[-1, 0])  # the end: the worst
+
+
+def test_fastest_says_when_it_cannot_keep_the_limits(ur5_line, monkeypatch):
+    """No round left to slow down in: a one-line ValueError naming the worst sample, its limit and the time."""
+    from armlab.kinematics import timing
+
+    arm, line = ur5_line
+    monkeypatch.setattr(timing, "ROUNDS", 0)
+    with pytest.raises(ValueError, match=r"^the timing cannot be kept within the limits on a grid of 500 points: "
+                                         r"joint2 torque -?1\d\d\.\d+ N·m against its limit 150 N·m at t = [\d.]+ s "
+                                         r"after 0 rounds of slowing down; give a finer grid$"):
+        fastest(arm, line, velocity=np.pi, effort=UR5_EFFORT)
+
+
+def _allowed(x, rows, end, delta):
+    """[least, largest] s̈ from ṡ² = x (an array) keeping every one of ``rows`` (α, b, c, low, high per row: the row
+    (α u + b x + c) within [low, high]) and the end ṡ² x + 2 Δ u in [0, ``end``], by the rows directly."""
+    alpha, b, c, low, high = rows
+    x = np.atleast_1d(x)[:, None]
+    one, two = (low - b * x - c) / alpha, (high - b * x - c) / alpha
+    least = np.maximum(np.minimum(one, two).max(axis=1), -x[:, 0] / (2 * delta))
+    largest = np.minimum(np.maximum(one, two).min(axis=1), (end - x[:, 0]) / (2 * delta))
+    return least, largest
+
+
+def test_slow_down_steps_against_a_direct_evaluation(rng):
+    """One grid interval's two steps — the largest ṡ² at its start from which some s̈ keeps every row and ends at or
+    under a given ṡ², the largest end from a given start — against the rows evaluated directly: the s̈ interval
+    each row allows at a start ṡ² x, intersected, on a fine grid of x."""
+    from armlab.planning.timing import MARGIN, _fastest_end, _interval_rows, _largest_start
+
+    J, K, delta = 5, 4, 0.02
+    theta = np.linspace(0.0, 1.0, J)
+    lo, hi = -np.ones(K), np.ones(K)
+    for _ in range(8):
+        a, b, c = rng.normal(size=(J, K)), rng.normal(size=(J, K)), 0.2 * rng.normal(size=(J, K))
+        rows = _interval_rows(a[None], b[None], c[None], theta[None], np.array([delta]), lo, hi).row(0)
+        end, cap = rng.uniform(0.1, 2.0), rng.uniform(0.5, 3.0)
+        # the rows' bounds less the margin of the range from c to each bound (what _interval_rows documents)
+        high, low = hi - MARGIN * (hi - np.maximum(c, 0)), lo + MARGIN * (np.minimum(c, 0) - lo)
+        direct = ((a + 2 * delta * theta[:, None] * b).ravel(), b.ravel(), c.ravel(), low.ravel(), high.ravel())
+        x = _largest_start(rows, end, cap, delta)
+        least, largest = _allowed(x, direct, end, delta)
+        assert 0.0 <= x <= cap and largest[0] >= least[0] - 1e-9 * max(1.0, abs(largest[0]))
+        grid = np.linspace(0.0, cap, 20001)
+        feasible = grid[np.greater_equal(*_allowed(grid, direct, end, delta)[::-1])]
+        assert feasible.max() <= x * (1 + 1e-9) + 1e-12  # none beyond it
+        if x < cap:
+            assert x - feasible.max() <= cap / 20000  # and the grid's last feasible point is within a step of it
+        y = _fastest_end(rows, x, end, delta)
+        np.testing.assert_allclose(y, min(end, max(0.0, x + 2 * delta * largest[0])), rtol=1e-12, atol=1e-15)
+
+
+def test_a_run_is_checked_against_the_limits_its_timing_was_planned_within(rr_line, capsys):
+    """Timed without a payload, run with one: the run passes the effort limits fastest timed it within (not the
+    arm's 100 N·m), and says so — in run.violations and repr, and a warning line each on the command line, exit 3
+    with --strict-limits."""
+    from armlab.cli.simulate import run_status
+
+    arm, line = rr_line
+    best = fastest(arm, line, effort=[9.0, 3.0])
+    run = armlab.simulate(arm, best.motion, payload=0.5)
+    assert run.violations and all(v["planned"] == "time-optimal" and v["quantity"] == "effort"
+                                  for v in run.violations)
+    assert sorted(v["joint"] for v in run.violations) == ["joint1", "joint2"]
+    np.testing.assert_allclose(sorted(abs(v["limit"]) for v in run.violations), [3.0, 9.0], rtol=1e-15)
+    assert "2 limit violation(s)" in repr(run)
+    assert run_status(arm, run, strict_limits=False) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and all(line.startswith("armlab: warning: rr joint") and "past its limit" in line
+                                 and "(the one segment time-optimal was timed within)" in line for line in err)
+    assert run_status(arm, run, strict_limits=True) == 3
+    assert capsys.readouterr().err.splitlines()[-1] == "armlab: error: 2 limit violation(s) (--strict-limits)"
+    assert armlab.simulate(arm, fastest(arm, line, effort=[9.0, 3.0], payload=0.5).motion, payload=0.5).violations == []
+
+
+@pytest.mark.slow
+def test_plan_and_a_segments_file_time_fastest_with_the_payload(box):
+    """``plan --fastest --payload`` and a segments file's "fastest" segment run with ``simulate --payload`` are timed
+    with that payload, as armlab.fastest(…, payload=…) is: the same duration, and their runs within the limits."""
+    from contract import check
+
+    arm = get_arm("rr")
+    line = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0, branch=0)
+    best = fastest(arm, line, effort=[9.0, 3.0], payload=0.5)
+    assert best.duration > 2 * fastest(arm, line, effort=[9.0, 3.0]).duration  # the payload matters
+    outcome = box.main("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--branch", "0",
+                       "--fastest", "--effort", "9,3", "--payload", "0.5", "--json", "--simulate", "run",
+                       "--strict-limits")
+    check(outcome, 0)
+    summary = json.loads(outcome.out)
+    np.testing.assert_allclose(summary["fastest"]["duration"], best.duration, rtol=1e-9)
+    np.testing.assert_allclose(summary["payload_kg"], 0.5, rtol=1e-15)
+    assert summary["simulation"]["limit_violations"] == []
+    logged = json.loads((box.cwd / "run" / "summary.json").read_text())
+    np.testing.assert_allclose(logged["payload_kg"], 0.5, rtol=1e-15)
+    assert logged["limit_violations"] == []
+    box.write("seg.json", json.dumps({"segments": [{"from_point": [0.5, 0.3], "from_branch": 0,
+                                                    "line_to": [0.3, 0.5], "profile": "fastest", "effort": [9, 3]}]}))
+    from armlab.planning.motions import read_segments
+
+    # the file's line starts from its point's IK, armlab.line's from the branch: the same path to round-off
+    np.testing.assert_allclose(read_segments(arm, box.cwd / "seg.json", payload=0.5).duration, best.duration,
+                               rtol=1e-7)
+    check(box.main("simulate", "rr", "--segments", "seg.json", "--payload", "0.5", "--strict-limits", "--out", "s"), 0)
+    logged = json.loads((box.cwd / "s" / "summary.json").read_text())
+    np.testing.assert_allclose(logged["duration"], best.duration, rtol=1e-7)
+    assert logged["limit_violations"] == []

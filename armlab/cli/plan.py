@@ -3,7 +3,9 @@
 A thin layer over :func:`armlab.line`, :func:`armlab.arc` and :func:`armlab.fastest` (:mod:`armlab.api`): it
 parses the points, prints the plan (duration, the joints at both ends and, with ``--fastest``, the minimum duration
 and the constraint active along the path), may plot ṡ against its limit curve (``--plot``) and simulate it
-(``--simulate DIR``, :func:`armlab.simulate`). ``armlab simulate --segments`` runs the same paths from a file.
+(``--simulate DIR``, :func:`armlab.simulate`), with a ``--payload`` at the tool (timed with it too), warning of
+every limit the run passes (the ones the timing was planned within among them; exit 3 with ``--strict-limits``,
+as ``armlab simulate``). ``armlab simulate --segments`` runs the same paths from a file.
 """
 
 from __future__ import annotations
@@ -17,10 +19,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from armlab.cli.args import add_arm, add_drives, arm_of
+from armlab.cli.simulate import run_status
 from armlab.drives.read import with_drives
 from armlab.files import write_file
 from armlab.kinematics.cartesian import DEFAULT_SAMPLES, PROFILES
-from armlab.limits import per_joint
+from armlab.limits import allowed, per_joint
 from armlab.presentation.figures import DPI
 from armlab.values import joint_values, parse_floats
 
@@ -78,12 +81,16 @@ def _plot(best: Fastest, arm: Arm, path: str) -> None:
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
+    # lazy: the plant's module (armlab --help stays fast)
+    from armlab.models.plant import check_payload
+
     arm = with_drives(arm_of(args), args.drives)
+    payload = check_payload(args.payload, "--payload")
     motion = _motion(arm, args)
     t = np.linspace(0.0, motion.duration, 4 * args.samples + 1)
     q = motion.evaluate(t, 1)[0]
     summary: dict[str, Any] = {"arm": arm.name, "motion": motion.description, "duration": motion.duration,
-                               "q_start": q[0].tolist(), "q_end": q[-1].tolist(),
+                               "payload_kg": payload, "q_start": q[0].tolist(), "q_end": q[-1].tolist(),
                                "q_min": q.min(axis=0).tolist(), "q_max": q.max(axis=0).tolist()}
     if args.fastest:
         # lazy: Drake's Toppra
@@ -92,29 +99,36 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         best = fastest(arm, motion, _limits(arm, args.velocity, "--velocity"),
                        _limits(arm, args.acceleration, "--acceleration"), _limits(arm, args.effort, "--effort"),
                        motor_speed=_limits(arm, args.motor_speed, "--motor-speed"),
-                       motor_torque=_limits(arm, args.motor_torque, "--motor-torque"), grid=args.grid)
+                       motor_torque=_limits(arm, args.motor_torque, "--motor-torque"), grid=args.grid,
+                       payload=payload)
         summary["fastest"] = {"duration": best.duration, "active_fraction": best.active_fraction,
                               "most_active": best.most_active,
                               "velocity_limits": best.limits.velocity.tolist(),
                               "acceleration_limits": best.limits.acceleration.tolist(),
                               "effort_limits": best.limits.effort.tolist(),
-                              "friction_kept_free": best.friction.tolist()}
+                              "friction_kept_free": best.friction.tolist(),
+                              "slowed_intervals": best.slowed}
         if args.plot:
             _plot(best, arm, args.plot)
         motion = best.motion
     elif args.plot:
         raise ValueError("--plot draws the time-optimal path rate: give --fastest too")
+    status = 0
     if args.simulate:
         # lazy: the simulation loads Drake's systems
         from armlab.api import simulate
 
-        run = simulate(arm, motion)
+        run = simulate(arm, motion, payload=payload)
         summary["simulation"] = {"out": args.simulate, "written": run.save(args.simulate),
                                  "max_tracking_error": run.summary["max_tracking_error"],
-                                 "max_abs_torque": run.summary["max_abs_torque"]}
+                                 "max_abs_torque": run.summary["max_abs_torque"],
+                                 "limit_violations": run.violations}
+        status = run_status(arm, run, args.strict_limits)  # its warnings on stderr, before the plan on stdout
+    elif args.strict_limits:
+        raise ValueError("--strict-limits checks the simulated run: give --simulate DIR too")
     if args.json:
         print(json.dumps(summary, indent=2, default=lambda v: None))
-        return 0
+        return status
     print(f"{arm.name}: {summary['motion']}: {summary['duration']:.6g} s")
     print("joints from  " + "  ".join(f"{v:+.6f}" for v in summary["q_start"]))
     print("joints to    " + "  ".join(f"{v:+.6f}" for v in summary["q_end"]))
@@ -122,6 +136,9 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         f = summary["fastest"]
         print(f"time-optimal (Toppra, {args.grid} grid points): {f['duration']:.6g} s; a limit is active on "
               f"{f['active_fraction']:.0%} of the path, mostly {f['most_active'] or 'none'}")
+        if f["slowed_intervals"]:
+            print(f"  slowed down on {f['slowed_intervals']} grid interval(s), where Toppra's timing passed a limit "
+                  "between its grid points")
         if any(f["friction_kept_free"]):
             print("  the drives' friction kept free of the effort limits: " + ", ".join(
                 f"{name} {v:.4g}" for name, v in zip(arm.joint_names, f["friction_kept_free"], strict=True)))
@@ -129,7 +146,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         sim = summary["simulation"]
         print(f"simulated{' the time-optimal motion' if args.fastest else ''}: max tracking error "
               f"{max(sim['max_tracking_error']):.3g}; wrote {args.simulate}: {' '.join(sim['written'])}")
-    return 0
+    return status
 
 
 def register(subparsers: Any) -> None:
@@ -165,6 +182,12 @@ def register(subparsers: Any) -> None:
     p.add_argument("--plot", help="--fastest: write ṡ against its limit curve to this .png/.svg")
     p.add_argument("--simulate", metavar="DIR", help="simulate the plan (the time-optimal one with --fastest) "
                    "through paper 000's Fig. 6 diagram and write the run into DIR, as armlab simulate does")
+    p.add_argument("--payload", type=float, default=0.0, metavar="KG",
+                   help=f"point mass at the tool point, kg: the simulated run carries it and --fastest times the "
+                        f"path with it (default 0; {allowed('payload')})")
+    p.add_argument("--strict-limits", action="store_true",
+                   help="--simulate: exit with status 3 when the run passes a limit (the arm's, or one --fastest "
+                        "timed it within) or a pair collides (always a warning on stderr)")
     p.add_argument("--deg", action="store_true", help="--q0 and --angle in degrees")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_plan)

@@ -18,6 +18,7 @@ import textwrap
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from armlab.cli.args import add_arm, add_drives, arm_of
 from armlab.cli.collide import SCENE_HELP
@@ -29,10 +30,11 @@ from armlab.planning.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_mo
 from armlab.values import joint_values, parse_floats
 
 if TYPE_CHECKING:
+    from armlab.diagrams.run import Run
     from armlab.kinematics.quintic import Motion
     from armlab.models.arm import Arm
 
-__all__ = ["cmd_diagram", "cmd_simulate", "motion_from_args", "register"]
+__all__ = ["cmd_diagram", "cmd_simulate", "motion_from_args", "register", "run_status"]
 
 _MOTION_HELP = (
     "Without motion options: the arm's paper motion — rr: paper 000 Fig. 3 (-38°,98° → 62°,68° in 2 s); "
@@ -49,8 +51,10 @@ def _gains(text: str | None, default: float, name: str) -> float | list[float]:
     return values[0] if len(values) == 1 else values
 
 
-def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
-    """The motion the options give: ``--segments``, ``--from``/``--to``, or the paper motion (``--path``, ``--tf``)."""
+def motion_from_args(arm: Arm, args: argparse.Namespace, payload: float = 0.0,
+                     gravity: str | ArrayLike | None = None) -> Motion:
+    """The motion the options give: ``--segments`` (its ``"fastest"`` segments timed with the run's ``payload``, kg,
+    and ``gravity``), ``--from``/``--to``, or the paper motion (``--path``, ``--tf``)."""
     tf = None
     if args.tf is not None:
         values = parse_floats(args.tf, "--tf") if isinstance(args.tf, str) else [args.tf]
@@ -60,7 +64,7 @@ def motion_from_args(arm: Arm, args: argparse.Namespace) -> Motion:
     if args.segments is not None:
         if args.q_from or args.q_to or args.path or tf is not None:
             raise ValueError("--segments gives the whole motion: do not combine it with --from, --to, --path or --tf")
-        return read_segments(arm, args.segments)
+        return read_segments(arm, args.segments, payload, gravity)
     if args.q_from or args.q_to:
         if args.path:
             raise ValueError("--path is a paper motion: do not combine it with --from/--to")
@@ -105,14 +109,14 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     ``--strict-limits``."""
     # lazy: armlab --help loads armlab.cli.simulate but not this (start-up time)
     from armlab.api import simulate
-    from armlab.collision.clearance import as_scene, format_collision
+    from armlab.collision.clearance import as_scene
     from armlab.diagrams.build import check_log_period
     from armlab.presentation.output import run_folder
 
     arm = with_drives(arm_of(args), args.drives)
     arm.require_dynamics("armlab simulate")  # before anything is printed (the plant checks it again)
-    motion = motion_from_args(arm, args)
     setup = _setup(arm, args)
+    motion = motion_from_args(arm, args, setup["payload"], setup["gravity"])
     log_period = check_log_period(args.dt, min(m.duration for _, m in motion.runs()))
     tolerance = check_tolerance(args.divergence_tolerance)
     scene = as_scene(args.scene)
@@ -130,19 +134,29 @@ def cmd_simulate(args: argparse.Namespace) -> int:
           + ", ".join(f"{v:.3g} {u}" for v, u in zip(summary["max_tracking_error"], summary["joint_units"],
                                                       strict=True)))
     print(f"wrote {args.out}: {' '.join(written)}")
+    return run_status(arm, run, args.strict_limits)
+
+
+def run_status(arm: Arm, run: Run, strict_limits: bool) -> int:
+    """What a simulated ``run`` of ``arm`` tells its command: a warning line on stderr for every limit it passed (the
+    arm's, and those its motion was timed within) and every pair that collided; the exit status: 3 when it
+    diverged (an error line), or passed a limit or collided with ``strict_limits``; else 0."""
+    # lazy: armlab --help loads armlab.cli.simulate but not the collision checks (start-up time)
+    from armlab.collision.clearance import format_collision
+
     for violation in run.violations:
         print(f"armlab: warning: {arm.name} {format_violation(violation)}", file=sys.stderr)
     for collision in run.collisions:
         print(f"armlab: warning: {arm.name} {format_collision(collision)}", file=sys.stderr)
     if run.diverged:
-        d = summary["divergence"]
+        d = run.summary["divergence"]
         print(f"armlab: error: the run diverged: {d['joint']} left the reference at t = {d['time']:.4g} s "
               f"(tolerance {d['tolerance']:g} {d['unit']}; its largest tracking error {d['max_error']:.3g} "
               f"{d['unit']}); "
               f"{'raise --kp/--kd' if run.log.mode == 'controller' else 'open-loop inverse dynamics does not '
                  'correct errors: use --mode controller'}", file=sys.stderr)
         return 3
-    if (run.violations or run.collisions) and args.strict_limits:
+    if (run.violations or run.collisions) and strict_limits:
         passed = [f"{count} {what}" for count, what in ((len(run.violations), "limit violation(s)"),
                                                         (len(run.collisions), "collision(s)")) if count]
         print(f"armlab: error: {' and '.join(passed)} (--strict-limits)", file=sys.stderr)
