@@ -40,7 +40,7 @@ from armlab.controllers.inverse_dynamics import (
     add_inverse_dynamics_controller,
     gain_vector,
 )
-from armlab.kinematics.quintic import Motion, to_trajectory
+from armlab.kinematics.quintic import DEFAULT_LOG_PERIOD, Motion, to_trajectory
 from armlab.models.plant import add_arm_plant
 
 if TYPE_CHECKING:
@@ -52,8 +52,6 @@ if TYPE_CHECKING:
 
 __all__ = ["DEFAULT_LOG_PERIOD", "MODES", "SAMPLINGS", "RunDiagram", "build_diagram", "check_log_period"]
 
-#: Default period (s) of the loggers: 1 ms.
-DEFAULT_LOG_PERIOD = 1e-3
 #: Diagram modes: closed-loop computed torque, or open-loop inverse dynamics (SimMechanics' mode).
 MODES = ("controller", "inverse_dynamics")
 #: How the loggers sample: from the integrator's dense output after the run, or at periodic publish events.

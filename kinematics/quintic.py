@@ -44,6 +44,7 @@ if TYPE_CHECKING:
     from armlab.planning.timing import Limits
 
 __all__ = [
+    "DEFAULT_LOG_PERIOD",
     "ConstantRate",
     "Motion",
     "PolynomialSegment",
@@ -58,6 +59,9 @@ __all__ = [
     "to_trajectory",
 ]
 
+#: Default period (s) at which a run samples a motion (its loggers, :mod:`armlab.diagrams.build`) and at which
+#: :func:`armlab.planning.timing.fastest` checks a timing: 1 ms.
+DEFAULT_LOG_PERIOD = 1e-3
 #: A trajectory segment's limits are checked at its knots and this many points between each two.
 KNOT_SAMPLES = 8
 

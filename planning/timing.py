@@ -48,8 +48,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.bounds import above, below, outside, tolerated
-from armlab.diagrams.build import DEFAULT_LOG_PERIOD
-from armlab.kinematics.quintic import Motion, TrajectorySegment, to_trajectory
+from armlab.kinematics.quintic import DEFAULT_LOG_PERIOD, Motion, TrajectorySegment, to_trajectory
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.limits import check_positive, per_joint
 from armlab.models.plant import PlantOptions, make_plant
@@ -63,7 +62,7 @@ if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
     from armlab.models.arm import Arm
 
-__all__ = ["ACTIVE_TOL", "DEFAULT_GRID", "MARGIN", "SLACK", "Fastest", "Limits", "fastest", "limit_curve"]
+__all__ = ["ACTIVE_TOL", "CHECK_MARGIN", "DEFAULT_GRID", "MARGIN", "Fastest", "Limits", "fastest", "limit_curve"]
 
 #: Grid points of s by default.
 DEFAULT_GRID = 500
@@ -76,8 +75,9 @@ ACTIVE_TOL = 2e-3
 #: Toppra's limits are the given ones less it, and a slowed-down interval holds its constraints less it at its
 #: points, the room for the motion between them. Costs ≤ 0.1 % of the duration (≤ ACTIVE_TOL: still active).
 MARGIN = 1e-3
-#: The relative slack of the dense check: a value beyond ``limit · (1 + SLACK)`` passes its limit (:func:`_beyond`).
-SLACK = 1e-9
+#: The fraction of each limit the timed motion keeps free at every sample of the dense check (:func:`_beyond`): room
+#: for what a run adds to the reference, a controller's feedback (4e-5 of the UR5 line's peak torque in the tests).
+CHECK_MARGIN = MARGIN / 2
 #: Times per grid interval (uniform in time) the dense check samples, beside the simulation's log samples.
 CHECK_POINTS = 4
 #: Points per grid interval at which a slowed-down interval holds its constraints, at least and at most.
@@ -321,9 +321,9 @@ def _tightened(limits: Limits) -> Limits:
 
 
 def _beyond(value: NDArray, limit: NDArray) -> NDArray[np.bool_]:
-    """Where |``value``| passes ``limit`` (broadcast together; ``inf``: no limit) by more than the relative
-    :data:`SLACK`: the dense check's one boundary rule."""
-    return np.abs(value) > limit * (1 + SLACK)
+    """Where |``value``| passes ``limit`` less :data:`CHECK_MARGIN` (broadcast together; ``inf``: no limit), by the
+    one boundary rule (:func:`armlab.bounds.above`)."""
+    return np.asarray(above(np.abs(value), limit * (1 - CHECK_MARGIN)), dtype=bool)
 
 
 @dataclass(frozen=True)
@@ -378,7 +378,7 @@ class _Timing:
 def _dense_check(arm: Arm, train: DriveTrain | None, path: _TimedPath, timing: _Timing,
                  points: dict[int, int] | None, limits: Limits) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
     """The timed motion q(s(t)) (``path`` by ``timing``) against ``limits`` at a simulation's log samples (every
-    :data:`~armlab.diagrams.build.DEFAULT_LOG_PERIOD` s from 0, and the end), where it passes the path's own knots
+    :data:`~armlab.kinematics.quintic.DEFAULT_LOG_PERIOD` s from 0, and the end), where it passes the path's own knots
     (where q‴(s) jumps: the torques' corners) and at times uniform in grid intervals: :data:`CHECK_POINTS` in each
     (``points`` ``None``) or ``points[i]`` in interval i (the ones a slow-down changed: the others' ṡ², s̈ and so
     their values there are the last check's): |q̇|, |q̈| and |τ| — the joint torques with the drive train ``train`` (its
@@ -482,7 +482,7 @@ def _largest_start(rows: tuple[NDArray, NDArray, NDArray, NDArray, float], end: 
         low, high = lower_p + lower_q * x, upper_p + upper_q * x
         i, j = int(np.argmax(low)), int(np.argmin(high))
         gap = high[j] - low[i]
-        if gap >= -1e-12 * max(1.0, abs(high[j]), abs(low[i])):
+        if gap >= -1e-12 * max(1.0, abs(high[j]), abs(low[i])):  # not a bound: Newton's stop at round-off of D
             return x
         slope = upper_q[j] - lower_q[i]
         if not slope < 0:  # D concave with D(0) ≥ 0 and D(x) < 0 decreases at x: round-off only
@@ -491,7 +491,7 @@ def _largest_start(rows: tuple[NDArray, NDArray, NDArray, NDArray, float], end: 
     lo, hi = 0.0, x
     for _ in range(80):
         middle = 0.5 * (lo + hi)
-        feasible = np.min(upper_p + upper_q * middle) >= np.max(lower_p + lower_q * middle)
+        feasible = np.min(upper_p + upper_q * middle) >= np.max(lower_p + lower_q * middle)  # not a bound: bisection
         lo, hi = (middle, hi) if feasible else (lo, middle)
     return lo
 
@@ -651,7 +651,7 @@ class _TimedPath:
                                             / (s[i + 1] - s[i])])) for i in order]
         inner = np.concatenate([s[i] + (s[i + 1] - s[i]) * f for i, f in zip(order, inside, strict=True)])
         a, b, c, _ = _constraints(self.rigid, self.path, inner, self.gravity, self.payload, self.derivatives)
-        if np.any((c > self.hi + 1e-12) | (c < self.lo - 1e-12)):
+        if np.any(outside(c, self.lo, self.hi)):
             raise _infeasible(self.rigid, inner, c, self.lo, self.hi, self.names, self.friction)
         width = 2 + max(f.size for f in inside)
         rows = {key: np.zeros((len(order), width, self.a.shape[1])) for key in "abc"}

@@ -33,10 +33,10 @@ from armlab.kinematics.ik_path import solve_path
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.models import get_arm
 from armlab.models.rr import ABCD_POINTS
+from armlab.papers import paper_000
 from armlab.papers.report_rows import compare
 from armlab.papers.reproduce import PAPERS, _script
 from armlab.planning.timing import limit_curve
-from armlab.scripts import paper_000
 from armlab.sizing.select import CHECKS, Evaluation
 
 # ----------------------------------------------------------------------------------------------- the guard

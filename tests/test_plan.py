@@ -508,7 +508,7 @@ def _toppra_only(monkeypatch):
     """``fastest`` as it was before issue 29: Toppra's timing as it comes, without the dense check and slow-down."""
     from pydrake.trajectories import PathParameterizedTrajectory
 
-    from armlab.kinematics import timing
+    from armlab.planning import timing
 
     def within(self, arm, train, limits, toppra):
         segment = TrajectorySegment(PathParameterizedTrajectory(self.path, toppra.scaling), "time-optimal", limits)
@@ -549,6 +549,9 @@ def test_fastest_keeps_the_ur5_torques_within_their_limits(ur5_line, payload, mo
     run = armlab.simulate(arm, best.motion, payload=payload)
     assert run.violations == []  # UR5's file has no limits: the planned ones are what is checked
     assert np.all(np.abs(_drake_torques(arm, run, payload)) <= UR5_EFFORT * (1 + 1e-9))
+    # the torques the simulation applied (the reference's and the controller's feedback, which the timing keeps
+    # timing.CHECK_MARGIN of each limit free for)
+    assert np.all(np.abs(run.tau) <= UR5_EFFORT * (1 + 1e-9))
     assert np.abs(run.qd_ref).max() <= np.pi * (1 + 1e-9)
     with monkeypatch.context() as patch:
         _toppra_only(patch)
@@ -594,7 +597,7 @@ def test_fastest_keeps_the_final_instant_within_the_limits(rr_line, monkeypatch)
 
 def test_fastest_says_when_it_cannot_keep_the_limits(ur5_line, monkeypatch):
     """No round left to slow down in: a one-line ValueError naming the worst sample, its limit and the time."""
-    from armlab.kinematics import timing
+    from armlab.planning import timing
 
     arm, line = ur5_line
     monkeypatch.setattr(timing, "ROUNDS", 0)
