@@ -93,8 +93,7 @@ def main(argv: list[str] | None = None) -> int:
     cases = (LoadCase(0.0), LoadCase(2.0), LoadCase(5.0))
     samples = sample(duty)
     loads = joint_loads(arm, samples, cases)
-    tasks = [JointTask(loads.tau[..., k], loads.inertia[..., k], samples.qd[:, k], samples.qdd[:, k],
-                       samples.weight) for k in range(arm.n)]
+    tasks = [JointTask.of(samples, loads, k) for k in range(arm.n)]
 
     t_id = best(args.repeat, lambda: joint_loads(arm, samples, cases), clock)
     t_select = best(args.repeat, lambda: [select_joint(name, task, motors, gearboxes, 1.2)
