@@ -57,7 +57,8 @@ from armlab.sizing.periodic import bus_energy, energy_steps, lag, lag_periodic, 
 if TYPE_CHECKING:
     from armlab.sizing.select import JointTask
 
-__all__ = ["ALPHA_CU", "BOUND_SLACK", "DRIVE_CHECKS", "DRIVE_STATS", "INERTIA_RATIO", "MARGIN_SHOWN", "REQUIRES",
+__all__ = ["ALPHA_CU", "BOUND_SLACK", "DRIVE_CHECKS", "DRIVE_STATS", "INERTIA_RATIO", "MARGIN_SHOWN",
+           "REQUIRES", "RESISTANCE_AT",
            "Conditions", "DriveRows", "drive_checks", "duty_type", "missing_column", "number", "percent",
            "thermal_modes", "winding_temperature", "within"]
 
@@ -74,8 +75,8 @@ DRIVE_CHECKS = ("inertia ratio", "voltage", "current peak", "current RMS", "I²t
 #: basis (:data:`~armlab.sizing.catalogue.LIFE_BASES`) and a rating's binding limit (0 T_N, 1 n_N, 2 L_n; −1 none).
 DRIVE_STATS = ("voltage_speed", "winding_peak_C", "winding_mean_loss_C", "copper_loss_W", "cycles_to_periodic",
                "bus_energy_peak_J", "capacitor_J", "bus_regenerated_J", "regen_power_peak_W", "resistor_energy_J",
-               "resistor_power_W", "resistor_fitted", "regeneration_basis", "static_torque", "life_h", "life_T_av_Nm", "life_n_av",
-               "life_basis", "life_binding")
+               "resistor_power_W", "resistor_fitted", "regeneration_basis", "static_torque", "life_h", "life_T_av_Nm",
+               "life_n_av", "life_basis", "life_binding")
 #: Copper's temperature coefficient of resistance (1/K, at 20–25 °C; IEC 60228's 0.00393).
 ALPHA_CU = 0.00393
 #: The temperature (°C) a catalogue's resistance is given at.

@@ -365,8 +365,8 @@ def _texts(check: str, value: float, limit: float, safety: float, speed: float, 
     n = number
     if check in ("voltage", "winding temperature", "regeneration", "gearbox life"):
         if check == "voltage":
-            v, lim = f"{n(value)} V at {n(stat['voltage_speed'] * RPM_PER)} rpm", \
-                f"available {n(limit)} V (bus {n(limit * np.sqrt(2))} V DC)"
+            v = f"voltage {n(value)} V at {n(stat['voltage_speed'] * RPM_PER)} rpm"
+            lim = f"available {n(limit)} V (bus {n(limit * np.sqrt(2))} V DC)"
         elif check == "winding temperature":
             v = f"winding {n(conditions.ambient + value)} °C (periodic peak)"
             lim = f"limit {n(conditions.ambient + limit)} °C"
@@ -383,7 +383,8 @@ def _texts(check: str, value: float, limit: float, safety: float, speed: float, 
         else:
             binding = stat["life_binding"]
             if binding < 0:
-                return f"L10 {n(limit)} h", f"required {n(value)} h", f"L10 {n(limit)} h < required {n(value)} h"
+                v, lim = f"required life {n(value)} h", f"L10 {n(limit)} h"
+                return v, lim, f"{v} > {lim}"
             v, lim = [(f"mean output torque {n(value)} N·m", f"rated {n(limit)} N·m"),
                       (f"mean input speed {n(value * RPM_PER)} rpm", f"rated {n(limit * RPM_PER)} rpm"),
                       (f"required life {n(value)} h", f"rated life {n(limit)} h")][int(binding)]

@@ -11,7 +11,7 @@ or after ``max_iterations``; and when a joint has no feasible pair (then nothing
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -52,7 +52,7 @@ class Sizing:
     gearboxes: Gearboxes
     safety_factor: float
     rank: str
-    conditions: Conditions = Conditions()
+    conditions: Conditions = field(default_factory=Conditions)
 
     @property
     def feasible(self) -> bool:

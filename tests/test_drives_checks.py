@@ -160,14 +160,14 @@ def test_a_braking_inertia_returns_half_j_omega_squared_less_its_copper_losses()
     assert 0 < low < omega0
     motors = _motor(rotor_inertia=J, bus_capacitance=1.0, drive_peak_current=100.0)
     ratio, values, stats = _check(task, motors, _gearbox())
+    np.testing.assert_allclose(values["regeneration"], (energy, 0.5 * 1.0 * (390.0**2 - 325.0**2)), rtol=1e-12)
     np.testing.assert_allclose(stats["bus_energy_peak_J"], energy, rtol=1e-12)
     np.testing.assert_allclose(stats["bus_regenerated_J"], energy, rtol=1e-12)
     np.testing.assert_allclose(stats["regenerated"], 0.5 * J * omega0**2, rtol=1e-12)  # mechanical, no losses
     np.testing.assert_allclose(stats["regen_power_peak_W"], J * alpha * omega0 - copper, rtol=1e-12)
     assert stats["regeneration_basis"] == 0 and ratio["regeneration"] > 1
     half = 2 * (energy / 2) / (390.0**2 - 325.0**2)  # C with ½C(V_max² − V²) = half the energy
-    ratio, values, stats = _check(task, _motor(rotor_inertia=J, bus_capacitance=half, drive_peak_current=100.0),
-                                  _gearbox())
+    _, _, stats = _check(task, _motor(rotor_inertia=J, bus_capacitance=half, drive_peak_current=100.0), _gearbox())
     np.testing.assert_allclose(stats["capacitor_J"], energy / 2, rtol=1e-12)
     np.testing.assert_allclose(stats["resistor_energy_J"], energy / 2, rtol=1e-12)
     np.testing.assert_allclose(stats["resistor_power_W"], energy / 2 / (t_a + t_b + rest), rtol=1e-12)
@@ -200,7 +200,8 @@ def test_the_voltage_at_an_operating_point_and_the_bus_voltage_decides():
     task = _task([(1.0, omega, omega, torque)])
     current = torque / KT
     ke = KE_V_KRPM / (1000 * RPM)
-    volts = math.hypot(ke * omega + math.sqrt(3) / 2 * R_HOT * current, math.sqrt(3) / 2 * POLES * omega * L_H * current)
+    half3 = math.sqrt(3) / 2
+    volts = math.hypot(ke * omega + half3 * R_HOT * current, half3 * POLES * omega * L_H * current)
     ratio, values, stats = _check(task, _motor(), _gearbox())
     np.testing.assert_allclose(values["voltage"], (volts, 325 / math.sqrt(2)), rtol=1e-12)
     np.testing.assert_allclose(stats["voltage_speed"], omega, rtol=1e-12)
