@@ -52,14 +52,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.sizing.catalogue import LIFE_BASES, Gearboxes, Motors
-from armlab.sizing.periodic import bus_energy, energy_steps, lag, lag_periodic, resistor_energy
+from armlab.sizing.periodic import bus_energy, energy_steps, lag, lag_periodic, resistor_energy, within_zero
 
 if TYPE_CHECKING:
     from armlab.sizing.select import JointTask
 
 __all__ = ["ALPHA_CU", "BOUND_SLACK", "DRIVE_CHECKS", "DRIVE_STATS", "INERTIA_RATIO", "MARGIN_SHOWN",
            "REQUIRES", "RESISTANCE_AT",
-           "Conditions", "DriveRows", "drive_checks", "duty_type", "missing_column", "number", "percent",
+           "SCREEN_ALLOWANCE", "Conditions", "DriveRows", "drive_checks", "duty_type", "missing_column", "number",
+           "percent", "screen_bounds",
            "thermal_modes", "winding_temperature", "within"]
 
 #: The checks of this module, in the order they are reported (after the torque and speed checks).
@@ -70,12 +71,13 @@ DRIVE_CHECKS = ("inertia ratio", "voltage", "current peak", "current RMS", "I²t
 #: the mean copper losses (W), the cycles from cold to within :data:`PERIODIC_WITHIN` of periodic; the DC link's
 #: peak stored energy, the capacitors' capacity, the energy returned per cycle (J), the peak returned power (W),
 #: the braking resistor's energy per cycle (J) and mean power (W), whether the drive has one (1/0) and what the
-#: check compared (0 the capacitors' energy, 1 the resistor's mean power, 2 its peak power); the brake's
+#: check compared (0 the capacitors' energy, 1 the resistor's mean power, 2 its peak power), the net energy a
+#: cycle returns (J; > 0: the link fills in the end whatever its capacitors, +inf stored); the brake's
 #: static torque (N·m, joint side); the gearbox's life (h: L10, or a rating's L_n), T_av (N·m), n_av (rad/s), its
 #: basis (:data:`~armlab.sizing.catalogue.LIFE_BASES`) and a rating's binding limit (0 T_N, 1 n_N, 2 L_n; −1 none).
 DRIVE_STATS = ("voltage_speed", "winding_peak_C", "winding_mean_loss_C", "copper_loss_W", "cycles_to_periodic",
                "bus_energy_peak_J", "capacitor_J", "bus_regenerated_J", "regen_power_peak_W", "resistor_energy_J",
-               "resistor_power_W", "resistor_fitted", "regeneration_basis", "static_torque", "life_h", "life_T_av_Nm",
+               "resistor_power_W", "resistor_fitted", "regeneration_basis", "bus_net_J", "static_torque", "life_h", "life_T_av_Nm",
                "life_n_av", "life_basis", "life_binding")
 #: Copper's temperature coefficient of resistance (1/K, at 20–25 °C; IEC 60228's 0.00393).
 ALPHA_CU = 0.00393
@@ -109,12 +111,11 @@ REQUIRES: dict[str, tuple[tuple[str, str], ...]] = {
 def number(x: float, digits: int = 3) -> str:
     """``x`` rounded to ``digits`` significant digits, plainly written (``1.09``, ``17300``, ``0.0371``, ``0.5``;
     ``1.2e+07`` and ``3.4e-05`` outside [10⁻³, 10⁶); ``inf``, ``nan`` as such)."""
-    x = float(f"{float(x):.{digits}g}")
-    if not math.isfinite(x) or x == 0 or not 1e-3 <= abs(x) < 1e6:
-        return f"{x:.{digits}g}"
-    decimals = max(0, digits - 1 - math.floor(math.log10(abs(x))))
-    text = f"{x:.{decimals}f}"
-    return text.rstrip("0").rstrip(".") if "." in text else text
+    text = f"{float(x):.{digits}g}"  # plain below 10^digits (trailing zeros dropped), else with an exponent
+    if "e" not in text:
+        return text
+    x = float(text)
+    return f"{x:.0f}" if 1e-3 <= abs(x) < 1e6 else text
 
 
 #: A margin at least this (1000 %: a limit 11 times the value) is shown as "≫ 100 %".
@@ -257,86 +258,216 @@ class DriveRows:
     stats: dict[str, NDArray[np.float64]]
 
 
+def _knot_weights(task: JointTask) -> NDArray[np.float64]:
+    """Per sample ``(T,)`` the trapezoid weights (s) of its knots: Σ_s trap_s·f_s is the trapezoid rule of f over
+    the knots, which bounds ∫f from above for an f convex between the knots (as |P − P̄| and max(−p, 0) are)."""
+    h = np.diff(task.knot_time)
+    per_knot = np.zeros(task.knot_time.size)
+    per_knot[:-1] += h / 2
+    per_knot[1:] += h / 2
+    return np.bincount(task.knot_sample, per_knot, minlength=task.weight.size)
+
+
+def _cols(a: NDArray, c: NDArray[np.intp]) -> NDArray:
+    """``a[..., c]``, without a copy when ``c`` is every column in order (most pairs pass the torque checks)."""
+    if c.size == a.shape[-1] and (c.size == 0 or (c[0] == 0 and c[-1] == c.size - 1)):
+        return a
+    return a[..., c]
+
+
+def _ratio(limit: NDArray, value: NDArray) -> NDArray:
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(value > 0, limit / value, np.inf)
+
+
 def drive_checks(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDArray[np.intp], ig: NDArray[np.intp],
                  tau_m: NDArray[np.float64], speed: NDArray[np.float64], safety: float, conditions: Conditions,
-                 active: NDArray[np.bool_], describe: bool) -> DriveRows:
+                 active: NDArray[np.bool_], describe: bool, peak_torque: NDArray[np.float64],
+                 rms_torque: NDArray[np.float64], floor: NDArray[np.float64] | None = None) -> DriveRows:
     """Every check of the module for candidates (``im``, ``ig``) ``(C,)`` with motor torques ``tau_m``
-    ``(L, T, C)`` (without the safety factor) and motor speeds ``speed`` ``(T, C)``; only the ``active`` ones
-    ``(C,)`` are computed (the others are NaN: a pair already failing a torque or speed check)."""
+    ``(L, T, C)`` (without the safety factor; their peak and RMS |τ_m| ``(L, C)``) and motor speeds ``speed``
+    ``(T, C)``; only the ``active`` ones ``(C,)`` are computed (the others are NaN: a pair already failing a
+    torque or speed check).
+
+    Without ``describe`` (the selection's pass, which needs each pair's margin only) and with ``floor`` ``(C,)``
+    the smallest ratio of the checks made before, the I²t, winding and DC-link checks are first bounded: a lag
+    y' = λy + u repeated has the periodic solution y(t) = ∫₀ᵀ k(s)·u(t − s)ds with k(s) = e^{λs}/(1 − e^{λT}),
+    whose mean is ū/(−λ) and, since max k − min k = 1, |y − ȳ| ≤ ½∫₀ᵀ|u − ū|dt: the winding's rise is at most
+    (R_th1 + R_th2)·P̄ + ½(|w₁| + |w₂|)·∫|P − P̄|, the I²t filter at most ⟨I²⟩ + ½∫|I² − ⟨I²⟩|/τ_d (both P and I²
+    are τ_m² times a constant of the candidate), the DC link's peak energy at most ∫max(−S·τ_m·ω, 0) (the losses
+    only lower it); the integrals by the trapezoid rule over the knots, an upper bound for these pieces, convex
+    between the knots. Where the ratio of such a bound is at least the ``floor`` (the ratios before, and of the
+    cheap checks here) it cannot be the smallest, and the bound stands in for the check (its ratio a lower bound of
+    the exact one); elsewhere, and with ``describe`` always, the check is exact."""
     L, C = task.tau.shape[0], im.size
-    rows: dict[str, tuple[NDArray, NDArray]] = {}
-    stats: dict[str, NDArray] = {}
-    nan = np.full((L, C), np.nan)
+    rows: dict[str, tuple[NDArray, NDArray]] = {check: (np.full((L, C), np.nan), np.full((L, C), np.nan))
+                                                for check in DRIVE_CHECKS}
+    stats: dict[str, NDArray] = {name: np.full((L, C), np.nan) for name in DRIVE_STATS} if describe else {}
+    sink = stats if describe else None
+    has = {check: active & _has(check, motors, gearboxes, im, ig, conditions) for check in DRIVE_CHECKS}
     G, Jm, Jg = gearboxes.ratio[ig], motors.rotor_inertia[im], gearboxes.input_inertia[ig]
     limit = np.where(np.isnan(motors.max_inertia_ratio[im]), INERTIA_RATIO, motors.max_inertia_ratio[im])
-    at_motor = task.inertia[:, :, None] / G**2 + Jg  # (L, T, C)
-    rows["inertia ratio"] = (at_motor.max(axis=1) / Jm, np.broadcast_to(limit, (L, C)))
+    # (J_load/G² + J_g)/J_m is monotone in J_load: its extremes are at M_kk's
+    rows["inertia ratio"] = ((task.inertia.max(axis=1)[:, None] / G**2 + Jg) / Jm, np.broadcast_to(limit, (L, C)))
     if describe:
-        stats["inertia_ratio_min"] = at_motor.min(axis=1) / Jm
+        stats["inertia_ratio_min"] = (task.inertia.min(axis=1)[:, None] / G**2 + Jg) / Jm
         stats["inertia_ratio_max"] = rows["inertia ratio"][0]
-    for check in DRIVE_CHECKS[1:]:
-        rows[check] = (nan.copy(), nan.copy())
-    w = task.weight
-    knots, t = task.knot_sample, task.knot_time
-    for check in DRIVE_CHECKS[1:]:
-        on = active & _has(check, motors, gearboxes, im, ig, conditions)
-        if not on.any():
-            continue
-        c = np.flatnonzero(on)
-        m, g = im[c], ig[c]
-        bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
-        value, bound = rows[check]
-        if check in ("voltage", "current peak", "current RMS", "I²t", "winding temperature"):
-            current = safety * tau_m[:, :, c] / motors.torque_constant[m]  # (L, T, c) A, signed
-        if check == "voltage":
-            r_hot = motors.resistance[m] * (1 + ALPHA_CU * (motors.max_winding_temperature[m] - RESISTANCE_AT))
-            omega = speed[:, c]
-            volts = np.hypot(motors.back_emf[m] * omega + np.sqrt(3) / 2 * r_hot * current,
-                             np.sqrt(3) / 2 * motors.pole_pairs[m] * motors.inductance[m] * omega * current)
-            value[:, c], bound[:, c] = volts.max(axis=1), bus / np.sqrt(2)
-            if describe:
-                worst = volts.argmax(axis=1)  # (L, c)
-                stats.setdefault("voltage_speed", nan.copy())[:, c] = np.take_along_axis(
-                    np.broadcast_to(omega, volts.shape), worst[:, None], axis=1)[:, 0]
-        elif check == "current peak":
-            value[:, c], bound[:, c] = np.abs(current).max(axis=1), motors.drive_peak_current[m]
-        elif check == "current RMS":
-            value[:, c] = np.sqrt(np.einsum("ltc,ltc,t->lc", current, current, w) / w.sum())
-            bound[:, c] = motors.drive_continuous_current[m]
-        elif check == "I²t":
-            i_c, i_p, t_p = (motors.drive_continuous_current[m], motors.drive_peak_current[m],
-                             motors.drive_peak_time[m])
-            overload = ~within(i_p, i_c * (1 + 1e-12))  # a drive with a peak above its continuous current
-            filtered = np.abs(current).max(axis=1)  # without an overload range: the peak against I_c
-            if overload.any():
-                k = np.flatnonzero(overload)
-                tau_d = -t_p[k] / np.log1p(-(i_c[k] / i_p[k]) ** 2)
-                squared = np.moveaxis(current[:, knots][:, :, k] ** 2, 1, -1) / tau_d[:, None]  # (L, k, K)
-                x, _ = lag_periodic(-1 / tau_d, squared, t)  # the rate per candidate, the input per case too
-                filtered[:, k] = np.sqrt(x.max(axis=-1))
-            value[:, c], bound[:, c] = filtered, i_c
-        elif check == "winding temperature":
-            _winding(task, motors, m, c, current, conditions, value, bound, stats if describe else None, nan)
-        elif check == "regeneration":
-            _regeneration(task, motors, m, c, tau_m, speed, safety, bus, value, bound, stats if describe else None,
-                          nan)
-        elif check == "brake":
-            static = np.abs(task.static).max(axis=1)[:, None]  # (L, 1) N·m, joint side
-            value[:, c] = conditions.brake_factor * static / np.abs(gearboxes.ratio[g])
-            bound[:, c] = motors.brake_torque[m]
-            if describe:
-                stats.setdefault("static_torque", nan.copy())[:, c] = static
-        elif check == "gearbox life":
-            _life(task, gearboxes, g, c, speed, safety, conditions, value, bound, stats if describe else None, nan)
+    kt = motors.torque_constant[im]
+
+    def put(check: str, c: NDArray[np.intp], value: NDArray, limit: NDArray) -> None:
+        rows[check][0][:, c], rows[check][1][:, c] = value, limit
+
+    # exact and cheap: the currents' peak and RMS are the torques' over K_t, the brake's a static torque
+    for check, torque, drive in (("current peak", peak_torque, motors.drive_peak_current),
+                                 ("current RMS", rms_torque, motors.drive_continuous_current)):
+        c = np.flatnonzero(has[check])
+        put(check, c, safety * torque[:, c] / kt[c], drive[im[c]])
+    c = np.flatnonzero(has["brake"])
+    static = np.abs(task.static).max(axis=1)[:, None]  # (L, 1) N·m, joint side
+    put("brake", c, conditions.brake_factor * static / np.abs(G[c]), motors.brake_torque[im[c]])
     if describe:
-        for name in DRIVE_STATS:
-            stats.setdefault(name, nan.copy())
+        stats["static_torque"][:, c] = static
+    c = np.flatnonzero(has["gearbox life"])
+    if c.size:
+        _life(task, gearboxes, ig[c], c, safety, conditions, *rows["gearbox life"], sink)
+    bounded = ("voltage", "I²t", "winding temperature", "regeneration")
+    todo = {check: np.flatnonzero(has[check]) for check in bounded}
+    bounding = not describe and floor is not None
+    if bounding:
+        assert floor is not None
+        floor = floor.copy()
+        for check in DRIVE_CHECKS:
+            if check not in bounded:
+                floor = np.fmin(floor, _ratio(rows[check][1], rows[check][0]).min(axis=0))
+        # the voltage at most √((K_e·ω_max + (√3/2)·R_hot·I_max)² + ((√3/2)·p·L·ω_max·I_max)²) (triangle inequality)
+        c = todo["voltage"]
+        m = im[c]
+        omega_max, current_max = np.abs(_cols(speed, c)).max(axis=0), safety * peak_torque[:, c] / kt[c]
+        r_hot = motors.resistance[m] * (1 + ALPHA_CU * (motors.max_winding_temperature[m] - RESISTANCE_AT))
+        top = np.hypot(motors.back_emf[m] * omega_max + np.sqrt(3) / 2 * r_hot * current_max,
+                       np.sqrt(3) / 2 * motors.pole_pairs[m] * motors.inductance[m] * omega_max * current_max)
+        bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
+        sure = np.all(_ratio(bus / np.sqrt(2), top) >= floor[c], axis=0)
+        put("voltage", c[sure], top[:, sure], np.broadcast_to(bus[sure] / np.sqrt(2), (L, int(sure.sum()))))
+        todo["voltage"] = c[~sure]
+    c = todo["voltage"]
+    if c.size:
+        _voltage(motors, im[c], c, tau_m, speed, safety, conditions, *rows["voltage"], sink)
+    if bounding:
+        assert floor is not None
+        floor = np.fmin(floor, _ratio(rows["voltage"][1], rows["voltage"][0]).min(axis=0))
+        trap = _knot_weights(task)
+        period = trap.sum()
+        need = np.flatnonzero(has["I²t"] | has["winding temperature"] | has["regeneration"])
+        squares = np.full((L, C), np.nan)  # ∫τ_m² over the knots' trapezoids, (N·m)²·s
+        squares[:, need] = np.einsum("ltc,ltc,t->lc", _cols(tau_m, need), _cols(tau_m, need), trap)
+
+        def upper(check: str, c: NDArray[np.intp], half: NDArray) -> tuple[NDArray, NDArray]:
+            """The bound of ``check`` for candidates ``c`` given ½∫|τ_m² − ⟨τ_m²⟩| (or a bound of it) ``half``."""
+            m, mean, scale = im[c], squares[:, c] / period, (safety / kt[c]) ** 2  # ⟨τ_m²⟩; τ_m² → I²
+            if check == "I²t":
+                i_c, i_p, t_p = (motors.drive_continuous_current[m], motors.drive_peak_current[m],
+                                 motors.drive_peak_time[m])
+                overload = ~within(i_p, i_c * (1 + 1e-12))
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    tau_d = -t_p / np.log1p(-(i_c / i_p) ** 2)
+                return np.where(overload, np.sqrt(scale * (mean + half / tau_d)),
+                                safety * peak_torque[:, c] / kt[c]), i_c
+            r_hot = motors.resistance[m] * (1 + ALPHA_CU * (motors.max_winding_temperature[m] - RESISTANCE_AT))
+            _, _, w1, w2 = thermal_modes(motors, m)
+            gain = motors.thermal_resistance_winding[m] + motors.thermal_resistance_housing[m]
+            return (1.5 * r_hot * scale * (gain * mean + (np.abs(w1) + np.abs(w2)) * half),
+                    motors.max_winding_temperature[m] - conditions.ambient)
+
+        for check in ("I²t", "winding temperature"):
+            # first ½∫|u − ū| ≤ ½∫(u + ū) = ∫u (u = τ_m² ≥ 0: no pass over the samples), then the exact integral
+            for tight in (False, True):
+                c = todo[check]
+                if not c.size:
+                    break
+                if tight:
+                    squared = _cols(tau_m, c) ** 2
+                    half = 0.5 * np.einsum("ltc,t->lc", np.abs(squared - squares[:, None, c] / period), trap)
+                else:
+                    half = squares[:, c]
+                value, lim = upper(check, c, half)
+                sure = np.all(_ratio(lim, value) >= floor[c], axis=0)
+                put(check, c[sure], value[:, sure], lim[sure])
+                todo[check] = c[~sure]
+        c = todo["regeneration"]
+        if c.size:  # from the mechanical power S·τ_m·ω, whose returns bound those with the copper losses
+            m = im[c]
+            bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
+            capacity = 0.5 * motors.bus_capacitance[m] * (motors.bus_max_voltage[m] ** 2 - bus**2)
+            torque = _cols(tau_m, c)
+            mechanical = torque * _cols(speed, c)[None]  # (L, T, c) W / S
+            back = safety * np.einsum("ltc,t->lc", np.maximum(-mechanical, 0.0), trap)  # what comes back, at most
+            peak_need = safety * np.maximum(-mechanical, 0.0).max(axis=1)  # the most power coming back, at most
+            copper = np.nan_to_num(1.5 * motors.resistance[m] * (safety / kt[c]) ** 2)  # W per (N·m)², 0 without
+            net = -safety * np.einsum("ltc,t->lc", mechanical, trap) - copper * squares[:, c]
+            charging = ~within_zero(net, back)  # the cycle returns net energy: the link fills, whatever its size
+            resistor = ~np.isnan(motors.braking_resistor_power[m]) & ~np.isnan(motors.braking_resistance[m])
+            # a resistor's ratio is at least its ratings over ∫max(−p, 0)/T (mean) and over max(−p) (peak)
+            mean_need = back / trap.sum()
+            mean_rating = motors.braking_resistor_power[m]
+            peak_rating = motors.bus_max_voltage[m] ** 2 / motors.braking_resistance[m]
+            by_peak = _ratio(peak_rating, peak_need) < _ratio(mean_rating, mean_need)
+            need = np.where(by_peak, peak_need, mean_need)
+            rating = np.where(by_peak, peak_rating, mean_rating)
+            value = np.where(charging, np.where(resistor, need, np.inf), back)  # no resistor: the link overflows
+            limit = np.where(charging & resistor, rating, capacity)
+            low = _ratio(limit, value)  # (L, c): a lower bound of the check's ratio
+            # sure: the bound cannot bind, or the link fills and no resistor takes it (it fails whatever the rest)
+            sure = np.all(low >= floor[c], axis=0) | np.any(charging & ~resistor, axis=0)
+            put("regeneration", c[sure], value[:, sure], limit[:, sure])
+            todo["regeneration"] = c[~sure]
+    c = todo["I²t"]
+    if c.size:
+        _i2t(task, motors, im[c], c, tau_m, safety, *rows["I²t"])
+    c = todo["winding temperature"]
+    if c.size:
+        _winding(task, motors, im[c], c, safety * _cols(tau_m, c) / kt[c], conditions, *rows["winding temperature"],
+                 sink)
+    c = todo["regeneration"]
+    if c.size:
+        _regeneration(task, motors, im[c], c, tau_m, speed, safety, conditions, *rows["regeneration"], sink)
     return DriveRows(rows, stats)
 
 
+def _voltage(motors: Motors, m: NDArray[np.intp], c: NDArray[np.intp], tau_m: NDArray, speed: NDArray,
+             safety: float, conditions: Conditions, value: NDArray, bound: NDArray,
+             stats: dict[str, NDArray] | None) -> None:
+    bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
+    r_hot = motors.resistance[m] * (1 + ALPHA_CU * (motors.max_winding_temperature[m] - RESISTANCE_AT))
+    current = safety * _cols(tau_m, c) / motors.torque_constant[m]  # (L, T, c) A, signed
+    omega = _cols(speed, c)
+    real = motors.back_emf[m] * omega + np.sqrt(3) / 2 * r_hot * current
+    quadrature = (np.sqrt(3) / 2 * motors.pole_pairs[m] * motors.inductance[m]) * omega * current
+    squared = real * real + quadrature * quadrature
+    value[:, c], bound[:, c] = np.sqrt(squared.max(axis=1)), bus / np.sqrt(2)
+    if stats is not None:
+        worst = squared.argmax(axis=1)  # (L, c)
+        stats["voltage_speed"][:, c] = np.take_along_axis(np.broadcast_to(omega, squared.shape), worst[:, None],
+                                                          axis=1)[:, 0]
+
+
+def _i2t(task: JointTask, motors: Motors, m: NDArray[np.intp], c: NDArray[np.intp], tau_m: NDArray, safety: float,
+         value: NDArray, bound: NDArray) -> None:
+    i_c, i_p, t_p = motors.drive_continuous_current[m], motors.drive_peak_current[m], motors.drive_peak_time[m]
+    current = safety * _cols(tau_m, c) / motors.torque_constant[m]  # (L, T, c) A
+    overload = ~within(i_p, i_c * (1 + 1e-12))  # a drive with a peak above its continuous current
+    filtered = np.abs(current).max(axis=1)  # without an overload range: the peak against I_c
+    if overload.any():
+        k = np.flatnonzero(overload)
+        tau_d = -t_p[k] / np.log1p(-(i_c[k] / i_p[k]) ** 2)
+        squared = np.moveaxis(current[:, task.knot_sample][:, :, k] ** 2, 1, -1) / tau_d[:, None]  # (L, k, K)
+        x, _ = lag_periodic(-1 / tau_d, squared, task.knot_time)  # the rate per candidate, the input per case too
+        filtered[:, k] = np.sqrt(x.max(axis=-1))
+    value[:, c], bound[:, c] = filtered, i_c
+
+
 def _winding(task: JointTask, motors: Motors, m: NDArray[np.intp], c: NDArray[np.intp], current: NDArray,
-             conditions: Conditions, value: NDArray, bound: NDArray, stats: dict[str, NDArray] | None,
-             nan: NDArray) -> None:
+             conditions: Conditions, value: NDArray, bound: NDArray, stats: dict[str, NDArray] | None) -> None:
     t_max = motors.max_winding_temperature[m]
     r_hot = motors.resistance[m] * (1 + ALPHA_CU * (t_max - RESISTANCE_AT))
     loss = 1.5 * r_hot[:, None] * np.moveaxis(current[:, task.knot_sample], 1, -1) ** 2  # (L, c, K) W
@@ -350,29 +481,36 @@ def _winding(task: JointTask, motors: Motors, m: NDArray[np.intp], c: NDArray[np
     w = task.weight
     mean_loss = 1.5 * r_hot * np.einsum("ltc,ltc,t->lc", current, current, w) / w.sum()
     r_total = motors.thermal_resistance_winding[m] + motors.thermal_resistance_housing[m]
-    stats.setdefault("winding_peak_C", nan.copy())[:, c] = conditions.ambient + rise.max(axis=-1)
-    stats.setdefault("winding_mean_loss_C", nan.copy())[:, c] = conditions.ambient + mean_loss * r_total
-    stats.setdefault("copper_loss_W", nan.copy())[:, c] = mean_loss
+    stats["winding_peak_C"][:, c] = conditions.ambient + rise.max(axis=-1)
+    stats["winding_mean_loss_C"][:, c] = conditions.ambient + mean_loss * r_total
+    stats["copper_loss_W"][:, c] = mean_loss
     # from cold the deviation from periodic is Σ w_i·s_i·e^{λ_i t} ≤ (Σ|w_i·s_i|)·e^{λ₂ t} (λ₂ the slow mode)
     spread = np.abs(w1 * s1) + np.abs(w2 * s2)
     period = task.knot_time[-1] - task.knot_time[0]
     with np.errstate(divide="ignore"):
         cycles = np.ceil(np.maximum(np.log(spread / PERIODIC_WITHIN), 0.0) / (-lam2 * period))
-    stats.setdefault("cycles_to_periodic", nan.copy())[:, c] = cycles
+    stats["cycles_to_periodic"][:, c] = cycles
 
 
-def _regeneration(task: JointTask, motors: Motors, m: NDArray[np.intp], c: NDArray[np.intp], tau_m: NDArray,
-                  speed: NDArray, safety: float, bus: NDArray, value: NDArray, bound: NDArray,
-                  stats: dict[str, NDArray] | None, nan: NDArray) -> None:
-    knots, t = task.knot_sample, task.knot_time
-    torque = safety * np.moveaxis(tau_m[:, knots][:, :, c], 1, -1)  # (L, c, K)
-    omega = speed[knots][:, c].T  # (c, K)
+def _bus_power(motors: Motors, m: NDArray[np.intp], torque: NDArray, omega: NDArray) -> NDArray[np.float64]:
+    """The power (W) a drive draws from its bus for motor torques ``torque`` (N·m, × the safety factor) at speeds
+    ``omega`` (rad/s), broadcast with the motors ``m`` on the last axis: τ·ω + (3/2)·R_25·(τ/K_t)² (no losses
+    without K_t and R)."""
     power = torque * omega
     losses = ~np.isnan(motors.torque_constant[m]) & ~np.isnan(motors.resistance[m])
     if losses.any():
-        copper = 1.5 * motors.resistance[m][:, None] * (torque / motors.torque_constant[m][:, None]) ** 2
-        power = power + np.where(losses[:, None], np.nan_to_num(copper), 0.0)
-    stored = bus_energy(power, t)  # (L, c)
+        copper = 1.5 * motors.resistance[m] * (torque / motors.torque_constant[m]) ** 2
+        power = power + np.where(losses, np.nan_to_num(copper), 0.0)
+    return power
+
+
+def _regeneration(task: JointTask, motors: Motors, m: NDArray[np.intp], c: NDArray[np.intp], tau_m: NDArray,
+                  speed: NDArray, safety: float, conditions: Conditions, value: NDArray, bound: NDArray,
+                  stats: dict[str, NDArray] | None) -> None:
+    knots, t = task.knot_sample, task.knot_time
+    bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
+    power = np.moveaxis(_bus_power(motors, m, safety * _cols(tau_m, c), _cols(speed, c)[None])[:, knots], 1, -1)
+    stored, net = bus_energy(power, t)  # (L, c); power (L, c, K) at the knots
     v_max = motors.bus_max_voltage[m]
     capacity = 0.5 * motors.bus_capacitance[m] * (v_max**2 - bus**2)  # (c,)
     peak_regen = np.maximum((-power).max(axis=-1), 0.0)  # (L, c) W: the most power coming back
@@ -404,28 +542,30 @@ def _regeneration(task: JointTask, motors: Motors, m: NDArray[np.intp], c: NDArr
                          ("bus_regenerated_J", regenerated.sum(axis=-1)), ("regen_power_peak_W", peak_regen),
                          ("resistor_energy_J", burnt), ("resistor_power_W", burnt / (t[-1] - t[0])),
                          ("resistor_fitted", np.broadcast_to(resistor.astype(float), stored.shape)),
-                         ("regeneration_basis", basis)):
-        stats.setdefault(name, nan.copy())[:, c] = figure
+                         ("regeneration_basis", basis), ("bus_net_J", net)):
+        stats[name][:, c] = figure
 
 
-def _life(task: JointTask, gearboxes: Gearboxes, g: NDArray[np.intp], c: NDArray[np.intp], speed: NDArray,
-          safety: float, conditions: Conditions, value: NDArray, bound: NDArray, stats: dict[str, NDArray] | None,
-          nan: NDArray) -> None:
+def _life(task: JointTask, gearboxes: Gearboxes, g: NDArray[np.intp], c: NDArray[np.intp] | slice, safety: float,
+          conditions: Conditions, value: NDArray, bound: NDArray, stats: dict[str, NDArray] | None) -> None:
+    """The gearbox life of gearboxes ``g`` into the columns ``c`` of ``value``, ``bound`` (and ``stats``): with the
+    input speed n = |G·q̇|, n_av = |G|·⟨|q̇|⟩ and T_av = (⟨|q̇|·T³⟩/⟨|q̇|⟩)^⅓, which does not depend on G."""
     w = task.weight
-    n = np.abs(speed[:, c])  # (T, c) input speed
+    speed = np.abs(task.qd)  # (T,) joint speed: the gearbox's input is |G| times it
     torque = safety * np.abs(task.tau)  # (L, T) output torque
-    travel = w @ n  # (c,): Σ w·n
-    n_av = travel / w.sum()
+    travel = float(w @ speed)
+    G = np.abs(gearboxes.ratio[g])
+    n_av = G * travel / w.sum()  # (g,)
     with np.errstate(divide="ignore", invalid="ignore"):
-        t_av = np.cbrt(np.einsum("t,tc,lt->lc", w, n, torque**3) / travel)  # (L, c)
+        t_av = (np.cbrt(torque**3 @ (w * speed) / travel) if travel > 0 else np.zeros(torque.shape[0]))[:, None]
+        t_av = t_av * np.ones(G.size)  # (L, g)
         t_n, n_n, l_n = gearboxes.rated_torque[g], gearboxes.rated_input_speed[g], gearboxes.rated_life[g]
-        l10 = np.where(travel > 0, l_n * (n_n / n_av) * (t_n / t_av) ** 3 / 5, np.inf)
+        l10 = l_n * (n_n / n_av) * (t_n / t_av) ** 3 / 5 if travel > 0 else np.full(t_av.shape, np.inf)
+        # a rating: the binding one of T_av ≤ T_N, n_av ≤ n_N, required ≤ L_n (as value, limit)
+        ratios = np.stack(np.broadcast_arrays(t_n / t_av, n_n / n_av, l_n / conditions.required_life + 0 * t_av))
     strain = gearboxes.life_basis[g] == LIFE_BASES["strain-wave"]
     required = conditions.required_life
-    # a rating: the binding one of T_av ≤ T_N, n_av ≤ n_N, required ≤ L_n (as value, limit)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratios = np.stack(np.broadcast_arrays(t_n / t_av, n_n / n_av, l_n / required + 0 * t_av))
-    which = np.nan_to_num(ratios, nan=np.inf).argmin(axis=0)  # (L, c)
+    which = np.nan_to_num(ratios, nan=np.inf).argmin(axis=0)  # (L, g)
     pairs = [(t_av, t_n), (n_av, n_n), (required, l_n)]
     rating_value = np.choose(which, [np.broadcast_to(v, t_av.shape) for v, _ in pairs])
     rating_limit = np.choose(which, [np.broadcast_to(lim, t_av.shape) for _, lim in pairs])
@@ -436,4 +576,35 @@ def _life(task: JointTask, gearboxes: Gearboxes, g: NDArray[np.intp], c: NDArray
                              ("life_T_av_Nm", t_av), ("life_n_av", np.broadcast_to(n_av, t_av.shape)),
                              ("life_basis", np.broadcast_to(gearboxes.life_basis[g], t_av.shape)),
                              ("life_binding", np.where(strain, -1.0, which).astype(float))):
-            stats.setdefault(name, nan.copy())[:, c] = figure
+            stats[name][:, c] = figure
+
+
+#: The screen's allowance for its winding bound: the mean losses it takes from Simpson's rule on the samples,
+#: the exact model from the knots' piecewise-linear losses (trapezoids), which differ by far less than this share.
+SCREEN_ALLOWANCE = 1e-3
+
+
+def screen_bounds(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float, conditions: Conditions,
+                  rms_low: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+    """Upper bounds ``(M, B)`` of the ratios of this module's checks for every pair, for the selection's screen
+    (:func:`armlab.sizing.select.screen`), given a lower bound ``rms_low`` ``(M, B)`` of each pair's RMS motor
+    torque: exact for the inertia ratio, the brake and the gearbox life (they need no motor torque); the currents'
+    and the winding's from ``rms_low`` (the peak current is at least the RMS one, the winding's peak rise at least
+    that of the mean losses, less :data:`SCREEN_ALLOWANCE`). A check without its data: no bound (+inf)."""
+    G, J_g = gearboxes.ratio[None, :], gearboxes.input_inertia[None, :]
+    limit = np.where(np.isnan(motors.max_inertia_ratio), INERTIA_RATIO, motors.max_inertia_ratio)[:, None]
+    inertia = (task.inertia.max() / G**2 + J_g) / motors.rotor_inertia[:, None]
+    brake = _ratio(motors.brake_torque[:, None], conditions.brake_factor * np.abs(task.static).max() / np.abs(G))
+    B = len(gearboxes)
+    value, bound = np.full((task.tau.shape[0], B), np.nan), np.full((task.tau.shape[0], B), np.nan)
+    _life(task, gearboxes, np.arange(B), slice(None), safety, conditions, value, bound, None)
+    rated = ~np.isnan(gearboxes.life_basis) & ~np.isnan(gearboxes.rated_life) & ~np.isnan(gearboxes.rated_input_speed)
+    life = np.where(rated, _ratio(bound, value).min(axis=0), np.inf)[None, :]
+    current = safety * rms_low / motors.torque_constant[:, None]  # a lower bound of the RMS current (A)
+    r_hot = motors.resistance * (1 + ALPHA_CU * (motors.max_winding_temperature - RESISTANCE_AT))
+    gain = motors.thermal_resistance_winding + motors.thermal_resistance_housing
+    rise = (gain * 1.5 * r_hot)[:, None] * current**2 * (1 - SCREEN_ALLOWANCE)
+    bounds = [_ratio(limit, inertia), brake, life, _ratio(motors.drive_continuous_current[:, None], current),
+              _ratio(motors.drive_peak_current[:, None], current),
+              _ratio((motors.max_winding_temperature - conditions.ambient)[:, None], rise)]
+    return [np.nan_to_num(np.broadcast_to(b, inertia.shape), nan=np.inf, posinf=np.inf) for b in bounds]

@@ -17,7 +17,9 @@ the **periodic** solution whose start is y_0* = y_T(0)/(1 − e^{λT}) (y_T(0): 
 **The DC link's energy** (:func:`bus_energy`): with p(t) the power a drive draws from its bus (W, negative
 when the motor brakes and returns energy), the energy stored above the nominal voltage rises by −∫p while p < 0
 and is drawn first when p > 0 (a rectifier supply returns nothing and takes over at the nominal voltage): the
-one-sided reflected walk E = S − min(0, min S) of S(t) = −∫₀ᵗ p, over two cycles (the second periodic), each
+one-sided reflected walk E = S − min(0, min S) of S(t) = −∫₀ᵗ p, and over the second cycle (periodic: the
+walk from the first cycle's end E₁ is S − min(−E₁, min S)) — unless the cycle returns net energy (a payload
+carried down and not up): then the link fills whatever its size, the stored energy is unbounded —, each
 interval split where p changes sign (:func:`energy_steps`: S is then monotone between the points, so its extremes
 are among them, exactly). With a capacity E_cap (the capacitors' ½C(V_max² − V_nom²)) whatever would lift E above
 it goes to the braking resistor (:func:`resistor_energy`: the two-sided walk, part by part).
@@ -28,7 +30,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["BLOCK", "bus_energy", "energy_steps", "lag", "lag_periodic", "lag_weights", "resistor_energy"]
+__all__ = ["BLOCK", "bus_energy", "energy_steps", "lag", "lag_periodic", "lag_weights", "resistor_energy",
+           "within_zero"]
 
 #: A block of the lag's solution spans at most this many of its fastest time constants (e^BLOCK < 1e217).
 BLOCK = 500.0
@@ -91,35 +94,77 @@ def energy_steps(power: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[
     turns = p0 * p1 < 0
     with np.errstate(divide="ignore", invalid="ignore"):
         s = np.where(turns, h * p0 / np.where(turns, p0 - p1, 1.0), h)
-    first = np.where(turns, -p0 * s / 2, -(p0 + p1) * h / 2)
-    second = np.where(turns, -p1 * (h - s) / 2, 0.0)
-    return np.stack([first, second], axis=-1).reshape(power.shape[:-1] + (2 * h.size,))
+    out = np.empty(power.shape[:-1] + (2 * h.size,))
+    out[..., 0::2] = np.where(turns, -p0 * s / 2, -(p0 + p1) * h / 2)
+    out[..., 1::2] = np.where(turns, -p1 * (h - s) / 2, 0.0)
+    return out
 
 
-def bus_energy(power: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The largest energy (J) the DC link stores above its nominal voltage over the periodic cycle ``(...)``, for
-    the power drawn from it ``power`` ``(..., K)`` (W) at the knots ``t`` ``(K,)`` (module docstring)."""
-    gain = energy_steps(power, t)
-    twice = np.concatenate([gain, gain], axis=-1)
-    S = np.concatenate([np.zeros(power.shape[:-1] + (1,)), np.cumsum(twice, axis=-1)], axis=-1)
-    return (S - np.minimum(np.minimum.accumulate(S, axis=-1), 0.0)).max(axis=-1)
+def bus_energy(power: NDArray[np.float64], t: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The largest energy (J) the DC link stores above its nominal voltage over the periodic cycle, and the net
+    energy the cycle returns to it (J, −∫p; > 0: more comes back than is drawn), each ``(...)``, for the power
+    drawn from it ``power`` ``(..., K)`` (W) at the knots ``t`` ``(K,)`` (module docstring). A cycle returning
+    net energy fills any capacitor in the end: its stored energy is +inf."""
+    steps = energy_steps(power, t)
+    S = np.cumsum(steps, axis=-1)  # after each part (S = 0 at the start)
+    low = np.minimum(np.minimum.accumulate(S, axis=-1), 0.0)
+    net = S[..., -1]
+    end = net - low[..., -1]  # the stored energy after one cycle from empty: the second cycle starts there
+    # the second cycle, from `end`: E = S − min(−end, min S) (the reflected walk from a start ≥ 0); periodic when
+    # the cycle returns no net energy (the walk from empty ends where the periodic one starts)
+    peak = np.maximum(end, (S - np.minimum(low, -end[..., None])).max(axis=-1))
+    gross = np.maximum(steps, 0.0).sum(axis=-1)
+    charging = ~within_zero(net, gross)
+    return np.where(charging, np.inf, peak), net
+
+
+def within_zero(value: NDArray[np.float64], scale: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Whether ``value`` ≤ 0 but for round-off: ≤ 10⁻⁹·max(1, ``scale``) (a net energy against the gross)."""
+    return np.asarray(value <= 1e-9 * np.maximum(1.0, scale))
+
+
+def _runs(gain: NDArray[np.float64]) -> NDArray[np.float64]:
+    """One row's gains ``(P,)`` summed over its runs of one sign: within a run the walk is monotone, so it meets
+    at most one of its bounds, and the run's sum does what its parts do."""
+    sign = np.sign(gain)
+    keep = np.flatnonzero(sign != 0)
+    if keep.size == 0:
+        return np.zeros(0)
+    starts = keep[np.concatenate([[True], sign[keep][1:] != sign[keep][:-1]])]
+    return np.add.reduceat(gain, starts)
+
+
+def _walk(gain: NDArray[np.float64], start: NDArray[np.float64], cap: NDArray[np.float64]
+          ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The two-sided walk E ← clip(E + gain, 0, cap) part by part from ``start``, for each row of ``gain``
+    ``(..., P)``: its end and what the cap cut, each ``(...)`` (over the runs of :func:`_runs`)."""
+    rows = gain.reshape(-1, gain.shape[-1])
+    ends, cut = np.empty(rows.shape[0]), np.zeros(rows.shape[0])
+    for r, (row, level, top) in enumerate(zip(rows, np.broadcast_to(start, gain.shape[:-1]).ravel(),
+                                              np.broadcast_to(cap, gain.shape[:-1]).ravel(), strict=True)):
+        level, top, burnt = float(level), float(top), 0.0
+        for g in _runs(row).tolist():
+            level += g
+            if level > top:
+                burnt += level - top
+                level = top
+            elif level < 0.0:
+                level = 0.0
+        ends[r], cut[r] = level, burnt
+    return ends.reshape(gain.shape[:-1]), cut.reshape(gain.shape[:-1])
 
 
 def resistor_energy(power: NDArray[np.float64], t: NDArray[np.float64], capacity: NDArray[np.float64]
                     ) -> NDArray[np.float64]:
     """The energy (J per cycle, ``(...)``) a braking resistor takes in the periodic cycle: what would lift the
-    DC link's stored energy above ``capacity`` ``(...)`` (J), part by part of :func:`energy_steps` (the module
-    docstring's two-sided walk, from 0 over two cycles; the second is periodic once the walk has reached the
-    capacity, and if it never does the resistor takes nothing)."""
+    DC link's stored energy above ``capacity`` ``(...)`` (J), part by part of :func:`energy_steps`. One cycle maps
+    its start e to clip(e + A, lo, hi) (a composition of clips is one), A the net energy returned; its fixed
+    point, where the periodic cycle starts, is hi = the end from a full link if A > 0, else lo = the end from an
+    empty one; the resistor's share is what that cycle cuts."""
     gain = energy_steps(power, t)
-    cap = np.maximum(np.asarray(capacity, dtype=float), 0.0)
-    stored = np.zeros(gain.shape[:-1])
-    burnt = np.zeros(gain.shape[:-1])
-    for cycle in range(2):
-        if cycle == 1:
-            burnt[...] = 0.0
-        for k in range(gain.shape[-1]):
-            level = stored + gain[..., k]
-            burnt += np.maximum(level - cap, 0.0)
-            stored = np.clip(level, 0.0, cap)
-    return burnt
+    cap = np.maximum(np.broadcast_to(np.asarray(capacity, dtype=float), gain.shape[:-1]), 0.0)
+    net = gain.sum(axis=-1)
+    charging = ~within_zero(net, np.maximum(gain, 0.0).sum(axis=-1))
+    start = np.where(charging, cap, 0.0)
+    periodic, _ = _walk(gain, start, cap)
+    return _walk(gain, periodic, cap)[1]

@@ -40,7 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.drives.train import DriveTrain, motor_speed, motor_torque
-from armlab.sizing.checks import DRIVE_CHECKS, Conditions, drive_checks, missing_column, number, within
+from armlab.sizing.checks import DRIVE_CHECKS, Conditions, drive_checks, missing_column, number, screen_bounds, within
 
 if TYPE_CHECKING:
     from armlab.sizing.catalogue import Gearboxes, Motors
@@ -208,8 +208,10 @@ def _evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDArray
         (one * peak_speed, one * gb.max_input_speed[ig]),
     ]
     torque_rows = np.stack([_ratio(limit, value) for value, limit in rows])  # (checks, L, C)
-    active = np.ones(C, dtype=bool) if describe else torque_rows.min(axis=(0, 1)) >= 1 - SLACK
-    drive = drive_checks(task, motors, gearboxes, im, ig, tau_m, speed, safety, conditions, active, describe)
+    floor = torque_rows.min(axis=(0, 1))  # (C,) the smallest ratio so far
+    active = np.ones(C, dtype=bool) if describe else floor >= 1 - SLACK
+    drive = drive_checks(task, motors, gearboxes, im, ig, tau_m, speed, safety, conditions, active, describe,
+                         stats["peak_torque"], stats["rms_torque"], None if describe else floor)
     rows += [drive.rows[check] for check in DRIVE_CHECKS]
     ratio_rows = np.concatenate([torque_rows, np.stack([_ratio(limit, value) for value, limit in rows[len(
         TORQUE_CHECKS):]])])
@@ -234,10 +236,12 @@ def _evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDArray
     return Evaluation(im, ig, ratios, stats, values, limits, at(worst_omega, case[3][None], axis=0)[0], case)
 
 
-def screen(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float) -> tuple[NDArray, NDArray, NDArray]:
+def screen(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float,
+           conditions: Conditions | None = None) -> tuple[NDArray, NDArray, NDArray]:
     """The screen of every pair (see the module docstring): ``(ratio (M, B), alpha_max (M,), beta (L,))``, ratio the
     smallest of the bounds' limit/value (≥ 1 − :data:`SLACK`: go on to the full check; −inf: dropped in stage 1),
-    alpha_max each motor's best accelerating factor (1/s²·N·m… = N²·m²/(kg·m²)), beta the load factors."""
+    alpha_max each motor's best accelerating factor (1/s²·N·m… = N²·m²/(kg·m²)), beta the load factors; with the
+    bounds of :func:`armlab.sizing.checks.screen_bounds` for the checks of :mod:`armlab.sizing.checks`."""
     a = task.mean(task.qdd**2)
     b = task.mean(task.tau**2)  # (L,)
     c = task.mean(task.tau * task.qdd)
@@ -261,6 +265,7 @@ def screen(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float)
         _ratio(gb.max_input_speed[None, :], G * top) * np.ones_like(J),
         _ratio(gb.rated_torque[None, :], safety * load_rms * np.ones_like(J)),
         _ratio(gb.peak_torque[None, :], safety * load_peak * np.ones_like(J)),
+        *screen_bounds(task, motors, gearboxes, safety, conditions or Conditions(), rms_low),
     ]
     ratio = np.minimum.reduce(ratios)
     return np.where(stage1[:, None], ratio, -np.inf), alpha_max, beta
@@ -373,7 +378,9 @@ def _texts(check: str, value: float, limit: float, safety: float, speed: float, 
         elif check == "regeneration":
             basis = stat["regeneration_basis"]
             if basis == 0:
-                v, lim = f"bus energy {n(value)} J", f"capacitors {n(limit)} J"
+                v = (f"bus energy {n(value)} J" if np.isfinite(value) else
+                     f"bus energy growing by {n(stat['bus_net_J'])} J a cycle")
+                lim = f"capacitors {n(limit)} J"
                 if stat["resistor_fitted"] == 0 and not within(value, limit):
                     lim += (f" (no braking resistor, column braking_resistor_W: one of ≥ {n(stat['resistor_power_W'])}"
                             f" W mean, ≥ {n(stat['regen_power_peak_W'])} W peak is needed)")
@@ -452,7 +459,7 @@ def select_joint(joint: str, task: JointTask, motors: Motors, gearboxes: Gearbox
     bound): the best pairs are the ones a check of every pair would give, without checking the many heavier ones."""
     safety, rank = check_safety_factor(safety), check_rank(rank)
     conditions = conditions or Conditions()
-    ratio, alpha_max, beta = screen(task, motors, gearboxes, safety)
+    ratio, alpha_max, beta = screen(task, motors, gearboxes, safety, conditions)
     B = len(gearboxes)
     flat = ratio.ravel()
     mass = (motors.mass[:, None] + gearboxes.mass[None, :]).ravel()
