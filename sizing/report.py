@@ -106,8 +106,10 @@ def summary_lines(sizing: Sizing) -> list[str]:
             continue
         k = int(np.argmax(c.stats["rms_torque"]))
         winding = c.stats["winding_peak_C"].max()
+        joint_peak = np.abs(s.loads.tau[:, :, s.joints.index(j)]).max()  # the load at the gearbox output
         lines.append(f"{j.joint}: {_pair(c)}, {number(c.mass, 4)} kg, margin {percent(c.margin)} ({_binds(c)}); "
-                     f"worst case {s.cases[k].label}: motor RMS {number(c.stats['rms_torque'][k])} N·m, peak "
+                     f"joint peak {number(joint_peak)} N·m; worst case {s.cases[k].label}: motor RMS "
+                     f"{number(c.stats['rms_torque'][k])} N·m, peak "
                      f"{number(c.stats['peak_torque'].max())} N·m, {number(c.stats['peak_speed'].max() * RPM)} rpm"
                      + (f"; winding {number(winding)} °C" if np.isfinite(winding) else "")
                      + f"; {j.pairs} pairs, {j.screened} past the screen, {j.checked} checked in order of {s.rank}, "
