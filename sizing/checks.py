@@ -77,8 +77,8 @@ DRIVE_CHECKS = ("inertia ratio", "voltage", "current peak", "current RMS", "I²t
 #: basis (:data:`~armlab.sizing.catalogue.LIFE_BASES`) and a rating's binding limit (0 T_N, 1 n_N, 2 L_n; −1 none).
 DRIVE_STATS = ("voltage_speed", "winding_peak_C", "winding_mean_loss_C", "copper_loss_W", "cycles_to_periodic",
                "bus_energy_peak_J", "capacitor_J", "bus_regenerated_J", "regen_power_peak_W", "resistor_energy_J",
-               "resistor_power_W", "resistor_fitted", "regeneration_basis", "bus_net_J", "static_torque", "life_h", "life_T_av_Nm",
-               "life_n_av", "life_basis", "life_binding")
+               "resistor_power_W", "resistor_fitted", "regeneration_basis", "bus_net_J", "static_torque", "life_h",
+               "life_T_av_Nm", "life_n_av", "life_basis", "life_binding")
 #: Copper's temperature coefficient of resistance (1/K, at 20–25 °C; IEC 60228's 0.00393).
 ALPHA_CU = 0.00393
 #: The temperature (°C) a catalogue's resistance is given at.
@@ -268,6 +268,16 @@ def _knot_weights(task: JointTask) -> NDArray[np.float64]:
     return np.bincount(task.knot_sample, per_knot, minlength=task.weight.size)
 
 
+def _bus(motors: Motors, m: NDArray[np.intp], conditions: Conditions) -> NDArray[np.float64]:
+    """The DC bus voltage (V) of motors ``m``' drives: the conditions', else each catalogue's."""
+    return np.full(m.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
+
+
+def _capacity(motors: Motors, m: NDArray[np.intp], bus: NDArray[np.float64]) -> NDArray[np.float64]:
+    """What the DC-link capacitors of motors ``m``' drives hold (J) from the bus voltage to V_max: ½C(V_max² − V²)."""
+    return 0.5 * motors.bus_capacitance[m] * (motors.bus_max_voltage[m] ** 2 - bus**2)
+
+
 def _cols(a: NDArray, c: NDArray[np.intp]) -> NDArray:
     """``a[..., c]``, without a copy when ``c`` is every column in order (most pairs pass the torque checks)."""
     if c.size == a.shape[-1] and (c.size == 0 or (c[0] == 0 and c[-1] == c.size - 1)):
@@ -346,7 +356,7 @@ def drive_checks(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDAr
         r_hot = motors.resistance[m] * (1 + ALPHA_CU * (motors.max_winding_temperature[m] - RESISTANCE_AT))
         top = np.hypot(motors.back_emf[m] * omega_max + np.sqrt(3) / 2 * r_hot * current_max,
                        np.sqrt(3) / 2 * motors.pole_pairs[m] * motors.inductance[m] * omega_max * current_max)
-        bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
+        bus = _bus(motors, m, conditions)
         sure = np.all(_ratio(bus / np.sqrt(2), top) >= floor[c], axis=0)
         put("voltage", c[sure], top[:, sure], np.broadcast_to(bus[sure] / np.sqrt(2), (L, int(sure.sum()))))
         todo["voltage"] = c[~sure]
@@ -397,8 +407,8 @@ def drive_checks(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDAr
         c = todo["regeneration"]
         if c.size:  # from the mechanical power S·τ_m·ω, whose returns bound those with the copper losses
             m = im[c]
-            bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
-            capacity = 0.5 * motors.bus_capacitance[m] * (motors.bus_max_voltage[m] ** 2 - bus**2)
+            bus = _bus(motors, m, conditions)
+            capacity = _capacity(motors, m, bus)
             torque = _cols(tau_m, c)
             mechanical = torque * _cols(speed, c)[None]  # (L, T, c) W / S
             back = safety * np.einsum("ltc,t->lc", np.maximum(-mechanical, 0.0), trap)  # what comes back, at most
@@ -437,7 +447,7 @@ def drive_checks(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDAr
 def _voltage(motors: Motors, m: NDArray[np.intp], c: NDArray[np.intp], tau_m: NDArray, speed: NDArray,
              safety: float, conditions: Conditions, value: NDArray, bound: NDArray,
              stats: dict[str, NDArray] | None) -> None:
-    bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
+    bus = _bus(motors, m, conditions)
     r_hot = motors.resistance[m] * (1 + ALPHA_CU * (motors.max_winding_temperature[m] - RESISTANCE_AT))
     current = safety * _cols(tau_m, c) / motors.torque_constant[m]  # (L, T, c) A, signed
     omega = _cols(speed, c)
@@ -508,11 +518,11 @@ def _regeneration(task: JointTask, motors: Motors, m: NDArray[np.intp], c: NDArr
                   speed: NDArray, safety: float, conditions: Conditions, value: NDArray, bound: NDArray,
                   stats: dict[str, NDArray] | None) -> None:
     knots, t = task.knot_sample, task.knot_time
-    bus = np.full(c.size, conditions.bus_voltage) if conditions.bus_voltage is not None else motors.bus_voltage[m]
+    bus = _bus(motors, m, conditions)
     power = np.moveaxis(_bus_power(motors, m, safety * _cols(tau_m, c), _cols(speed, c)[None])[:, knots], 1, -1)
     stored, net = bus_energy(power, t)  # (L, c); power (L, c, K) at the knots
     v_max = motors.bus_max_voltage[m]
-    capacity = 0.5 * motors.bus_capacitance[m] * (v_max**2 - bus**2)  # (c,)
+    capacity = _capacity(motors, m, bus)  # (c,)
     peak_regen = np.maximum((-power).max(axis=-1), 0.0)  # (L, c) W: the most power coming back
     value[:, c], bound[:, c] = stored, np.broadcast_to(capacity, stored.shape)
     resistor = ~np.isnan(motors.braking_resistor_power[m]) & ~np.isnan(motors.braking_resistance[m])

@@ -80,7 +80,8 @@ class Sizing:
         ig = np.array([c.gearbox for c in chosen if c is not None])
         own = self.arm.drives or DriveTrain.ideal(im.size)
         return DriveTrain(self.gearboxes.ratio[ig], self.motors.rotor_inertia[im] + self.gearboxes.input_inertia[ig],
-                          self.gearboxes.efficiency[ig], own.viscous, own.coulomb, own.coulomb_speed)
+                          self.gearboxes.efficiency[ig], own.viscous, own.coulomb, own.coulomb_speed,
+                          own.coulomb_negative)
 
 
 def _tasks(arm: Arm, samples: CycleSamples, loads: Loads) -> list[JointTask]:

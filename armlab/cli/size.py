@@ -2,9 +2,10 @@
 
 ``armlab size ARM [motion options | --duty-cycle FILE] [--payload KG,…] [--load-cases FILE] [--motors CSV]
 [--gearboxes CSV] [--safety-factor S] [--rank mass|margin|inertia] [--no-mass-iteration] [--ambient °C]
-[--bus-voltage V] [--brake-factor K] [--required-life H] [--out DIR]`` prints one line per joint (its choice, or the nearest pairs and the check each fails) and writes, with ``--out``,
-``sizing.csv``, ``sizing.md`` and ``torque_speed_JOINT.png`` per joint into DIR (all or nothing). Exit 3 when a
-joint has no feasible pair (its nearest candidates are printed; sizing.csv/md still written).
+[--bus-voltage V] [--brake-factor K] [--required-life H] [--out DIR]`` prints one line per joint (its choice, or
+the nearest pairs and the check each fails) and writes, with ``--out``, ``sizing.csv``, ``sizing.md`` and
+``torque_speed_JOINT.png`` per joint into DIR (all or nothing). Exit 3 when a joint has no feasible pair (its
+nearest candidates are printed; sizing.csv/md still written).
 """
 
 from __future__ import annotations

@@ -62,13 +62,15 @@ def catalogues(motors: int = 500, gearboxes: int = 40, seed: int = 0) -> tuple[M
     hot = 1 + ALPHA_CU * (155 - 25)
     resistance = 90 / r_total / (1.5 * (rated / kt) ** 2) / hot  # the rated current heats the winding by 90 K
     m = Motors(tuple(f"M{k:03d}" for k in range(motors)), rated, peak, speed, speed * rng.uniform(1.5, 2.0, motors),
-               0.08 * rated**1.3 * KGCM2 * rng.uniform(0.7, 1.4, motors), 0.9 * rated**0.7 * rng.uniform(0.8, 1.2, motors),
+               0.08 * rated**1.3 * KGCM2 * rng.uniform(0.7, 1.4, motors),
+               0.9 * rated**0.7 * rng.uniform(0.8, 1.2, motors),
                no_load, rated * 3.8, torque_constant=kt, back_emf=back_emf, resistance=resistance,
                inductance=1.5e-3 * resistance, pole_pairs=np.full(motors, 4.0),
                thermal_resistance_winding=0.3 * r_total, thermal_resistance_housing=0.7 * r_total,
                time_constant_winding=40 * (rated / 0.64) ** 0.3, time_constant_motor=900 * (rated / 0.64) ** 0.35,
                max_winding_temperature=np.full(motors, 155.0), brake_torque=1.3 * rated,
-               drive_continuous_current=1.2 * rated / kt, drive_peak_current=np.maximum(3.6, 1.1 * peak / rated) * rated / kt,
+               drive_continuous_current=1.2 * rated / kt,
+               drive_peak_current=np.maximum(3.6, 1.1 * peak / rated) * rated / kt,
                drive_peak_time=np.full(motors, 2.0), bus_voltage=bus, bus_max_voltage=np.where(big, 750.0, 390.0),
                bus_capacitance=np.where(big, 470e-6, 680e-6), braking_resistor_power=np.where(big, 100.0, np.nan),
                braking_resistance=np.where(big, 60.0, np.nan))
@@ -79,7 +81,8 @@ def catalogues(motors: int = 500, gearboxes: int = 40, seed: int = 0) -> tuple[M
     g = Gearboxes(tuple(f"G{k:02d}" for k in range(gearboxes)), ratio, efficiency, torque, 2.2 * torque,
                   np.full(gearboxes, 6000.0 * RPM), 0.02 * torque**0.8 * KGCM2 / np.sqrt(ratio), 0.12 * torque**0.6,
                   life_basis=np.where(strain, LIFE_BASES["strain-wave"], LIFE_BASES["rating"]),
-                  rated_life=np.where(strain, 35000.0, 30000.0), rated_input_speed=np.where(strain, 2000.0, 3000.0) * RPM)
+                  rated_life=np.where(strain, 35000.0, 30000.0),
+                  rated_input_speed=np.where(strain, 2000.0, 3000.0) * RPM)
     return m, g
 
 
