@@ -49,7 +49,7 @@ import math
 from dataclasses import dataclass, field, fields
 from importlib.resources import files
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -102,17 +102,19 @@ LIFE_BASES = {"strain-wave": 1.0, "rating": 2.0}
 _TEXT = ("life_basis",)
 
 
-def _column_of(columns: dict[str, tuple[bool, float, bool, str]], name: str) -> str:
-    """The catalogue column of a field ``name``."""
-    return next(c for c, spec in columns.items() if spec[3] == name)
-
-
 class _Optional:
-    """What the optional columns' fields share: an empty array (the default) becomes NaN, one per row."""
+    """What the catalogues share: an optional column's field left empty (the default) becomes NaN, one per row;
+    each field's catalogue column (:meth:`column`, from the class's ``_COLUMNS``)."""
 
     name: tuple[str, ...]
+    _COLUMNS: ClassVar[dict[str, tuple[bool, float, bool, str]]]
 
-    def _fill(self) -> None:
+    @classmethod
+    def column(cls, name: str) -> str:
+        """The catalogue column of the field ``name`` (``"torque_constant"`` → ``"torque_constant_Nm_A"``)."""
+        return next(c for c, spec in cls._COLUMNS.items() if spec[3] == name)
+
+    def __post_init__(self) -> None:
         for f in fields(self):  # type: ignore[arg-type]  # every subclass is a dataclass
             value = getattr(self, f.name)
             if isinstance(value, np.ndarray) and value.size == 0 and len(self.name):
@@ -172,13 +174,7 @@ class Motors(_Optional):
     braking_resistor_power: NDArray[np.float64] = field(default_factory=_none)
     braking_resistance: NDArray[np.float64] = field(default_factory=_none)
 
-    def __post_init__(self) -> None:
-        self._fill()
-
-    @staticmethod
-    def column(name: str) -> str:
-        """The catalogue column of the field ``name`` (``"torque_constant"`` → ``"torque_constant_Nm_A"``)."""
-        return _column_of(MOTOR_COLUMNS, name)
+    _COLUMNS: ClassVar[dict[str, tuple[bool, float, bool, str]]] = MOTOR_COLUMNS
 
     def envelope(self, index: NDArray[np.intp], speed: NDArray[np.float64]) -> NDArray[np.float64]:
         """The largest |τ| (N·m) motors ``index`` give at motor speeds ``speed`` (rad/s), broadcast together:
@@ -206,14 +202,7 @@ class Gearboxes(_Optional):
     life_basis: NDArray[np.float64] = field(default_factory=_none)
     rated_life: NDArray[np.float64] = field(default_factory=_none)
     rated_input_speed: NDArray[np.float64] = field(default_factory=_none)
-
-    def __post_init__(self) -> None:
-        self._fill()
-
-    @staticmethod
-    def column(name: str) -> str:
-        """The catalogue column of the field ``name``."""
-        return _column_of(GEARBOX_COLUMNS, name)
+    _COLUMNS: ClassVar[dict[str, tuple[bool, float, bool, str]]] = GEARBOX_COLUMNS
 
 
 def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, bool, str]]) -> dict[str, Any]:

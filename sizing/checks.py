@@ -576,8 +576,8 @@ def _life(task: JointTask, gearboxes: Gearboxes, g: NDArray[np.intp], c: NDArray
     strain = gearboxes.life_basis[g] == LIFE_BASES["strain-wave"]
     required = conditions.required_life
     which = np.nan_to_num(ratios, nan=np.inf).argmin(axis=0)  # (L, g)
-    pairs = [(t_av, t_n), (n_av, n_n), (required, l_n)]
-    rating_value = np.choose(which, [np.broadcast_to(v, t_av.shape) for v, _ in pairs])
+    pairs: list[tuple[NDArray | float, NDArray]] = [(t_av, t_n), (n_av, n_n), (required, l_n)]
+    rating_value = np.choose(which, [np.broadcast_to(np.asarray(v), t_av.shape) for v, _ in pairs])
     rating_limit = np.choose(which, [np.broadcast_to(lim, t_av.shape) for _, lim in pairs])
     value[:, c] = np.where(strain, required, rating_value)
     bound[:, c] = np.where(strain, l10, rating_limit)

@@ -140,9 +140,10 @@ def _walk(gain: NDArray[np.float64], start: NDArray[np.float64], cap: NDArray[np
     ``(..., P)``: its end and what the cap cut, each ``(...)`` (over the runs of :func:`_runs`)."""
     rows = gain.reshape(-1, gain.shape[-1])
     ends, cut = np.empty(rows.shape[0]), np.zeros(rows.shape[0])
-    for r, (row, level, top) in enumerate(zip(rows, np.broadcast_to(start, gain.shape[:-1]).ravel(),
-                                              np.broadcast_to(cap, gain.shape[:-1]).ravel(), strict=True)):
-        level, top, burnt = float(level), float(top), 0.0
+    starts = np.broadcast_to(start, gain.shape[:-1]).ravel().tolist()
+    tops = np.broadcast_to(cap, gain.shape[:-1]).ravel().tolist()
+    for r, row in enumerate(rows):
+        level, top, burnt = float(starts[r]), float(tops[r]), 0.0
         for g in _runs(row).tolist():
             level += g
             if level > top:

@@ -11,6 +11,7 @@ the motor torque is J·q̈ (the rotor's and the gearbox's inertia) plus the load
 from __future__ import annotations
 
 import math
+from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
@@ -246,8 +247,8 @@ def test_a_check_without_its_data_is_not_checked_and_the_selection_skips_failing
                           "brake"}
     assert chosen.binding is not None and chosen.binding.checked
     hot, cool = _motor(mass=1.0, thermal_resistance_housing=50.0), _motor(mass=3.0)
-    both = Motors(("hot", "cool"), **{f: np.concatenate([getattr(hot, f), getattr(cool, f)])
-                                      for f in hot.__dataclass_fields__ if f != "name"})
+    both = Motors(("hot", "cool"), **{f.name: np.concatenate([getattr(hot, f.name), getattr(cool, f.name)])
+                                      for f in fields(hot) if f.name != "name"})
     selection = select_joint("j", task, both, _gearbox())
     assert selection.chosen.motor_name == "cool"
     assert selection.nearest[0].motor_name == "hot"
