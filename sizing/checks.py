@@ -274,8 +274,9 @@ def _bus(motors: Motors, m: NDArray[np.intp], conditions: Conditions) -> NDArray
 
 
 def _capacity(motors: Motors, m: NDArray[np.intp], bus: NDArray[np.float64]) -> NDArray[np.float64]:
-    """What the DC-link capacitors of motors ``m``' drives hold (J) from the bus voltage to V_max: ½C(V_max² − V²)."""
-    return 0.5 * motors.bus_capacitance[m] * (motors.bus_max_voltage[m] ** 2 - bus**2)
+    """What the DC-link capacitors of motors ``m``' drives hold (J) from the bus voltage to V_max: ½C(V_max² − V²)
+    (nothing for a bus at or above V_max)."""
+    return np.maximum(0.5 * motors.bus_capacitance[m] * (motors.bus_max_voltage[m] ** 2 - bus**2), 0.0)
 
 
 def _cols(a: NDArray, c: NDArray[np.intp]) -> NDArray:
