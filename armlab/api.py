@@ -56,6 +56,7 @@ from armlab.planning.motions import read_segments as read
 from armlab.planning.timing import DEFAULT_GRID, Fastest
 from armlab.planning.timing import fastest as time_optimal
 from armlab.sizing.catalogue import Gearboxes, Motors, read_gearboxes, read_motors
+from armlab.sizing.checks import Conditions
 from armlab.sizing.duty import DEFAULT_RATE, DutyCycle, LoadCase, load_cases_of, read_duty_cycle
 from armlab.sizing.sizing import Sizing, size
 
@@ -255,6 +256,7 @@ def size_drives(
     rank: str = "mass",
     mass_iteration: bool = True,
     rate: float = DEFAULT_RATE,
+    conditions: Conditions | None = None,
 ) -> Sizing:
     """The motor and gearbox of every joint of ``arm`` for a duty cycle and every load case; a
     :class:`~armlab.sizing.sizing.Sizing` (``.joints[k].chosen``, ``.feasible``, ``.drive_mass``, ``.iterations``).
@@ -265,7 +267,9 @@ def size_drives(
     files or read ones; ``None``: armlab's example catalogues, illustrative values); ``safety_factor`` ≥ 1 on every
     torque; ``rank``: ``"mass"`` (lightest first), ``"margin"`` or ``"inertia"`` (smallest inertia ratio);
     ``mass_iteration``: put the chosen drives' masses on the links and repeat until the choice holds; ``rate``:
-    samples per second of motion. See :mod:`armlab.sizing.select` for what feasible means.
+    samples per second of motion; ``conditions``: the ambient temperature, bus voltage, brake factor and required
+    gearbox life (:class:`~armlab.sizing.checks.Conditions`; default its defaults). See :mod:`armlab.sizing.select`
+    and :mod:`armlab.sizing.checks` for what feasible means.
     """
     if cycle is None:
         cycle = motion_of_paper(arm)
@@ -275,7 +279,8 @@ def size_drives(
         cycle = DutyCycle.of(cycle)
     motors = motors if isinstance(motors, Motors) else read_motors(motors)
     gearboxes = gearboxes if isinstance(gearboxes, Gearboxes) else read_gearboxes(gearboxes)
-    return size(arm, cycle, load_cases_of(payloads), motors, gearboxes, safety_factor, rank, mass_iteration, rate)
+    return size(arm, cycle, load_cases_of(payloads), motors, gearboxes, safety_factor, rank, mass_iteration, rate,
+                conditions=conditions)
 
 
 def draw(arm: Arm, q: ArrayLike | None = None, path: str | Path | None = None) -> Figure:

@@ -496,10 +496,10 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
         "gravity": log.gravity.tolist(),
         "payload_kg": log.payload,
         "drive_train": None if arm.drives is None else {
-            **{name: getattr(arm.drives, name).tolist() for name in DRIVE_FIELDS},
+            **{name: arm.drives.per_joint(name).tolist() for name in DRIVE_FIELDS},
             "coulomb_speed": arm.drives.coulomb_speed,
             "units": {"rotor_inertia": "kg·m² (motor side)", "viscous": "N·m·s/rad (joint side)",
-                      "coulomb": "N·m (joint side)"}},
+                      "coulomb": "N·m (joint side; T_c+, q̇ ≥ 0)", "coulomb_negative": "N·m (joint side; T_c−, q̇ < 0)"}},
         "log_period": log.log_period,
         "integrator": {"scheme": DEFAULT_INTEGRATOR, "target_accuracy": log.accuracy, "max_step": max_step(log.mode)},
         **_stats(log, np.ones(log.t.shape, dtype=bool)),

@@ -32,7 +32,7 @@ SUBPACKAGES = {  # in the order of the rooms (README's layout)
     "armlab.planning": "motions to run and their fastest timing",
     "armlab.controllers": "the inverse-dynamics controller",
     "armlab.diagrams": "the Drake Systems diagram of a run and its simulation",
-    "armlab.sizing": "drive sizing: catalogues, duty cycles, load cases, the selection",
+    "armlab.sizing": "drive sizing: catalogues, duty cycles, load cases, the selection and the vendors' checks",
     "armlab.analysis": "workspaces, singular configurations and design studies",
 }
 

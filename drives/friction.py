@@ -1,4 +1,5 @@
-"""The drive train's Coulomb friction as a Drake system: ``sign``·T_c·tanh(v/v_s) of a state's rates.
+"""The drive train's Coulomb friction as a Drake system: ``sign``·T_c±·tanh(v/v_s) of a state's rates (T_c+ for
+v ≥ 0, T_c− below: :meth:`armlab.drives.train.DriveTrain.coulomb_friction`).
 
 Drake's ``MultibodyPlant`` has no joint Coulomb friction (it ignores a URDF's ``<dynamics friction>``), so the
 diagram applies it as a generalized force: :class:`CoulombFriction` with ``sign`` = −1 on the plant's state
@@ -26,7 +27,7 @@ __all__ = ["CoulombFriction", "add_coulomb_friction"]
 
 
 class CoulombFriction(LeafSystem):
-    """Input ``state`` ([q, v], 2n); output ``friction`` = ``sign``·T_c·tanh(v/v_s) (N·m or N, n)."""
+    """Input ``state`` ([q, v], 2n); output ``friction`` = ``sign``·T_c±·tanh(v/v_s) (N·m or N, n)."""
 
     # No state: a C++ function under the name spares pydrake's per-evaluation lookup of a Python override
     # (see armlab.diagrams.tool_point.ToolPointKinematics); it is never called.

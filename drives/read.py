@@ -5,10 +5,12 @@ drive file, each as :class:`~armlab.drives.train.DriveTrain` has it:
 
 * ``gear_ratio`` G (default 1), ``rotor_inertia`` J_m (kg·m², motor side, default 0), ``efficiency`` η in
   (0, 1] (default 1);
-* ``viscous`` B (N·m·s/rad) and ``coulomb`` T_c (N·m), joint side (default 0) — or ``viscous_motor`` and
-  ``coulomb_motor``, motor side as the Robotics Toolbox gives them (B_m, T_c,m; converted once by
-  :meth:`~armlab.drives.train.DriveTrain.from_motor_side`: B = G²·B_m, T_c = |G|·T_c,m). Each friction from one
-  side, not both (the two may come from different sides).
+* ``viscous`` B (N·m·s/rad) and ``coulomb`` T_c (N·m), joint side (default 0), and ``coulomb_negative`` T_c−
+  (N·m, ≥ 0, the friction while the joint turns backwards; default T_c: symmetric; with it, ``coulomb`` is
+  T_c+) — or ``viscous_motor``, ``coulomb_motor`` and ``coulomb_negative_motor``, motor side as the Robotics
+  Toolbox gives them (B_m, T_c,m and |T_c−,m|: the toolbox's Tc = [T_c+, T_c−] has T_c− negative, the column
+  its magnitude; converted once by :meth:`~armlab.drives.train.DriveTrain.from_motor_side`: B = G²·B_m,
+  T_c± = |G|·T_c±,m). Each friction from one side, not both (they may come from different sides).
 
 A column left out takes its default (an ideal drive); a column given needs a value in every row.
 
@@ -37,7 +39,8 @@ if TYPE_CHECKING:
 __all__ = ["DRIVE_COLUMNS", "drive_train", "read_drive_file", "with_drives"]
 
 #: The drive columns of a DH table and a drive file; the ``_motor`` ones are motor side (module docstring).
-DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "viscous_motor", "coulomb_motor")
+DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "coulomb_negative",
+                 "viscous_motor", "coulomb_motor", "coulomb_negative_motor")
 
 
 def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> DriveTrain:
@@ -50,7 +53,7 @@ def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> Drive
     unknown = [name for name in cells if name not in DRIVE_COLUMNS]
     if unknown:
         raise ValueError(f"{where}: unknown drive column(s) {', '.join(unknown)}; allowed: {', '.join(DRIVE_COLUMNS)}")
-    for name in ("viscous", "coulomb"):
+    for name in ("viscous", "coulomb", "coulomb_negative"):
         if name in cells and f"{name}_motor" in cells:
             raise ValueError(f"{where}: give {name} (joint side) or {name}_motor (motor side), not both")
     values = {}
@@ -61,15 +64,18 @@ def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> Drive
                                  "column is given (leave the column out for its default)")
         values[name] = np.array([file_number(text, f"{where}: row {k + 1}: {name}") for k, text in enumerate(column)])
     ideal = DriveTrain.ideal(n)  # a column left out
-    motor = [name for name in ("viscous", "coulomb") if f"{name}_motor" in values]  # each friction on its own side
+    # each friction on its own side
+    motor = [name for name in ("viscous", "coulomb", "coulomb_negative") if f"{name}_motor" in values]
     try:
-        train = DriveTrain(*(values.get(name, getattr(ideal, name)) for name in DRIVE_FIELDS))
+        given = {name: values[name] for name in DRIVE_FIELDS if name in values}
+        train = DriveTrain(**{name: getattr(ideal, name) for name in DRIVE_FIELDS[:-1]} | given)
         if not motor:
             return train
         converted = DriveTrain.from_motor_side(train.gear_ratio, train.rotor_inertia, train.efficiency,
                                                values.get("viscous_motor", ideal.viscous),
-                                               values.get("coulomb_motor", ideal.coulomb))
-        return replace(train, **{name: getattr(converted, name) for name in motor})
+                                               values.get("coulomb_motor", ideal.coulomb), train.coulomb_speed,
+                                               values.get("coulomb_negative_motor"))
+        return replace(train, **{name: getattr(converted, name) for name in motor})  # T_c− left out: T_c
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
 

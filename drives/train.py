@@ -8,11 +8,15 @@ the rotor inertia, which is the motor's own (motor side, as datasheets and the R
   ``JointActuator`` rotor inertia and gear ratio, which put it on the mass matrix's diagonal);
 * ``efficiency`` η in (0, 1] — of the gearbox, both ways;
 * ``viscous`` B (N·m·s/rad, joint side) — friction B·q̇ (a URDF's ``<dynamics damping>``);
-* ``coulomb`` T_c (N·m, joint side) — friction T_c·tanh(q̇/v_s), smooth so it can be simulated, with the
-  speed ``coulomb_speed`` v_s (rad/s, the same for every joint; :data:`COULOMB_SPEED` by default).
+* ``coulomb`` T_c+ and ``coulomb_negative`` T_c− (N·m, joint side, both ≥ 0; T_c− = T_c+ unless given) —
+  friction T_c±·tanh(q̇/v_s), T_c+ while the joint turns forwards (q̇ ≥ 0) and T_c− backwards, smooth so it can
+  be simulated (continuous through q̇ = 0, where it is 0), with the speed ``coulomb_speed`` v_s (rad/s, the same
+  for every joint; :data:`COULOMB_SPEED` by default). Which one applies goes by the sign of the *joint*
+  velocity, as in the Robotics Toolbox (``Link.friction``), whatever the sign of G.
 
 The Robotics Toolbox gives B and T_c on the **motor side** (Corke & Armstrong-Hélouvry 1994 for the Puma
-560): :meth:`DriveTrain.from_motor_side` converts them once, B = G²·B_m and T_c = |G|·T_c,m.
+560, T_c as a pair [T_c+, T_c−] with T_c− negative): :meth:`DriveTrain.from_motor_side` converts them once,
+B = G²·B_m, T_c± = |G|·|T_c±,m|.
 
 The motor-side torque of a joint-side torque τ (which includes the reflected inertia and friction) is
 :func:`motor_torque`: τ/(G·η) when the drive delivers power (τ·q̇ ≥ 0) and τ·η/G when the load drives it
@@ -33,8 +37,8 @@ __all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "motor_speed", "motor_
 #: v_s (rad/s or m/s) of the smooth Coulomb friction T_c·tanh(q̇/v_s): 99.5 % of T_c at 3·v_s = 0.03 rad/s.
 COULOMB_SPEED = 0.01
 
-#: The per-joint fields of a :class:`DriveTrain`, in its order.
-DRIVE_FIELDS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb")
+#: The per-joint fields of a :class:`DriveTrain` (:meth:`DriveTrain.fields`: those a symmetric train needs).
+DRIVE_FIELDS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "coulomb_negative")
 
 #: The fields, their units and what is allowed, for messages.
 _ALLOWED = {
@@ -43,6 +47,7 @@ _ALLOWED = {
     "efficiency": ("", "a number in (0, 1]"),
     "viscous": ("N·m·s/rad", "a finite number ≥ 0"),
     "coulomb": ("N·m", "a finite number ≥ 0"),
+    "coulomb_negative": ("N·m", "a finite number ≥ 0 (the magnitude |T_c−|: the toolbox's Tc[1] is negative)"),
 }
 
 
@@ -71,7 +76,9 @@ def _vector(value: ArrayLike, name: str, n: int | None) -> NDArray[np.float64]:
 
 @dataclass(frozen=True)
 class DriveTrain:
-    """Per-joint drive-train parameters, each shape ``(n,)``, joint side except J_m (see the module)."""
+    """Per-joint drive-train parameters, each shape ``(n,)``, joint side except J_m (see the module);
+    ``coulomb`` is T_c+ and ``coulomb_negative`` T_c− (``None``: T_c+, a symmetric friction, which follows
+    ``coulomb`` through :func:`dataclasses.replace`)."""
 
     gear_ratio: NDArray[np.float64]
     rotor_inertia: NDArray[np.float64]
@@ -79,11 +86,12 @@ class DriveTrain:
     viscous: NDArray[np.float64]
     coulomb: NDArray[np.float64]
     coulomb_speed: float = COULOMB_SPEED
+    coulomb_negative: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         n = None
         for f in fields(self):
-            if f.name == "coulomb_speed":
+            if f.name == "coulomb_speed" or (f.name == "coulomb_negative" and self.coulomb_negative is None):
                 continue
             a = _vector(getattr(self, f.name), f.name, n)
             n = a.size
@@ -106,19 +114,46 @@ class DriveTrain:
 
     @classmethod
     def from_motor_side(cls, gear_ratio: ArrayLike, rotor_inertia: ArrayLike, efficiency: ArrayLike,
-                        viscous_motor: ArrayLike, coulomb_motor: ArrayLike,
-                        coulomb_speed: float = COULOMB_SPEED) -> DriveTrain:
-        """From motor-side friction as the Robotics Toolbox gives it: B = G²·B_m, T_c = |G|·T_c,m."""
+                        viscous_motor: ArrayLike, coulomb_motor: ArrayLike, coulomb_speed: float = COULOMB_SPEED,
+                        coulomb_negative_motor: ArrayLike | None = None) -> DriveTrain:
+        """From motor-side friction as the Robotics Toolbox gives it: B = G²·B_m, T_c± = |G|·T_c±,m (``coulomb_motor``
+        T_c+,m and ``coulomb_negative_motor`` |T_c−,m|, ≥ 0; ``None``: symmetric)."""
         g = _vector(gear_ratio, "gear_ratio", None)
         b_m = _vector(viscous_motor, "viscous", g.size)
         tc_m = _vector(coulomb_motor, "coulomb", g.size)
+        negative = None if coulomb_negative_motor is None else np.abs(g) * _vector(coulomb_negative_motor,
+                                                                                   "coulomb_negative", g.size)
         return cls(g, np.asarray(rotor_inertia, dtype=float), np.asarray(efficiency, dtype=float),
-                   g**2 * b_m, np.abs(g) * tc_m, coulomb_speed)
+                   g**2 * b_m, np.abs(g) * tc_m, coulomb_speed, negative)
 
     @property
     def has_coulomb(self) -> bool:
-        """Whether any joint has Coulomb friction (T_c > 0): a diagram then applies and compensates it."""
-        return bool(np.any(self.coulomb > 0))
+        """Whether any joint has Coulomb friction (T_c± > 0): a diagram then applies and compensates it."""
+        return bool(np.any(self.coulomb > 0) or np.any(self.negative > 0))
+
+    @property
+    def negative(self) -> NDArray[np.float64]:
+        """T_c− per joint ``(n,)`` (N·m, joint side, ≥ 0): ``coulomb_negative``, or T_c+ for a symmetric train."""
+        return self.coulomb if self.coulomb_negative is None else self.coulomb_negative
+
+    @property
+    def asymmetric(self) -> bool:
+        """Whether some joint's Coulomb friction differs by direction (T_c− ≠ T_c+)."""
+        return bool(np.any(self.negative != self.coulomb))  # exact: data as given, not a computed value
+
+    @property
+    def coulomb_max(self) -> NDArray[np.float64]:
+        """max(T_c+, T_c−) per joint ``(n,)`` (N·m): the most Coulomb friction can take, either way."""
+        return np.maximum(self.coulomb, self.negative)
+
+    def per_joint(self, name: str) -> NDArray[np.float64]:
+        """The field ``name`` of :data:`DRIVE_FIELDS` ``(n,)`` (``coulomb_negative``: T_c−, :attr:`negative`)."""
+        return self.negative if name == "coulomb_negative" else getattr(self, name)
+
+    def fields(self) -> tuple[str, ...]:
+        """The per-joint fields this train needs written: :data:`DRIVE_FIELDS`, without ``coulomb_negative`` for a
+        symmetric friction."""
+        return DRIVE_FIELDS if self.asymmetric else DRIVE_FIELDS[:-1]
 
     @property
     def reflected_inertia(self) -> NDArray[np.float64]:
@@ -126,11 +161,14 @@ class DriveTrain:
         return self.gear_ratio**2 * self.rotor_inertia
 
     def coulomb_friction(self, qd: ArrayLike) -> NDArray[np.float64]:
-        """Joint-side Coulomb friction torque T_c·tanh(q̇/v_s) (N·m) for rates ``(..., n)``, same shape."""
-        return self.coulomb * np.tanh(np.asarray(qd, dtype=float) / self.coulomb_speed)
+        """Joint-side Coulomb friction torque T_c±·tanh(q̇/v_s) (N·m; T_c+ for q̇ ≥ 0, T_c− below) for rates
+        ``(..., n)``, same shape."""
+        qd = np.asarray(qd, dtype=float)
+        level = np.where(qd >= 0, self.coulomb, self.negative) if self.asymmetric else self.coulomb
+        return level * np.tanh(qd / self.coulomb_speed)
 
     def friction(self, qd: ArrayLike) -> NDArray[np.float64]:
-        """Joint-side friction torque B·q̇ + T_c·tanh(q̇/v_s) (N·m) for rates ``(..., n)``, same shape."""
+        """Joint-side friction torque B·q̇ + T_c±·tanh(q̇/v_s) (N·m) for rates ``(..., n)``, same shape."""
         return self.viscous * np.asarray(qd, dtype=float) + self.coulomb_friction(qd)
 
     def torque(self, qd: ArrayLike, qdd: ArrayLike) -> NDArray[np.float64]:

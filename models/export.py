@@ -8,7 +8,7 @@ so Pinocchio's, needs both; armlab reads 0 as unknown and gives Drake none). A U
 link names (``link1`` … ``linkN``) and drawn visuals, not its meshes. ``export(arm, dh=FILE)`` writes the DH
 table of an arm made from one, in the format :mod:`armlab.models.read_dh` reads (radians, the link mass data
 back in the DH frames (:func:`~armlab.models.read_dh.dh_inertials`), its base and tool poses as header
-lines, its drive train as the joint-side drive columns (:data:`armlab.drives.train.DRIVE_FIELDS`) and its
+lines, its drive train as the joint-side drive columns (:meth:`armlab.drives.train.DriveTrain.fields`) and its
 collision capsules as the ``radius`` column), every number as the shortest decimal that reads back to the same
 float. Both files read back to the same arm (tests/test_export.py: forward kinematics, Jacobian and inverse
 dynamics equal to 1e-9, through Drake and through Pinocchio; the DH table's drive train and radii too).
@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armlab.drives.train import COULOMB_SPEED, DRIVE_FIELDS
+from armlab.drives.train import COULOMB_SPEED
 from armlab.files import write_file
 from armlab.kinematics.locating import orientation_angles
 from armlab.models.read_dh import dh_base_tool, dh_inertials
@@ -62,7 +62,7 @@ def _number(value: float) -> str:
 def dh_text(arm: Arm) -> str:
     """The DH table file of ``arm`` (made from a DH table: ``arm.dh``), in :mod:`armlab.models.read_dh`'s format.
 
-    The drive train (``arm.drives``, if any) leaves as the columns :data:`~armlab.drives.train.DRIVE_FIELDS`
+    The drive train (``arm.drives``, if any) leaves as the columns :meth:`~armlab.drives.train.DriveTrain.fields`
     (joint side, as :func:`armlab.drives.read.drive_train` reads them), the collision capsules (if any link
     collides) as ``radius`` (m). ``ValueError`` for an arm without a DH description (its geometry is a URDF's or
     a paper's matrix), and for what a DH table cannot hold: collision geometry on some links only, a drive
@@ -92,7 +92,7 @@ def dh_text(arm: Arm) -> str:
         header += ["mass", "cx", "cy", "cz", "Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz"]
     header += ["effort", "velocity"]
     if drives is not None:
-        header += DRIVE_FIELDS
+        header += drives.fields()
     if all(colliding):
         header.append("radius")
     lines.append(",".join(header))
@@ -106,7 +106,7 @@ def dh_text(arm: Arm) -> str:
                       *(_number(inertia[j, k]) for j, k in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)))]
         cells += ["" if value is None else _number(value) for value in (lim.effort, lim.velocity)]
         if drives is not None:
-            cells += [_number(getattr(drives, name)[i]) for name in DRIVE_FIELDS]
+            cells += [_number(drives.per_joint(name)[i]) for name in drives.fields()]
         if all(colliding):
             cells.append(_number(arm.bodies[i].radius))
         lines.append(",".join(cells))

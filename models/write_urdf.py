@@ -289,7 +289,11 @@ def urdf_text(
         if attributes:
             out.append(f"    <limit {' '.join(attributes)}/>")
         if drives is not None:
-            out.append(f'    <dynamics damping="{_f(drives.viscous[i - 1])}" friction="{_f(drives.coulomb[i - 1])}"/>')
+            if drives.asymmetric:  # a URDF has one friction per joint: the mean, and the two in a comment
+                out.append(f"    <!-- armlab: Coulomb friction T_c+ = {_f(drives.coulomb[i - 1])}, T_c- = "
+                           f"{_f(drives.negative[i - 1])} N·m; friction= is their mean -->")
+            friction = (drives.coulomb[i - 1] + drives.negative[i - 1]) / 2
+            out.append(f'    <dynamics damping="{_f(drives.viscous[i - 1])}" friction="{_f(friction)}"/>')
         out.append("  </joint>")
     out.append(f'  <link name="{tool_name}"><visual><geometry><sphere radius="{_f(bodies[-1].radius * 1.2)}"/>'
                '</geometry><material name="tool"><color rgba="0.85 0.1 0.1 1"/></material></visual></link>')

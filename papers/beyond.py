@@ -223,7 +223,10 @@ def rr_drives_chosen(out: PaperOutput, fast: bool) -> None:
                "the nearest infeasible pair"], rows,
               note=f"The lightest motor and gearbox of armlab's example catalogues (illustrative values of the kind "
                    f"datasheets give, not a vendor's; scripts/examples/catalogues/) per joint that carry every "
-                   f"payload along Fig. 3's motion, every torque × {OVERSIZE:g} (the paper's \"oversize\", "
+                   f"payload along Fig. 3's motion and pass every check armlab makes (torque and speed; voltage, "
+                   f"current, winding temperature, regeneration, brake, gearbox life and inertia ratio where the "
+                   f"catalogues give their data: sizing/checks.py), every torque × {OVERSIZE:g} (the paper's "
+                   f"\"oversize\", "
                    f"a factor it does not give: armlab's choice). The drives' masses ride on the links (joint 2's "
                    f"on link 1); the selection converged after {sizing.iterations} rounds. "
                    "`armlab size rr --payload " + ",".join(f"{m:g}" for m in payloads)
@@ -232,8 +235,9 @@ def rr_drives_chosen(out: PaperOutput, fast: bool) -> None:
         if j.chosen is not None:
             out.figure(torque_speed_figure(sizing, k), f"beyond_drives_joint{k + 1}",
                        f"Joint {k + 1}'s drive: motor torque against speed (not in the paper)",
-                       "the chosen motor's peak envelope and continuous region, every payload's operating points "
-                       "along Fig. 3's motion and its RMS point (mean |ω|, RMS τ), motor side through the gearbox")
+                       "the chosen motor's peak envelope, its voltage limit at the bus voltage and its continuous "
+                       "region, every payload's operating points along Fig. 3's motion and its RMS point (mean |ω|, "
+                       "RMS τ), motor side through the gearbox")
 
 
 #: The studies, by the paper whose output they extend: (group title, function) each.

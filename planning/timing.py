@@ -559,13 +559,13 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
         raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give some")
     # the rigid arm with the train's reflected inertia: what Toppra's torque constraint holds (friction: below)
     rigid = arm.with_drives(None if train is None else replace(train, viscous=np.zeros(arm.n),
-                                                                coulomb=np.zeros(arm.n)))
+                                                                coulomb=np.zeros(arm.n), coulomb_negative=None))
     q_path = _path_of(path)
     s = np.linspace(q_path.start_time(), q_path.end_time(), grid)
     plant = make_plant(rigid, PlantOptions(gravity=gravity, payload=payload, ideal_drives=True))
     a, b, c, names = _constraints(rigid, q_path, s, gravity, payload)
     friction = np.zeros(arm.n)
-    if train is not None and np.any((train.viscous > 0) | (train.coulomb > 0)):
+    if train is not None and np.any((train.viscous > 0) | (train.coulomb_max > 0)):
         rate = limits.velocity
         if np.any(np.isinf(rate) & (train.viscous > 0)):
             unbounded = _toppra(q_path, plant, s, limits)
@@ -574,7 +574,7 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
             # the fastest rate |q'(s)|·ṡ of the timing without friction (q': the acceleration rows' coefficient of s̈)
             rate = np.where(np.isfinite(rate), rate,
                             np.abs(a[:, arm.n:2 * arm.n] * _rates(unbounded, s)[0][:, None]).max(axis=0))
-        friction = np.where(train.viscous > 0, train.viscous * rate, 0.0) + train.coulomb
+        friction = np.where(train.viscous > 0, train.viscous * rate, 0.0) + train.coulomb_max
         whole = ~below(friction, limits.effort)  # the friction takes the whole effort limit (or more)
         if np.any(whole):
             k = int(np.argmax(whole))

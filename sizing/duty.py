@@ -9,7 +9,11 @@ of mass from the tool point and an inertia of its own (tool frame); every load c
 
 :func:`sample` turns a cycle into weighted samples: each motion segment on a uniform grid with composite
 Simpson weights (so ∫f dt of a smooth f is exact to O(h⁴), and a segment's midpoint is a node), each dwell
-one sample weighted by its duration (its torque is constant).
+one sample weighted by its duration (its torque is constant). For what runs through time (a winding's
+temperature, a drive's bus energy) the samples are also **knots** of a piecewise-linear time function: a
+segment's nodes at their times, joined by straight lines; a dwell two knots (its start and end) of its one
+sample, so the value holds through it; where one segment ends and the next begins, two knots at the same time
+(a step of zero length: the acceleration may jump there).
 
 Duty-cycle files are JSON, see :data:`DUTY_FILE_HELP`; load-case files likewise, :data:`LOAD_CASES_HELP`.
 """
@@ -181,7 +185,10 @@ class DutyCycle:
 @dataclass(frozen=True)
 class CycleSamples:
     """A cycle's samples: q, q̇, q̈ ``(T, n)``; ``weight`` (s, ``(T,)``, Σ = the cycle's duration): ∫f dt ≈ Σ w f;
-    ``carrying`` ``(T,)`` whether the payload is held; ``step`` ``(T,)`` the step (0-based) of each sample."""
+    ``carrying`` ``(T,)`` whether the payload is held; ``step`` ``(T,)`` the step (0-based) of each sample;
+    ``time`` ``(T,)`` when each sample is (s from the cycle's start; a dwell's: its start); the knots (module
+    docstring): ``knot_sample`` ``(K,)`` the sample of each knot and ``knot_time`` ``(K,)`` its time (s,
+    non-decreasing, from 0 to the cycle's duration)."""
 
     q: NDArray[np.float64]
     qd: NDArray[np.float64]
@@ -189,6 +196,9 @@ class CycleSamples:
     weight: NDArray[np.float64]
     carrying: NDArray[np.bool_]
     step: NDArray[np.intp]
+    time: NDArray[np.float64]
+    knot_sample: NDArray[np.intp]
+    knot_time: NDArray[np.float64]
 
     @property
     def duration(self) -> float:
@@ -212,21 +222,28 @@ def sample(cycle: DutyCycle, rate: float = DEFAULT_RATE) -> CycleSamples:
         raise ValueError(f"sample rate {rate!r} /s is not allowed: a positive finite number of samples per second")
     parts: list[tuple[Any, ...]] = []
     where = np.asarray(cycle.start, dtype=float)
+    now = 0.0
     for k, step in enumerate(cycle.steps):
         if isinstance(step, Dwell):
             if step.duration > 0:
                 zero = np.zeros((1, cycle.n))
-                parts.append((where[None, :], zero, zero, np.array([step.duration]), k, step.payload))
+                parts.append((where[None, :], zero, zero, np.array([step.duration]), k, step.payload,
+                              np.array([now]), np.array([now, now + step.duration]), np.zeros(2, dtype=np.intp)))
+                now += step.duration
             continue
         for segment in step.motion.segments:
             t, w = _simpson(segment.duration, rate)
             q, qd, qdd = Motion((segment,)).evaluate(t)  # in the segment's own time: its end node is its own
-            parts.append((q, qd, qdd, w, k, step.payload))
+            parts.append((q, qd, qdd, w, k, step.payload, now + t, now + t, np.arange(t.size)))
+            now += segment.duration
         where = step.motion.segments[-1].q_end
-    q, qd, qdd, w = (np.concatenate([p[i] for p in parts]) for i in range(4))
+    q, qd, qdd, w, time = (np.concatenate([p[i] for p in parts]) for i in (0, 1, 2, 3, 6))
     sizes = [p[3].size for p in parts]
+    first = np.cumsum([0, *sizes[:-1]])  # each part's first sample
+    knots = np.concatenate([p[8] + s for p, s in zip(parts, first, strict=True)])
+    knot_time = np.concatenate([p[7] for p in parts])
     return CycleSamples(q, qd, qdd, w, np.repeat([bool(p[5]) for p in parts], sizes),
-                        np.repeat([int(p[4]) for p in parts], sizes))
+                        np.repeat([int(p[4]) for p in parts], sizes), time, knots, knot_time)
 
 
 def _flag(raw: Any, where: str) -> bool:

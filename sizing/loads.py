@@ -8,8 +8,9 @@ becomes an explicit one (mass, centre of mass, inertia in the link frame {i},
 Newton–Euler inverse dynamics all see the added mass; nothing else builds a model.
 
 :func:`joint_loads` gives per load case and sample the joint-side load torque τ_L (N·m: the arm's inverse
-dynamics, payload held where the cycle says) and the load inertia J_load = M_kk(q) (kg·m², the mass
-matrix's diagonal, from the inverse dynamics of a unit acceleration of joint k with gravity off).
+dynamics, payload held where the cycle says), the load inertia J_load = M_kk(q) (kg·m², the mass
+matrix's diagonal, from the inverse dynamics of a unit acceleration of joint k with gravity off) and the static
+torque τ_g(q) (N·m: the inverse dynamics at rest, what a holding brake must hold).
 """
 
 from __future__ import annotations
@@ -72,11 +73,13 @@ def with_link_masses(arm: Arm, masses: ArrayLike) -> Arm:
 
 @dataclass(frozen=True)
 class Loads:
-    """Per load case ``L``, sample ``T`` and joint ``n``: the load torque ``tau`` (N·m, joint side) and load
-    inertia ``inertia`` (kg·m², M_kk), each ``(L, T, n)``."""
+    """Per load case ``L``, sample ``T`` and joint ``n``: the load torque ``tau`` (N·m, joint side), the load
+    inertia ``inertia`` (kg·m², M_kk) and the static (gravity) torque ``static`` (N·m, joint side), each
+    ``(L, T, n)``."""
 
     tau: NDArray[np.float64]
     inertia: NDArray[np.float64]
+    static: NDArray[np.float64]
 
 
 def joint_loads(arm: Arm, samples: CycleSamples, cases: tuple[LoadCase, ...]) -> Loads:
@@ -85,19 +88,19 @@ def joint_loads(arm: Arm, samples: CycleSamples, cases: tuple[LoadCase, ...]) ->
     q, qd, qdd = samples.q, samples.qd, samples.qdd
     n, T = arm.n, q.shape[0]
     empty = _torque_and_inertia(arm, q, qd, qdd)
-    tau = np.empty((len(cases), T, n))
-    inertia = np.empty((len(cases), T, n))
+    tau, inertia, static = (np.empty((len(cases), T, n)) for _ in range(3))
     held = samples.carrying
     for c, case in enumerate(cases):
-        tau[c], inertia[c] = empty
+        tau[c], inertia[c], static[c] = empty
         if case.mass > 0 and held.any():
-            tau[c, held], inertia[c, held] = _torque_and_inertia(with_payload(arm, case), q[held], qd[held],
-                                                                 qdd[held])
-    return Loads(tau, inertia)
+            tau[c, held], inertia[c, held], static[c, held] = _torque_and_inertia(with_payload(arm, case), q[held],
+                                                                                  qd[held], qdd[held])
+    return Loads(tau, inertia, static)
 
 
-def _torque_and_inertia(arm: Arm, q: NDArray, qd: NDArray, qdd: NDArray) -> tuple[NDArray, NDArray]:
-    """τ ``(T, n)`` of the samples and the mass matrix's diagonal ``(T, n)`` at their positions.
+def _torque_and_inertia(arm: Arm, q: NDArray, qd: NDArray, qdd: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    """τ ``(T, n)`` of the samples, the mass matrix's diagonal ``(T, n)`` and the gravity torque ``(T, n)`` at
+    their positions.
 
     The load a candidate drive sees: the arm's rigid-body torque plus its joints' own friction (the arm's drive
     train's B and T_c, the joints' bearings), without the arm's rotor inertia (a candidate brings its own, added
@@ -110,4 +113,5 @@ def _torque_and_inertia(arm: Arm, q: NDArray, qd: NDArray, qdd: NDArray) -> tupl
     units = np.broadcast_to(np.eye(n)[:, None, :], (n, q.shape[0], n))  # q̈ = e_k for every sample
     zero = np.zeros_like(units)
     columns = arm.inverse_dynamics(np.broadcast_to(q, units.shape), zero, units, gravity="off", drives=rigid)
-    return tau, np.einsum("ktk->tk", columns)
+    at_rest = np.zeros_like(q)
+    return tau, np.einsum("ktk->tk", columns), arm.inverse_dynamics(q, at_rest, at_rest, drives=rigid)

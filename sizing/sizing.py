@@ -11,12 +11,13 @@ or after ``max_iterations``; and when a joint has no feasible pair (then nothing
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from armlab.drives.train import DriveTrain
+from armlab.sizing.checks import Conditions
 from armlab.sizing.duty import DEFAULT_RATE, CycleSamples, DutyCycle, LoadCase, sample
 from armlab.sizing.loads import Loads, joint_loads, with_link_masses
 from armlab.sizing.select import JointSelection, JointTask, check_rank, check_safety_factor, select_joint
@@ -36,7 +37,8 @@ class Sizing:
     """The result: per joint its :class:`~armlab.sizing.select.JointSelection` of the last iteration; ``arm`` the
     arm carrying the drives chosen before it (what the last selection was made for); ``iterations`` selections
     made, ``converged`` whether the last repeated the one before; the cycle, its samples, the load cases and their
-    :class:`~armlab.sizing.loads.Loads` on ``arm``; the catalogues; the safety factor and the ranking."""
+    :class:`~armlab.sizing.loads.Loads` on ``arm``; the catalogues; the safety factor, the ranking and the
+    :class:`~armlab.sizing.checks.Conditions`."""
 
     joints: tuple[JointSelection, ...]
     arm: Arm
@@ -50,6 +52,7 @@ class Sizing:
     gearboxes: Gearboxes
     safety_factor: float
     rank: str
+    conditions: Conditions = field(default_factory=Conditions)
 
     @property
     def feasible(self) -> bool:
@@ -77,19 +80,21 @@ class Sizing:
         ig = np.array([c.gearbox for c in chosen if c is not None])
         own = self.arm.drives or DriveTrain.ideal(im.size)
         return DriveTrain(self.gearboxes.ratio[ig], self.motors.rotor_inertia[im] + self.gearboxes.input_inertia[ig],
-                          self.gearboxes.efficiency[ig], own.viscous, own.coulomb, own.coulomb_speed)
+                          self.gearboxes.efficiency[ig], own.viscous, own.coulomb, own.coulomb_speed,
+                          own.coulomb_negative)
 
 
 def _tasks(arm: Arm, samples: CycleSamples, loads: Loads) -> list[JointTask]:
-    return [JointTask(loads.tau[..., k], loads.inertia[..., k], samples.qd[:, k], samples.qdd[:, k], samples.weight)
-            for k in range(arm.n)]
+    return [JointTask.of(samples, loads, k) for k in range(arm.n)]
 
 
 def size(arm: Arm, cycle: DutyCycle, cases: tuple[LoadCase, ...], motors: Motors, gearboxes: Gearboxes,
          safety_factor: float = 1.0, rank: str = "mass", iterate: bool = True, rate: float = DEFAULT_RATE,
-         max_iterations: int = MAX_ITERATIONS) -> Sizing:
+         max_iterations: int = MAX_ITERATIONS, conditions: Conditions | None = None) -> Sizing:
     """Size ``arm``'s drives for ``cycle`` and every load case (see the module docstring); ``iterate``: repeat the
-    selection with the chosen drives' masses on the links until it no longer changes."""
+    selection with the chosen drives' masses on the links until it no longer changes; ``conditions``: ambient
+    temperature, bus voltage, brake factor and required gearbox life (default :class:`Conditions()`)."""
+    conditions = conditions or Conditions()
     arm.require_dynamics("sizing drives")
     safety_factor, rank = check_safety_factor(safety_factor), check_rank(rank)
     if cycle.n != arm.n:
@@ -103,7 +108,7 @@ def size(arm: Arm, cycle: DutyCycle, cases: tuple[LoadCase, ...], motors: Motors
     converged = False
     for iteration in range(1, max_iterations + 1):
         loads = joint_loads(carried, samples, cases)
-        joints = tuple(select_joint(name, task, motors, gearboxes, safety_factor, rank)
+        joints = tuple(select_joint(name, task, motors, gearboxes, safety_factor, rank, conditions=conditions)
                        for name, task in zip(arm.joint_names, _tasks(arm, samples, loads), strict=True))
         choice = tuple((j.chosen.motor, j.chosen.gearbox) if j.chosen else None for j in joints)
         if None in choice or not iterate:
@@ -119,4 +124,4 @@ def size(arm: Arm, cycle: DutyCycle, cases: tuple[LoadCase, ...], motors: Motors
         masses = np.array([c.mass for j in joints if (c := j.chosen) is not None])
         carried = with_link_masses(arm, masses)
     return Sizing(joints, carried, iteration, converged, cycle, samples, cases, loads, motors, gearboxes,
-                  safety_factor, rank)
+                  safety_factor, rank, conditions)

@@ -254,7 +254,7 @@ def test_a_drive_sizing_check(share, beyond):
     ratios = np.ones((len(CHECKS), 3))
     ratios[0] = [1 - share * a, 1 + share * a, 1 - beyond * a]
     ev = Evaluation(np.zeros(3, int), np.zeros(3, int), ratios, {}, np.empty((len(CHECKS), 0)),
-                    np.empty((len(CHECKS), 0)), np.empty(0))
+                    np.empty((len(CHECKS), 0)), np.empty(0), np.empty((len(CHECKS), 0), int))
     assert ev.feasible.tolist() == [True, True, False]
 
 

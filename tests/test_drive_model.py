@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -12,7 +13,8 @@ from helpers import DATA, armlab_main, random_q, rnea_in_dh_frames
 
 import armlab
 from armlab.diagrams.simulate import SimulationOptions, simulate
-from armlab.drives.train import COULOMB_SPEED, DriveTrain
+from armlab.drives.train import COULOMB_SPEED, DRIVE_FIELDS, DriveTrain
+from armlab.models.export import dh_text
 from armlab.models.plant import PlantOptions
 
 DAMPED = DATA / "damped_two_link.urdf"
@@ -80,13 +82,16 @@ def test_dh_and_drive_file_columns(tmp_path):
                                rtol=1e-15)
     np.testing.assert_allclose(puma.drives.coulomb, np.abs(g) * np.array([float(r["coulomb_motor"]) for r in rows]),
                                rtol=1e-15)
+    np.testing.assert_allclose(puma.drives.negative,
+                               np.abs(g) * np.array([float(r["coulomb_negative_motor"]) for r in rows]), rtol=1e-15)
+    assert puma.drives.asymmetric
     drive_file = tmp_path / "puma_drives.csv"
-    columns = ["gear_ratio", "rotor_inertia", "viscous_motor", "coulomb_motor"]
+    columns = ["gear_ratio", "rotor_inertia", "viscous_motor", "coulomb_motor", "coulomb_negative_motor"]
     drive_file.write_text("# the same drives as a drive file\n" + ",".join(columns) + "\n"
                           + "\n".join(",".join(r[c] for c in columns) for r in rows) + "\n")
     again = armlab.load(PUMA, drives=drive_file)
-    for name in ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb"):
-        np.testing.assert_allclose(getattr(again.drives, name), getattr(puma.drives, name), rtol=1e-15)
+    for name in DRIVE_FIELDS:
+        np.testing.assert_allclose(again.drives.per_joint(name), puma.drives.per_joint(name), rtol=1e-15)
     rr = armlab.load("rr", drives=RR_DRIVES)
     assert armlab.load("rr").drives is None and rr.drives is not None and rr.drives.n == 2
     np.testing.assert_allclose(rr.drives.efficiency, [0.8, 0.75], rtol=1e-15)
@@ -107,6 +112,50 @@ def test_each_friction_from_its_own_side(tmp_path, header, joint_side, motor_sid
     np.testing.assert_allclose(getattr(drives, motor_side), converted, rtol=1e-15)
     np.testing.assert_allclose(getattr(drives, joint_side), [3.0, 4.0], rtol=1e-15)
     np.testing.assert_allclose(drives.gear_ratio, g, rtol=1e-15)
+
+
+def test_asymmetric_coulomb_friction_from_both_sides_and_by_the_joints_direction(tmp_path):
+    """T_c+ and T_c− (issue 31): joint side ``coulomb``/``coulomb_negative`` or motor side ``coulomb_motor``/
+    ``coulomb_negative_motor`` (× |G|); T_c+ while q̇ ≥ 0, T_c− below, by the joint's direction whatever G's sign;
+    without ``coulomb_negative`` the friction is symmetric; a DH export writes both and reads back the same."""
+    path = tmp_path / "asymmetric.csv"
+    path.write_text("gear_ratio,coulomb_motor,coulomb_negative_motor\n-10,0.5,0.75\n20,0.25,0.1\n")
+    drives = armlab.load("rr", drives=path).drives
+    np.testing.assert_allclose(drives.coulomb, [5.0, 5.0], rtol=1e-15)
+    np.testing.assert_allclose(drives.negative, [7.5, 2.0], rtol=1e-15)
+    qd = np.array([[0.5, -0.5], [-0.5, 0.5]])
+    np.testing.assert_allclose(drives.coulomb_friction(qd), np.tanh(qd / COULOMB_SPEED) * [[5.0, 2.0], [7.5, 5.0]],
+                               rtol=1e-15)
+    joint = tmp_path / "joint_side.csv"
+    joint.write_text("coulomb,coulomb_negative\n5,7.5\n5,2\n")
+    np.testing.assert_allclose(armlab.load("rr", drives=joint).drives.negative, [7.5, 2.0], rtol=1e-15)
+    symmetric = tmp_path / "symmetric.csv"
+    symmetric.write_text("gear_ratio,coulomb_motor\n-10,0.5\n20,0.25\n")
+    plain = armlab.load("rr", drives=symmetric).drives
+    assert not plain.asymmetric and "coulomb_negative" not in plain.fields()
+    np.testing.assert_allclose(plain.coulomb_friction(-qd), -plain.coulomb_friction(qd), rtol=1e-15)
+    puma = armlab.load("puma560")
+    table = tmp_path / "puma.csv"
+    table.write_text(dh_text(puma))
+    again = armlab.load(table)
+    for name in DRIVE_FIELDS:
+        np.testing.assert_allclose(again.drives.per_joint(name), puma.drives.per_joint(name), rtol=1e-15)
+
+
+def test_the_plants_coulomb_friction_is_the_drive_trains_both_ways():
+    """Drake's side: the diagram's ``joint_friction`` system (drives/friction.py) gives −T_c±·tanh(v/v_s) at the
+    plant's state, T_c+ forwards and T_c− backwards, as the inverse dynamics adds it."""
+    from armlab.drives.friction import CoulombFriction
+
+    train = DriveTrain(np.ones(2), np.zeros(2), np.ones(2), np.zeros(2), np.array([0.3, 0.2]),
+                       coulomb_negative=np.array([0.6, 0.05]))
+    system = CoulombFriction(train, -1.0, "joint_friction")
+    context = system.CreateDefaultContext()
+    for v in ([0.2, -0.004], [-0.05, 0.3]):
+        system.get_input_port(0).FixValue(context, np.concatenate([np.zeros(2), v]))
+        out = system.get_output_port(0).Eval(context)
+        level = np.where(np.array(v) >= 0, [0.3, 0.2], [0.6, 0.05])
+        np.testing.assert_allclose(out, -level * np.tanh(np.array(v) / COULOMB_SPEED), rtol=1e-15)
 
 
 def test_drive_file_trailing_commas_and_a_huge_cell(tmp_path):
@@ -180,6 +229,24 @@ def test_simulation_with_drives_tracks_and_logs_the_inverse_dynamics(mode):
     np.testing.assert_allclose(log.tau, expected, rtol=0, atol=(1e-6 if mode == "controller" else 1e-9) * peak)
     ideal = arm.with_drives(None).inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref)
     assert np.abs(log.tau - ideal).max() > 0.2 * peak  # the drive train is a large part of the torque
+
+
+def test_a_simulation_with_asymmetric_coulomb_friction_logs_its_inverse_dynamics():
+    """The plant feels T_c+ on the way out and T_c− on the way back (the motion reverses): the controller's model has
+    the same, the run tracks and logs arm.inverse_dynamics to 1e-6 of its peak, far from the mean friction's."""
+    arm = armlab.load(DAMPED)
+    asymmetric = arm.with_drives(DriveTrain(arm.drives.gear_ratio, arm.drives.rotor_inertia, np.ones(2),
+                                            arm.drives.viscous, np.array([0.4, 0.3]), coulomb_negative=[1.6, 0.05]))
+    motion = armlab.through(asymmetric, [[0.0, 0.0], [1.0, -1.2], [0.0, 0.0]], tf=1.0)
+    log = simulate(asymmetric, motion, SimulationOptions(PlantOptions(ideal_drives=True)))
+    assert np.abs(log.q - log.q_ref).max() <= 1e-6
+    assert (log.qd_ref[:, 0] > 0.1).any() and (log.qd_ref[:, 0] < -0.1).any()  # both ways
+    expected = asymmetric.inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref)
+    peak = np.abs(expected).max()
+    np.testing.assert_allclose(log.tau, expected, rtol=0, atol=1e-6 * peak)
+    mean = asymmetric.inverse_dynamics(log.q_ref, log.qd_ref, log.qdd_ref, drives=replace(
+        asymmetric.drives, coulomb=np.array([1.0, 0.175]), coulomb_negative=None))
+    assert np.abs(log.tau - mean).max() > 0.5  # 0.6 N·m on joint 1 either way
 
 
 @pytest.mark.parametrize("mode", ["controller", "inverse_dynamics"])
@@ -273,8 +340,9 @@ def test_simulate_cli_writes_the_motor_side(tmp_path):
 def test_puma560_joint_torques_equal_an_independent_newton_euler():
     """The Robotics Toolbox's Puma 560 with its drive data (tests/data/puma560_drives_dh.csv): armlab's joint
     torques with the drive train equal a Newton–Euler pass written in the DH frames (tests/helpers.py) plus
-    G²·J_m·q̈ plus the friction G²·B_m·q̇ + |G|·T_c,m·tanh(q̇/v_s), all from the file's motor-side numbers read
-    here, to 1e-9 relative; and the drive terms are a large part of the torques (issue 19: up to 32 of 44 N·m)."""
+    G²·J_m·q̈ plus the friction G²·B_m·q̇ + |G|·T_c±,m·tanh(q̇/v_s) (T_c+ for q̇ ≥ 0, |T_c−| below), all from the
+    file's motor-side numbers read here, to 1e-9 relative; and the drive terms are a large part of the torques
+    (issue 19: up to 32 of 44 N·m)."""
     arm = armlab.load(PUMA)
     with PUMA.open() as handle:
         rows = list(csv.DictReader(line for line in handle if not line.startswith("#")))
@@ -283,13 +351,15 @@ def test_puma560_joint_torques_equal_an_independent_newton_euler():
           for a, alpha, d, theta in zip(value["a"], value["alpha"], value["d"], value["theta"], strict=True)]
     links = [(m, np.array([cx, cy, cz]), np.diag([ixx, iyy, izz])) for m, cx, cy, cz, ixx, iyy, izz in zip(
         *(value[k] for k in ("mass", "cx", "cy", "cz", "Ixx", "Iyy", "Izz")), strict=True)]
-    g, jm, bm, tcm = value["gear_ratio"], value["rotor_inertia"], value["viscous_motor"], value["coulomb_motor"]
+    g, jm, bm = value["gear_ratio"], value["rotor_inertia"], value["viscous_motor"]
+    tc_plus, tc_minus = value["coulomb_motor"], value["coulomb_negative_motor"]
     rng = np.random.default_rng(560)
     q, qd, qdd = _states(arm, rng, 30)
     tau = arm.inverse_dynamics(q, qd, qdd)
     worst = 0.0
     for k in range(len(q)):
         rigid = rnea_in_dh_frames(dh, "standard", links, q[k], qd[k], qdd[k], arm.gravity)
+        tcm = np.where(qd[k] >= 0, tc_plus, tc_minus)
         drive = g**2 * jm * qdd[k] + g**2 * bm * qd[k] + np.abs(g) * tcm * np.tanh(qd[k] / COULOMB_SPEED)
         expected = rigid + drive
         np.testing.assert_allclose(tau[k], expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
@@ -306,6 +376,9 @@ def test_puma560_joint_torques_equal_an_independent_newton_euler():
     ("rotor_inertia", "nan", r"row 1: rotor_inertia = 'nan' is not a finite number"),
     ("torque", "1", r"unknown drive column\(s\) torque"),
     ("viscous,viscous_motor", "1,1", r"give viscous \(joint side\) or viscous_motor \(motor side\), not both"),
+    ("coulomb,coulomb_negative", "1,-0.5", r"coulomb_negative of joint 1 = -0.5 N·m is not allowed: .*magnitude"),
+    ("coulomb_negative,coulomb_negative_motor", "1,1", r"give coulomb_negative \(joint side\) or "
+                                                         r"coulomb_negative_motor \(motor side\), not both"),
 ])
 def test_bad_drive_file_is_one_line_naming_file_and_value(tmp_path, header, row, message):
     """Every bad value of a drive file is a one-line ValueError naming the file, the row (joint), the column."""

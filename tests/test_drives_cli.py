@@ -34,7 +34,8 @@ def test_size_writes_the_sizing_and_prints_one_line_per_joint(tmp_path):
     assert done.returncode == 0, done.stderr
     lines = done.stdout.splitlines()
     assert lines[0].startswith("rr: duty cycle cycle.json (2.6 s), load cases 0 kg, 1.5 kg, safety factor 1.5")
-    assert lines[1].startswith("joint1: ") and lines[2].startswith("joint2: ") and "converged after" in lines[3]
+    assert lines[1].startswith("joint1: ") and lines[2].startswith("joint2: ") and "converged after" in lines[-2]
+    assert all("binds: " in line for line in lines[1:3])
     assert sorted(p.name for p in out.iterdir()) == ["sizing.csv", "sizing.md", "torque_speed_joint1.png",
                                                      "torque_speed_joint2.png"]
     rows = list(csv.DictReader((out / "sizing.csv").open()))
@@ -44,8 +45,12 @@ def test_size_writes_the_sizing_and_prints_one_line_per_joint(tmp_path):
     api = armlab.size_drives(armlab.load("rr"), _cycle_file(tmp_path), [0, 1.5], safety_factor=1.5)
     chosen = api.joints[0].chosen
     assert rows[1]["motor"] == chosen.motor_name and rows[1]["gearbox"] == chosen.gearbox_name
-    np.testing.assert_allclose(float(rows[1]["rms_torque_Nm"]), chosen.stats["rms_torque"][1], rtol=1e-15)
-    assert "Nearest infeasible" in (out / "sizing.md").read_text()
+    np.testing.assert_allclose(float(rows[1]["motor_rms_torque_Nm"]), chosen.stats["rms_torque"][1], rtol=1e-15)
+    assert rows[1]["binding_check"] == chosen.binding.name
+    np.testing.assert_allclose(float(rows[1]["winding_peak_C"]), chosen.stats["winding_peak_C"][1], rtol=1e-15)
+    md = (out / "sizing.md").read_text()
+    assert "Nearest infeasible" in md and "| winding temperature |" in md and "duty S" in md
+    assert "e+" not in md.split("## ")[1].split("Per load case")[0] or "≫" in md  # readable numbers
 
 
 def test_the_payload_is_carried_one_way_only(tmp_path):
@@ -78,8 +83,16 @@ def test_size_reads_a_urdf_with_its_tool_option(tmp_path):
                            "5", "--from", "0,0", "--to", "0.5,0.5", "--out", str(tmp_path / f"s{len(tool)}"))
         assert done.returncode == 0, done.stderr
         elbow = next(line for line in done.stdout.splitlines() if line.startswith("elbow:"))
-        peaks.append(float(re.search(r"peak ([0-9.e+-]+) N·m", elbow)[1]))
+        peaks.append(float(re.search(r"joint peak ([0-9.e+-]+) N·m", elbow)[1]))  # joint side: any gearbox
     assert peaks[1] < 0.5 * peaks[0]  # 5 kg at the elbow axis, not 0.4 m beyond it
+
+
+def test_a_lower_bus_voltage_can_change_the_choice(tmp_path):
+    """The voltage check at the bus voltage: the example drives' 325/560 V make rr's joints feasible; at 60 V DC the
+    voltage binds (or fails) where it did not."""
+    done = armlab_main("size", "rr", "--payload", "1", "--bus-voltage", "60")
+    assert "voltage" in done.stdout, done.stdout + done.stderr
+    assert done.returncode in (0, 3)
 
 
 def test_load_cases_from_a_file(tmp_path):
@@ -98,6 +111,9 @@ def test_load_cases_from_a_file(tmp_path):
     (["--motors", "missing.csv"], "missing.csv"),
     (["--duty-cycle", "CYCLE", "--tf", "2"], "--duty-cycle gives the whole cycle"),
     (["--rank", "price"], "invalid choice: 'price'"),
+    (["--bus-voltage", "0"], "bus voltage 0.0 V is not allowed"),
+    (["--ambient", "400"], "ambient 400.0 °C is not allowed"),
+    (["--brake-factor", "0.2"], "brake_factor 0.2 is not allowed"),
 ])
 def test_bad_input_is_one_line_and_exit_2(tmp_path, argv, message):
     argv = [str(_cycle_file(tmp_path)) if a == "CYCLE" else a for a in argv]

@@ -53,7 +53,7 @@ def _catalogues() -> tuple[Motors, Gearboxes]:
 def _figures(arm, cycle, case):
     samples = sample(cycle, RATE)
     loads = joint_loads(arm, samples, (case,))
-    task = JointTask(loads.tau[..., 0], loads.inertia[..., 0], samples.qd[:, 0], samples.qdd[:, 0], samples.weight)
+    task = JointTask.of(samples, loads, 0)
     motors, gearboxes = _catalogues()
     ev = evaluate(task, motors, gearboxes, np.array([0]), np.array([0]), 1.0, describe=True)
     return {k: float(v[0, 0]) for k, v in ev.stats.items()}, samples
@@ -82,8 +82,8 @@ def test_a_quarter_turns_figures_are_the_closed_forms(arm1r, dwell):
     np.testing.assert_allclose(stats["mean_speed"], G_RATIO * delta / period, rtol=1e-12)
     np.testing.assert_allclose(stats["energy"], J_e * qd_top**2 / (2 * ETA), rtol=1e-9)
     np.testing.assert_allclose(stats["regenerated"], ETA * J_e * qd_top**2 / 2, rtol=1e-9)
-    for key in ("inertia_ratio_min", "inertia_ratio_max"):
-        np.testing.assert_allclose(stats[key], J_load / (G_RATIO**2 * (J_MOTOR + J_GEAR)), rtol=1e-12)
+    for key in ("inertia_ratio_min", "inertia_ratio_max"):  # the load at the motor, gearbox included, over J_m
+        np.testing.assert_allclose(stats[key], (J_load / G_RATIO**2 + J_GEAR) / J_MOTOR, rtol=1e-12)
 
 
 def test_holding_against_gravity_in_a_dwell_adds_the_static_torque(arm1r):

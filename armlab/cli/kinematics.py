@@ -71,7 +71,7 @@ def arm_info(arm: Arm) -> dict[str, Any]:
         "urdf": None if arm.urdf_file is None else str(arm.urdf_file),
         "tool_frame": arm.tool_name,
         "drive_train": None if arm.drives is None else {
-            **{name: getattr(arm.drives, name).tolist() for name in DRIVE_FIELDS},
+            **{name: arm.drives.per_joint(name).tolist() for name in DRIVE_FIELDS},
             "coulomb_speed": arm.drives.coulomb_speed},
         "tool_source": arm.tool_source,
         "dh_links": None if dh is None else _dh_links(arm),
@@ -132,10 +132,12 @@ def _cmd_show(args: argparse.Namespace) -> int:
                          "end; modified: at joint i)")
         _print_links(info["links"], "in link frame {i} of the arm's URDF (origin on joint i's axis)")
     if arm.drives is not None:
+        coulomb = ("Coulomb T_c+ and T_c− [N·m] (forwards, backwards)" if arm.drives.asymmetric
+                   else "Coulomb T_c [N·m]")
         print("drive train: gear ratio G, rotor inertia J_m [kg·m², motor side], efficiency, viscous B [N·m·s/rad] "
-              "and Coulomb T_c [N·m] (joint side)")
+              f"and {coulomb} (joint side)")
         for k, name in enumerate(arm.joint_names):
-            values = "  ".join(f"{getattr(arm.drives, field)[k]:<10.6g}" for field in DRIVE_FIELDS)
+            values = "  ".join(f"{arm.drives.per_joint(field)[k]:<10.6g}" for field in arm.drives.fields())
             print(f"  {name:8s} {values}".rstrip())
     if arm.parameters and info["dh"] is None:
         print("parameters:")

@@ -1,10 +1,11 @@
 """``armlab size``: the motor and gearbox each joint needs, chosen from catalogues (:func:`armlab.size_drives`).
 
 ``armlab size ARM [motion options | --duty-cycle FILE] [--payload KG,…] [--load-cases FILE] [--motors CSV]
-[--gearboxes CSV] [--safety-factor S] [--rank mass|margin|inertia] [--no-mass-iteration] [--out DIR]`` prints one
-line per joint (its choice, or the nearest pairs and the check each fails) and writes, with ``--out``,
-``sizing.csv``, ``sizing.md`` and ``torque_speed_JOINT.png`` per joint into DIR (all or nothing). Exit 3 when a
-joint has no feasible pair (its nearest candidates are printed; sizing.csv/md still written).
+[--gearboxes CSV] [--safety-factor S] [--rank mass|margin|inertia] [--no-mass-iteration] [--ambient °C]
+[--bus-voltage V] [--brake-factor K] [--required-life H] [--out DIR]`` prints one line per joint (its choice, or
+the nearest pairs and the check each fails) and writes, with ``--out``, ``sizing.csv``, ``sizing.md`` and
+``torque_speed_JOINT.png`` per joint into DIR (all or nothing). Exit 3 when a joint has no feasible pair (its
+nearest candidates are printed; sizing.csv/md still written).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from armlab.cli.args import add_arm, arm_of
 from armlab.cli.simulate import motion_from_args
 from armlab.planning.motions import SEGMENTS_FILE_HELP
 from armlab.sizing.catalogue import GEARBOX_COLUMNS, MOTOR_COLUMNS
+from armlab.sizing.checks import Conditions
 from armlab.sizing.duty import DEFAULT_RATE, DUTY_FILE_HELP, LOAD_CASES_HELP
 from armlab.sizing.select import RANKS
 from armlab.values import parse_floats
@@ -46,9 +48,10 @@ def cmd_size(args: argparse.Namespace) -> int:
     cases = list(load_cases_of(parse_floats(args.payload, "--payload"))) if args.payload is not None else []
     if args.load_cases is not None:
         cases += read_load_cases(args.load_cases)
+    conditions = Conditions(args.ambient, args.bus_voltage, args.brake_factor, args.required_life)
     folder = sizing_folder(args.out) if args.out else None  # an unwritable --out is an error before the work
     sizing = size_drives(arm, cycle, cases or 0.0, args.motors, args.gearboxes, args.safety_factor, args.rank,
-                         not args.no_mass_iteration, args.rate)
+                         not args.no_mass_iteration, args.rate, conditions)
     print("\n".join(summary_lines(sizing)))
     if folder is not None:
         with folder as tmp:
@@ -65,17 +68,22 @@ def register(subparsers: Any) -> None:
             "Choose every joint's motor and gearbox from the catalogues for the motion (or duty cycle) and every "
             "load case: RMS and peak motor torque (times the safety factor) within the motor's rated and peak "
             "torque, every operating point inside its torque-speed envelope, speeds within the motor's and the "
-            "gearbox's, the gearbox's output torque within its ratings. The chosen drives' masses are put on the "
-            "links that carry them and the choice repeated until it holds. Prints one line per joint; --out writes "
-            "sizing.csv, sizing.md and a torque-speed figure per joint.", 100),
+            "gearbox's, the gearbox's output torque within its ratings, and where the catalogues give the data: "
+            "the inertia ratio, the voltage at the bus voltage, the drive's current and I2t, the winding "
+            "temperature over the cycle repeated until periodic, the regenerated energy (DC-link capacitors or "
+            "braking resistor), the holding brake and the gearbox life. A check without its data is reported as "
+            "not checked. The chosen drives' masses are put on the links that carry them and the choice repeated "
+            "until it holds. Prints one line per joint; --out writes sizing.csv, sizing.md and a torque-speed "
+            "figure per joint.", 100),
         epilog=textwrap.dedent("""\
             motion: the arm's paper motion, --from/--to/--tf, --segments FILE (carrying the payload throughout),
             or --duty-cycle FILE.
             """) + DUTY_FILE_HELP + "\n" + LOAD_CASES_HELP + "\n" + SEGMENTS_FILE_HELP + textwrap.dedent(f"""
 
-            motor catalogue (CSV) columns: name,{','.join(MOTOR_COLUMNS)} (the last two optional: the
-              voltage line of the envelope); gearbox catalogue: name,{','.join(GEARBOX_COLUMNS)}.
-              Without --motors/--gearboxes: armlab's example catalogues (illustrative values, not a vendor's).
+            motor catalogue (CSV) columns: name,{','.join(MOTOR_COLUMNS)}
+              (the first six required); gearbox catalogue: name,{','.join(GEARBOX_COLUMNS)} (the first
+              seven required). Without --motors/--gearboxes: armlab's example catalogues (illustrative values, not
+              a vendor's; scripts/examples/catalogues/README.md says where real values come from).
 
             exit status: 0 a drive for every joint; 2 bad input; {EXIT_INFEASIBLE} a joint without a feasible motor and
             gearbox (its nearest candidates and the check each fails are printed)."""),
@@ -99,6 +107,14 @@ def register(subparsers: Any) -> None:
                         "(default mass)")
     p.add_argument("--no-mass-iteration", action="store_true",
                    help="size for the arm alone (do not put the chosen drives' masses on the links)")
+    p.add_argument("--ambient", type=float, default=Conditions.ambient, metavar="°C",
+                   help=f"ambient temperature of the motors (default {Conditions.ambient:g} °C, IEC 60034-1)")
+    p.add_argument("--bus-voltage", type=float, metavar="V",
+                   help="DC bus voltage of every drive (default: each drive's bus_voltage_V in the catalogue)")
+    p.add_argument("--brake-factor", type=float, default=Conditions.brake_factor, metavar="K",
+                   help=f"holding brake safety factor: T_H ≥ K·T_static/G (default {Conditions.brake_factor:g})")
+    p.add_argument("--required-life", type=float, default=Conditions.required_life, metavar="H",
+                   help=f"gearbox life required, L10 hours (default {Conditions.required_life:g})")
     p.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ",
                    help=f"samples per second of motion (default {DEFAULT_RATE:g})")
     p.add_argument("--out", metavar="DIR", help="output folder (written completely or not at all)")

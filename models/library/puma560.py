@@ -26,8 +26,10 @@ each with its effect on the torques:
 The drive train (:func:`drive_train`): motor inertia J_m, gear ratio G, viscous friction B_m and Coulomb friction
 T_c,m, all motor side as the source gives them, to the joint side by
 :meth:`armlab.drives.train.DriveTrain.from_motor_side`. The source's Coulomb friction differs by direction
-(T_c+, T_c−); armlab's drive train has one T_c per joint: the mean (T_c+ + |T_c−|)/2. Efficiency is not in the
-source: 1 (an ideal gearbox). :func:`build` gives the arm this train: its ``Arm.drives``.
+(T_c+ while the joint turns forwards, T_c− backwards, as the toolbox's ``Tc`` pairs and its ``Link.friction``
+apply them, by the sign of the joint velocity): the drive train carries both (``coulomb``, ``coulomb_negative``).
+Efficiency is not in the source: 1 (an ideal gearbox). :func:`build` gives the arm this train: its
+``Arm.drives``; tests/test_library.py checks its inverse dynamics against the toolbox's ``Puma560().rne``.
 
 Its closed form (``Arm.closed_form``): the spherical wrist's 8 branches,
 :func:`armlab.kinematics.ik_wrist.spherical_wrist_ik`.
@@ -81,9 +83,11 @@ CONFIGURATIONS = {"qz": (0, 0, 0, 0, 0, 0), "qr": (0, np.pi / 2, -np.pi / 2, 0, 
 
 
 def drive_train() -> DriveTrain:
-    """The Puma 560's drive train, joint side (:meth:`DriveTrain.from_motor_side` of the source's motor-side data)."""
-    coulomb = np.mean(np.abs(COULOMB_MOTOR), axis=1)  # the source's T_c+ and |T_c−|, averaged (see the module)
-    return DriveTrain.from_motor_side(GEAR_RATIO, ROTOR_INERTIA, np.ones(6), VISCOUS_MOTOR, coulomb)
+    """The Puma 560's drive train, joint side (:meth:`DriveTrain.from_motor_side` of the source's motor-side data,
+    T_c+ and |T_c−| per joint)."""
+    positive, negative = np.abs(np.array(COULOMB_MOTOR)).T
+    return DriveTrain.from_motor_side(GEAR_RATIO, ROTOR_INERTIA, np.ones(6), VISCOUS_MOTOR, positive,
+                                      coulomb_negative_motor=negative)
 
 
 def build() -> Arm:
@@ -100,7 +104,7 @@ def build() -> Arm:
         "correction link 1": "m 0 → 1 kg, Ixx = Izz 0 → 0.175 kg·m² (physical); no effect on any torque",
         "correction link 3": "Izz 0.0125 → 0.0200 kg·m² (triangle inequality); gravity torques unchanged, mass "
                              "matrix within 0.0075 kg·m²",
-        "drive train": "Corke & Armstrong-Hélouvry 1994 motor-side J_m, G, B_m, T_c (mean of ±) → "
+        "drive train": "Corke & Armstrong-Hélouvry 1994 motor-side J_m, G, B_m, T_c+ and T_c− → "
                        "armlab.models.library.puma560.drive_train(), the arm's own (arm.drives)",
     }
     arm = library_dh_arm("puma560", SOURCE, "standard", rows, [degrees(lo, hi) for lo, hi in LIMITS_DEG],
