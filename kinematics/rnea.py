@@ -173,7 +173,8 @@ def inverse_dynamics(
     broadcast together. ``gravity``: as :func:`armlab.models.plant.resolve_gravity` (default the arm's);
     ``payload``: a point mass (kg) at the tool frame's origin; ``drives``: the drive train whose
     G²·J_m·q̈ + B·q̇ + T_c±·tanh(q̇/v_s) (:meth:`~armlab.drives.train.DriveTrain.torque`; T_c+ for q̇ ≥ 0, T_c−
-    below) is added, ``None``: the arm's own (``arm.drives``; none: ideal drives, the rigid arm alone). Equal to Drake's ``CalcInverseDynamics``
+    below) is added, ``None``: the arm's own (``arm.drives``; none: ideal drives, the rigid arm alone). Equal to
+    Drake's ``CalcInverseDynamics``
     with gravity and the joints' damping as the plant's force elements and the actuators' reflected inertia, plus
     the Coulomb friction. ``ValueError`` for a kinematic arm (no mass data).
     """

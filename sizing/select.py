@@ -249,7 +249,8 @@ def _evaluate(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDArray
 def screen(task: JointTask, motors: Motors, gearboxes: Gearboxes, safety: float,
            conditions: Conditions | None = None) -> tuple[NDArray, NDArray, NDArray]:
     """The screen of every pair (see the module docstring): ``(ratio (M, B), alpha_max (M,), beta (L,))``, ratio the
-    smallest of the bounds' limit/value (not below 1 by :func:`armlab.bounds.below`: go on to the full check; −inf: dropped in stage 1),
+    smallest of the bounds' limit/value (not below 1 by :func:`armlab.bounds.below`: go on to the full check; −inf:
+    dropped in stage 1),
     alpha_max each motor's best accelerating factor (1/s²·N·m… = N²·m²/(kg·m²)), beta the load factors; with the
     bounds of :func:`armlab.sizing.checks.screen_bounds` for the checks of :mod:`armlab.sizing.checks`."""
     a = task.mean(task.qdd**2)

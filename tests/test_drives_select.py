@@ -106,7 +106,8 @@ def _assert_screen_sound(seed: int, arm_name: str, safety: float) -> None:
         # selection's pass skips sizing/checks.py's checks for a pair already failing a torque check)
         smallest = np.nanmin(evaluate(task, motors, gearboxes, every // B, every % B, safety, describe=True).ratios,
                              axis=0)
-        np.testing.assert_array_equal(~below(smallest, 1.0), feasible)  # the selection's pass decides as every check does
+        # the selection's pass decides as every check does
+        np.testing.assert_array_equal(~below(smallest, 1.0), feasible)
         np.testing.assert_allclose(smallest[feasible] - 1, margin[feasible], rtol=1e-12)  # its margins are exact
         finite = np.isfinite(ratio.ravel())
         assert not np.any(below(ratio.ravel()[finite], smallest[finite]))
