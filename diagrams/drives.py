@@ -30,6 +30,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DIVERGENCE_TOLERANCE",
+    "beyond",
     "check_tolerance",
     "divergence",
     "drive_table",
@@ -57,10 +58,17 @@ def _units(log: SimulationLog) -> dict[str, list[str]]:
     }
 
 
+def beyond(values: NDArray, bound: NDArray | float) -> NDArray[np.bool_]:
+    """Where ``values`` pass ``bound`` (upward: values > bound) by more than the slack 1e-9·max(1, |bound|): the one
+    rule by which a computed value on its bound counts as within it (limits, saturations)."""
+    bound = np.asarray(bound, dtype=float)
+    return values > bound + _SLACK * np.maximum(1.0, np.abs(bound))
+
+
 def _first_exceeding(t: NDArray, values: NDArray, lower: float, upper: float) -> tuple[float, float, float] | None:
     """(peak value past the limit, the limit it passes, first time) for samples outside [lower, upper]."""
-    above = values > upper + _SLACK * max(1.0, abs(upper))
-    below = values < lower - _SLACK * max(1.0, abs(lower))
+    above = beyond(values, upper)
+    below = beyond(-values, -lower)
     if not (above.any() or below.any()):
         return None
     first = float(t[np.argmax(above | below)])

@@ -8,7 +8,10 @@ drive file, each as :class:`~armlab.drives.train.DriveTrain` has it:
 * ``viscous`` B (N·m·s/rad) and ``coulomb`` T_c (N·m), joint side (default 0) — or ``viscous_motor`` and
   ``coulomb_motor``, motor side as the Robotics Toolbox gives them (B_m, T_c,m; converted once by
   :meth:`~armlab.drives.train.DriveTrain.from_motor_side`: B = G²·B_m, T_c = |G|·T_c,m). Each friction from one
-  side, not both (the two may come from different sides).
+  side, not both (the two may come from different sides);
+* the motors' electrics (:data:`~armlab.drives.motor.ELECTRIC_COLUMNS`, :mod:`armlab.drives.motor`): ``resistance``
+  (Ω), ``inductance`` (H), ``torque_constant`` (N·m/A) and ``bus_voltage`` (V) together, with ``back_emf``
+  (V·s/rad, default the torque constant) and ``peak_current`` (A, default none) if known.
 
 A column left out takes its default (an ideal drive); a column given needs a value in every row.
 
@@ -28,6 +31,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armlab.arm_file import file_number, read_text
+from armlab.drives.motor import ELECTRIC_COLUMNS, REQUIRED_ELECTRIC_COLUMNS, MotorElectrics
 from armlab.drives.train import DRIVE_FIELDS, DriveTrain
 from armlab.files import csv_table
 
@@ -37,7 +41,8 @@ if TYPE_CHECKING:
 __all__ = ["DRIVE_COLUMNS", "drive_train", "read_drive_file", "with_drives"]
 
 #: The drive columns of a DH table and a drive file; the ``_motor`` ones are motor side (module docstring).
-DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "viscous_motor", "coulomb_motor")
+DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "viscous_motor", "coulomb_motor",
+                 *ELECTRIC_COLUMNS)
 
 
 def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> DriveTrain:
@@ -60,10 +65,17 @@ def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> Drive
                 raise ValueError(f"{where}: row {k + 1}: {name} is empty: every row needs a value when the "
                                  "column is given (leave the column out for its default)")
         values[name] = np.array([file_number(text, f"{where}: row {k + 1}: {name}") for k, text in enumerate(column)])
+    electric = [name for name in ELECTRIC_COLUMNS if name in values]
+    missing = [name for name in REQUIRED_ELECTRIC_COLUMNS if name not in values]
+    if electric and missing:
+        raise ValueError(f"{where}: the motor electrics need {', '.join(missing)} too "
+                         f"(given: {', '.join(electric)}; required together: {', '.join(REQUIRED_ELECTRIC_COLUMNS)})")
     ideal = DriveTrain.ideal(n)  # a column left out
     motor = [name for name in ("viscous", "coulomb") if f"{name}_motor" in values]  # each friction on its own side
     try:
-        train = DriveTrain(*(values.get(name, getattr(ideal, name)) for name in DRIVE_FIELDS))
+        electrics = MotorElectrics(**{name: values[name] for name in electric}) if electric else None
+        train = DriveTrain(**{name: values.get(name, getattr(ideal, name)) for name in DRIVE_FIELDS},
+                           electrics=electrics)
         if not motor:
             return train
         converted = DriveTrain.from_motor_side(train.gear_ratio, train.rotor_inertia, train.efficiency,

@@ -26,6 +26,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.drives.motor import MotorElectrics
+
 __all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "motor_speed", "motor_torque"]
 
 #: v_s (rad/s or m/s) of the smooth Coulomb friction T_c·tanh(q̇/v_s): 99.5 % of T_c at 3·v_s = 0.03 rad/s.
@@ -69,7 +71,8 @@ def _vector(value: ArrayLike, name: str, n: int | None) -> NDArray[np.float64]:
 
 @dataclass(frozen=True)
 class DriveTrain:
-    """Per-joint drive-train parameters, each shape ``(n,)``, joint side except J_m (see the module)."""
+    """Per-joint drive-train parameters, each shape ``(n,)``, joint side except J_m (see the module); ``electrics``:
+    the motors' (``None``: not known)."""
 
     gear_ratio: NDArray[np.float64]
     rotor_inertia: NDArray[np.float64]
@@ -77,11 +80,12 @@ class DriveTrain:
     viscous: NDArray[np.float64]
     coulomb: NDArray[np.float64]
     coulomb_speed: float = COULOMB_SPEED
+    electrics: MotorElectrics | None = None
 
     def __post_init__(self) -> None:
         n = None
         for f in fields(self):
-            if f.name == "coulomb_speed":
+            if f.name not in DRIVE_FIELDS:
                 continue
             a = _vector(getattr(self, f.name), f.name, n)
             n = a.size
@@ -91,6 +95,8 @@ class DriveTrain:
             raise ValueError(f"drive train coulomb_speed = {self.coulomb_speed!r} rad/s is not allowed: "
                              "a positive finite speed")
         object.__setattr__(self, "coulomb_speed", v_s)
+        if self.electrics is not None and self.electrics.n != n:
+            raise ValueError(f"drive train electrics have {self.electrics.n} joint(s); the drive train has {n}")
 
     @property
     def n(self) -> int:
