@@ -20,7 +20,7 @@ bandwidth to compare with the tuning rule's (:func:`armlab.controllers.servo.loo
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.controllers.electrics import CurrentLoopDesign, DriveElectrics, add_drive_electrics
 from armlab.controllers.sensors import SensorDesign, add_sensors, encoder_scale
 from armlab.controllers.servo import ServoDesign, add_position_controller, joint_inertia, loop_bandwidth
+from armlab.models.plant import add_arm_plant
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
@@ -195,12 +196,8 @@ def linearize_loop(arm: Arm, options: SimulationOptions, q0: ArrayLike) -> tuple
     (exactly, to first order), and is linearised as that: Drake's ``Linearize`` differentiates with automatic
     differentiation, which the Python friction system does not support.
     """
-    from dataclasses import replace
-
     from pydrake.systems.framework import DiagramBuilder
     from pydrake.systems.primitives import Linearize, PassThrough
-
-    from armlab.models.plant import add_arm_plant
 
     q0 = np.asarray(q0, dtype=float)
     drives = arm.drives

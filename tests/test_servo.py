@@ -22,9 +22,10 @@ from armlab.drives.read import read_drive_file
 from armlab.models import unregister
 from armlab.planning.motions import paper_motion
 from armlab.presentation.output import csv_header
+from armlab.presentation.replay_graphs import log_graphs
 
 DATA = Path(__file__).parent / "data"
-RR_MOTORS = DATA / "rr_motors.csv"  # rr's gearboxes (rr_drives.csv) and small 48 V motors, illustrative
+RR_MOTORS = Path(__file__).parents[1] / "scripts" / "examples" / "drives" / "rr_motors.csv"  # illustrative motors
 
 
 @pytest.fixture(scope="module")
@@ -291,6 +292,10 @@ def test_the_voltage_saturates_at_the_bus():
     assert np.max(np.abs(run.log.voltage)) <= 6.0 * (1 + 1e-9)
     assert run.summary["servo"]["voltage_saturation_time"][0] > 0.01
     assert run.summary["servo"]["peak_voltage"][0] == pytest.approx(6.0, rel=1e-12)
+    graphs = {g.title: g for g in log_graphs(run.log)}  # the replay's graphs: tracking, current, voltage
+    assert graphs["tracking error q−q_d"].labels == ("q−q_d1 [rad]", "q−q_d2 [rad]")
+    np.testing.assert_array_equal(graphs["motor currents i"].values, run.log.current)
+    assert graphs["winding voltages V"].labels == ("V1 [V]", "V2 [V]")
 
 
 # ------------------------------------------------------------------------------------- bad input, CLI, files
