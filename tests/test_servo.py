@@ -10,9 +10,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import armlab_main
+from helpers import armlab_main, assert_same_objectives, objectives, write_study
 
 import armlab
+from armlab.analysis.study import evaluate, load_study, parse_study
+from armlab.analysis.sweep import run_sweep
 from armlab.controllers.sensors import SensorDesign, add_sensors, encoder_scale
 from armlab.controllers.servo import CONTROLLERS, loop_bandwidth, tuned_gains
 from armlab.diagrams.build import build_diagram
@@ -352,3 +354,46 @@ def test_bad_servo_options_on_the_cli(tmp_path, argv, message):
     assert result.returncode == 2 and message in result.stderr and "Traceback" not in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "x").exists()
+
+
+# ------------------------------------------------------------------------------------- the study (Dask sweep)
+SERVO_STUDY = {"arm": "rr", "tf": 0.5, "vary": {"rate": {"values": [0.5, 2.0], "unit": "kHz"},
+                                                "encoder": {"values": [1024, 16384]}},
+               "evaluate": ["max_tracking_error", "rms_tracking_error"],
+               "servo": {"controller": "pd+feedforward", "bandwidth": 5.0, "encoder_side": "joint"}}
+
+
+@pytest.mark.slow
+def test_a_study_evaluates_the_tracking_error_against_rate_and_encoder():
+    study = parse_study(SERVO_STUDY)
+    assert study.objective_columns == ["max_tracking_error_1", "max_tracking_error_2", "rms_tracking_error_1",
+                                       "rms_tracking_error_2"]
+    assert study.servo_settings((2.0, 16384.0)) == {"controller": "pd+feedforward", "bandwidth": 5.0,
+                                                    "encoder_side": "joint", "rate": 2000.0, "encoder": 16384}
+    got = evaluate(study, (2.0, 16384.0))
+    arm = armlab.load("rr")  # the same run by hand
+    log = simulate(arm, paper_motion(arm, tf=0.5), SimulationOptions(controller="pd+feedforward", bandwidth=5.0,
+                                                                      rate=2000.0, encoder=16384,
+                                                                      encoder_side="joint"))
+    assert got["max_tracking_error_1"] == float(np.max(np.abs(log.q[:, 0] - log.q_ref[:, 0])))  # exact: same run
+    coarse = evaluate(study, (0.5, 1024.0))
+    assert coarse["rms_tracking_error_1"] > got["rms_tracking_error_1"]  # slower and coarser: worse tracking
+    for change, message in (({"servo": {"gain": 1}}, "servo: unknown setting 'gain'"),
+                            ({"evaluate": ["peak_torque"]}, "servo changes only the servo objectives"),
+                            ({"servo": {"controller": "lqr"}}, "controller 'lqr' is not allowed")):
+        with pytest.raises(ValueError, match=re.escape(message)):
+            parse_study(SERVO_STUDY | change)
+
+
+@pytest.mark.slow
+def test_the_servo_study_sweeps_on_a_local_cluster(tmp_path):
+    """The study run by Dask workers (a LocalCluster of two processes) gives what this process computes."""
+    study_file = write_study(tmp_path, SERVO_STUDY)
+    out = tmp_path / "out"
+    result = run_sweep(study_file, out, workers=2)
+    assert (result.total, result.computed, result.failed) == (4, 4, [])
+    study = load_study(study_file)
+    columns = study.objective_columns
+    assert_same_objectives(objectives(out, columns), {i: [evaluate(study, values)[c] for c in columns]
+                                                       for i, values in enumerate(study.candidates)})
+    assert (out / "max_tracking_error.png").is_file() and (out / "max_tracking_error_map.png").is_file()
