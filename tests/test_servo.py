@@ -397,3 +397,27 @@ def test_the_servo_study_sweeps_on_a_local_cluster(tmp_path):
     assert_same_objectives(objectives(out, columns), {i: [evaluate(study, values)[c] for c in columns]
                                                        for i, values in enumerate(study.candidates)})
     assert (out / "max_tracking_error.png").is_file() and (out / "max_tracking_error_map.png").is_file()
+
+
+# ------------------------------------------------------------------------------------ beyond paper 000 (reproduce)
+@pytest.mark.slow
+def test_paper_000s_beyond_the_paper_servo_loop(tmp_path):
+    """The reproduction's servo study: the ideal loop tracks to its integrator's 1e-6 rad, the 1 kHz PID on
+    4096-count motor encoders with the chosen drives to a few mrad, each row what ``armlab.simulate`` gives."""
+    import csv
+
+    from armlab.papers.beyond import OVERSIZE, RR_PAYLOADS, SERVO, rr_servo
+    from armlab.papers.paper_output import PaperOutput
+
+    out = PaperOutput("000", tmp_path, lambda *_: None)
+    out.group("beyond")
+    rr_servo(out, fast=True)
+    ideal, pid = list(csv.DictReader((tmp_path / "beyond_servo.csv").open()))
+    assert max(float(ideal["max |e1| [rad]"]), float(ideal["max |e2| [rad]"])) < 1e-6
+    sizing = armlab.size_drives(armlab.load("rr"), None, RR_PAYLOADS[True], safety_factor=OVERSIZE)
+    arm = sizing.arm.with_drives(sizing.drive_train())
+    run = armlab.simulate(arm, paper_motion(arm), log_period=1e-3, divergence_tolerance=1.0, **SERVO)
+    np.testing.assert_allclose([float(pid["RMS e1 [rad]"]), float(pid["RMS e2 [rad]"])],
+                               run.summary["servo"]["rms_tracking_error"], rtol=1e-12)
+    assert 1e-4 < float(pid["RMS e1 [rad]"]) < 1e-2
+    assert {"beyond_servo_tracking.png", "beyond_servo_bode.png"} <= {p.name for p in tmp_path.iterdir()}
