@@ -368,8 +368,8 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     if drive_file is not None and not isinstance(drive_file, str):
         raise ValueError(f"drives = {json.dumps(drive_file)} must be a file name")
     study = Study(name, vary, tuple(evaluate), samples, resolution, seed, payload, tf, simulate, segments,
-                  nominal.n, dim, safety_factor, *catalogues, servo,
-                  None if drive_file is None else str((base / drive_file).resolve()))
+                  nominal.n, dim, safety_factor, motors=catalogues[0], gearboxes=catalogues[1], servo=servo,
+                  drives=None if drive_file is None else str((base / drive_file).resolve()))
     for values in study.candidates:
         try:
             build(study, values)

@@ -26,6 +26,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.drives.train import joint_vector
+
 __all__ = ["DEFAULT_CURRENT_BANDWIDTH", "ELECTRIC_COLUMNS", "REQUIRED_ELECTRIC_COLUMNS", "MotorElectrics",
            "current_gains"]
 
@@ -47,19 +49,10 @@ _ALLOWED = {
 
 
 def _positive(value: ArrayLike, name: str, n: int | None, infinite: bool = False) -> NDArray[np.float64]:
+    """A positive value per joint (``infinite``: inf allowed), :func:`~armlab.drives.train.joint_vector`."""
     unit, allowed_text = _ALLOWED[name]
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"motor {name} = {value!r} is not allowed: {allowed_text} per joint") from None
-    if a.ndim != 1 or (n is not None and a.size != n):
-        raise ValueError(f"motor {name} has shape {a.shape}; expected one value per joint"
-                         + (f" ({n})" if n is not None else ""))
-    bad = ~(a > 0) | (np.isinf(a) if not infinite else np.isnan(a))
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ValueError(f"motor {name} of joint {k + 1} = {a[k]:g} {unit} is not allowed: {allowed_text}")
-    return a
+    return joint_vector(value, f"motor {name}", n, unit, allowed_text,
+                        lambda a: ~(a > 0) | (np.isnan(a) if infinite else np.isinf(a)))
 
 
 @dataclass(frozen=True)

@@ -21,14 +21,17 @@ back (τ·q̇ < 0: the gearbox's losses then help the motor). Prismatic joints r
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.drives.motor import MotorElectrics
+if TYPE_CHECKING:
+    from armlab.drives.motor import MotorElectrics
 
-__all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "motor_speed", "motor_torque"]
+__all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "joint_vector", "motor_speed", "motor_torque"]
 
 #: v_s (rad/s or m/s) of the smooth Coulomb friction T_c·tanh(q̇/v_s): 99.5 % of T_c at 3·v_s = 0.03 rad/s.
 COULOMB_SPEED = 0.01
@@ -46,27 +49,38 @@ _ALLOWED = {
 }
 
 
-def _vector(value: ArrayLike, name: str, n: int | None) -> NDArray[np.float64]:
+def joint_vector(value: ArrayLike, label: str, n: int | None, unit: str, allowed_text: str,
+                 bad: Callable[[NDArray[np.float64]], NDArray[np.bool_]]) -> NDArray[np.float64]:
+    """``value`` as one number per joint ``(n,)`` (``n`` ``None``: any count); ``ValueError`` naming ``label`` (``"drive
+    train gear_ratio"``), the joint, the value with its ``unit`` and what is allowed, where ``bad`` of the array is
+    true, or for a value that is no vector of numbers."""
     try:
         a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise ValueError(f"drive train {name} = {value!r} is not allowed: {_ALLOWED[name][1]} per joint") from None
+        raise ValueError(f"{label} = {value!r} is not allowed: {allowed_text} per joint") from None
     if a.ndim != 1 or (n is not None and a.size != n):
-        raise ValueError(f"drive train {name} has shape {a.shape}; expected one value per joint"
-                         + (f" ({n})" if n is not None else ""))
-    unit, allowed_text = _ALLOWED[name]
-    bad = ~np.isfinite(a)
-    if name == "gear_ratio":
-        bad |= a == 0
-    elif name == "efficiency":
-        bad |= (a <= 0) | (a > 1)
-    else:
-        bad |= a < 0
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ValueError(f"drive train {name} of joint {k + 1} = {a[k]:g}{' ' + unit if unit else ''} is not allowed: "
+        raise ValueError(f"{label} has shape {a.shape}; expected one value per joint" + (f" ({n})" if n is not None
+                                                                                           else ""))
+    wrong = bad(a)
+    if wrong.any():
+        k = int(np.argmax(wrong))
+        raise ValueError(f"{label} of joint {k + 1} = {a[k]:g}{' ' + unit if unit else ''} is not allowed: "
                          f"{allowed_text}")
     return a
+
+
+def _bad(name: str, a: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Where a drive-train field's values are not allowed (:data:`_ALLOWED`)."""
+    if name == "gear_ratio":
+        return ~np.isfinite(a) | (a == 0)
+    if name == "efficiency":
+        return ~np.isfinite(a) | (a <= 0) | (a > 1)
+    return ~np.isfinite(a) | (a < 0)
+
+
+def _vector(value: ArrayLike, name: str, n: int | None) -> NDArray[np.float64]:
+    unit, allowed_text = _ALLOWED[name]
+    return joint_vector(value, f"drive train {name}", n, unit, allowed_text, lambda a: _bad(name, a))
 
 
 @dataclass(frozen=True)

@@ -44,7 +44,7 @@ OVERSIZE = 1.5
 RR_PAYLOADS = {False: (0.0, 1.0, 2.0, 3.0, 5.0), True: (0.0, 2.0, 5.0)}
 
 #: The servo loop set against Fig. 6's ideal controller (:func:`rr_servo`): armlab.simulate's servo options.
-SERVO = {"controller": "pid", "bandwidth": 5.0, "rate": 1000.0, "encoder": 4096, "saturate": True}
+SERVO: dict[str, Any] = {"controller": "pid", "bandwidth": 5.0, "rate": 1000.0, "encoder": 4096, "saturate": True}
 
 #: Workspace samples per candidate of the bend-angle study (normal, fast) and its angle steps.
 SAMPLES = {False: 100_000, True: 30_000}
