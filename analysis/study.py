@@ -105,7 +105,8 @@ _KEYS = ("arm", "vary", "evaluate", "samples", "resolution", "seed", "payload", 
          "safety_factor", "motors", "gearboxes", "servo", "drives")
 #: The settings a study's ``servo`` object may give (SimulationOptions' servo fields).
 SERVO_SETTINGS = ("controller", "rate", "bandwidth", "saturate", "anti_windup", "encoder", "encoder_side", "velocity",
-                  "velocity_cutoff", "noise", "seed", "delay", "electrics", "current_rate", "current_bandwidth")
+                  "velocity_cutoff", "noise", "seed", "delay", "electrics", "current_rate", "current_bandwidth",
+                  "elastic")
 #: Period of the motion's samples for the batch inverse dynamics (s).
 TORQUE_PERIOD = 1e-3
 #: Most candidates of one study (each is built and checked before any work starts).

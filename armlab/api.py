@@ -230,6 +230,7 @@ def simulate(
     electrics: bool = False,
     current_rate: float | None = None,
     current_bandwidth: float = DEFAULT_CURRENT_BANDWIDTH,
+    elastic: bool = False,
 ) -> Run:
     """Simulate ``arm`` following ``motion`` through paper 000's Fig. 6 as a Drake diagram; a :class:`Run`.
 
@@ -248,7 +249,8 @@ def simulate(
     the ``encoder_side`` (``"motor"`` or ``"joint"``), ``velocity`` ``"state"`` or ``"difference"`` (with its low-pass
     ``velocity_cutoff``, Hz), position ``noise`` (rad or m, standard deviation) with its ``seed``, a ``delay`` of k
     samples; ``electrics``: each motor's current loop and winding from the drive train (R, L, k_t, bus voltage …),
-    the loop at ``current_rate`` (Hz; ``None``: continuous) with bandwidth ``current_bandwidth`` (Hz). What they mean:
+    the loop at ``current_rate`` (Hz; ``None``: continuous) with bandwidth ``current_bandwidth`` (Hz); ``elastic``:
+    each joint a two-mass model with the drive train's gearbox stiffness (``stiffness`` column). What they mean:
     :mod:`armlab.diagrams.servo`. A servo run's summary has a ``servo`` section (the design, saturation time, peak
     current, energy balance) and :meth:`Run.frequency_response` its linearised loop.
 
@@ -268,7 +270,8 @@ def simulate(
         divergence_tolerance=DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance,
         controller=controller, rate=rate, bandwidth=bandwidth, saturate=saturate, anti_windup=anti_windup,
         encoder=encoder, encoder_side=encoder_side, velocity=velocity, velocity_cutoff=velocity_cutoff, noise=noise,
-        seed=seed, delay=delay, electrics=electrics, current_rate=current_rate, current_bandwidth=current_bandwidth)
+        seed=seed, delay=delay, electrics=electrics, current_rate=current_rate, current_bandwidth=current_bandwidth,
+        elastic=elastic)
     scene = as_scene(scene)  # a bad scene file is an error before the run
     return Run(run_diagram(arm, motion, options), options.divergence_tolerance, scene, options)
 

@@ -46,9 +46,8 @@ from armlab.controllers.inverse_dynamics import (
     add_inverse_dynamics_controller,
     gain_vector,
 )
-from armlab.diagrams.servo import add_servo, servo_design
+from armlab.diagrams.servo import add_plants, add_servo, servo_design
 from armlab.kinematics.quintic import Motion, to_trajectory
-from armlab.models.plant import add_arm_plant
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
@@ -127,9 +126,7 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     n = arm.n
 
     builder = DiagramBuilder()
-    plant, _ = add_arm_plant(builder, arm, options.plant)
-    plant.set_name("MultibodyPlant")
-    model = plant  # the exact model: the controller evaluates the plant itself, on a context of its own
+    plant, model = add_plants(builder, arm, options)  # the plant, and the controller's model: the plant itself
 
     source = builder.AddNamedSystem(
         "TrajectorySource", TrajectorySource(to_trajectory(motion), output_derivative_order=2)
@@ -138,11 +135,13 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     add_coulomb_friction(builder, plant, arm.drives)
     servo, ports, name = None, {}, mode
     if options.servo:
-        servo = servo_design(arm, plant, options, motion.segments[0].q_start)
+        servo = servo_design(arm, model, options, motion.segments[0].q_start)
         wired = add_servo(builder, plant, model, servo, source.get_output_port(), arm.drives)
         torque_port, ports = wired.torque, {"command": wired.command}
         if wired.measured is not None:
             ports["measured"] = wired.measured
+        if wired.rotors is not None:
+            ports["rotor"] = wired.rotors
         if wired.electrics is not None and wired.electrics.energy is not None:
             ports.update(current=wired.electrics.current, voltage=wired.electrics.voltage,
                          energy=wired.electrics.energy)

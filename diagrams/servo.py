@@ -26,10 +26,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.controllers.elastic import ElasticDesign, add_elastic_rotors, link_side
 from armlab.controllers.electrics import CurrentLoopDesign, DriveElectrics, add_drive_electrics
 from armlab.controllers.sensors import SensorDesign, add_sensors, encoder_scale
 from armlab.controllers.servo import ServoDesign, add_position_controller, joint_inertia, loop_bandwidth
-from armlab.models.plant import add_arm_plant
+from armlab.models.plant import add_arm_plant, make_plant
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
@@ -39,17 +40,21 @@ if TYPE_CHECKING:
     from armlab.diagrams.simulate import SimulationOptions
     from armlab.models.arm import Arm
 
-__all__ = ["LoopResponse", "ServoLoop", "add_servo", "frequency_response", "linearize_loop", "servo_design"]
+__all__ = ["LoopResponse", "ServoLoop", "add_plants", "add_servo", "frequency_response", "linearize_loop",
+           "servo_design"]
 
 
 @dataclass(frozen=True)
 class ServoLoop:
-    """A servo run's designs (position controller, sensors, current loops: ``None`` where not used) and its seed."""
+    """A servo run's designs (position controller, sensors, current loops, elastic joints: ``None`` where not used),
+    its seed and whether its sensors read the motors (``motor_side``: the elastic rotors' angles, not the links')."""
 
     controller: ServoDesign
     sensors: SensorDesign | None
     current: CurrentLoopDesign | None
     seed: int
+    elastic: ElasticDesign | None = None
+    motor_side: bool = True
 
     def describe(self) -> dict[str, Any]:
         """The design as ``summary.json`` has it (SI; gains per joint)."""
@@ -79,6 +84,10 @@ class ServoLoop:
             "torque_constant": e.electrics.torque_constant.tolist(), "back_emf": e.electrics.back_emf.tolist(),
             "bus_voltage": e.electrics.bus_voltage.tolist(),
             "peak_current": [None if not np.isfinite(v) else float(v) for v in e.electrics.peak_current]}
+        k = self.elastic
+        out["elastic_joints"] = None if k is None else {
+            "stiffness": k.elasticity.stiffness.tolist(), "twist_damping": k.elasticity.damping.tolist(),
+            "rotor_inertia_joint_side": k.inertia.tolist(), "measured": "motor" if self.motor_side else "joint"}
         return out
 
     def prepare(self, diagram: Diagram, context: Context) -> None:
@@ -90,18 +99,27 @@ class ServoLoop:
 
     def initialize(self, diagram: Diagram, context: Context, q0: ArrayLike, v0: ArrayLike) -> None:
         """Every held value and register as if the arm had been at ``q0`` moving at ``v0`` since ever (the module
-        docstring), in the order the signals flow: reference, sensors, then the motors' current of the torque the
-        controller commands at t = 0 and the current loop's integral and hold."""
+        docstring), in the order the signals flow: the elastic rotors twisted by the torque holding the links
+        against gravity, the reference, the sensors, then the motors' current of the torque the controller commands
+        at t = 0 and the current loop's integral and hold."""
         def sub(name: str) -> tuple[Any, Context]:
             system = diagram.GetSubsystemByName(name)
             return system, system.GetMyMutableContextFromRoot(context)
 
+        measured = np.asarray(q0, dtype=float)
+        if self.elastic is not None:
+            plant, ctx = sub("MultibodyPlant")
+            rotors = self.elastic.initial_state(q0, v0, -plant.CalcGravityGeneralizedForces(ctx))
+            _, ctx = sub("elastic_rotors")
+            ctx.SetContinuousState(rotors)
+            if self.motor_side:
+                measured = rotors[:self.elastic.inertia.size]
         if self.controller.period is not None:
             hold, ctx = sub("reference_sampling")
             hold.SetVectorState(ctx, hold.get_input_port().Eval(ctx))
         if self.sensors is not None:
             _, ctx = sub("sensor_sampling")
-            ctx.SetDiscreteState(self.sensors.initial_state(q0, v0))
+            ctx.SetDiscreteState(self.sensors.initial_state(measured, v0))
         if self.current is not None:
             command, ctx = sub("current_command")
             i0, z0 = self.current.initial_state(command.get_input_port().Eval(ctx))
@@ -115,8 +133,28 @@ class ServoLoop:
                 hold.SetVectorState(ctx, hold.get_input_port().Eval(ctx))
 
 
-def servo_design(arm: Arm, plant: MultibodyPlant, options: SimulationOptions, q0: ArrayLike) -> ServoLoop:
-    """The designs ``options`` ask for, for ``arm`` whose ``plant`` starts at ``q0`` (the gains' inertia pose).
+def add_plants(builder: DiagramBuilder, arm: Arm, options: SimulationOptions) -> tuple[MultibodyPlant, MultibodyPlant]:
+    """The simulated plant of ``arm`` (``MultibodyPlant`` in ``builder``) and the controllers' model of it: the plant
+    itself, or with elastic joints the links alone (their rotors are the elastic joints' own) and a rigid model of
+    the whole arm beside it (:func:`armlab.models.plant.make_plant`, the rotor inertia on its mass matrix).
+    ``ValueError`` for elastic joints without a drive train with stiffness and rotor inertia."""
+    if options.elastic:
+        drives = arm.drives
+        if drives is None or drives.elasticity is None or not np.all(drives.rotor_inertia > 0):
+            raise ValueError(f"{arm.name}: elastic joints need a drive train with a stiffness column and a rotor "
+                             "inertia above 0 for every joint: give a drive file with them (--drives FILE)")
+        plant, _ = add_arm_plant(builder, link_side(arm), options.plant)
+        model = make_plant(arm, options.plant)
+    else:
+        plant, _ = add_arm_plant(builder, arm, options.plant)
+        model = plant  # the exact model: the controller evaluates the plant itself, on a context of its own
+    plant.set_name("MultibodyPlant")
+    return plant, model
+
+
+def servo_design(arm: Arm, model: MultibodyPlant, options: SimulationOptions, q0: ArrayLike) -> ServoLoop:
+    """The designs ``options`` ask for, for ``arm`` whose controllers' ``model`` (:func:`add_plants`) gives the gains'
+    inertia at ``q0``.
 
     ``ValueError`` for electrics without a drive train that has them.
     """
@@ -142,21 +180,25 @@ def servo_design(arm: Arm, plant: MultibodyPlant, options: SimulationOptions, q0
                                options.velocity, options.velocity_cutoff, options.noise, options.delay)
     kp, kd, ki = (np.broadcast_to(np.asarray(g, dtype=float), (n,)).copy() for g in (options.kp, options.kd,
                                                                                     options.ki))
-    controller = ServoDesign(options.controller, period, kp, kd, ki, joint_inertia(plant, q0),
+    controller = ServoDesign(options.controller, period, kp, kd, ki, joint_inertia(model, q0),
                              None if not np.any(np.isfinite(limit)) else limit, options.anti_windup)
-    return ServoLoop(controller, sensors, current, options.seed)
+    elastic = None
+    if options.elastic and drives is not None and drives.elasticity is not None:  # add_plants checked them
+        elastic = ElasticDesign(drives.elasticity, drives.reflected_inertia)
+    return ServoLoop(controller, sensors, current, options.seed, elastic, options.encoder_side == "motor")
 
 
 @dataclass(frozen=True)
 class ServoPorts:
     """What :func:`add_servo` leaves for the loggers: the torque ``command`` τ*, the ``torque`` applied to the plant,
-    the ``measured`` state [q_m, q̇_m] of a sampled controller's sensors and the drive electrics' ports (``None``
-    without them)."""
+    the ``measured`` state [q_m, q̇_m] of a sampled controller's sensors, the drive electrics' ports and the elastic
+    rotors' state [φ, φ̇] (``None`` without them)."""
 
     command: OutputPort
     torque: OutputPort
     measured: OutputPort | None
     electrics: DriveElectrics | None
+    rotors: OutputPort | None = None
 
 
 def add_servo(builder: DiagramBuilder, plant: MultibodyPlant, model: MultibodyPlant, loop: ServoLoop,
@@ -166,6 +208,8 @@ def add_servo(builder: DiagramBuilder, plant: MultibodyPlant, model: MultibodyPl
     ``meter``: the electrics' energy meter too."""
     from pydrake.systems.primitives import ZeroOrderHold
 
+    from pydrake.systems.primitives import PassThrough
+
     n = plant.num_positions()
     state = plant.get_state_output_port()
     design = loop.controller
@@ -173,13 +217,23 @@ def add_servo(builder: DiagramBuilder, plant: MultibodyPlant, model: MultibodyPl
         hold = builder.AddNamedSystem("reference_sampling", ZeroOrderHold(design.period, 3 * n))
         builder.Connect(reference, hold.get_input_port())
         reference = hold.get_output_port()
-    sensed = None if loop.sensors is None else add_sensors(builder, state, loop.sensors).get_output_port()
-    measured = state if sensed is None else sensed
+    motor = state  # what the motors turn at: the links, or the elastic joints' rotors
+    drive = None
+    if loop.elastic is not None:  # the rotors' torque is the drives', fed through once the drives are built
+        drive = builder.AddNamedSystem("drive_output", PassThrough(n))
+        motor, spring = add_elastic_rotors(builder, state, drive.get_output_port(), loop.elastic)
+    read = motor if loop.motor_side else state
+    sensed = None if loop.sensors is None else add_sensors(builder, read, loop.sensors).get_output_port()
+    measured = read if sensed is None else sensed
     command, torque = add_position_controller(builder, model, design, reference, measured, drives)
     electrics = None
     if loop.current is not None:
-        electrics = add_drive_electrics(builder, state, torque, loop.current, meter)
+        electrics = add_drive_electrics(builder, motor, torque, loop.current, meter)
         torque = electrics.torque
+    if drive is not None:
+        builder.Connect(torque, drive.get_input_port())
+        builder.Connect(spring, plant.get_actuation_input_port())
+        return ServoPorts(command, spring, sensed, electrics, motor)
     builder.Connect(torque, plant.get_actuation_input_port())
     return ServoPorts(command, torque, sensed, electrics)
 
@@ -208,23 +262,33 @@ def linearize_loop(arm: Arm, options: SimulationOptions, q0: ArrayLike) -> tuple
                          current_rate=None)
     n = arm.n
     builder = DiagramBuilder()
-    plant, _ = add_arm_plant(builder, arm, options.plant)
-    plant.set_name("MultibodyPlant")
-    loop = servo_design(arm, plant, continuous, q0)
+    plant, model = add_plants(builder, arm, continuous)
+    loop = servo_design(arm, model, continuous, q0)
     reference = builder.AddNamedSystem("reference", PassThrough(3 * n))
     builder.ExportInput(reference.get_input_port(), "reference")
-    add_servo(builder, plant, plant, loop, reference.get_output_port(), arm.drives, meter=False)
+    wired = add_servo(builder, plant, model, loop, reference.get_output_port(), arm.drives, meter=False)
     builder.ExportOutput(plant.get_state_output_port(), "state")
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
     plant_context = plant.GetMyMutableContextFromRoot(context)
     plant.SetPositions(plant_context, q0)
-    diagram.get_input_port(0).FixValue(context, np.concatenate([q0, np.zeros(2 * n)]))
-    static = plant.CalcGravityGeneralizedForces(plant_context)  # τ_g(q0): the torque holding the arm is −τ_g
+    hold = -plant.CalcGravityGeneralizedForces(plant_context)  # the torque holding the links at q0: −τ_g(q0)
     design = loop.controller
+    measured = q0 if loop.elastic is None or not loop.motor_side else q0 + hold / loop.elastic.elasticity.stiffness
+    reference_port = diagram.get_input_port(0)
+    q_d = measured.copy()
     if diagram.HasSubsystemNamed("servo_pid_integral") and design.controller == "pid":
-        integral = diagram.GetSubsystemByName("servo_pid_integral")
-        integral.GetMyMutableContextFromRoot(context).SetContinuousState(-static / design.inertia)
+        integral = diagram.GetSubsystemByName("servo_pid_integral")  # the integral holds the links, q_d = q_m
+        integral.GetMyMutableContextFromRoot(context).SetContinuousState(hold / design.inertia)
+    else:  # the q_d whose torque holds the links (q0 itself when the controller measures the links)
+        for _ in range(50):
+            reference_port.FixValue(context, np.concatenate([q_d, np.zeros(2 * n)]))
+            loop.initialize(diagram, context, q0, np.zeros(n))
+            miss = wired.command.Eval(wired.command.get_system().GetMyContextFromRoot(context)) - hold
+            if np.all(np.abs(miss) <= 1e-13 * np.maximum(1.0, np.abs(hold))):
+                break
+            q_d = q_d - miss / (design.inertia * design.kp)
+    reference_port.FixValue(context, np.concatenate([q_d, np.zeros(2 * n)]))
     loop.initialize(diagram, context, q0, np.zeros(n))
     return Linearize(diagram, context), loop
 

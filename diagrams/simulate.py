@@ -148,7 +148,10 @@ class SimulationOptions:
     revolution; ``None``: exact), ``encoder_side`` (``"motor"`` or ``"joint"``), ``velocity`` (``"state"`` or
     ``"difference"``), ``velocity_cutoff`` (Hz, the difference's low-pass), ``noise`` (rad or m, standard deviation),
     ``seed``, ``delay`` (samples); ``electrics`` (the motors' current loops and windings, from the arm's drive train:
-    :mod:`armlab.controllers.electrics`), ``current_rate`` (Hz; ``None``: continuous) and ``current_bandwidth`` (Hz).
+    :mod:`armlab.controllers.electrics`), ``current_rate`` (Hz; ``None``: continuous) and ``current_bandwidth`` (Hz);
+    ``elastic`` (each joint a two-mass model, the drive train's gearbox stiffness between rotor and link:
+    :mod:`armlab.controllers.elastic`; the sensors then read the rotors on the motor side, the links on the joint
+    side).
     :func:`armlab.simulate` makes one from its keywords.
     """
 
@@ -176,6 +179,7 @@ class SimulationOptions:
     electrics: bool = False
     current_rate: float | None = None
     current_bandwidth: float = DEFAULT_CURRENT_BANDWIDTH
+    elastic: bool = False
 
     def __post_init__(self) -> None:
         if not self.plant.ideal_drives:
@@ -225,8 +229,8 @@ class SimulationOptions:
         if self.current_rate is not None and not self.electrics:
             raise ValueError("a current-loop rate needs the motors' electrics (--electrics)")
         if self.servo and self.mode != "controller":
-            raise ValueError("the servo options (controller, rate, saturation, sensors, electrics) drive the closed "
-                             "loop: use mode 'controller'")
+            raise ValueError("the servo options (controller, rate, saturation, sensors, electrics, elastic joints) "
+                             "drive the closed loop: use mode 'controller'")
         if self.sampling is not None:
             _choice(self.sampling, "sampling", SAMPLINGS)
         if self.sampling is None:
@@ -239,7 +243,8 @@ class SimulationOptions:
         """True when the options ask for more than paper 000's ideal loop (continuous computed torque on the exact
         state): a servo run (:mod:`armlab.diagrams.servo`)."""
         return (self.controller != "computed-torque" or self.rate is not None or self.saturate or self.electrics
-                or self.velocity != "state" or self.encoder is not None or self.noise > 0 or self.delay > 0)
+                or self.velocity != "state" or self.encoder is not None or self.noise > 0 or self.delay > 0
+                or self.elastic)
 
 
 @dataclass
@@ -255,7 +260,7 @@ class SimulationLog:
 
     A servo run has its design in ``servo`` (:meth:`armlab.diagrams.servo.ServoLoop.describe`, the first run's) and
     its torque command τ* before the saturation in ``tau_command`` ``(m, n)``, a sampled controller's measured state
-    [q_m, q̇_m] in ``measured`` ``(m, 2n)``; with electrics ``current`` (A) and
+    [q_m, q̇_m] in ``measured`` ``(m, 2n)``, elastic joints' rotors [φ, φ̇] in ``rotor`` ``(m, 2n)``; with electrics ``current`` (A) and
     ``voltage`` (V) ``(m, n)`` and ``energy`` ``(m, 3n)`` = [∫V i, ∫τ q̇, ∫R i²] (J) from each run's start. The
     samples of a servo run are the loggers' at t_k, which see the values held over the period before t_k.
     """
@@ -283,6 +288,7 @@ class SimulationLog:
     servo: dict[str, Any] | None = None
     tau_command: NDArray[np.float64] | None = None
     measured: NDArray[np.float64] | None = None
+    rotor: NDArray[np.float64] | None = None
     current: NDArray[np.float64] | None = None
     voltage: NDArray[np.float64] | None = None
     energy: NDArray[np.float64] | None = None
@@ -561,8 +567,8 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
         q=state[:, :n], qd=state[:, n:], tau=cat("torque"), tool=cat("tool"),
         run_starts=[start for start, _ in motion.runs()], wall_time=wall, diagram=diagrams[0],
         servo=designs[0] or None, **{name: cat(role) for name, role in (
-            ("tau_command", "command"), ("measured", "measured"), ("current", "current"), ("voltage", "voltage"),
-            ("energy", "energy")) if role in parts[0]},
+            ("tau_command", "command"), ("measured", "measured"), ("rotor", "rotor"), ("current", "current"),
+            ("voltage", "voltage"), ("energy", "energy")) if role in parts[0]},
     )
 
 

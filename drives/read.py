@@ -11,7 +11,9 @@ drive file, each as :class:`~armlab.drives.train.DriveTrain` has it:
   side, not both (the two may come from different sides);
 * the motors' electrics (:data:`~armlab.drives.motor.ELECTRIC_COLUMNS`, :mod:`armlab.drives.motor`): ``resistance``
   (Ω), ``inductance`` (H), ``torque_constant`` (N·m/A) and ``bus_voltage`` (V) together, with ``back_emf``
-  (V·s/rad, default the torque constant) and ``peak_current`` (A, default none) if known.
+  (V·s/rad, default the torque constant) and ``peak_current`` (A, default none) if known;
+* the gearboxes' elasticity (:mod:`armlab.drives.elastic`): ``stiffness`` (N·m/rad, joint side) and optionally
+  ``twist_damping`` (N·m·s/rad).
 
 A column left out takes its default (an ideal drive); a column given needs a value in every row.
 
@@ -31,6 +33,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armlab.arm_file import file_number, read_text
+from armlab.drives.elastic import ELASTIC_COLUMNS, Elasticity
 from armlab.drives.motor import ELECTRIC_COLUMNS, REQUIRED_ELECTRIC_COLUMNS, MotorElectrics
 from armlab.drives.train import DRIVE_FIELDS, DriveTrain
 from armlab.files import csv_table
@@ -42,7 +45,7 @@ __all__ = ["DRIVE_COLUMNS", "drive_train", "read_drive_file", "with_drives"]
 
 #: The drive columns of a DH table and a drive file; the ``_motor`` ones are motor side (module docstring).
 DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "viscous_motor", "coulomb_motor",
-                 *ELECTRIC_COLUMNS)
+                 *ELECTRIC_COLUMNS, *ELASTIC_COLUMNS)
 
 
 def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> DriveTrain:
@@ -70,12 +73,16 @@ def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> Drive
     if electric and missing:
         raise ValueError(f"{where}: the motor electrics need {', '.join(missing)} too "
                          f"(given: {', '.join(electric)}; required together: {', '.join(REQUIRED_ELECTRIC_COLUMNS)})")
+    if "twist_damping" in values and "stiffness" not in values:
+        raise ValueError(f"{where}: twist_damping needs the stiffness column too")
     ideal = DriveTrain.ideal(n)  # a column left out
     motor = [name for name in ("viscous", "coulomb") if f"{name}_motor" in values]  # each friction on its own side
     try:
         electrics = MotorElectrics(**{name: values[name] for name in electric}) if electric else None
+        elasticity = (Elasticity(values["stiffness"], values.get("twist_damping")) if "stiffness" in values
+                      else None)
         train = DriveTrain(**{name: values.get(name, getattr(ideal, name)) for name in DRIVE_FIELDS},
-                           electrics=electrics)
+                           electrics=electrics, elasticity=elasticity)
         if not motor:
             return train
         converted = DriveTrain.from_motor_side(train.gear_ratio, train.rotor_inertia, train.efficiency,

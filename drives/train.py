@@ -17,6 +17,11 @@ The Robotics Toolbox gives B and T_c on the **motor side** (Corke & Armstrong-H�
 The motor-side torque of a joint-side torque τ (which includes the reflected inertia and friction) is
 :func:`motor_torque`: τ/(G·η) when the drive delivers power (τ·q̇ ≥ 0) and τ·η/G when the load drives it
 back (τ·q̇ < 0: the gearbox's losses then help the motor). Prismatic joints read N for N·m, m for rad.
+
+A drive train may carry its motors' electrics (``electrics``, :class:`~armlab.drives.motor.MotorElectrics`: R, L,
+k_t, k_e, bus voltage, peak current), which a simulation with ``electrics=True`` runs through a current loop, and
+its gearboxes' elasticity (``elasticity``, :class:`~armlab.drives.elastic.Elasticity`), which one with
+``elastic=True`` simulates as a two-mass joint.
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
+    from armlab.drives.elastic import Elasticity
     from armlab.drives.motor import MotorElectrics
 
 __all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "joint_vector", "motor_speed", "motor_torque"]
@@ -86,7 +92,7 @@ def _vector(value: ArrayLike, name: str, n: int | None) -> NDArray[np.float64]:
 @dataclass(frozen=True)
 class DriveTrain:
     """Per-joint drive-train parameters, each shape ``(n,)``, joint side except J_m (see the module); ``electrics``:
-    the motors' (``None``: not known)."""
+    the motors' (``None``: not known); ``elasticity``: the gearboxes' stiffness and damping (``None``: rigid)."""
 
     gear_ratio: NDArray[np.float64]
     rotor_inertia: NDArray[np.float64]
@@ -95,6 +101,7 @@ class DriveTrain:
     coulomb: NDArray[np.float64]
     coulomb_speed: float = COULOMB_SPEED
     electrics: MotorElectrics | None = None
+    elasticity: Elasticity | None = None
 
     def __post_init__(self) -> None:
         n = None
@@ -109,8 +116,10 @@ class DriveTrain:
             raise ValueError(f"drive train coulomb_speed = {self.coulomb_speed!r} rad/s is not allowed: "
                              "a positive finite speed")
         object.__setattr__(self, "coulomb_speed", v_s)
-        if self.electrics is not None and self.electrics.n != n:
-            raise ValueError(f"drive train electrics have {self.electrics.n} joint(s); the drive train has {n}")
+        for name in ("electrics", "elasticity"):
+            part = getattr(self, name)
+            if part is not None and part.n != n:
+                raise ValueError(f"drive train {name} have {part.n} joint(s); the drive train has {n}")
 
     @property
     def n(self) -> int:

@@ -217,6 +217,8 @@ _STAGES = {
     "current_": ("drives: current loops and motor windings", 2.5, "#f3e8fd"),
     "voltage_saturation": ("drives: current loops and motor windings", 2.5, "#f3e8fd"),
     "motor": ("drives: current loops and motor windings", 2.5, "#f3e8fd"),
+    "drive_output": ("elastic joints: rotors and gearbox springs", 2.75, "#f3e8fd"),
+    "elastic_": ("elastic joints: rotors and gearbox springs", 2.75, "#f3e8fd"),
     "joint_positions": ("sensors", 4, "#fef7e0"), "encoder": ("sensors", 4, "#fef7e0"),
     "noise": ("sensors", 4, "#fef7e0"), "noisy_position": ("sensors", 4, "#fef7e0"),
     "sensor_": ("sensors", 4, "#fef7e0"),
@@ -235,7 +237,9 @@ _STAGE_SIGNALS = {
     "current_command": "i*", "current_signal": "(i*, i, x)", "current_sampling": "held (i*, i, x)",
     "current_pi_gains": "P·e", "current_pi_integral_inputs": "(e, V, V*)", "current_pi_integral": "z",
     "current_pi_sum": "V*", "voltage_saturation": "V", "motor_inputs": "(V, x)", "motors": "(i, τ)",
-    "energy_inputs": "(V, i, τ, x)", "energy_meter": "E = (∫V i, ∫τ q̇, ∫R i²)",
+    "energy_inputs": "(V, i, τ, x)", "drive_output": "τ (drive)", "elastic_inputs": "(τ, x)",
+    "elastic_rotors": "x<SUB>r</SUB> = (φ, φ̇)", "elastic_twist": "(x<SUB>r</SUB>, x)",
+    "elastic_spring": "τ<SUB>s</SUB> = K (φ − q) + D (φ̇ − q̇)", "energy_meter": "E = (∫V i, ∫τ q̇, ∫R i²)",
 }
 _STAGE_PORTS = {("motor_outputs", "y0"): "i", ("motor_outputs", "y1"): "τ = G k<SUB>t</SUB> i"}
 

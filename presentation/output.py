@@ -32,10 +32,10 @@ RUN_OUTPUTS = (*RUN_FILES, "diagram.svg", "diagram_full.svg", "diagram.dot", *PL
 
 
 #: A servo run's columns of ``log.csv`` by the :class:`~armlab.diagrams.simulate.SimulationLog` field they hold:
-#: the torque command (N·m or N), the measured state (rad or m, per s), the motor current (A) and voltage (V), the
-#: energies ∫V i, ∫τ q̇, ∫R i² (J).
-SERVO_COLUMNS = {"tau_command": ("tau_cmd{}",), "measured": ("q{}_meas", "qd{}_meas"), "current": ("i{}",),
-                 "voltage": ("V{}",), "energy": ("E_el{}", "E_mech{}", "E_cu{}")}
+#: the torque command (N·m or N), the measured state (rad or m, per s), elastic joints' rotor angles φ and rates
+#: (joint side), the motor current (A) and voltage (V), the energies ∫V i, ∫τ q̇, ∫R i² (J).
+SERVO_COLUMNS = {"tau_command": ("tau_cmd{}",), "measured": ("q{}_meas", "qd{}_meas"), "rotor": ("phi{}", "phid{}"),
+                 "current": ("i{}",), "voltage": ("V{}",), "energy": ("E_el{}", "E_mech{}", "E_cu{}")}
 
 
 def csv_header(n: int, motor: bool = False, servo: tuple[str, ...] = ()) -> list[str]:

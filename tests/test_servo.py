@@ -421,3 +421,81 @@ def test_paper_000s_beyond_the_paper_servo_loop(tmp_path):
                                run.summary["servo"]["rms_tracking_error"], rtol=1e-12)
     assert 1e-4 < float(pid["RMS e1 [rad]"]) < 1e-2
     assert {"beyond_servo_tracking.png", "beyond_servo_bode.png"} <= {p.name for p in tmp_path.iterdir()}
+
+
+# ------------------------------------------------------------------------------------------- elastic joints
+def elastic(arm, stiffness: float, damping: float = 0.0):
+    """``arm`` with its drive train's gearboxes of ``stiffness`` (N·m/rad) and ``damping`` at every joint."""
+    from dataclasses import replace
+
+    from armlab.drives.elastic import Elasticity
+
+    n = arm.n
+    return arm.with_drives(replace(arm.drives, elasticity=Elasticity(np.full(n, stiffness), np.full(n, damping))))
+
+
+def test_a_two_mass_joint_rings_at_its_analytic_frequency(arm1r):
+    """The rotor J_r = G² J_m and the link J_l on a spring K, no control: Drake's Linearize of the rotors and the
+    plant has the eigenvalues ±j √(K (1/J_r + 1/J_l)) (and two at 0: the pair turning together)."""
+    from pydrake.systems.framework import DiagramBuilder
+    from pydrake.systems.primitives import ConstantVectorSource, Linearize
+
+    from armlab.controllers.elastic import ElasticDesign, add_elastic_rotors, link_side
+    from armlab.controllers.servo import joint_inertia
+    from armlab.drives.elastic import Elasticity
+    from armlab.drives.train import DriveTrain
+    from armlab.models.plant import PlantOptions, add_arm_plant
+
+    _, arm = arm1r
+    arm = arm.with_drives(DriveTrain([10.0], [1e-3], [1.0], [0.0], [0.0]))
+    stiffness = 40.0
+    builder = DiagramBuilder()
+    plant, _ = add_arm_plant(builder, link_side(arm), PlantOptions(ideal_drives=True))
+    zero = builder.AddSystem(ConstantVectorSource(np.zeros(1)))
+    design = ElasticDesign(Elasticity(np.array([stiffness])), arm.drives.reflected_inertia)
+    _, spring = add_elastic_rotors(builder, plant.get_state_output_port(), zero.get_output_port(), design)
+    builder.Connect(spring, plant.get_actuation_input_port())
+    diagram = builder.Build()
+    system = Linearize(diagram, diagram.CreateDefaultContext())
+    j_link = joint_inertia(plant, [0.0])[0]
+    omega = np.sqrt(stiffness * (1 / 0.1 + 1 / j_link))
+    eigenvalues = np.sort_complex(np.linalg.eigvals(system.A()))
+    np.testing.assert_allclose(np.sort(np.abs(eigenvalues.imag))[-2:], omega, rtol=1e-12)
+    np.testing.assert_allclose(eigenvalues.real, 0.0, atol=1e-12 * omega)
+
+
+@pytest.mark.slow
+def test_stiff_elastic_joints_approach_the_rigid_arm():
+    """The links lag the motor-side measurement by the static twist τ/K: each 4× the stiffness takes 4× off the
+    distance from the rigid arm's run (3.6 to 4.4), and the rotors lead the links by that twist."""
+    arm = rr_motors()
+    motion = paper_motion(arm)
+    common = {"log_period": 0.01, "controller": "pd+feedforward", "bandwidth": 5.0}
+    rigid = simulate(arm, motion, SimulationOptions(**common))
+    distance = []
+    for k in (1e3, 4e3, 1.6e4):
+        log = simulate(elastic(arm, k), motion, SimulationOptions(elastic=True, **common))
+        distance.append(float(np.max(np.abs(log.q - rigid.q))))
+        twist = log.rotor[:, :2] - log.q
+        np.testing.assert_allclose(np.max(np.abs(twist)), distance[-1], rtol=0.05)
+    ratios = np.array(distance[:-1]) / np.array(distance[1:])
+    assert np.all((ratios > 3.6) & (ratios < 4.4)), (distance, ratios)
+
+
+def test_elastic_joints_need_their_stiffness_and_the_linearised_loop_stiffens_to_the_rigid_one(tmp_path):
+    arm = rr_motors()
+    with pytest.raises(ValueError, match="elastic joints need a drive train with a stiffness column"):
+        simulate(arm, short(arm), SimulationOptions(elastic=True))
+    bad = tmp_path / "bad.csv"
+    bad.write_text("gear_ratio,rotor_inertia,twist_damping\n100,1e-5,1\n80,1e-5,1\n")
+    with pytest.raises(ValueError, match="twist_damping needs the stiffness column too"):
+        read_drive_file(bad, ["joint1", "joint2"])
+    bad.write_text("gear_ratio,rotor_inertia,stiffness\n100,1e-5,0\n80,1e-5,1e4\n")
+    with pytest.raises(ValueError, match="joint stiffness of joint 1 = 0 N·m/rad is not allowed"):
+        read_drive_file(bad, ["joint1", "joint2"])
+    good = tmp_path / "good.csv"
+    good.write_text("gear_ratio,rotor_inertia,stiffness,twist_damping\n100,1.2e-5,2e4,1\n80,0.8e-5,1e4,0.5\n")
+    assert read_drive_file(good, ["joint1", "joint2"]).elasticity.stiffness.tolist() == [2e4, 1e4]
+    options = SimulationOptions(controller="computed-torque", bandwidth=5.0, elastic=True)
+    stiff = frequency_response(elastic(arm, 1e7), options, [-0.66, 1.71])
+    np.testing.assert_allclose(stiff.bandwidth, 5.0, rtol=1e-3)  # the rigid rule's, to the spring's 1/K

@@ -102,7 +102,7 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
         "anti_windup": not args.no_anti_windup, "encoder": args.encoder, "encoder_side": args.encoder_side,
         "velocity": args.velocity, "velocity_cutoff": args.velocity_cutoff, "noise": args.noise, "seed": args.seed,
         "delay": args.delay, "electrics": args.electrics, "current_rate": args.current_rate,
-        "current_bandwidth": args.current_bandwidth,
+        "current_bandwidth": args.current_bandwidth, "elastic": args.elastic,
     }
     return setup
 
@@ -256,6 +256,9 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
                        help="the current loop sampled at this rate (default: continuous)")
     servo.add_argument("--current-bandwidth", type=float, default=DEFAULT_CURRENT_BANDWIDTH, metavar="HZ",
                        help=f"the current loop's bandwidth (default {DEFAULT_CURRENT_BANDWIDTH:g} Hz)")
+    servo.add_argument("--elastic", action="store_true",
+                       help="elastic joints: each rotor coupled to its link by the drive file's stiffness (N·m/rad) "
+                            "and twist_damping columns (a two-mass model; a motor-side encoder reads the rotor)")
     add_drives(p)
 
 
