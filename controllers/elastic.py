@@ -53,7 +53,7 @@ def add_elastic_rotors(builder: DiagramBuilder, state: OutputPort, torque: Outpu
     plant's ``state`` [q, q̇]; (the rotors' state [φ, φ̇] port, the spring torque τ_s port for the plant)."""
     from pydrake.systems.primitives import LinearSystem, MatrixGain, Multiplexer
 
-    k, d, j = design.elasticity.stiffness, design.elasticity.damping, design.inertia
+    k, d, j = design.elasticity.stiffness, design.elasticity.twist_damping, design.inertia
     n = k.size
     inputs = builder.AddNamedSystem("elastic_inputs", Multiplexer([n, 2 * n]))
     builder.Connect(torque, inputs.get_input_port(0))

@@ -86,7 +86,7 @@ class ServoLoop:
             "peak_current": [None if not np.isfinite(v) else float(v) for v in e.electrics.peak_current]}
         k = self.elastic
         out["elastic_joints"] = None if k is None else {
-            "stiffness": k.elasticity.stiffness.tolist(), "twist_damping": k.elasticity.damping.tolist(),
+            "stiffness": k.elasticity.stiffness.tolist(), "twist_damping": k.elasticity.twist_damping.tolist(),
             "rotor_inertia_joint_side": k.inertia.tolist(), "measured": "motor" if self.motor_side else "joint"}
         return out
 
@@ -206,9 +206,7 @@ def add_servo(builder: DiagramBuilder, plant: MultibodyPlant, model: MultibodyPl
     """Wire ``loop`` between the ``reference`` [q_d, q̇_d, q̈_d] and ``plant``'s actuation (module docstring);
     ``model``: the controller's model of the arm; ``drives``: the arm's drive train (friction compensation);
     ``meter``: the electrics' energy meter too."""
-    from pydrake.systems.primitives import ZeroOrderHold
-
-    from pydrake.systems.primitives import PassThrough
+    from pydrake.systems.primitives import PassThrough, ZeroOrderHold
 
     n = plant.num_positions()
     state = plant.get_state_output_port()
@@ -284,7 +282,8 @@ def linearize_loop(arm: Arm, options: SimulationOptions, q0: ArrayLike) -> tuple
         for _ in range(50):
             reference_port.FixValue(context, np.concatenate([q_d, np.zeros(2 * n)]))
             loop.initialize(diagram, context, q0, np.zeros(n))
-            miss = wired.command.Eval(wired.command.get_system().GetMyContextFromRoot(context)) - hold
+            source: Any = wired.command.get_system()
+            miss = np.asarray(wired.command.Eval(source.GetMyContextFromRoot(context))) - hold
             if np.all(np.abs(miss) <= 1e-13 * np.maximum(1.0, np.abs(hold))):
                 break
             q_d = q_d - miss / (design.inertia * design.kp)

@@ -260,9 +260,10 @@ class SimulationLog:
 
     A servo run has its design in ``servo`` (:meth:`armlab.diagrams.servo.ServoLoop.describe`, the first run's) and
     its torque command τ* before the saturation in ``tau_command`` ``(m, n)``, a sampled controller's measured state
-    [q_m, q̇_m] in ``measured`` ``(m, 2n)``, elastic joints' rotors [φ, φ̇] in ``rotor`` ``(m, 2n)``; with electrics ``current`` (A) and
-    ``voltage`` (V) ``(m, n)`` and ``energy`` ``(m, 3n)`` = [∫V i, ∫τ q̇, ∫R i²] (J) from each run's start. The
-    samples of a servo run are the loggers' at t_k, which see the values held over the period before t_k.
+    [q_m, q̇_m] in ``measured`` ``(m, 2n)``, elastic joints' rotors [φ, φ̇] in ``rotor`` ``(m, 2n)``; with electrics
+    ``current`` (A) and ``voltage`` (V) ``(m, n)`` and ``energy`` ``(m, 3n)`` = [∫V i, ∫τ q̇, ∫R i²] (J) from each
+    run's start. The samples of a servo run are the loggers' at t_k, which see the values held over the period before
+    t_k.
     """
 
     arm: Arm
@@ -644,14 +645,14 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
 
 def servo_stats(log: SimulationLog) -> dict[str, Any]:
     """What a servo run did, per joint: ``rms_tracking_error`` (rad or m), ``saturation_time`` (s the torque command
-    τ* spent past its limit, counted in log periods: each sample after the first stands for the period before it;
-    ``None`` without a saturation), and with electrics ``peak_current`` (A), ``peak_voltage`` (V),
+    τ* spent past its limit, counted in log periods: each sample after its run's first stands for the period before
+    it; ``None`` without a saturation), and with electrics ``peak_current`` (A), ``peak_voltage`` (V),
     ``voltage_saturation_time`` (s at the bus voltage) and ``energy`` (J: electrical ∫V i, mechanical ∫τ q̇, copper
     ∫R i², magnetic Δ½Li², summed over the runs, and the balance's relative residual:
     :func:`~armlab.controllers.electrics.energy_balance`)."""
     assert log.servo is not None
     out: dict[str, Any] = {"rms_tracking_error": np.sqrt(np.mean((log.q - log.q_ref) ** 2, axis=0)).tolist()}
-    later = np.arange(log.t.size) > 0
+    later = np.r_[False, log.run[1:] == log.run[:-1]]  # each sample after its run's first
     limit = log.servo["torque_limit"]
     if limit is None or log.tau_command is None:
         out["saturation_time"] = None

@@ -28,20 +28,20 @@ ELASTIC_COLUMNS = ("stiffness", "twist_damping")
 
 @dataclass(frozen=True)
 class Elasticity:
-    """Per joint ``(n,)``: the torsional ``stiffness`` K (N·m/rad, > 0) and ``damping`` D (N·m·s/rad, ≥ 0; ``None``:
-    0) between rotor and link, joint side."""
+    """Per joint ``(n,)``: the torsional ``stiffness`` K (N·m/rad, > 0) and ``twist_damping`` D (N·m·s/rad, ≥ 0;
+    ``None``: 0) between rotor and link, joint side (the drive file's columns of the same names)."""
 
     stiffness: NDArray[np.float64]
-    damping: NDArray[np.float64] = None  # type: ignore[assignment]  # None: 0 (an array once made)
+    twist_damping: NDArray[np.float64] = None  # type: ignore[assignment]  # None: 0 (an array once made)
 
     def __post_init__(self) -> None:
         k = joint_vector(self.stiffness, "joint stiffness", None, "N·m/rad", "a positive finite number",
                          lambda a: ~np.isfinite(a) | (a <= 0))
-        d = np.zeros(k.size) if self.damping is None else self.damping
+        d = np.zeros(k.size) if self.twist_damping is None else self.twist_damping
         d = joint_vector(d, "joint twist_damping", k.size, "N·m·s/rad", "a finite number ≥ 0",
                          lambda a: ~np.isfinite(a) | (a < 0))
         object.__setattr__(self, "stiffness", k)
-        object.__setattr__(self, "damping", d)
+        object.__setattr__(self, "twist_damping", d)
 
     @property
     def n(self) -> int:

@@ -79,8 +79,8 @@ def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> Drive
     motor = [name for name in ("viscous", "coulomb") if f"{name}_motor" in values]  # each friction on its own side
     try:
         electrics = MotorElectrics(**{name: values[name] for name in electric}) if electric else None
-        elasticity = (Elasticity(values["stiffness"], values.get("twist_damping")) if "stiffness" in values
-                      else None)
+        elasticity = (Elasticity(**{name: values[name] for name in ELASTIC_COLUMNS if name in values})
+                      if "stiffness" in values else None)
         train = DriveTrain(**{name: values.get(name, getattr(ideal, name)) for name in DRIVE_FIELDS},
                            electrics=electrics, elasticity=elasticity)
         if not motor:
