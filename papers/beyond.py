@@ -284,7 +284,7 @@ def rr_servo(out: PaperOutput, fast: bool) -> None:
         servo = run.summary["servo"]
         error = np.abs(run.q - run.q_ref)
         rows.append([label, *np.max(error, axis=0), *np.sqrt(np.mean(error**2, axis=0)), *run.summary["max_abs_torque"],
-                     "—" if servo is None else max(servo["saturation_time"] or [0.0])])
+                     "" if servo is None else max(servo["saturation_time"] or [0.0])])  # "": no saturation
     out.table("beyond_servo", "Ideal controller against a 1 kHz PID on encoders, the chosen drives (not in the paper)",
               ["loop", "max |e1| [rad]", "max |e2| [rad]", "RMS e1 [rad]", "RMS e2 [rad]", "peak |τ1| [N·m]",
                "peak |τ2| [N·m]", "saturated [s]"], rows,
