@@ -24,6 +24,12 @@ for the motion, carrying the payload throughout (:func:`armlab.sizing.sizing.siz
 ``drive_mass`` (kg, the chosen drives' total; NaN when infeasible), ``drives_feasible`` (1 or 0) and
 ``drive_margin`` (the chosen pairs' smallest margin; NaN when infeasible); optional ``safety_factor`` (≥ 1, default
 1), ``motors`` and ``gearboxes`` (catalogue CSV files, relative to the study file; default armlab's examples).
+
+The servo objectives (:data:`SERVO`: ``max_tracking_error`` and ``rms_tracking_error`` per joint, rad or m) simulate
+each candidate through the servo loop of ``servo`` (an object of :class:`~armlab.diagrams.simulate.SimulationOptions`'
+servo settings: ``{"controller": "pid", "bandwidth": 5, "rate": 1000, "encoder": 4096, …}``), and may vary the
+controller's ``rate`` (Hz or kHz) and the ``encoder``'s counts per revolution; ``drives`` (a drive file, relative to
+the study file) gives the arm its drive train (the encoder on the motor, the motors' electrics).
 """
 
 from __future__ import annotations
@@ -54,6 +60,7 @@ from armlab.analysis.workspace import (
 from armlab.arm_file import MAX_FILE_NUMBER
 from armlab.diagrams.drives import torque_stats
 from armlab.diagrams.simulate import DEFAULT_LOG_PERIOD, SimulationOptions, check_work, simulate
+from armlab.drives.read import with_drives
 from armlab.files import json_number, read_json
 from armlab.kinematics.rnea import inverse_dynamics
 from armlab.limits import check_range
@@ -70,8 +77,8 @@ if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
     from armlab.models.arm import Arm
 
-__all__ = ["COLLISION", "DRIVES", "DYNAMICS", "MAX_CANDIDATES", "OBJECTIVES", "UNITS", "WORKSPACE", "Study", "Variable",
-           "evaluate", "load_study", "parse_study"]
+__all__ = ["COLLISION", "DRIVES", "DYNAMICS", "MAX_CANDIDATES", "OBJECTIVES", "PER_JOINT", "SERVO", "SERVO_SETTINGS",
+           "SERVO_VARIABLES", "UNITS", "WORKSPACE", "Study", "Variable", "evaluate", "load_study", "parse_study"]
 
 #: Objectives computed from the workspace (:func:`armlab.analysis.workspace.workspace`), with units.
 WORKSPACE = {"workspace_volume": "m^dim", "reach": "m", "min_manipulability": "", "mean_manipulability": "",
@@ -82,14 +89,24 @@ COLLISION = ("collision_free_volume", "min_clearance")
 DYNAMICS = {"peak_torque": "N·m or N", "rms_torque": "N·m or N", "peak_power": "W"}
 #: Objectives of the drives chosen from the catalogues for the motion (see the module docstring).
 DRIVES = {"drive_mass": "kg", "drives_feasible": "", "drive_margin": ""}
-OBJECTIVES = {**WORKSPACE, **DYNAMICS, **DRIVES}
+#: Objectives of the servo loop's simulation (see the module docstring), per joint.
+SERVO = {"max_tracking_error": "rad or m", "rms_tracking_error": "rad or m"}
+OBJECTIVES = {**WORKSPACE, **DYNAMICS, **DRIVES, **SERVO}
+#: Per-joint objectives: a column each, ``NAME_1`` … ``NAME_n``.
+PER_JOINT = ("peak_torque", "rms_torque", *SERVO)
+#: The servo loop's variables a study may vary (with its servo objectives).
+SERVO_VARIABLES = ("rate", "encoder")
 #: Units a varied value may be given in, and their factor to SI.
 UNITS = {"deg": np.pi / 180, "rad": 1.0, "m": 1.0, "cm": 1e-2, "mm": 1e-3, "kg": 1.0, "g": 1e-3, "s": 1.0,
-         "ms": 1e-3}
+         "ms": 1e-3, "Hz": 1.0, "kHz": 1e3}
 #: Units allowed for the study's own variables.
-_OWN_UNITS = {"payload": ("kg", "g"), "tf": ("s", "ms")}
+_OWN_UNITS = {"payload": ("kg", "g"), "tf": ("s", "ms"), "rate": ("Hz", "kHz"), "encoder": ()}
 _KEYS = ("arm", "vary", "evaluate", "samples", "resolution", "seed", "payload", "tf", "simulate", "segments",
-         "safety_factor", "motors", "gearboxes")
+         "safety_factor", "motors", "gearboxes", "servo", "drives")
+#: The settings a study's ``servo`` object may give (SimulationOptions' servo fields).
+SERVO_SETTINGS = ("controller", "rate", "bandwidth", "saturate", "anti_windup", "encoder", "encoder_side", "velocity",
+                  "velocity_cutoff", "noise", "seed", "delay", "electrics", "current_rate", "current_bandwidth",
+                  "elastic")
 #: Period of the motion's samples for the batch inverse dynamics (s).
 TORQUE_PERIOD = 1e-3
 #: Most candidates of one study (each is built and checked before any work starts).
@@ -135,6 +152,8 @@ class Study:
     safety_factor: float = 1.0  # the drive objectives' (DRIVES)
     motors: str | None = None  # their catalogues' absolute paths; None: armlab's examples
     gearboxes: str | None = None
+    servo: tuple[tuple[str, Any], ...] = ()  # the servo objectives' settings (SERVO_SETTINGS), as (name, value)
+    drives: str | None = None  # a drive file's absolute path: the arm's drive train
 
     @property
     def candidates(self) -> list[tuple[float, ...]]:
@@ -146,7 +165,7 @@ class Study:
         """Objective columns of ``results.csv``: per-joint ones as ``peak_torque_1`` … ``peak_torque_n``."""
         cols = []
         for name in self.evaluate:
-            cols += [f"{name}_{i}" for i in range(1, self.n + 1)] if name in ("peak_torque", "rms_torque") else [name]
+            cols += [f"{name}_{i}" for i in range(1, self.n + 1)] if name in PER_JOINT else [name]
         return cols
 
     @property
@@ -173,9 +192,19 @@ class Study:
                 payload = si
             elif var.name == "tf":
                 tf = si
-            else:
+            elif var.name not in SERVO_VARIABLES:
                 overrides[var.name] = si
         return overrides, payload, tf
+
+    def servo_settings(self, values: tuple[float, ...]) -> dict[str, Any]:
+        """The candidate's servo settings: the study's ``servo``, its varied rate (Hz) and encoder counts."""
+        settings = dict(self.servo)
+        for var, value in zip(self.vary, values, strict=True):
+            if var.name == "rate":
+                settings["rate"] = value * UNITS.get(var.unit, 1.0)
+            elif var.name == "encoder":
+                settings["encoder"] = int(value) if float(value).is_integer() else value
+        return settings
 
     def to_json(self) -> dict[str, Any]:
         """The study as run: every setting explicit."""
@@ -193,6 +222,8 @@ class Study:
             "safety_factor": self.safety_factor,
             "motors": self.motors,
             "gearboxes": self.gearboxes,
+            "servo": dict(self.servo),
+            "drives": self.drives,
         }
 
 
@@ -276,7 +307,7 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
         name = str((base / name).resolve())
     nominal = get_arm(name)
     known = [f.name for f in fields(ARMS[name].Parameters)] if name in ARMS else []
-    known += ["payload", "tf"]
+    known += ["payload", "tf", *SERVO_VARIABLES]
     if not isinstance(data["vary"], dict) or not data["vary"]:
         raise ValueError("vary must be a non-empty object {parameter: range}")
     vary = tuple(_variable(k, v, known) for k, v in data["vary"].items())
@@ -292,14 +323,16 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
             raise ValueError(f"evaluate: unknown objective {objective!r}; allowed: {', '.join(OBJECTIVES)}")
     if len(set(evaluate)) != len(evaluate):
         raise ValueError(f"evaluate = {json.dumps(evaluate)} repeats an objective")
-    dynamics = any(e in DYNAMICS or e in DRIVES for e in evaluate)
+    dynamics = any(e in DYNAMICS or e in DRIVES or e in SERVO for e in evaluate)
     if dynamics:
         nominal.require_dynamics("torque objectives")
-    for key in ("payload", "tf", "simulate", "segments"):
+    for key in ("payload", "tf", "simulate", "segments", "drives"):
         if not dynamics and (key in data or key in data["vary"]):
             where = f"vary.{key}" if key in data["vary"] else key
-            raise ValueError(f"{where} changes only the torque objectives ({', '.join(DYNAMICS)}) and the drive "
-                             f"objectives ({', '.join(DRIVES)}); evaluate one of them")
+            raise ValueError(f"{where} changes only the torque objectives ({', '.join(DYNAMICS)}), the drive "
+                             f"objectives ({', '.join(DRIVES)}) and the servo objectives ({', '.join(SERVO)}); "
+                             "evaluate one of them")
+    servo = _servo(data, any(e in SERVO for e in evaluate))
     drives = any(e in DRIVES for e in evaluate)
     for key in ("safety_factor", "motors", "gearboxes"):
         if key in data and not drives:
@@ -332,8 +365,12 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     resolution = data.get("resolution")
     if resolution is not None:
         resolution = check_resolution(json_number(resolution, "resolution"))
+    drive_file = data.get("drives")
+    if drive_file is not None and not isinstance(drive_file, str):
+        raise ValueError(f"drives = {json.dumps(drive_file)} must be a file name")
     study = Study(name, vary, tuple(evaluate), samples, resolution, seed, payload, tf, simulate, segments,
-                  nominal.n, dim, safety_factor, *catalogues)
+                  nominal.n, dim, safety_factor, motors=catalogues[0], gearboxes=catalogues[1], servo=servo,
+                  drives=None if drive_file is None else str((base / drive_file).resolve()))
     for values in study.candidates:
         try:
             build(study, values)
@@ -343,19 +380,44 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     return study
 
 
+def _servo(data: dict[str, Any], evaluated: bool) -> tuple[tuple[str, Any], ...]:
+    """The study's ``servo`` settings as (name, value) pairs; ``ValueError`` for an unknown setting, or for servo
+    settings or variables without a servo objective (the values themselves: checked with each candidate)."""
+    settings = data.get("servo", {})
+    if not isinstance(settings, dict):
+        raise ValueError(f"servo = {json.dumps(settings)} must be an object of servo settings")
+    unknown = [k for k in settings if k not in SERVO_SETTINGS]
+    if unknown:
+        raise ValueError(f"servo: unknown setting {shown(unknown[0])}; allowed: {', '.join(SERVO_SETTINGS)}")
+    varied = [k for k in SERVO_VARIABLES if k in data["vary"]]
+    if (settings or varied) and not evaluated:
+        where = "servo" if settings else f"vary.{varied[0]}"
+        raise ValueError(f"{where} changes only the servo objectives ({', '.join(SERVO)}); evaluate one of them")
+    return tuple(settings.items())
+
+
 # ------------------------------------------------------------------------------------------ evaluation
 def build(study: Study, values: tuple[float, ...]) -> tuple[Arm, Motion | None, float]:
-    """The candidate's arm, its motion (``None`` without torque objectives) and payload; ``ValueError`` if bad."""
+    """The candidate's arm, its motion (``None`` without torque objectives) and payload; ``ValueError`` if bad
+    (the servo settings too: :func:`servo_options`)."""
     overrides, payload, tf = study.settings(values)
-    arm = get_arm(study.arm, **overrides)
-    if not any(e in DYNAMICS or e in DRIVES for e in study.evaluate):
+    arm = with_drives(get_arm(study.arm, **overrides), study.drives)
+    if not any(e in DYNAMICS or e in DRIVES or e in SERVO for e in study.evaluate):
         return arm, None, payload
     payload = check_payload(payload)
     if tf is not None:
         check_range(tf, "tf")
     motion = read_segments(arm, study.segments) if study.segments else paper_motion(arm, tf=tf)
-    check_work(motion, DEFAULT_LOG_PERIOD if study.simulate else TORQUE_PERIOD)
+    check_work(motion, DEFAULT_LOG_PERIOD if study.simulate or any(e in SERVO for e in study.evaluate)
+               else TORQUE_PERIOD)
+    if any(e in SERVO for e in study.evaluate):
+        servo_options(study, values, payload)
     return arm, motion, payload
+
+
+def servo_options(study: Study, values: tuple[float, ...], payload: float) -> SimulationOptions:
+    """The simulation options of the candidate's servo run; ``ValueError`` naming a bad setting."""
+    return SimulationOptions(PlantOptions(payload=payload, ideal_drives=True), **study.servo_settings(values))
 
 
 def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
@@ -384,6 +446,12 @@ def evaluate(study: Study, values: tuple[float, ...]) -> dict[str, float]:
         drives = {"drive_mass": sizing.drive_mass, "drives_feasible": float(sizing.feasible),
                   "drive_margin": sizing.margin}
         out |= {e: drives[e] for e in study.evaluate if e in DRIVES}
+    if motion is not None and any(e in SERVO for e in study.evaluate):
+        log = simulate(arm, motion, servo_options(study, values, payload))
+        error = np.abs(log.q - log.q_ref)
+        tracking = {"max_tracking_error": error.max(axis=0), "rms_tracking_error": np.sqrt(np.mean(error**2, axis=0))}
+        for e in (e for e in study.evaluate if e in SERVO):
+            out |= {f"{e}_{i + 1}": float(v) for i, v in enumerate(tracking[e])}
     if motion is not None and any(e in DYNAMICS for e in study.evaluate):
         stats = torque_stats(*_torques(study, arm, motion, payload))
         drive = {"peak_torque": stats["max_abs_torque"], "rms_torque": stats["rms_torque"],

@@ -35,6 +35,7 @@ from armlab.diagrams.simulate import (
     SimulationOptions,
 )
 from armlab.diagrams.simulate import simulate as run_diagram
+from armlab.drives.motor import DEFAULT_CURRENT_BANDWIDTH
 from armlab.drives.read import with_drives
 from armlab.kinematics.cartesian import (
     DEFAULT_SAMPLES,
@@ -219,6 +220,23 @@ def simulate(
     accuracy: float | None = None,
     divergence_tolerance: float | None = None,
     scene: Scene | str | Path | None = None,
+    *,
+    controller: str = "computed-torque",
+    rate: float | None = None,
+    bandwidth: float | None = None,
+    saturate: bool = False,
+    anti_windup: bool = True,
+    encoder: int | None = None,
+    encoder_side: str = "motor",
+    velocity: str = "state",
+    velocity_cutoff: float | None = None,
+    noise: float = 0.0,
+    seed: int = 0,
+    delay: int = 0,
+    electrics: bool = False,
+    current_rate: float | None = None,
+    current_bandwidth: float = DEFAULT_CURRENT_BANDWIDTH,
+    elastic: bool = False,
 ) -> Run:
     """Simulate ``arm`` following ``motion`` through paper 000's Fig. 6 as a Drake diagram; a :class:`Run`.
 
@@ -228,8 +246,22 @@ def simulate(
     ``accuracy``: the integrator's target accuracy (default 1e-6); ``divergence_tolerance``: the tracking
     error (rad or m, default 0.01) past which the run counts as diverged; ``scene``: obstacles (a scene file or
     :class:`~armlab.collision.scene.Scene`) the run is checked against, beside the arm itself (collisions in
-    ``run.collisions`` and ``summary.json``). The arm needs mass data. The keywords
-    are checked once, as a :class:`~armlab.diagrams.simulate.SimulationOptions` (what the inner layers take).
+    ``run.collisions`` and ``summary.json``). The arm needs mass data.
+
+    The servo loop (default: paper 000's ideal loop, continuous computed torque on the exact state): ``controller``
+    ``"computed-torque"``, ``"pid"`` or ``"pd+feedforward"``; ``rate`` (Hz; ``None``: continuous); ``bandwidth`` (Hz:
+    the gains by the tuning rule from each joint's inertia, instead of ``kp``, ``kd``, ``ki``); ``saturate`` (at each
+    joint's effort limit) with ``anti_windup``; a sampled controller's sensors: ``encoder`` counts per revolution on
+    the ``encoder_side`` (``"motor"`` or ``"joint"``), ``velocity`` ``"state"`` or ``"difference"`` (with its low-pass
+    ``velocity_cutoff``, Hz), position ``noise`` (rad or m, standard deviation) with its ``seed``, a ``delay`` of k
+    samples; ``electrics``: each motor's current loop and winding from the drive train (R, L, k_t, bus voltage …),
+    the loop at ``current_rate`` (Hz; ``None``: continuous) with bandwidth ``current_bandwidth`` (Hz); ``elastic``:
+    each joint a two-mass model with the drive train's gearbox stiffness (``stiffness`` column). What they mean:
+    :mod:`armlab.diagrams.servo`. A servo run's summary has a ``servo`` section (the design, saturation time, peak
+    current, energy balance) and :meth:`Run.frequency_response` its linearised loop.
+
+    The keywords are checked once, as a :class:`~armlab.diagrams.simulate.SimulationOptions` (what the inner layers
+    take).
     """
     if not isinstance(arm, Arm):
         raise TypeError(f"arm: expected an Arm (armlab.load(...)), got {type(arm).__name__}")
@@ -241,9 +273,13 @@ def simulate(
         kp=DEFAULT_KP if kp is None else kp, kd=DEFAULT_KD if kd is None else kd, ki=ki,
         log_period=DEFAULT_LOG_PERIOD if log_period is None else log_period,
         accuracy=DEFAULT_ACCURACY if accuracy is None else accuracy,
-        divergence_tolerance=DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance)
+        divergence_tolerance=DIVERGENCE_TOLERANCE if divergence_tolerance is None else divergence_tolerance,
+        controller=controller, rate=rate, bandwidth=bandwidth, saturate=saturate, anti_windup=anti_windup,
+        encoder=encoder, encoder_side=encoder_side, velocity=velocity, velocity_cutoff=velocity_cutoff, noise=noise,
+        seed=seed, delay=delay, electrics=electrics, current_rate=current_rate, current_bandwidth=current_bandwidth,
+        elastic=elastic)
     scene = as_scene(scene)  # a bad scene file is an error before the run
-    return Run(run_diagram(arm, motion, options), options.divergence_tolerance, scene)
+    return Run(run_diagram(arm, motion, options), options.divergence_tolerance, scene, options)
 
 
 def size_drives(

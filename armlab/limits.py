@@ -89,6 +89,12 @@ LIMITS: dict[str, Limit] = {
     "qdd": Limit(-1e6, 1e6, "rad/s² or m/s²", "beyond any drive's acceleration", "q̈"),
     "resolution": Limit(1e-6, 100.0, "m", "a workspace's voxel edge, a micrometre to 100 m", "h"),
     "tf": Limit(0.0, 1e6, "s", "a motion's duration, up to 11 days", "tf"),
+    "rate": Limit(1.0, 1e6, "Hz", "a sampled controller's rate, 1 Hz to 1 MHz"),
+    "bandwidth": Limit(1e-3, 1e5, "Hz", "a control loop's bandwidth"),
+    "encoder": Limit(2.0, 2.0**31 - 1, "counts/rev", "an encoder's counts per revolution"),
+    "noise": Limit(0.0, 1.0, "rad or m", "a position sensor's noise, standard deviation"),
+    "delay": Limit(0.0, 1000.0, "samples", "a measurement's delay, in controller samples"),
+    "seed": Limit(0.0, 2.0**32 - 1, "", "a random generator's seed"),
 }
 
 

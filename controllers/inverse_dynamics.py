@@ -42,6 +42,7 @@ __all__ = [
     "add_inverse_dynamics",
     "add_inverse_dynamics_controller",
     "drive_actuation",
+    "friction_compensated",
     "gain_vector",
 ]
 
@@ -127,10 +128,18 @@ def add_inverse_dynamics(
 def drive_actuation(builder: DiagramBuilder, plant: MultibodyPlant, torque: OutputPort, state: OutputPort,
                     drives: DriveTrain | None) -> OutputPort:
     """Connect the model's torque ``torque`` (N·m or N, n) to ``plant``'s actuation input, with the Coulomb friction
-    T_c·tanh(v/v_s) of the rates of ``state`` ([q, v]) added when ``drives`` has any (a ``friction_compensation``
-    :class:`~armlab.drives.friction.CoulombFriction` and an ``Adder``); the port of the torque applied."""
+    of the rates of ``state`` added (:func:`friction_compensated`); the port of the torque applied."""
+    applied = friction_compensated(builder, torque, state, drives)
+    builder.Connect(applied, plant.get_actuation_input_port())
+    return applied
+
+
+def friction_compensated(builder: DiagramBuilder, torque: OutputPort, state: OutputPort, drives: DriveTrain | None,
+                         ) -> OutputPort:
+    """``torque`` (N·m or N, n) with the Coulomb friction T_c·tanh(v/v_s) of the rates of ``state`` ([q, v]) added
+    when ``drives`` has any (a ``friction_compensation`` :class:`~armlab.drives.friction.CoulombFriction` and a
+    ``drive_torque`` ``Adder``); ``torque`` itself otherwise."""
     if drives is None or not drives.has_coulomb:
-        builder.Connect(torque, plant.get_actuation_input_port())
         return torque
     from pydrake.systems.primitives import Adder
 
@@ -142,5 +151,4 @@ def drive_actuation(builder: DiagramBuilder, plant: MultibodyPlant, torque: Outp
     adder = builder.AddNamedSystem("drive_torque", Adder(2, drives.n))
     builder.Connect(torque, adder.get_input_port(0))
     builder.Connect(compensation.get_output_port(), adder.get_input_port(1))
-    builder.Connect(adder.get_output_port(), plant.get_actuation_input_port())
     return adder.get_output_port()

@@ -25,6 +25,12 @@ How the loggers sample (``sampling``, one of :data:`SAMPLINGS`):
 ``mode="controller"`` is the closed loop (computed torque with reference acceleration, PD gains
 kp, kd, optional ki); ``mode="inverse_dynamics"`` is SimMechanics' inverse-dynamics mode: the
 torques computed from the reference alone (no feedback) and applied to the plant open-loop.
+
+A servo run (:attr:`~armlab.diagrams.simulate.SimulationOptions.servo`: another controller, a rate, saturation,
+sensors, electrics) has :func:`armlab.diagrams.servo.add_servo`'s loop in place of the controller, and more loggers:
+``log_command`` (the torque command τ* before the saturation), ``log_measured`` (a sampled controller's measured
+state) and, with electrics, ``log_current``, ``log_voltage``
+and ``log_energy``; its loggers sample periodically.
 """
 
 from __future__ import annotations
@@ -42,11 +48,14 @@ from armlab.controllers.inverse_dynamics import (
 )
 from armlab.kinematics.quintic import DEFAULT_LOG_PERIOD, Motion, to_trajectory
 from armlab.models.plant import add_arm_plant
+from armlab.diagrams.servo import add_plants, add_servo, servo_design
+from armlab.kinematics.quintic import Motion, to_trajectory
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
     from pydrake.systems.framework import Diagram
 
+    from armlab.diagrams.servo import ServoLoop
     from armlab.diagrams.simulate import SimulationOptions
     from armlab.models.arm import Arm
 
@@ -88,6 +97,7 @@ class RunDiagram:
     sampling: str
     gains: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
     arm: Arm
+    servo: ServoLoop | None = None  # a servo run's designs (None: the ideal loop)
 
 
 def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = None) -> RunDiagram:
@@ -95,7 +105,8 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
 
     ``options`` (default :class:`~armlab.diagrams.simulate.SimulationOptions`'): the plant's (gravity,
     payload), ``mode`` (one of :data:`MODES`), the gains, ``log_period`` (s, the period of every logger's
-    samples; at most the motion's duration) and ``sampling`` (one of :data:`SAMPLINGS`, see the module docstring).
+    samples; at most the motion's duration), ``sampling`` (one of :data:`SAMPLINGS`, see the module docstring) and
+    the servo loop's (the module docstring; its gains' inertia at the run's start pose).
     """
     from pydrake.systems.framework import DiagramBuilder, TriggerType
     from pydrake.systems.primitives import Demultiplexer, LogVectorOutput, TrajectorySource
@@ -111,26 +122,39 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     motion.check_limits(arm)
     log_period = check_log_period(options.log_period, motion.duration)
     mode, sampling = options.mode, options.sampling
+    assert sampling is not None  # resolved by SimulationOptions
     n = arm.n
 
     builder = DiagramBuilder()
-    plant, _ = add_arm_plant(builder, arm, options.plant)
-    plant.set_name("MultibodyPlant")
-    model = plant  # the exact model: the controller evaluates the plant itself, on a context of its own
+    plant, model = add_plants(builder, arm, options)  # the plant, and the controller's model: the plant itself
 
     source = builder.AddNamedSystem(
         "TrajectorySource", TrajectorySource(to_trajectory(motion), output_derivative_order=2)
     )
-    split = builder.AddNamedSystem("reference_split", Demultiplexer([2 * n, n]))
-    builder.Connect(source.get_output_port(), split.get_input_port())
     gains = (gain_vector(options.kp, n, "kp"), gain_vector(options.kd, n, "kd"), gain_vector(options.ki, n, "ki"))
     add_coulomb_friction(builder, plant, arm.drives)
-    if mode == "controller":
-        _, torque_port = add_inverse_dynamics_controller(builder, plant, model, split.get_output_port(0),
-                                                         split.get_output_port(1), *gains, drives=arm.drives)
+    servo, ports, name = None, {}, mode
+    if options.servo:
+        servo = servo_design(arm, model, options, motion.segments[0].q_start)
+        wired = add_servo(builder, plant, model, servo, source.get_output_port(), arm.drives)
+        torque_port, ports = wired.torque, {"command": wired.command}
+        if wired.measured is not None:
+            ports["measured"] = wired.measured
+        if wired.rotors is not None:
+            ports["rotor"] = wired.rotors
+        if wired.electrics is not None and wired.electrics.energy is not None:
+            ports.update(current=wired.electrics.current, voltage=wired.electrics.voltage,
+                         energy=wired.electrics.energy)
+        name = options.controller + ("" if options.rate is None else f" at {options.rate:g} Hz")
     else:
-        _, torque_port = add_inverse_dynamics(builder, plant, model, split.get_output_port(0),
-                                              split.get_output_port(1), drives=arm.drives)
+        split = builder.AddNamedSystem("reference_split", Demultiplexer([2 * n, n]))
+        builder.Connect(source.get_output_port(), split.get_input_port())
+        if mode == "controller":
+            _, torque_port = add_inverse_dynamics_controller(builder, plant, model, split.get_output_port(0),
+                                                             split.get_output_port(1), *gains, drives=arm.drives)
+        else:
+            _, torque_port = add_inverse_dynamics(builder, plant, model, split.get_output_port(0),
+                                                  split.get_output_port(1), drives=arm.drives)
 
     tool = builder.AddSystem(ToolPointKinematics(plant, plant.GetFrameByName(arm.tool_name)))
     builder.Connect(plant.get_state_output_port(), tool.get_input_port(0))
@@ -138,7 +162,7 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
 
     loggers = {}
     for role, port in (("reference", source.get_output_port()), ("state", plant.get_state_output_port()),
-                       ("torque", torque_port), ("tool", tool.get_output_port())):
+                       ("torque", torque_port), ("tool", tool.get_output_port()), *ports.items()):
         if sampling == "periodic":
             logger = LogVectorOutput(port, builder, log_period)
         else:
@@ -146,6 +170,6 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
         logger.set_name(f"log_{role}")
         loggers[role] = logger
     diagram = builder.Build()
-    diagram.set_name(f"{arm.name} Fig. 6 ({mode})")
+    diagram.set_name(f"{arm.name} Fig. 6 ({name})")
     return RunDiagram(diagram, plant, model, loggers, motion, options.plant.gravity_of(arm), options.plant.payload,
-                      mode, log_period, sampling, gains, arm)
+                      mode, log_period, sampling, gains, arm, servo)

@@ -26,11 +26,13 @@ from armlab.diagrams.drives import (
     limit_violations,
     write_drives_csv,
 )
-from armlab.diagrams.simulate import summarize
+from armlab.diagrams.servo import LoopResponse, frequency_response
+from armlab.diagrams.simulate import SimulationOptions, summarize
 from armlab.presentation.graphviz import fig6_dot, write_pictures
 from armlab.presentation.output import run_folder, write_log_csv, write_summary
 from armlab.presentation.plots import clearance_figure, figures, save_figures
 from armlab.presentation.replay import log_page, replay_log
+from armlab.presentation.servo_plots import bode_figure, servo_figure
 
 if TYPE_CHECKING:
     from armlab.collision.model import Clearances
@@ -52,12 +54,15 @@ class Run:
     ``divergence`` (where the tracking error first passed ``divergence_tolerance``); ``collisions`` (the pairs
     that touched, each with its first time and deepest penetration, m), ``min_clearance`` (each checked pair's
     smallest clearance, m, and when) and ``collision_check`` (what was checked: the arm against itself and the
-    obstacles of ``scene``; an arm without collision geometry is said to be not checked).
+    obstacles of ``scene``; an arm without collision geometry is said to be not checked). A servo run's summary has
+    ``servo`` (:func:`~armlab.diagrams.simulate.servo_stats`); ``options`` are the run's (what
+    :meth:`frequency_response` linearises).
     """
 
     log: SimulationLog
     divergence_tolerance: float = DIVERGENCE_TOLERANCE
     scene: Scene | None = None
+    options: SimulationOptions | None = None
     summary: dict[str, Any] = field(init=False)
     clearance: Clearances | None = field(init=False)
     _replay: str | None = field(init=False, default=None)  # the inline replay, made when Jupyter first shows it
@@ -170,14 +175,31 @@ class Run:
                 f'<iframe srcdoc="{html.escape(self._replay, quote=True)}" style="width:100%;height:560px;'
                 'border:1px solid #ccc" title="3-D replay with graphs"></iframe></div>')
 
+    def frequency_response(self, q: Any = None, frequency: Any = None) -> LoopResponse:
+        """The run's servo loop, continuous, linearised about the pose ``q`` at rest (default: the motion's start)
+        by Drake's ``Linearize``: q_i/q_d,i per joint at ``frequency`` (Hz; default 0.01 Hz … 1 kHz), its −3 dB
+        bandwidth and the tuning rule's (:func:`armlab.diagrams.servo.frequency_response`)."""
+        options = SimulationOptions() if self.options is None else self.options
+        pose = self.log.motion.segments[0].q_start if q is None else q
+        return frequency_response(self.log.arm, options, pose, frequency)
+
     # ------------------------------------------------------------------ the files
     def plot(self, folder: str | Path | None = None) -> dict[str, Any]:
         """The run's matplotlib figures by file name: joints, torques, tool path and motion (:data:`PLOTS`),
-        ``clearance.png`` (when the run checked pairs for collisions) and ``drives.png``; written into ``folder``
-        (PNG) only if one is given. Close them with ``plt.close``."""
+        ``clearance.png`` (when the run checked pairs for collisions), ``drives.png`` and, for a servo run,
+        ``servo.png`` and ``bode.png`` (:mod:`armlab.presentation.servo_plots`: its loop linearised about the start
+        pose); written into ``folder`` (PNG) only if one is given. Close them with ``plt.close``."""
         shown = {**figures(self.log), "drives.png": drives_figure(self.log)}
         if self.clearance is not None and self.clearance.pairs:
             shown["clearance.png"] = clearance_figure(self.log.arm, self.log.t, self.clearance)
+        if self.log.servo is not None:
+            shown["servo.png"] = servo_figure(self.log)
+            response = self.frequency_response()
+            rate = self.log.servo["rate_hz"]
+            shown["bode.png"] = bode_figure(
+                f"{self.log.arm.name}: {self.log.servo['controller']} position loop linearised at the start pose"
+                + ("" if rate is None else f" (continuous; the {rate:g} Hz samples add their lag)"),
+                self.log.arm.joint_names, response.frequency, response.response, response.bandwidth, response.design)
         if folder is not None:
             save_figures(shown, folder)
         return shown

@@ -41,9 +41,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from armlab.bounds import above
+from armlab.controllers.electrics import energy_balance
 from armlab.controllers.inverse_dynamics import DEFAULT_KD, DEFAULT_KP
+from armlab.controllers.sensors import ENCODER_SIDES, VELOCITY_SOURCES
+from armlab.controllers.servo import CONTROLLERS, tuned_gains
 from armlab.diagrams.build import DEFAULT_LOG_PERIOD, MODES, SAMPLINGS, RunDiagram, build_diagram, check_log_period
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, torque_stats
+from armlab.drives.motor import DEFAULT_CURRENT_BANDWIDTH
 from armlab.drives.train import DRIVE_FIELDS, motor_speed, motor_torque
 from armlab.kinematics.differential import tool_motion
 from armlab.kinematics.quintic import Motion
@@ -70,6 +75,7 @@ __all__ = [
     "max_step",
     "run_simulator",
     "sample_times",
+    "servo_stats",
     "simulate",
     "state_rows",
     "summarize",
@@ -111,6 +117,18 @@ def _gain(value: float | ArrayLike, name: str) -> Gain:
     return frozen(values.tolist())
 
 
+def _whole(value: Any, name: str) -> int:
+    """A whole number in its :data:`armlab.limits.LIMITS` range (``name``: encoder, delay or seed)."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise ValueError(f"{name} = {value!r} is not allowed: give a whole number")
+    return int(check_range(float(value), name))
+
+
+def _choice(value: Any, name: str, allowed: tuple[str, ...]) -> None:
+    if value not in allowed:
+        raise ValueError(f"{name} {value!r} is not allowed; allowed: {', '.join(allowed)}")
+
+
 @dataclass(frozen=True)
 class SimulationOptions:
     """What a simulation of Fig. 6 is asked for, checked once when made (``ValueError`` naming the bad value).
@@ -118,9 +136,24 @@ class SimulationOptions:
     ``plant``: the plant's options (gravity, payload; the drives ideal: a simulated plant is driven by its joint
     torques); ``mode``: one of :data:`~armlab.diagrams.build.MODES`; ``kp`` (1/s²), ``kd`` (1/s), ``ki`` (1/s³):
     the controller's gains, one value or one per joint; ``log_period``: the loggers' period (s); ``sampling``: one
-    of :data:`~armlab.diagrams.build.SAMPLINGS`; ``accuracy``: the integrator's target accuracy;
-    ``divergence_tolerance``: the tracking error (rad or m) past which the run has diverged
-    (:func:`armlab.diagrams.drives.divergence`). :func:`armlab.simulate` makes one from its keywords.
+    of :data:`~armlab.diagrams.build.SAMPLINGS` (``None``: ``"dense"`` for the ideal loop, ``"periodic"`` — the only
+    one a servo run has — otherwise); ``accuracy``: the integrator's target accuracy; ``divergence_tolerance``: the
+    tracking error (rad or m) past which the run has diverged (:func:`armlab.diagrams.drives.divergence`).
+
+    The servo loop (:mod:`armlab.diagrams.servo`; the default is paper 000's ideal loop, continuous computed torque
+    on the exact state): ``controller`` (one of :data:`~armlab.controllers.servo.CONTROLLERS`); ``rate`` (Hz; ``None``:
+    continuous); ``bandwidth`` (Hz: the gains by the tuning rule, :func:`~armlab.controllers.servo.tuned_gains`,
+    instead of ``kp``, ``kd``, ``ki``); ``saturate`` (the torque command clamped at each joint's effort limit) and
+    ``anti_windup`` (the integral's back-calculation; ``False``: it winds up, as a teacher may want to show); the
+    sensors of a sampled controller (:mod:`armlab.controllers.sensors`): ``encoder`` (counts per
+    revolution; ``None``: exact), ``encoder_side`` (``"motor"`` or ``"joint"``), ``velocity`` (``"state"`` or
+    ``"difference"``), ``velocity_cutoff`` (Hz, the difference's low-pass), ``noise`` (rad or m, standard deviation),
+    ``seed``, ``delay`` (samples); ``electrics`` (the motors' current loops and windings, from the arm's drive train:
+    :mod:`armlab.controllers.electrics`), ``current_rate`` (Hz; ``None``: continuous) and ``current_bandwidth`` (Hz);
+    ``elastic`` (each joint a two-mass model, the drive train's gearbox stiffness between rotor and link:
+    :mod:`armlab.controllers.elastic`; the sensors then read the rotors on the motor side, the links on the joint
+    side).
+    :func:`armlab.simulate` makes one from its keywords.
     """
 
     plant: PlantOptions = field(default_factory=functools.partial(PlantOptions, ideal_drives=True))
@@ -129,23 +162,90 @@ class SimulationOptions:
     kd: ArrayLike = DEFAULT_KD
     ki: ArrayLike = 0.0
     log_period: float = DEFAULT_LOG_PERIOD
-    sampling: str = "dense"
+    sampling: str | None = None
     accuracy: float = DEFAULT_ACCURACY
     divergence_tolerance: float = DIVERGENCE_TOLERANCE
+    controller: str = "computed-torque"
+    rate: float | None = None
+    bandwidth: float | None = None
+    saturate: bool = False
+    anti_windup: bool = True
+    encoder: int | None = None
+    encoder_side: str = "motor"
+    velocity: str = "state"
+    velocity_cutoff: float | None = None
+    noise: float = 0.0
+    seed: int = 0
+    delay: int = 0
+    electrics: bool = False
+    current_rate: float | None = None
+    current_bandwidth: float = DEFAULT_CURRENT_BANDWIDTH
+    elastic: bool = False
 
     def __post_init__(self) -> None:
         if not self.plant.ideal_drives:
             raise ValueError("a simulated plant is driven by its joint torques: "
                              "give PlantOptions(ideal_drives=True, …)")
-        if self.mode not in MODES:
-            raise ValueError(f"mode {self.mode!r} is not allowed; allowed: {', '.join(MODES)}")
-        if self.sampling not in SAMPLINGS:
-            raise ValueError(f"sampling {self.sampling!r} is not allowed; allowed: {', '.join(SAMPLINGS)}")
+        _choice(self.mode, "mode", MODES)
+        _choice(self.controller, "controller", CONTROLLERS)
+        _choice(self.encoder_side, "encoder side", ENCODER_SIDES)
+        _choice(self.velocity, "velocity", VELOCITY_SOURCES)
         for name in ("kp", "kd", "ki"):
             object.__setattr__(self, name, _gain(getattr(self, name), name))
+        if self.bandwidth is not None:
+            object.__setattr__(self, "bandwidth", float(check_range(self.bandwidth, "bandwidth")))
+            tuned = tuple(float(g) for g in tuned_gains(self.controller, self.bandwidth))
+            if (self.kp, self.kd, self.ki) not in ((DEFAULT_KP, DEFAULT_KD, 0.0), tuned):
+                raise ValueError("give the gains (kp, kd, ki) or a bandwidth, not both")
+            for name, value in zip(("kp", "kd", "ki"), tuned, strict=True):
+                object.__setattr__(self, name, _gain(value, name))
+        for name in ("rate", "current_rate"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, float(check_range(getattr(self, name), name, key="rate")))
+        object.__setattr__(self, "current_bandwidth", float(check_range(self.current_bandwidth, "current bandwidth",
+                                                                        key="bandwidth")))
+        if self.velocity_cutoff is not None:
+            object.__setattr__(self, "velocity_cutoff", float(check_range(self.velocity_cutoff, "velocity cutoff",
+                                                                          key="bandwidth")))
+        if self.encoder is not None:
+            object.__setattr__(self, "encoder", _whole(self.encoder, "encoder"))
+        object.__setattr__(self, "delay", _whole(self.delay, "delay"))
+        object.__setattr__(self, "seed", _whole(self.seed, "seed"))
+        object.__setattr__(self, "noise", float(check_range(self.noise, "noise")))
+        self._check_servo()
         check_log_period(self.log_period)  # kept as given: the check against a motion's duration quotes it so
         object.__setattr__(self, "accuracy", float(check_range(self.accuracy, "accuracy")))
         object.__setattr__(self, "divergence_tolerance", check_tolerance(self.divergence_tolerance))
+
+    def _check_servo(self) -> None:
+        """The servo options that need each other, and the sampling the run has."""
+        sensed = [name for name, on in (("an encoder", self.encoder is not None), ("noise", self.noise > 0),
+                                        ("a delay", self.delay > 0), ("velocity by difference",
+                                                                      self.velocity == "difference")) if on]
+        if sensed and self.rate is None:
+            raise ValueError(f"{' and '.join(sensed)} need{'s' if len(sensed) == 1 else ''} a sampled controller: "
+                             "give a rate (--rate HZ)")
+        if self.velocity_cutoff is not None and self.velocity != "difference":
+            raise ValueError("a velocity cutoff filters the velocity by difference: give velocity 'difference'")
+        if self.current_rate is not None and not self.electrics:
+            raise ValueError("a current-loop rate needs the motors' electrics (--electrics)")
+        if self.servo and self.mode != "controller":
+            raise ValueError("the servo options (controller, rate, saturation, sensors, electrics, elastic joints) "
+                             "drive the closed loop: use mode 'controller'")
+        if self.sampling is not None:
+            _choice(self.sampling, "sampling", SAMPLINGS)
+        if self.sampling is None:
+            object.__setattr__(self, "sampling", "periodic" if self.servo else "dense")
+        elif self.servo and self.sampling == "dense":
+            raise ValueError("a servo run's loggers sample periodically: give sampling 'periodic' (or leave it out)")
+
+    @property
+    def servo(self) -> bool:
+        """True when the options ask for more than paper 000's ideal loop (continuous computed torque on the exact
+        state): a servo run (:mod:`armlab.diagrams.servo`)."""
+        return (self.controller != "computed-torque" or self.rate is not None or self.saturate or self.electrics
+                or self.velocity != "state" or self.encoder is not None or self.noise > 0 or self.delay > 0
+                or self.elastic)
 
 
 @dataclass
@@ -158,6 +258,13 @@ class SimulationLog:
     :attr:`motor_speed` its motor side. Where a motion is made of
     several runs, the time at a join appears twice (end of one run, start of the next). ``diagram`` is the
     first run's Fig. 6 diagram, :attr:`diagram_dot` its picture.
+
+    A servo run has its design in ``servo`` (:meth:`armlab.diagrams.servo.ServoLoop.describe`, the first run's) and
+    its torque command τ* before the saturation in ``tau_command`` ``(m, n)``, a sampled controller's measured state
+    [q_m, q̇_m] in ``measured`` ``(m, 2n)``, elastic joints' rotors [φ, φ̇] in ``rotor`` ``(m, 2n)``; with electrics
+    ``current`` (A) and ``voltage`` (V) ``(m, n)`` and ``energy`` ``(m, 3n)`` = [∫V i, ∫τ q̇, ∫R i²] (J) from each
+    run's start. The samples of a servo run are the loggers' at t_k, which see the values held over the period before
+    t_k.
     """
 
     arm: Arm
@@ -180,6 +287,13 @@ class SimulationLog:
     run_starts: list[float]
     wall_time: float
     diagram: Diagram = field(repr=False, compare=False)
+    servo: dict[str, Any] | None = None
+    tau_command: NDArray[np.float64] | None = None
+    measured: NDArray[np.float64] | None = None
+    rotor: NDArray[np.float64] | None = None
+    current: NDArray[np.float64] | None = None
+    voltage: NDArray[np.float64] | None = None
+    energy: NDArray[np.float64] | None = None
 
     @cached_property
     def tau_motor(self) -> NDArray[np.float64] | None:
@@ -364,7 +478,9 @@ def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY,
     checked against the loggers' end sample, with ``"periodic"`` the loggers record them. ``monitor`` is called
     after every integrator step with the root context (it may raise to stop the run).
 
-    Returns ``{"t": (m,), "reference": (m, 3n), "state": (m, 2n), "torque": (m, n), "tool": (m, 9)}``.
+    Returns ``{"t": (m,), "reference": (m, 3n), "state": (m, 2n), "torque": (m, n), "tool": (m, 9)}`` and a servo
+    run's ``"command"`` (m, n), ``"measured"`` (m, 2n) with sensors and, with electrics, ``"current"``, ``"voltage"``
+    (m, n) and ``"energy"`` (m, 3n).
     """
     from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
 
@@ -375,8 +491,12 @@ def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY,
     rows = state_rows(run, context)
     plant_context = run.plant.GetMyMutableContextFromRoot(context)
     first = motion.segments[0]
+    if run.servo is not None:
+        run.servo.prepare(run.diagram, context)
     run.plant.SetPositions(plant_context, first.q_start)
     run.plant.SetVelocities(plant_context, first.v_start)
+    if run.servo is not None:
+        run.servo.initialize(run.diagram, context, first.q_start, first.v_start)
     ResetIntegratorFromFlags(simulator, DEFAULT_INTEGRATOR, max_step(run.mode))
     integrator = simulator.get_mutable_integrator()
     integrator.set_target_accuracy(accuracy)
@@ -417,6 +537,7 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
     n = arm.n
     parts: list[dict[str, Any]] = []
     diagrams: list[Diagram] = []  # the first run's diagram, kept for the log
+    designs: list[dict[str, Any]] = []  # the first run's servo design
     wall = 0.0
     first_segment = 0
     watch = _Watch(arm.name, motion.duration, accuracy)
@@ -425,6 +546,7 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
             run = build_diagram(arm, piece, options)
             if k == 0:
                 diagrams.append(run.diagram)
+                designs.append(run.servo.describe() if run.servo is not None else {})
             watch.offset = start
             began = time.perf_counter()
             data: dict[str, NDArray] = run_simulator(run, accuracy, watch)
@@ -446,6 +568,9 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
         q_ref=reference[:, :n], qd_ref=reference[:, n:2 * n], qdd_ref=reference[:, 2 * n:],
         q=state[:, :n], qd=state[:, n:], tau=cat("torque"), tool=cat("tool"),
         run_starts=[start for start, _ in motion.runs()], wall_time=wall, diagram=diagrams[0],
+        servo=designs[0] or None, **{name: cat(role) for name, role in (
+            ("tau_command", "command"), ("measured", "measured"), ("rotor", "rotor"), ("current", "current"),
+            ("voltage", "voltage"), ("energy", "energy")) if role in parts[0]},
     )
 
 
@@ -514,5 +639,35 @@ def summarize(log: SimulationLog) -> dict[str, Any]:
         },
         "wall_time_s": log.wall_time,
         "real_time_factor": motion.duration / log.wall_time if log.wall_time > 0 else None,
+        "servo": None if log.servo is None else {**log.servo, **servo_stats(log)},
     }
     return summary
+
+
+def servo_stats(log: SimulationLog) -> dict[str, Any]:
+    """What a servo run did, per joint: ``rms_tracking_error`` (rad or m), ``saturation_time`` (s the torque command
+    τ* spent past its limit, counted in log periods: each sample after its run's first stands for the period before
+    it; ``None`` without a saturation), and with electrics ``peak_current`` (A), ``peak_voltage`` (V),
+    ``voltage_saturation_time`` (s at the bus voltage) and ``energy`` (J: electrical ∫V i, mechanical ∫τ q̇, copper
+    ∫R i², magnetic Δ½Li², summed over the runs, and the balance's relative residual:
+    :func:`~armlab.controllers.electrics.energy_balance`)."""
+    assert log.servo is not None
+    out: dict[str, Any] = {"rms_tracking_error": np.sqrt(np.mean((log.q - log.q_ref) ** 2, axis=0)).tolist()}
+    later = np.r_[False, log.run[1:] == log.run[:-1]]  # each sample after its run's first
+    limit = log.servo["torque_limit"]
+    if limit is None or log.tau_command is None:
+        out["saturation_time"] = None
+    else:
+        bound = np.array([np.inf if v is None else v for v in limit])
+        out["saturation_time"] = (np.sum(above(np.abs(log.tau_command), bound) & later[:, None], axis=0)
+                                  * log.log_period).tolist()
+    if log.current is not None and log.voltage is not None and log.energy is not None:
+        loop = log.servo["current_loop"]
+        bus, inductance = np.asarray(loop["bus_voltage"]), np.asarray(loop["inductance"])
+        at_bus = ~above(bus, np.abs(log.voltage))  # |V| on the bus voltage (within the slack)
+        out["peak_current"] = np.max(np.abs(log.current), axis=0).tolist()
+        out["peak_voltage"] = np.max(np.abs(log.voltage), axis=0).tolist()
+        out["voltage_saturation_time"] = (np.sum(at_bus & later[:, None], axis=0) * log.log_period).tolist()
+        balance = energy_balance(log.energy, log.current, inductance, log.run)
+        out["energy"] = {**{k: v.tolist() for k, v in balance.items()}, "unit": "J"}
+    return out

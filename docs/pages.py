@@ -24,13 +24,13 @@ ROOT = Path(os.environ.get("ARMLAB_DOCS_ROOT", Path(__file__).resolve().parent.p
 #: The subpackages whose modules get an API page each, with a line saying what they hold.
 SUBPACKAGES = {  # in the order of the rooms (README's layout)
     "armlab.kinematics": "one module per method: each paper's formulation, IK, inverse dynamics, trajectories",
-    "armlab.drives": "drive trains: gear ratio, rotor inertia, efficiency, friction",
+    "armlab.drives": "drive trains: gear ratio, rotor inertia, efficiency, friction, motor electrics",
     "armlab.models": "the arms (one module per paper arm), the readers of users' own arms, the plant builder",
     "armlab.models.library": "well-known arms by name, one module each, their numbers' sources cited",
     "armlab.collision": "collision geometry, scenes and clearances",
     "armlab.presentation": "the pictures: plots, drawings, graphviz files, the replay and the viewer",
     "armlab.planning": "motions to run and their fastest timing",
-    "armlab.controllers": "the inverse-dynamics controller",
+    "armlab.controllers": "the inverse-dynamics controller and the servo loop: controllers, sensors, current loops",
     "armlab.diagrams": "the Drake Systems diagram of a run and its simulation",
     "armlab.sizing": "drive sizing: catalogues, duty cycles, load cases, the selection and the vendors' checks",
     "armlab.analysis": "workspaces, singular configurations and design studies",

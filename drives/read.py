@@ -10,7 +10,12 @@ drive file, each as :class:`~armlab.drives.train.DriveTrain` has it:
   T_c+) — or ``viscous_motor``, ``coulomb_motor`` and ``coulomb_negative_motor``, motor side as the Robotics
   Toolbox gives them (B_m, T_c,m and |T_c−,m|: the toolbox's Tc = [T_c+, T_c−] has T_c− negative, the column
   its magnitude; converted once by :meth:`~armlab.drives.train.DriveTrain.from_motor_side`: B = G²·B_m,
-  T_c± = |G|·T_c±,m). Each friction from one side, not both (they may come from different sides).
+  T_c± = |G|·T_c±,m). Each friction from one side, not both (they may come from different sides);
+* the motors' electrics (:data:`~armlab.drives.motor.ELECTRIC_COLUMNS`, :mod:`armlab.drives.motor`): ``resistance``
+  (Ω), ``inductance`` (H), ``torque_constant`` (N·m/A) and ``bus_voltage`` (V) together, with ``back_emf``
+  (V·s/rad, default the torque constant) and ``peak_current`` (A, default none) if known;
+* the gearboxes' elasticity (:mod:`armlab.drives.elastic`): ``stiffness`` (N·m/rad, joint side) and optionally
+  ``twist_damping`` (N·m·s/rad).
 
 A column left out takes its default (an ideal drive); a column given needs a value in every row.
 
@@ -30,6 +35,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from armlab.arm_file import file_number, read_text
+from armlab.drives.elastic import ELASTIC_COLUMNS, Elasticity
+from armlab.drives.motor import ELECTRIC_COLUMNS, REQUIRED_ELECTRIC_COLUMNS, MotorElectrics
 from armlab.drives.train import DRIVE_FIELDS, DriveTrain
 from armlab.files import csv_table
 
@@ -40,7 +47,7 @@ __all__ = ["DRIVE_COLUMNS", "drive_train", "read_drive_file", "with_drives"]
 
 #: The drive columns of a DH table and a drive file; the ``_motor`` ones are motor side (module docstring).
 DRIVE_COLUMNS = ("gear_ratio", "rotor_inertia", "efficiency", "viscous", "coulomb", "coulomb_negative",
-                 "viscous_motor", "coulomb_motor", "coulomb_negative_motor")
+                 "viscous_motor", "coulomb_motor", "coulomb_negative_motor", *ELECTRIC_COLUMNS, *ELASTIC_COLUMNS)
 
 
 def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> DriveTrain:
@@ -63,12 +70,23 @@ def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> Drive
                 raise ValueError(f"{where}: row {k + 1}: {name} is empty: every row needs a value when the "
                                  "column is given (leave the column out for its default)")
         values[name] = np.array([file_number(text, f"{where}: row {k + 1}: {name}") for k, text in enumerate(column)])
+    electric = [name for name in ELECTRIC_COLUMNS if name in values]
+    missing = [name for name in REQUIRED_ELECTRIC_COLUMNS if name not in values]
+    if electric and missing:
+        raise ValueError(f"{where}: the motor electrics need {', '.join(missing)} too "
+                         f"(given: {', '.join(electric)}; required together: {', '.join(REQUIRED_ELECTRIC_COLUMNS)})")
+    if "twist_damping" in values and "stiffness" not in values:
+        raise ValueError(f"{where}: twist_damping needs the stiffness column too")
     ideal = DriveTrain.ideal(n)  # a column left out
     # each friction on its own side
     motor = [name for name in ("viscous", "coulomb", "coulomb_negative") if f"{name}_motor" in values]
     try:
         given = {name: values[name] for name in DRIVE_FIELDS if name in values}
-        train = DriveTrain(**{name: getattr(ideal, name) for name in DRIVE_FIELDS[:-1]} | given)
+        electrics = MotorElectrics(**{name: values[name] for name in electric}) if electric else None
+        elasticity = (Elasticity(**{name: values[name] for name in ELASTIC_COLUMNS if name in values})
+                      if "stiffness" in values else None)
+        train = DriveTrain(**{name: getattr(ideal, name) for name in DRIVE_FIELDS[:-1]} | given,
+                           electrics=electrics, elasticity=elasticity)
         if not motor:
             return train
         converted = DriveTrain.from_motor_side(train.gear_ratio, train.rotor_inertia, train.efficiency,

@@ -21,18 +21,29 @@ B = G²·B_m, T_c± = |G|·|T_c±,m|.
 The motor-side torque of a joint-side torque τ (which includes the reflected inertia and friction) is
 :func:`motor_torque`: τ/(G·η) when the drive delivers power (τ·q̇ ≥ 0) and τ·η/G when the load drives it
 back (τ·q̇ < 0: the gearbox's losses then help the motor). Prismatic joints read N for N·m, m for rad.
+
+A drive train may carry its motors' electrics (``electrics``, :class:`~armlab.drives.motor.MotorElectrics`: R, L,
+k_t, k_e, bus voltage, peak current), which a simulation with ``electrics=True`` runs through a current loop, and
+its gearboxes' elasticity (``elasticity``, :class:`~armlab.drives.elastic.Elasticity`), which one with
+``elastic=True`` simulates as a two-mass joint.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.bounds import below
 
-__all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "motor_speed", "motor_torque"]
+if TYPE_CHECKING:
+    from armlab.drives.elastic import Elasticity
+    from armlab.drives.motor import MotorElectrics
+
+__all__ = ["COULOMB_SPEED", "DRIVE_FIELDS", "DriveTrain", "joint_vector", "motor_speed", "motor_torque"]
 
 #: v_s (rad/s or m/s) of the smooth Coulomb friction T_c·tanh(q̇/v_s): 99.5 % of T_c at 3·v_s = 0.03 rad/s.
 COULOMB_SPEED = 0.01
@@ -51,34 +62,46 @@ _ALLOWED = {
 }
 
 
-def _vector(value: ArrayLike, name: str, n: int | None) -> NDArray[np.float64]:
+def joint_vector(value: ArrayLike, label: str, n: int | None, unit: str, allowed_text: str,
+                 bad: Callable[[NDArray[np.float64]], NDArray[np.bool_]]) -> NDArray[np.float64]:
+    """``value`` as one number per joint ``(n,)`` (``n`` ``None``: any count); ``ValueError`` naming ``label`` (``"drive
+    train gear_ratio"``), the joint, the value with its ``unit`` and what is allowed, where ``bad`` of the array is
+    true, or for a value that is no vector of numbers."""
     try:
         a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise ValueError(f"drive train {name} = {value!r} is not allowed: {_ALLOWED[name][1]} per joint") from None
+        raise ValueError(f"{label} = {value!r} is not allowed: {allowed_text} per joint") from None
     if a.ndim != 1 or (n is not None and a.size != n):
-        raise ValueError(f"drive train {name} has shape {a.shape}; expected one value per joint"
-                         + (f" ({n})" if n is not None else ""))
-    unit, allowed_text = _ALLOWED[name]
-    bad = ~np.isfinite(a)
-    if name == "gear_ratio":
-        bad |= a == 0
-    elif name == "efficiency":
-        bad |= (a <= 0) | (a > 1)
-    else:
-        bad |= a < 0
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ValueError(f"drive train {name} of joint {k + 1} = {a[k]:g}{' ' + unit if unit else ''} is not allowed: "
+        raise ValueError(f"{label} has shape {a.shape}; expected one value per joint" + (f" ({n})" if n is not None
+                                                                                           else ""))
+    wrong = bad(a)
+    if wrong.any():
+        k = int(np.argmax(wrong))
+        raise ValueError(f"{label} of joint {k + 1} = {a[k]:g}{' ' + unit if unit else ''} is not allowed: "
                          f"{allowed_text}")
     return a
+
+
+def _bad(name: str, a: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Where a drive-train field's values are not allowed (:data:`_ALLOWED`)."""
+    if name == "gear_ratio":
+        return ~np.isfinite(a) | (a == 0)
+    if name == "efficiency":
+        return ~np.isfinite(a) | (a <= 0) | (a > 1)
+    return ~np.isfinite(a) | (a < 0)
+
+
+def _vector(value: ArrayLike, name: str, n: int | None) -> NDArray[np.float64]:
+    unit, allowed_text = _ALLOWED[name]
+    return joint_vector(value, f"drive train {name}", n, unit, allowed_text, lambda a: _bad(name, a))
 
 
 @dataclass(frozen=True)
 class DriveTrain:
     """Per-joint drive-train parameters, each shape ``(n,)``, joint side except J_m (see the module);
     ``coulomb`` is T_c+ and ``coulomb_negative`` T_c− (``None``: T_c+, a symmetric friction, which follows
-    ``coulomb`` through :func:`dataclasses.replace`)."""
+    ``coulomb`` through :func:`dataclasses.replace`); ``electrics``: the motors' (``None``: not known);
+    ``elasticity``: the gearboxes' stiffness and damping (``None``: rigid)."""
 
     gear_ratio: NDArray[np.float64]
     rotor_inertia: NDArray[np.float64]
@@ -87,11 +110,13 @@ class DriveTrain:
     coulomb: NDArray[np.float64]
     coulomb_speed: float = COULOMB_SPEED
     coulomb_negative: NDArray[np.float64] | None = None
+    electrics: MotorElectrics | None = None
+    elasticity: Elasticity | None = None
 
     def __post_init__(self) -> None:
         n = None
         for f in fields(self):
-            if f.name == "coulomb_speed" or (f.name == "coulomb_negative" and self.coulomb_negative is None):
+            if f.name not in DRIVE_FIELDS or (f.name == "coulomb_negative" and self.coulomb_negative is None):
                 continue
             a = _vector(getattr(self, f.name), f.name, n)
             n = a.size
@@ -101,6 +126,10 @@ class DriveTrain:
             raise ValueError(f"drive train coulomb_speed = {self.coulomb_speed!r} rad/s is not allowed: "
                              "a positive finite speed")
         object.__setattr__(self, "coulomb_speed", v_s)
+        for name in ("electrics", "elasticity"):
+            part = getattr(self, name)
+            if part is not None and part.n != n:
+                raise ValueError(f"drive train {name} have {part.n} joint(s); the drive train has {n}")
 
     @property
     def n(self) -> int:

@@ -7,7 +7,9 @@
 * **000** sizes drives by simulation: the RR arm's peak joint torques along Fig. 3's motion against
   the motion time t_f and the payload — the drive-sizing map; and then what its §5 asks for, the drives
   themselves: a motor and gearbox per joint from armlab's example catalogue that carry every payload of
-  the range along Fig. 3's motion, "oversized" by a safety factor (:func:`rr_drives_chosen`).
+  the range along Fig. 3's motion, "oversized" by a safety factor (:func:`rr_drives_chosen`); and with those
+  drives, the servo loop an engineer would build instead of Fig. 6's ideal controller: a 1 kHz discrete PID on a
+  4096-count motor encoder (:func:`rr_servo`).
 
 Each is a study of :mod:`armlab.analysis.study` evaluated in this process (the reproduction is small;
 ``armlab sweep`` runs the same studies on a Dask cluster: ``analysis/studies/*.json``). The
@@ -18,6 +20,7 @@ manifest the report reads).
 
 from __future__ import annotations
 
+import functools
 import json
 from collections.abc import Callable
 from pathlib import Path
@@ -31,13 +34,17 @@ from armlab.models.urm6 import Parameters
 from armlab.papers.paper_output import MANIFEST, PaperOutput
 from armlab.presentation.figures import new_figure
 
-__all__ = ["OVERSIZE", "SAMPLES", "STUDIES", "rr_drive_map", "rr_drives_chosen", "run", "urm6_bend_angles"]
+__all__ = ["OVERSIZE", "SAMPLES", "SERVO", "STUDIES", "rr_drive_map", "rr_drives_chosen", "rr_servo", "run",
+           "urm6_bend_angles"]
 
 #: Paper 000 §5: "It is necessary to oversize the drives" — by how much it does not say; armlab's choice, the
 #: safety factor on every torque of the drives chosen for the RR arm.
 OVERSIZE = 1.5
 #: The RR arm's payload range for the drives (kg): the drive-sizing map's.
 RR_PAYLOADS = {False: (0.0, 1.0, 2.0, 3.0, 5.0), True: (0.0, 2.0, 5.0)}
+
+#: The servo loop set against Fig. 6's ideal controller (:func:`rr_servo`): armlab.simulate's servo options.
+SERVO: dict[str, Any] = {"controller": "pid", "bandwidth": 5.0, "rate": 1000.0, "encoder": 4096, "saturate": True}
 
 #: Workspace samples per candidate of the bend-angle study (normal, fast) and its angle steps.
 SAMPLES = {False: 100_000, True: 30_000}
@@ -196,17 +203,25 @@ def _nearest(joint: Any) -> str:
     return f"{n.motor_name} + {n.gearbox_name}: {'; '.join(n.failed)}"
 
 
+@functools.cache
+def _rr_sizing(fast: bool) -> Any:
+    """The RR arm's drives for Fig. 3's motion over :data:`RR_PAYLOADS`, oversized by :data:`OVERSIZE` (sized once
+    per reproduction: :func:`rr_drives_chosen` reports them, :func:`rr_servo` drives the arm with them)."""
+    # lazy: the reproduction of the other papers does not need the drives
+    from armlab.api import size_drives
+    from armlab.models import get_arm
+
+    return size_drives(get_arm("rr"), None, RR_PAYLOADS[fast], safety_factor=OVERSIZE)  # None: Fig. 3's motion
+
+
 def rr_drives_chosen(out: PaperOutput, fast: bool) -> None:
     """Paper 000 §5's drives: a motor and gearbox per joint of the RR arm from armlab's example catalogues, for
     Fig. 3's motion over the payload range, oversized by :data:`OVERSIZE` (:func:`armlab.size_drives`)."""
     # lazy: the reproduction of the other papers does not need the drives
-    from armlab.api import size_drives
-    from armlab.models import get_arm
     from armlab.sizing.report import torque_speed_figure
 
-    arm = get_arm("rr")
     payloads = RR_PAYLOADS[fast]
-    sizing = size_drives(arm, None, payloads, safety_factor=OVERSIZE)  # None: its paper motion, Fig. 3's
+    sizing = _rr_sizing(fast)
     rows: list[list[Any]] = []
     for j in sizing.joints:
         c = j.chosen
@@ -240,11 +255,66 @@ def rr_drives_chosen(out: PaperOutput, fast: bool) -> None:
                        "RMS τ), motor side through the gearbox")
 
 
+def rr_servo(out: PaperOutput, fast: bool) -> None:
+    """Fig. 6's ideal controller (continuous computed torque on the exact state) against :data:`SERVO`, a 1 kHz
+    discrete PID on 4096-count motor encoders, the RR arm carrying the drives :func:`rr_drives_chosen` chose
+    (their gear ratios and rotor inertias, their masses on the links), along Fig. 3's motion with no payload."""
+    # lazy: the reproduction of the other papers does not simulate the servo loop
+    from armlab.api import simulate
+    from armlab.planning.motions import paper_motion
+    from armlab.presentation.servo_plots import bode_figure
+
+    sizing = _rr_sizing(fast)
+    arm = sizing.arm.with_drives(sizing.drive_train())  # the chosen drives' masses ride on the links
+    motion = paper_motion(arm)
+    runs = {"Fig. 6's ideal controller": simulate(arm, motion, log_period=1e-3, divergence_tolerance=1.0),
+            "1 kHz PID, 4096-count motor encoders": simulate(arm, motion, log_period=1e-3, divergence_tolerance=1.0,
+                                                             **SERVO)}
+    fig, axes = new_figure("Beyond paper 000 — the RR arm's tracking error along Fig. 3's motion: Fig. 6's ideal "
+                           "controller against a 1 kHz PID on encoders, with the chosen drives", 2, 1, size=(9.0, 6.0),
+                           sharex=True)
+    for j, ax in enumerate(axes[:, 0]):
+        for (label, run), style in zip(runs.items(), ("-", "--"), strict=True):
+            ax.plot(run.t, 1e3 * (run.q[:, j] - run.q_ref[:, j]), style, label=label)
+        ax.set_ylabel(f"q{j + 1} − q{j + 1},d [mrad]")
+        ax.legend(fontsize=8)
+    axes[-1, 0].set_xlabel("time t [s]")
+    out.figure(fig, "beyond_servo_tracking", "Tracking error: ideal controller against a sampled PID (not in the "
+               "paper)", f"the PID tuned by armlab's rule to a {SERVO['bandwidth']:g} Hz position-loop bandwidth from "
+               "each joint's inertia with its drive (M_ii at the start, G²J_m included), its torque saturated at the "
+               "arm's effort limits with anti-windup; the ideal loop's error is its integrator's (≤ 1e-6 rad)")
+    rows = []
+    for label, run in runs.items():
+        servo = run.summary["servo"]
+        error = np.abs(run.q - run.q_ref)
+        rows.append([label, *np.max(error, axis=0), *np.sqrt(np.mean(error**2, axis=0)), *run.summary["max_abs_torque"],
+                     "" if servo is None else max(servo["saturation_time"] or [0.0])])  # "": no saturation
+    out.table("beyond_servo", "Ideal controller against a 1 kHz PID on encoders, the chosen drives (not in the paper)",
+              ["loop", "max |e1| [rad]", "max |e2| [rad]", "RMS e1 [rad]", "RMS e2 [rad]", "peak |τ1| [N·m]",
+               "peak |τ2| [N·m]", "saturated [s]"], rows,
+              note="The PID has no model of the arm: its integral holds gravity, which it learns as the arm sags at "
+                   "the start; the encoders' step at the joint is 2π/(4096·G). The same loop: `armlab simulate rr "
+                   "--drives FILE --controller pid --bandwidth 5 --rate 1000 --encoder 4096 --saturate`; against "
+                   "rate and encoder resolution as a Dask sweep: `armlab sweep "
+                   "analysis/studies/rr_servo_rate_encoder.json`.")
+    pid = runs["1 kHz PID, 4096-count motor encoders"]
+    response = pid.frequency_response()
+    out.figure(bode_figure("Beyond paper 000 — the RR arm's PID position loop with the chosen drives, linearised at "
+                           "Fig. 3's start pose", arm.joint_names, response.frequency, response.response,
+                           response.bandwidth, response.design), "beyond_servo_bode",
+               "Frequency response of the PID loop (not in the paper)",
+               "q_i/q_d,i per joint of the continuous loop linearised by Drake's Linearize about the start pose at "
+               "rest, its −3 dB bandwidth against the tuning rule's (the joints' coupling moves it off the rule's, "
+               "which is exact for an uncoupled joint)")
+
+
 #: The studies, by the paper whose output they extend: (group title, function) each.
 STUDIES: dict[str, tuple[tuple[str, Callable[[PaperOutput, bool], None]], ...]] = {
     "000": (("Beyond the paper: drive sizing — peak torques against motion time and payload", rr_drive_map),
             ("Beyond the paper: the drives — a motor and gearbox per joint from a catalogue, oversized",
-             rr_drives_chosen)),
+             rr_drives_chosen),
+            ("Beyond the paper: the servo loop — a 1 kHz PID on encoders against Fig. 6's ideal controller",
+             rr_servo)),
     "004": (("Beyond the paper: the bend angles ϑ2…ϑ7 and the workspace volume (the paper's open question)",
              urm6_bend_angles),),
 }

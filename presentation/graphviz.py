@@ -207,6 +207,46 @@ _COLUMNS = {"TrajectorySource": 0, "Demultiplexer": 1, "InverseDynamicsControlle
             "MultibodyPlant": 3, "VectorLogSink": 5}
 #: Box colours by column: reference, control, plant, derived signals, scopes.
 _FILL = {0: "#e8f0fe", 1: "#e8f0fe", 2: "#fdecea", 3: "#e6f4ea", 4: "#fef7e0", 5: "#f1f3f4"}
+#: A servo loop's stages (armlab.diagrams.servo), by the prefix of their systems' names: (cluster label, column,
+#: fill). Each stage is one group of boxes in the picture, the way a Simulink model groups a drive's subsystems.
+_STAGES = {
+    "reference_sampling": ("", 1, "#e8f0fe"),
+    "servo_": ("position controller", 2, "#fdecea"), "computed_torque": ("position controller", 2, "#fdecea"),
+    "joint_inertia": ("position controller", 2, "#fdecea"), "feedforward": ("position controller", 2, "#fdecea"),
+    "torque_saturation": ("position controller", 2, "#fdecea"),
+    "current_": ("drives: current loops and motor windings", 2.5, "#f3e8fd"),
+    "voltage_saturation": ("drives: current loops and motor windings", 2.5, "#f3e8fd"),
+    "motor": ("drives: current loops and motor windings", 2.5, "#f3e8fd"),
+    "drive_output": ("elastic joints: rotors and gearbox springs", 2.75, "#f3e8fd"),
+    "elastic_": ("elastic joints: rotors and gearbox springs", 2.75, "#f3e8fd"),
+    "joint_positions": ("sensors", 4, "#fef7e0"), "encoder": ("sensors", 4, "#fef7e0"),
+    "noise": ("sensors", 4, "#fef7e0"), "noisy_position": ("sensors", 4, "#fef7e0"),
+    "sensor_": ("sensors", 4, "#fef7e0"),
+    "energy_": ("energy meter", 4, "#fef7e0"),
+}
+#: Signals of the servo loop's outputs, by (system, output port): what each block puts out.
+_STAGE_SIGNALS = {
+    "reference_sampling": "held q<SUB>d</SUB>, q̇<SUB>d</SUB>, q̈<SUB>d</SUB>",
+    "sensor_sampling": "x<SUB>m</SUB> = (q<SUB>m</SUB>, q̇<SUB>m</SUB>)", "joint_positions": "q",
+    "encoder_angle": "θ = a·q", "encoders": "θ quantised", "encoder_position": "q quantised", "noise_source": "w",
+    "noise": "σ·w", "noisy_position": "q<SUB>s</SUB>", "sensor_inputs": "(q<SUB>s</SUB>, x)",
+    "servo_signal": "(x<SUB>d</SUB>, q̈<SUB>d</SUB>, x<SUB>m</SUB>)", "servo_pid_gains": "P·e",
+    "servo_pid_integral_inputs": "(e, τ, τ*)", "servo_pid_integral": "z", "servo_pid_sum": "a",
+    "computed_torque": "τ*", "joint_inertia": "τ* = J a", "feedforward_reference": "x<SUB>d</SUB> | q̈<SUB>d</SUB>",
+    "feedforward": "τ<SUB>ff</SUB>", "servo_torque": "τ*", "torque_saturation": "τ",
+    "current_command": "i*", "current_signal": "(i*, i, x)", "current_sampling": "held (i*, i, x)",
+    "current_pi_gains": "P·e", "current_pi_integral_inputs": "(e, V, V*)", "current_pi_integral": "z",
+    "current_pi_sum": "V*", "voltage_saturation": "V", "motor_inputs": "(V, x)", "motors": "(i, τ)",
+    "energy_inputs": "(V, i, τ, x)", "drive_output": "τ (drive)", "elastic_inputs": "(τ, x)",
+    "elastic_rotors": "x<SUB>r</SUB> = (φ, φ̇)", "elastic_twist": "(x<SUB>r</SUB>, x)",
+    "elastic_spring": "τ<SUB>s</SUB> = K (φ − q) + D (φ̇ − q̇)", "energy_meter": "E = (∫V i, ∫τ q̇, ∫R i²)",
+}
+_STAGE_PORTS = {("motor_outputs", "y0"): "i", ("motor_outputs", "y1"): "τ = G k<SUB>t</SUB> i"}
+
+
+def _stage(name: str) -> tuple[str, float, str] | None:
+    """The servo stage (label, column, fill) of a system by its name, or ``None``."""
+    return next((stage for prefix, stage in _STAGES.items() if name.startswith(prefix)), None)
 
 
 def _short_class(cls: str) -> str:
@@ -214,7 +254,11 @@ def _short_class(cls: str) -> str:
 
 
 def _signal(graph: DrakeGraph, c: Connection) -> str:
-    """The signal a connection carries, named from its ports (and the source's class)."""
+    """The signal a connection carries, named from its ports (and the source's class, or its servo stage)."""
+    if (c.source, c.output) in _STAGE_PORTS:
+        return _STAGE_PORTS[c.source, c.output]
+    if c.source in _STAGE_SIGNALS:
+        return _STAGE_SIGNALS[c.source]
     source_class = _short_class(graph.systems[c.source])
     if source_class == "TrajectorySource":
         return _REFERENCE
@@ -227,13 +271,21 @@ def _q(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
+def _column(graph: DrakeGraph, name: str) -> float:
+    """A system's column, left to right: its servo stage's, else its class's (anything else: the middle)."""
+    stage = _stage(name)
+    return stage[1] if stage is not None else _COLUMNS.get(_short_class(graph.systems[name]), 4)
+
+
 def fig6_dot(dot_text: str, title: str | None = None) -> str:
     """Paper 000's Fig. 6 view of the diagram whose ``GetGraphvizString`` is ``dot_text``, as DOT.
 
     Every system of the diagram that takes part in a connection is one box (name, Drake class);
     every connection is one edge labelled with its signal; unconnected ports are left out. Boxes
     flow left to right: trajectory source → reference split → inverse dynamics → plant → tool
-    point → loggers ("scopes"). ``title`` (default: the diagram's name) is drawn above, clear of
+    point → loggers ("scopes"). A servo loop's systems (:mod:`armlab.diagrams.servo`) are grouped by
+    stage — position controller, drives (current loops and windings), sensors, energy meter — each a
+    labelled box of its own. ``title`` (default: the diagram's name) is drawn above, clear of
     every edge. Each edge's SVG ``id`` is its :attr:`Connection.id`.
     """
     graph = parse_drake_dot(dot_text)
@@ -245,17 +297,23 @@ def fig6_dot(dot_text: str, title: str | None = None) -> str:
         'node [shape=box, style="rounded,filled", fontname=Helvetica, fontsize=12, penwidth=1.2];',
         "edge [fontname=Helvetica, fontsize=11, penwidth=1.2, arrowsize=0.8];",
     ]
-    columns: dict[int, list[str]] = {}
+    columns: dict[float, list[str]] = {}
+    stages: dict[str, list[str]] = {}
     for name, cls in graph.systems.items():
         if name not in used:
             continue
         short = _short_class(cls)
-        column = _COLUMNS.get(short, 4)
-        columns.setdefault(column, []).append(name)
+        stage = _stage(name)
+        column = _column(graph, name)
+        if stage is not None and stage[0]:
+            stages.setdefault(stage[0], []).append(name)
+        else:
+            columns.setdefault(column, []).append(name)
         kind = "" if short == name else f"<BR/><FONT POINT-SIZE='9' COLOR='#555555'>{html.escape(short)}</FONT>"
-        group = ", group=main" if column <= 3 else ""  # the forward chain drawn as one straight line
+        group = ", group=main" if column <= 3 and stage is None else ""  # the forward chain drawn as one line
+        fill = stage[2] if stage is not None else _FILL[int(column)]
         lines.append(f'{_q(name)} [id={_q("system:" + name)}, label=<<B>{html.escape(name)}</B>{kind}>, '
-                     f'fillcolor="{_FILL[column]}"{group}];')
+                     f'fillcolor="{fill}"{group}];')
     for column in sorted(columns):
         members = " ".join(_q(n) for n in columns[column])
         if column == _COLUMNS["VectorLogSink"]:  # Simulink's scopes: one labelled group
@@ -263,9 +321,12 @@ def fig6_dot(dot_text: str, title: str | None = None) -> str:
                          f'style="rounded,dashed"; color="#9aa0a6"; rank=same; {members}}}')
         else:
             lines.append(f"{{rank=same; {members}}}")
+    for k, (label, names) in enumerate(stages.items()):  # a servo stage: its blocks flow inside its own box
+        lines.append(f'subgraph cluster_stage{k} {{label={_q(label)}; labeljust=l; fontsize=11; style="rounded"; '
+                     f'color="#9aa0a6"; {" ".join(_q(n) for n in names)}}}')
     for c in graph.connections:
-        backward = _COLUMNS.get(_short_class(graph.systems[c.target]), 4) <= _COLUMNS.get(
-            _short_class(graph.systems[c.source]), 4)
+        same_stage = _stage(c.source) is not None and _stage(c.source) == _stage(c.target)
+        backward = not same_stage and _column(graph, c.target) <= _column(graph, c.source)
         style = ", constraint=false, style=dashed" if backward else ""  # feedback: drawn, not ranked
         lines.append(f"{_q(c.source)} -> {_q(c.target)} [id={_q(c.id)}, label=<{_signal(graph, c)}>, "
                      f"tooltip={_q(c.id)}{style}];")

@@ -16,27 +16,40 @@ import numpy as np
 
 from armlab.files import OutputFolder
 from armlab.presentation.plots import PLOTS
+from armlab.presentation.servo_plots import SERVO_PLOTS
 
 if TYPE_CHECKING:
     from armlab.diagrams.simulate import SimulationLog
 
-__all__ = ["RUN_FILES", "RUN_OUTPUTS", "csv_header", "run_folder", "write_log_csv", "write_summary"]
+__all__ = ["RUN_FILES", "RUN_OUTPUTS", "SERVO_COLUMNS", "csv_header", "run_folder", "write_log_csv", "write_summary"]
 
 #: Files that mark a folder as an armlab run (which ``--out`` may replace) …
 RUN_FILES = ("log.csv", "summary.json")
 #: … if it holds nothing but the files a run writes.
 RUN_OUTPUTS = (*RUN_FILES, "diagram.svg", "diagram_full.svg", "diagram.dot", *PLOTS, "clearance.png", "drives.csv",
-               "drives.png", "replay.html")  # clearance.png: when the run checked pairs of links for collisions
+               "drives.png", "replay.html", *SERVO_PLOTS)  # clearance.png: when the run checked pairs of links for
+# collisions; servo.png, bode.png: a servo run's
 
 
-def csv_header(n: int, motor: bool = False) -> list[str]:
+#: A servo run's columns of ``log.csv`` by the :class:`~armlab.diagrams.simulate.SimulationLog` field they hold:
+#: the torque command (N·m or N), the measured state (rad or m, per s), elastic joints' rotor angles φ and rates
+#: (joint side), the motor current (A) and voltage (V), the energies ∫V i, ∫τ q̇, ∫R i² (J).
+SERVO_COLUMNS = {"tau_command": ("tau_cmd{}",), "measured": ("q{}_meas", "qd{}_meas"), "rotor": ("phi{}", "phid{}"),
+                 "current": ("i{}",), "voltage": ("V{}",), "energy": ("E_el{}", "E_mech{}", "E_cu{}")}
+
+
+def csv_header(n: int, motor: bool = False, servo: tuple[str, ...] = ()) -> list[str]:
     """Column names of ``log.csv`` for ``n`` joints; ``motor``: with the motor side of a drive train, the motor
-    torques ``tau_m1 …`` (N·m) and speeds ``w_m1 …`` (rad/s) after the tool point's columns."""
+    torques ``tau_m1 …`` (N·m) and speeds ``w_m1 …`` (rad/s) after the tool point's columns; ``servo``: a servo
+    run's fields logged (keys of :data:`SERVO_COLUMNS`), their columns last, in that table's order."""
     cols = ["t"]
     for fmt in ("q{}_ref", "qd{}_ref", "qdd{}_ref", "q{}", "qd{}", "tau{}"):
         cols += [fmt.format(i) for i in range(1, n + 1)]
     cols += ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"]
-    return cols + ([f"{side}{i}" for side in ("tau_m", "w_m") for i in range(1, n + 1)] if motor else [])
+    cols += [f"{side}{i}" for side in ("tau_m", "w_m") for i in range(1, n + 1)] if motor else []
+    for name in (name for name in SERVO_COLUMNS if name in servo):
+        cols += [fmt.format(i) for fmt in SERVO_COLUMNS[name] for i in range(1, n + 1)]
+    return cols
 
 
 def write_log_csv(log: SimulationLog, path: str | Path) -> Path:
@@ -45,8 +58,10 @@ def write_log_csv(log: SimulationLog, path: str | Path) -> Path:
     tau_motor, speed = log.tau_motor, log.motor_speed
     if tau_motor is not None and speed is not None:
         columns += [tau_motor, speed]
+    servo = tuple(name for name in SERVO_COLUMNS if getattr(log, name) is not None)
+    columns += [getattr(log, name) for name in servo]
     np.savetxt(path, np.column_stack(columns), fmt="%.12g", delimiter=",",
-               header=",".join(csv_header(log.arm.n, tau_motor is not None)), comments="")
+               header=",".join(csv_header(log.arm.n, tau_motor is not None, servo)), comments="")
     return Path(path)
 
 

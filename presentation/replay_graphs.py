@@ -83,13 +83,20 @@ def arm_graphs(arm: Arm, q: ArrayLike, qd: ArrayLike | None = None, tau: ArrayLi
 
 def log_graphs(log: SimulationLog, deg: bool = False, clearance: Clearances | None = None) -> list[Graph]:
     """A simulation's graphs: :func:`arm_graphs` of its q, q̇, τ, then its motor-side torques (N·m at every motor,
-    a prismatic joint's too; drawn without limits) if the arm has a drive train, then the clearance of each pair
+    a prismatic joint's too; drawn without limits) if the arm has a drive train, a servo run's tracking error and
+    (with electrics) its motors' currents (A) and voltages (V), then the clearance of each pair
     the run checked (``clearance``, :class:`~armlab.collision.model.Clearances` at the log's samples, m; zero drawn
     as the contact line) if it has them."""
     graphs = arm_graphs(log.arm, log.q, log.qd, log.tau, deg)
     if log.tau_motor is not None:
         graphs.append(_joint_graph(log.arm, "motor-side torques", "τm", 2, log.tau_motor, None, deg,
                                    units=["N·m"] * log.arm.n))
+    if log.servo is not None:  # a servo run: its tracking error, and its motors' current and voltage
+        graphs.append(_joint_graph(log.arm, "tracking error", "q−q_d", 0, log.q - log.q_ref, None, deg))
+        for title, symbol, values, unit in (("motor currents", "i", log.current, "A"),
+                                            ("winding voltages", "V", log.voltage, "V")):
+            if values is not None:
+                graphs.append(_joint_graph(log.arm, title, symbol, 2, values, None, deg, units=[unit] * log.arm.n))
     if clearance is not None and clearance.pairs:
         c = np.asarray(clearance.distance, dtype=float).reshape(log.t.size, -1)
         labels = tuple(f"{name} [m]" for name in clearance.names())

@@ -10,10 +10,12 @@ import dataclasses
 import functools
 import html
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+import armlab
 from armlab.diagrams.build import build_diagram
 from armlab.diagrams.simulate import SimulationOptions, simulate
 from armlab.models import get_arm
@@ -256,3 +258,24 @@ def test_drives_show_round_off_as_rest_and_mark_the_rms_point():
         rms = np.sqrt(np.mean(log.qd[:, i] ** 2)), np.sqrt(np.mean(log.tau[:, i] ** 2))
         np.testing.assert_allclose([star.get_xdata()[0], star.get_ydata()[0]], rms, rtol=1e-12)
         assert f"RMS τ {rms[1]:.4g}" in ax.get_title()
+
+
+def test_fig6_draws_a_servo_loop_grouped_by_stage():
+    """A servo run's diagram: every connection drawn once, each stage's blocks in a labelled box of their own, every
+    signal named (no Drake port name such as y0 left as a label)."""
+    arm = armlab.load("rr", drives=Path(__file__).parents[1] / "scripts" / "examples" / "drives" / "rr_motors.csv")
+    options = SimulationOptions(controller="pd+feedforward", rate=1000.0, encoder=4096, noise=1e-4,
+                                velocity="difference", saturate=True, electrics=True, current_rate=10000.0)
+    run = build_diagram(arm, paper_motion(arm), options)
+    text = fig6_dot(run.diagram.GetGraphvizString(max_depth=1))
+    svg = render(text, "svg").decode()
+    assert svg_ids(svg, "edge") == connections(run.diagram)
+    clusters = dict(re.findall(r'subgraph cluster_stage\d+ \{label="([^"]+)";[^}]*?; ([^}]*)\}', text))
+    assert set(clusters) == {"position controller", "drives: current loops and motor windings", "sensors",
+                             "energy meter"}
+    for stage, member in (("position controller", "servo_pid_gains"), ("position controller", "feedforward"),
+                          ("sensors", "encoders"), ("sensors", "sensor_sampling"), ("energy meter", "energy_meter"),
+                          ("drives: current loops and motor windings", "motors")):
+        assert f'"{member}"' in clusters[stage].split(), (stage, member)
+    assert not re.search(r"label=<y\d*>", text)
+    assert "held q<SUB>d</SUB>" in text and "V*" in text and "i*" in text

@@ -102,14 +102,15 @@ def test_motor_side_torques_are_in_newton_metres_at_every_joint_a_prismatic_ones
     arm = dataclasses.replace(arm, drives=drives)
     t = np.linspace(0.0, 1.0, 5)
     q, qd, tau = sweep(arm, t), np.ones((5, 3)), np.ones((5, 3))
-    log = types.SimpleNamespace(arm=arm, t=t, q=q, qd=qd, tau=tau, tau_motor=motor_torque(drives, tau, qd))
+    log = types.SimpleNamespace(arm=arm, t=t, q=q, qd=qd, tau=tau, tau_motor=motor_torque(drives, tau, qd),
+                                servo=None)
     joint, motor = (next(g for g in log_graphs(log) if g.title.startswith(title))
                     for title in ("joint torques", "motor-side torques"))
     assert joint.labels == ("τ1 [N·m]", "τ2 [N]", "τ3 [N]")
     assert motor.labels == ("τm1 [N·m]", "τm2 [N·m]", "τm3 [N·m]") and motor.ylabel == "τm [N·m]"
     np.testing.assert_allclose(motor.values, tau / (drives.gear_ratio * drives.efficiency), rtol=1e-15)
-    assert not [g for g in log_graphs(types.SimpleNamespace(arm=get_arm("r2t"), t=t, q=q, qd=qd, tau=tau,
-                                                              tau_motor=None)) if g.title.startswith("motor")]
+    bare = types.SimpleNamespace(arm=get_arm("r2t"), t=t, q=q, qd=qd, tau=tau, tau_motor=None, servo=None)
+    assert not [g for g in log_graphs(bare) if g.title.startswith("motor")]
 
 
 def test_replay_rejects_a_bad_tool_path(tmp_path):

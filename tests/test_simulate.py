@@ -36,6 +36,7 @@ from armlab.models import get_arm
 from armlab.models.plant import PlantOptions, make_plant
 from armlab.planning.motions import paper_motion
 from armlab.presentation.output import RUN_OUTPUTS, csv_header
+from armlab.presentation.servo_plots import SERVO_PLOTS
 from armlab.values import resolve_gravity
 
 #: Every paper motion armlab simulate runs by default (arm, --path).
@@ -415,7 +416,7 @@ def test_simulate_writes_the_whole_run(tmp_path, capsys):
     assert cli("simulate", "rr", "--path", "abcd", "--dt", "0.01", "--out", str(out)) == 0
     files = {p.name for p in out.iterdir()}
     # log, summary, diagrams, plots, drives and the replay; no clearance.png: rr's two links are adjacent
-    assert files == set(RUN_OUTPUTS) - {"clearance.png"}
+    assert files == set(RUN_OUTPUTS) - {"clearance.png", *SERVO_PLOTS}  # not a servo run: no servo.png, bode.png
     assert [p.name for p in (tmp_path / "runs").iterdir()] == ["rr"]  # no temporary folder left
     umask = os.umask(0o022)
     os.umask(umask)
@@ -452,7 +453,7 @@ def test_simulate_every_arm(simulated, name):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["arm"] == name and max(summary["max_tracking_error"]) <= 1e-6
     assert summary["min_clearance"]  # each of these arms has pairs of non-adjacent links: clearance.png is written
-    assert {p.name for p in out.iterdir()} == set(RUN_OUTPUTS)
+    assert {p.name for p in out.iterdir()} == set(RUN_OUTPUTS) - set(SERVO_PLOTS)
 
 
 @pytest.mark.slow

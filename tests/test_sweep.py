@@ -176,8 +176,9 @@ def test_a_failing_candidate_is_reported_and_the_rest_go_on(tmp_path: Path) -> N
 def test_shipped_studies_are_valid() -> None:
     folder = Path(__file__).resolve().parents[1] / "analysis" / "studies"
     studies = {p.name: load_study(p) for p in sorted(folder.glob("*.json"))}
-    assert set(studies) == {"rr_drive_sizing.json", "rr_drives_payload.json", "urm6_bend_angles.json",
-                            "urm6_theta3_theta5.json"}
+    assert set(studies) == {"rr_drive_sizing.json", "rr_drives_payload.json", "rr_servo_rate_encoder.json",
+                            "urm6_bend_angles.json", "urm6_theta3_theta5.json"}
+    assert len(studies["rr_servo_rate_encoder.json"].candidates) == 15
     assert len(studies["urm6_bend_angles.json"].candidates) == 4**6
     assert len(studies["urm6_theta3_theta5.json"].candidates) == 21
     assert studies["rr_drive_sizing.json"].objective_columns[:2] == ["peak_torque_1", "peak_torque_2"]

@@ -156,11 +156,13 @@ def register(subparsers: Any) -> None:
                "samples": 200000}}
             vary: the arm's parameters (armlab show ARM), payload (kg) and tf (s); evaluate: workspace_volume,
             reach, min_manipulability, mean_manipulability, peak_torque, rms_torque, peak_power, and the drives
-            chosen from catalogues for the motion (armlab size): drive_mass (kg), drives_feasible, drive_margin.
+            chosen from catalogues for the motion (armlab size): drive_mass (kg), drives_feasible, drive_margin,
+            and the servo loop's max_tracking_error, rms_tracking_error (rad or m; vary rate in Hz and encoder
+            counts; "servo": {{"controller": "pid", "bandwidth": 5, …}}: armlab simulate's servo options).
             Optional: samples, resolution (m), seed, payload, tf, simulate (true: paper 000's Fig. 6
             simulation; false: batch inverse dynamics along the motion every 1 ms), segments (a motion file
             instead of the paper motion), safety_factor, motors, gearboxes (catalogue CSVs; default armlab's
-            examples). Example studies: {STUDIES}/*.json.
+            examples), drives (a drive file). Example studies: {STUDIES}/*.json.
 
             exit status: 0 every candidate computed; 2 bad study or options (nothing computed);
             {EXIT_FAILED} + k when k candidates failed (k at most 100); each failure is reported on stderr."""),

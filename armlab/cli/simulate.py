@@ -22,7 +22,10 @@ from numpy.typing import ArrayLike
 
 from armlab.cli.args import add_arm, add_drives, arm_of
 from armlab.cli.collide import SCENE_HELP
+from armlab.controllers.sensors import ENCODER_SIDES, VELOCITY_SOURCES
+from armlab.controllers.servo import CONTROLLERS
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
+from armlab.drives.motor import DEFAULT_CURRENT_BANDWIDTH
 from armlab.drives.read import with_drives
 from armlab.kinematics.quintic import Motion, QuinticSegment
 from armlab.limits import allowed, check_range
@@ -97,11 +100,42 @@ def _setup(arm: Arm, args: argparse.Namespace) -> dict[str, Any]:
         "gravity": resolve_gravity(arm, args.gravity),
         "payload": check_payload(args.payload, "--payload"),
         "mode": args.mode,
-        "kp": gain_vector(_gains(args.kp, DEFAULT_KP, "--kp"), arm.n, "--kp"),
-        "kd": gain_vector(_gains(args.kd, DEFAULT_KD, "--kd"), arm.n, "--kd"),
-        "ki": gain_vector(_gains(args.ki, 0.0, "--ki"), arm.n, "--ki"),
+        **{name: default if text is None else gain_vector(_gains(text, default, f"--{name}"), arm.n, f"--{name}")
+           for name, text, default in (("kp", args.kp, DEFAULT_KP), ("kd", args.kd, DEFAULT_KD), ("ki", args.ki, 0.0))},
+        "controller": args.controller, "rate": args.rate, "bandwidth": args.bandwidth, "saturate": args.saturate,
+        "anti_windup": not args.no_anti_windup, "encoder": args.encoder, "encoder_side": args.encoder_side,
+        "velocity": args.velocity, "velocity_cutoff": args.velocity_cutoff, "noise": args.noise, "seed": args.seed,
+        "delay": args.delay, "electrics": args.electrics, "current_rate": args.current_rate,
+        "current_bandwidth": args.current_bandwidth, "elastic": args.elastic,
     }
     return setup
+
+
+def _servo_lines(summary: dict[str, Any]) -> list[str]:
+    """What ``armlab simulate`` prints of a servo run: its loop, tracking, saturation, current and energy."""
+    servo = summary["servo"]
+    if servo is None:
+        return []
+    rate = servo["rate_hz"]
+    units = summary["joint_units"]
+
+    def joints(values: list[float | None], unit: str | list[str], fmt: str = ".3g") -> str:
+        unit_of = unit if isinstance(unit, list) else [unit] * len(values)
+        return ", ".join(f"{i + 1}: " + ("—" if v is None else f"{v:{fmt}} {u}")
+                         for i, (v, u) in enumerate(zip(values, unit_of, strict=True)))
+
+    lines = [f"servo: {servo['controller']} {'continuous' if rate is None else f'at {rate:g} Hz'}; RMS tracking "
+             f"error {joints(servo['rms_tracking_error'], units)}"]
+    if servo["saturation_time"] is not None:
+        lines.append(f"torque saturated for (s) {joints(servo['saturation_time'], 's', '.4g')}")
+    if "peak_current" in servo:
+        lines.append(f"peak current {joints(servo['peak_current'], 'A')}; peak voltage "
+                     f"{joints(servo['peak_voltage'], 'V')}; at the bus voltage for "
+                     f"{joints(servo['voltage_saturation_time'], 's', '.4g')}")
+        energy = servo["energy"]
+        lines.append(f"energy: electrical {joints(energy['electrical'], 'J')}; copper {joints(energy['copper'], 'J')}"
+                     f"; balance residual (relative) {max(energy['relative_residual']):.2g}")
+    return lines
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
@@ -133,6 +167,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
           + f"; peak power {summary['peak_power']:.4g} W; max tracking error "
           + ", ".join(f"{v:.3g} {u}" for v, u in zip(summary["max_tracking_error"], summary["joint_units"],
                                                       strict=True)))
+    for line in _servo_lines(summary):
+        print(line)
     print(f"wrote {args.out}: {' '.join(written)}")
     return run_status(arm, run, args.strict_limits)
 
@@ -198,6 +234,45 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--kp", help=f"position gain(s), 1/s²: one value or one per joint (default 100; {allowed('kp')})")
     p.add_argument("--kd", help=f"velocity gain(s), 1/s: one value or one per joint (default 20; {allowed('kd')})")
     p.add_argument("--ki", help=f"integral gain(s), 1/s³: one value or one per joint (default 0; {allowed('ki')})")
+    servo = p.add_argument_group(
+        "servo loop", "the loop a drive engineer builds (default: paper 000's ideal loop, continuous computed torque "
+        "on the exact state); the gains kp, kd, ki are normalised by each joint's inertia J = M_ii at the start "
+        "(K_p = J kp N·m/rad)")
+    servo.add_argument("--controller", choices=CONTROLLERS, default="computed-torque",
+                       help="computed-torque (default), pid (independent joints, no model), pd+feedforward "
+                            "(PD plus the inverse dynamics of the reference)")
+    servo.add_argument("--rate", type=float, metavar="HZ",
+                       help=f"a sampled controller at this rate, its inputs held (default: continuous; "
+                            f"{allowed('rate')})")
+    servo.add_argument("--bandwidth", type=float, metavar="HZ",
+                       help="the gains by the tuning rule: the position loop's -3 dB bandwidth (PD with a double "
+                            "pole; pid: PID with a triple pole) instead of --kp/--kd/--ki")
+    servo.add_argument("--saturate", action="store_true",
+                       help="clamp the torque command at each joint's effort limit (and the drive's peak current)")
+    servo.add_argument("--no-anti-windup", action="store_true",
+                       help="let the integral wind up while saturated (default: back-calculation)")
+    servo.add_argument("--encoder", type=int, metavar="COUNTS",
+                       help="encoder counts per revolution (needs --rate; default: the exact position)")
+    servo.add_argument("--encoder-side", choices=ENCODER_SIDES, default="motor",
+                       help="the encoder on the motor (default: resolution 2π/(counts·G) at the joint) or the joint")
+    servo.add_argument("--velocity", choices=VELOCITY_SOURCES, default="state",
+                       help="the measured velocity: state (a tachometer, default) or difference (of the positions)")
+    servo.add_argument("--velocity-cutoff", type=float, metavar="HZ",
+                       help="first-order low-pass of the velocity by difference")
+    servo.add_argument("--noise", type=float, default=0.0, metavar="SIGMA",
+                       help="position measurement noise, standard deviation, rad or m (default 0)")
+    servo.add_argument("--seed", type=int, default=0, help="the noise's seed (default 0)")
+    servo.add_argument("--delay", type=int, default=0, metavar="K", help="the measurement delayed K samples")
+    servo.add_argument("--electrics", action="store_true",
+                       help="simulate each motor's current loop and winding (the drive file's resistance, "
+                            "inductance, torque_constant, bus_voltage columns): current and voltage logged")
+    servo.add_argument("--current-rate", type=float, metavar="HZ",
+                       help="the current loop sampled at this rate (default: continuous)")
+    servo.add_argument("--current-bandwidth", type=float, default=DEFAULT_CURRENT_BANDWIDTH, metavar="HZ",
+                       help=f"the current loop's bandwidth (default {DEFAULT_CURRENT_BANDWIDTH:g} Hz)")
+    servo.add_argument("--elastic", action="store_true",
+                       help="elastic joints: each rotor coupled to its link by the drive file's stiffness (N·m/rad) "
+                            "and twist_damping columns (a two-mass model; a motor-side encoder reads the rotor)")
     add_drives(p)
 
 
