@@ -46,10 +46,8 @@ from armlab.controllers.inverse_dynamics import (
     add_inverse_dynamics_controller,
     gain_vector,
 )
-from armlab.kinematics.quintic import DEFAULT_LOG_PERIOD, Motion, to_trajectory
-from armlab.models.plant import add_arm_plant
 from armlab.diagrams.servo import add_plants, add_servo, servo_design
-from armlab.kinematics.quintic import Motion, to_trajectory
+from armlab.kinematics.quintic import DEFAULT_LOG_PERIOD, Motion, to_trajectory
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
