@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.bounds import above
+from armlab.bounds import above, below
 from armlab.sizing.catalogue import LIFE_BASES, Gearboxes, Motors
 from armlab.sizing.periodic import bus_energy, energy_steps, lag, lag_periodic, resistor_energy, within_zero
 
@@ -127,8 +127,8 @@ def percent(margin: float) -> str:
     if math.isnan(margin):
         return "not checked"
     if math.isinf(margin):
-        return "∞" if margin > 0 else "−∞"
-    if margin >= MARGIN_SHOWN:
+        return "∞" if margin > 0 else "−∞"  # not a bound: the sign shown
+    if margin >= MARGIN_SHOWN:  # not a bound: where the text is capped
         return "≫ 100 %"
     return f"{number(100 * margin)} %"
 
@@ -156,7 +156,7 @@ class Conditions:
                   ("required_life", self.required_life, 1e-6, 1e7, "h", "a life in (0, 1e7] h"))
         for name, value, low, high, unit, text in checks:
             v = _number(value)
-            if not (low <= v <= high):
+            if not (low <= v <= high):  # not a bound: a value the user gave, against its range
                 raise ValueError(f"{name} {value!r}{' ' + unit if unit else ''} is not allowed: {text}")
             object.__setattr__(self, name, v)
         if self.bus_voltage is not None:
@@ -420,14 +420,14 @@ def drive_checks(task: JointTask, motors: Motors, gearboxes: Gearboxes, im: NDAr
             mean_need = back / trap.sum()
             mean_rating = motors.braking_resistor_power[m]
             peak_rating = motors.bus_max_voltage[m] ** 2 / motors.braking_resistance[m]
-            by_peak = _ratio(peak_rating, peak_need) < _ratio(mean_rating, mean_need)
+            by_peak = _ratio(peak_rating, peak_need) < _ratio(mean_rating, mean_need)  # not a bound: which binds
             need = np.where(by_peak, peak_need, mean_need)
             rating = np.where(by_peak, peak_rating, mean_rating)
             value = np.where(charging, np.where(resistor, need, np.inf), back)  # no resistor: the link overflows
             limit = np.where(charging & resistor, rating, capacity)
             low = _ratio(limit, value)  # (L, c): a lower bound of the check's ratio
             # sure: the bound cannot bind, or the link fills and no resistor takes it (it fails whatever the rest)
-            sure = np.all(low >= floor[c], axis=0) | np.any(charging & ~resistor, axis=0)
+            sure = np.all(~below(low, floor[c]), axis=0) | np.any(charging & ~resistor, axis=0)
             put("regeneration", c[sure], value[:, sure], limit[:, sure])
             todo["regeneration"] = c[~sure]
     c = todo["I²t"]
@@ -538,7 +538,8 @@ def _regeneration(task: JointTask, motors: Motors, m: NDArray[np.intp], c: NDArr
         mean_power = burnt[:, k] / (t[-1] - t[0])
         peak_rating = v_max[k] ** 2 / motors.braking_resistance[m][k]
         with np.errstate(divide="ignore"):
-            use_peak = peak_rating / peak_regen[:, k] < motors.braking_resistor_power[m][k] / mean_power
+            by_resistor = motors.braking_resistor_power[m][k] / mean_power
+            use_peak = peak_rating / peak_regen[:, k] < by_resistor  # not a bound: which of the two binds
         cols, on = c[k], fitted[:, k]
         value[:, cols] = np.where(on, np.where(use_peak, peak_regen[:, k], mean_power), value[:, cols])
         bound[:, cols] = np.where(on, np.where(use_peak, peak_rating, motors.braking_resistor_power[m][k]),

@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.bounds import below
+from armlab.bounds import above, below
 from armlab.drives.train import DriveTrain, motor_speed, motor_torque
 from armlab.sizing.checks import DRIVE_CHECKS, Conditions, drive_checks, missing_column, number, screen_bounds, within
 
@@ -490,7 +490,7 @@ def select_joint(joint: str, task: JointTask, motors: Motors, gearboxes: Gearbox
         ok = np.concatenate(checked)[so_far >= 0]
         if ok.size >= keep and start < order.size:
             true = -so_far[so_far >= 0] if rank == "margin" else bound[ok]  # the rank keys found
-            if bound[order[start]] > np.sort(true)[keep - 1]:  # no pair left can rank among the best keep
+            if above(bound[order[start]], np.sort(true)[keep - 1]):  # no pair left can rank among the best keep
                 break
     done = np.concatenate(checked) if checked else np.empty(0, dtype=np.intp)
     margin = np.concatenate(margins) if margins else np.empty(0)
