@@ -17,9 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LIMITS", "LIMIT_SLACK", "Limit", "NotRealError", "allowed", "check_positive", "check_range", "real_array",
-           "real_number",
-           "whole_text"]
+__all__ = ["LIMITS", "LIMIT_SLACK", "Limit", "NotRealError", "above", "allowed", "check_positive", "check_range",
+           "real_array", "real_number", "whole_text"]
 
 
 class NotRealError(TypeError, ValueError):
@@ -32,6 +31,18 @@ class NotRealError(TypeError, ValueError):
 #: Round-off allowed past a joint limit (rad or m): a value this close outside it counts as on it
 #: (:meth:`armlab.models.arm.Arm.check_q`, :meth:`armlab.kinematics.quintic.Motion.check_limits`).
 LIMIT_SLACK = 1e-12
+
+#: The slack of a computed value against a bound (:func:`above`): 1e-9 of the bound, at least 1e-9 (SI units).
+BOUND_SLACK = 1e-9
+
+
+def above(value: ArrayLike, bound: ArrayLike) -> NDArray[np.bool_]:
+    """``value`` beyond the upper ``bound`` by more than ``BOUND_SLACK · max(1, |bound|)`` (a value on the bound, to
+    round-off, is within it; NaN is always above), broadcast; ``above(-value, -bound)`` is "below". Clearances
+    against a margin, a chain's length against two radii: computed values against bounds go through this."""
+    bound = np.asarray(bound, dtype=float)
+    return np.logical_not(np.less_equal(value, bound + BOUND_SLACK * np.maximum(1.0, np.abs(bound))))
+
 
 _REAL_KINDS = "iuf"  # numpy dtype kinds of real numbers: signed and unsigned integers, floats
 

@@ -182,7 +182,7 @@ def test_rrrr_tool_driven_into_its_stand_in_simulation(tmp_path):
 
 
 def test_cli_check_and_strict_exit(tmp_path, capsys):
-    assert main(["check", "rrrr", "--q", "0,80,160,60", "--deg", "--top", "1"]) == 0
+    assert main(["check", "rrrr", "--q", "0,80,160,60", "--deg", "--top", "1"]) == 3  # in contact
     out = capsys.readouterr().out.splitlines()
     assert out[0] == "rrrr: 3 pair(s) checked; 2 in contact; the 1 smallest clearances:"
     assert out[1].split()[:2] == ["link4–link1", "-60.0000"]
@@ -196,7 +196,7 @@ def test_cli_check_reads_a_urdf_with_its_tool_option(tmp_path, capsys):
     urdf = tmp_path / "rrrr.urdf"
     urdf.write_text(get_arm("rrrr").urdf())
     assert main(["check", str(urdf), "--tool", "link4", "--package-path", str(tmp_path), "--q", "0,80,160,60",
-                 "--deg", "--top", "1"]) == 0
+                 "--deg", "--top", "1"]) == 3
     out = capsys.readouterr().out.splitlines()
     assert out[0] == "rrrr: 3 pair(s) checked; 2 in contact; the 1 smallest clearances:"
     assert out[1].split()[:2] == ["link4–link1", "-60.0000"]
