@@ -254,11 +254,12 @@ def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
 
 def _add_hulls(plant: MultibodyPlant, arm: Arm, instance: Any) -> None:
     """Register the arm's STL and COLLADA collision meshes (:attr:`~armlab.models.arm.Arm.collision_hulls`) as
-    Drake ``Convex`` shapes of their vertices (Drake makes the hull) on their links, before ``Finalize``."""
+    Drake ``Convex`` shapes of their vertices (Drake makes the hull) on their links, before ``Finalize``; a plant
+    without a scene graph has no geometry to add them to."""
     from pydrake.geometry import Convex, ProximityProperties
     from pydrake.math import RigidTransform
 
-    for hull in arm.collision_hulls:
+    for hull in arm.collision_hulls if plant.geometry_source_is_registered() else ():
         body = (plant.world_body() if hull.link == "world" and arm.base_link == "world"
                 else plant.GetBodyByName(hull.link, instance))
         plant.RegisterCollisionGeometry(body, RigidTransform(np.array(hull.pose)),

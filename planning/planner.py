@@ -1,0 +1,325 @@
+"""Motions that miss the obstacles: a collision-free joint path from A to B, smoothed, then timed as fast as the
+limits allow (:func:`plan_path`, ``armlab plan ARM to``).
+
+1. **Search**: RRT-Connect (Kuffner & LaValle, ICRA 2000) in joint space, two trees grown from the start and the goal
+   towards seeded random samples within the joint limits, each extension greedy until blocked, the straight
+   segment tried first. Seeded (``seed``): the same query gives the same path.
+2. **Edges checked densely, with a certificate**: a straight joint segment is free by ``clearance`` (m) when every
+   one of its points is: its samples' clearances are computed in batches (:class:`~armlab.collision.model.
+   CollisionModel`: numpy's closed forms for capsules, spheres, boxes and floors, Drake's query otherwise), and no
+   clearance changes by more than L·|Δq| between samples (L: :meth:`~armlab.collision.model.CollisionModel.
+   motion_bound`, twice the farthest any point of the arm moves per unit of each joint), so a piece between two
+   samples of clearances d₀, d₁ a distance h apart clears (d₀ + d₁ − L·h)/2. A piece that this does not certify
+   is split, in batches, until it is certified or a sample is within the clearance (the edge is blocked).
+3. **Shortcutting**: seeded random pairs of the path's points joined straight where that edge is free, then each
+   point joined to the farthest one it sees.
+4. **Smoothing**: each corner blended by a quadratic Bézier arc tangent to both segments (the path is C¹, at unit
+   speed in its parameter s), its size halved until the arc is certified free like an edge (the arc's speed bound
+   is exact: its derivative is linear).
+5. **Confirmation**: Drake's query (:meth:`~armlab.collision.model.CollisionModel.drake`, ``SceneGraph``'s signed
+   distances, not numpy's) at :data:`CONFIRM_SAMPLES` points along the smooth path, each at least the clearance.
+6. **Timing**: the smooth path q(s) timed as fast as the limits allow (:func:`armlab.planning.timing.fastest`,
+   Drake's Toppra), rest to rest; the timed motion follows the path exactly, so it keeps its clearance.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from armlab.collision.clearance import as_scene
+from armlab.collision.model import CollisionModel
+from armlab.limits import above, check_positive
+from armlab.planning.timing import DEFAULT_GRID, fastest
+
+if TYPE_CHECKING:
+    from pydrake.trajectories import PiecewisePolynomial
+
+    from armlab.collision.scene import Scene
+    from armlab.kinematics.quintic import Motion
+    from armlab.models.arm import Arm
+    from armlab.planning.timing import Fastest
+
+__all__ = ["CONFIRM_SAMPLES", "NoPathError", "Plan", "Planner", "plan_path"]
+
+#: Points along the smooth path at which Drake's query confirms the clearance.
+CONFIRM_SAMPLES = 200
+#: The longest step of one tree extension (rad, or m for a prismatic joint; Euclidean in joint space).
+STEP = 0.5
+#: The most pieces one edge is split into before it counts as blocked (its clearance within round-off of the bound).
+MAX_PIECES = 1 << 16
+#: Seeded shortcut attempts.
+SHORTCUTS = 60
+
+
+class NoPathError(ValueError):
+    """No collision-free path was found within the time budget (the query may have one: a longer budget may)."""
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A planned motion: ``waypoints`` ``(k, n)`` (rad, m) of the shortcut path, ``path`` the smooth path q(s) (a
+    Drake ``PiecewisePolynomial``, s in rad of joint-space length), ``timed`` its fastest timing
+    (:class:`~armlab.planning.timing.Fastest`: ``timed.motion`` to simulate), ``min_clearance`` (m, the smallest of
+    every pair along the smooth path by Drake's query at the confirmation samples) and its pair, ``length`` (rad,
+    the joint-space length of the smooth path), ``planning_time`` (s, search to confirmation, timing excluded),
+    ``nodes`` (the trees' size) and ``samples_checked`` (configurations whose clearances were computed)."""
+
+    waypoints: NDArray[np.float64]
+    path: PiecewisePolynomial
+    timed: Fastest
+    min_clearance: float
+    closest_pair: str
+    length: float
+    planning_time: float
+    nodes: int
+    samples_checked: int
+    clearance: float
+
+    @property
+    def motion(self) -> Motion:
+        """The timed motion (``armlab.simulate(arm, plan.motion)``)."""
+        return self.timed.motion
+
+    @property
+    def duration(self) -> float:
+        """The timed motion's duration (s)."""
+        return self.timed.duration
+
+
+class Planner:
+    """Collision-free joint paths of ``arm`` among ``scene``'s obstacles, ``clearance`` (m) from every one and from
+    itself: the checks :func:`plan_path` uses (module docstring), one collision model for many queries."""
+
+    def __init__(self, arm: Arm, scene: Scene | str | Path | None = None, clearance: float = 0.0) -> None:
+        if not isinstance(clearance, int | float) or isinstance(clearance, bool) or not np.isfinite(clearance) \
+                or clearance < 0:
+            raise ValueError(f"clearance = {clearance!r} is not allowed: give a margin ≥ 0 m")
+        self.arm, self.clearance = arm, float(clearance)
+        self.model = CollisionModel(arm, as_scene(scene))
+        self.lipschitz = 2 * self.model.motion_bound()
+        if not np.all(np.isfinite(self.lipschitz)):
+            raise ValueError(f"{arm.name}: a collision shape's reach is unknown (not a capsule, sphere, box, cylinder "
+                             "or mesh): its motion cannot be certified")
+        self.lower, self.upper = arm.limit_arrays(unlimited=2 * np.pi)
+        self.checked = 0
+
+    # ------------------------------------------------------------------ checks
+    def clearances(self, q: ArrayLike) -> NDArray[np.float64]:
+        """The smallest clearance over every pair (m) at each configuration of ``q`` ``(m, n)``: ``(m,)``."""
+        q = np.asarray(q, dtype=float).reshape(-1, self.arm.n)
+        self.checked += len(q)
+        distance = self.model.distances(q, depth=False).distance  # a depth below −radius changes no answer
+        return distance.min(axis=1) if distance.shape[1] else np.full(len(q), np.inf)
+
+    def free(self, q: ArrayLike) -> NDArray[np.bool_]:
+        """Whether each configuration of ``q`` ``(m, n)`` clears by the clearance."""
+        return np.logical_not(above(-self.clearances(q), -self.clearance))
+
+    def _certify(self, points: Any, starts: NDArray[np.float64], speed: float) -> bool:
+        """Whether the curve ``points(t)`` (t ∈ [0, 1] → ``(m, n)``), whose point moves at most ``speed`` (clearance
+        m per unit t) is free: samples at ``starts`` and 1, pieces split until certified (module docstring)."""
+        t = np.append(starts, 1.0)
+        d = self.clearances(points(t))
+        margin = self.clearance
+        while True:
+            if np.any(above(-d, -margin)):
+                return False
+            h = np.diff(t)
+            certified = np.logical_not(above(-(d[:-1] + d[1:] - speed * h) / 2, -margin))
+            if np.all(certified):
+                return True
+            if len(t) > MAX_PIECES:
+                return False
+            middle = (t[:-1] + t[1:])[~certified] / 2
+            dm = self.clearances(points(middle))
+            t_new = np.concatenate([t, middle])
+            order = np.argsort(t_new, kind="stable")
+            t, d = t_new[order], np.concatenate([d, dm])[order]
+
+    def edge_free(self, a: ArrayLike, b: ArrayLike) -> bool:
+        """Whether the straight joint segment from ``a`` to ``b`` (each ``(n,)``) clears by the clearance at every
+        point (certified: module docstring)."""
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        speed = float(self.lipschitz @ np.abs(b - a))  # clearance change per unit t, at most
+        pieces = max(1, int(np.ceil(speed / 0.02)))  # a first sample every ~2 cm of motion
+        return self._certify(lambda t: a + np.asarray(t)[:, None] * (b - a), np.linspace(0, 1, pieces + 1)[:-1],
+                             speed)
+
+    def arc_free(self, p: NDArray, w: NDArray, r: NDArray) -> bool:
+        """Whether the quadratic Bézier arc p → r with control point ``w`` clears by the clearance (its speed
+        B'(t) = 2((1 − t)(w − p) + t(r − w)) is at most its larger end's, the bound used)."""
+        speed = 2 * max(float(self.lipschitz @ np.abs(w - p)), float(self.lipschitz @ np.abs(r - w)))
+        pieces = max(1, int(np.ceil(speed / 0.02)))
+
+        def points(t: ArrayLike) -> NDArray[np.float64]:
+            t = np.asarray(t)[:, None]
+            return (1 - t) ** 2 * p + 2 * t * (1 - t) * w + t**2 * r
+
+        return self._certify(points, np.linspace(0, 1, pieces + 1)[:-1], speed)
+
+    # ------------------------------------------------------------------ search
+    def _endpoint(self, q: ArrayLike, which: str) -> NDArray[np.float64]:
+        q = self.arm.check_q(q, which)
+        if q.ndim != 1:
+            raise ValueError(f"{which} has shape {q.shape}: give one configuration of {self.arm.n} joint values")
+        found = self.model.distances(q)
+        j = int(np.argmin(found.distance)) if found.distance.size else -1
+        if j >= 0 and above(-float(found.distance[j]), -self.clearance):
+            state = "in contact" if found.distance[j] < 0 else f"within the clearance {self.clearance * 1e3:g} mm"
+            raise ValueError(f"{which} is {state}: {found.names()[j]} at {found.distance[j] * 1e3:+.4g} mm; give a "
+                             "configuration clear of the obstacles and of the arm itself")
+        return q
+
+    def search(self, q0: NDArray[np.float64], qf: NDArray[np.float64], rng: np.random.Generator,
+               deadline: float) -> tuple[list[NDArray[np.float64]], int]:
+        """RRT-Connect from ``q0`` to ``qf`` (both free) until ``deadline`` (``time.perf_counter``): the path's
+        points and the trees' size; :class:`NoPathError` at the deadline."""
+        if self.edge_free(q0, qf):
+            return [q0, qf], 2
+        trees = [([q0], [-1]), ([qf], [-1])]  # (nodes, parent index) grown from the start and from the goal
+        while time.perf_counter() < deadline:
+            sample = rng.uniform(self.lower, self.upper)
+            grow, other = trees
+            reached = self._extend(grow, sample, once=True)
+            if reached is not None:
+                joined = self._extend(other, grow[0][reached], once=False)
+                if joined is not None and np.array_equal(other[0][joined], grow[0][reached]):
+                    path = self._trace(grow, reached)[::-1] + self._trace(other, joined)[1:]
+                    if grow[0][0] is not q0:  # grown from the goal: the path runs goal to start
+                        path = path[::-1]
+                    return path, len(grow[0]) + len(other[0])
+            trees = [other, grow]  # alternate, as RRT-Connect does
+        raise NoPathError(f"{self.arm.name}: no collision-free path found within the time budget "
+                          f"({len(trees[0][0]) + len(trees[1][0])} nodes): give a longer --budget, a smaller "
+                          "--clearance, or check that the goal is reachable around the obstacles")
+
+    def _extend(self, tree: tuple[list[NDArray], list[int]], target: NDArray, once: bool) -> int | None:
+        """Grow ``tree`` from its node nearest ``target`` towards it by steps of :data:`STEP` (one step if
+        ``once``, else until reached or blocked); the index of the last node added, ``None`` if none was."""
+        nodes, parents = tree
+        nearest = int(np.argmin(np.linalg.norm(np.asarray(nodes) - target, axis=1)))
+        added = None
+        while True:
+            start = nodes[nearest]
+            gap = target - start
+            distance = float(np.linalg.norm(gap))
+            if distance <= 1e-12:
+                return added
+            end = target if distance <= STEP else start + gap * (STEP / distance)
+            if not self.edge_free(start, end):
+                return added
+            nodes.append(end)
+            parents.append(nearest)
+            nearest = added = len(nodes) - 1
+            if once or end is target:
+                return added
+
+    @staticmethod
+    def _trace(tree: tuple[list[NDArray], list[int]], index: int) -> list[NDArray[np.float64]]:
+        """The tree's nodes from ``index`` back to its root."""
+        nodes, parents = tree
+        out = []
+        while index >= 0:
+            out.append(nodes[index])
+            index = parents[index]
+        return out
+
+    def shortcut(self, path: list[NDArray[np.float64]], rng: np.random.Generator) -> list[NDArray[np.float64]]:
+        """``path`` shortened: :data:`SHORTCUTS` seeded random pairs joined where the edge is free, then each point
+        joined to the farthest later one it sees."""
+        path = list(path)
+        for _ in range(SHORTCUTS):
+            if len(path) < 3:
+                break
+            i, j = sorted(rng.choice(len(path), 2, replace=False))
+            if j - i > 1 and self.edge_free(path[i], path[j]):
+                path = path[:i + 1] + path[j:]
+        out, i = [path[0]], 0
+        while i < len(path) - 1:
+            j = next(j for j in range(len(path) - 1, i, -1) if j == i + 1 or self.edge_free(path[i], path[j]))
+            out.append(path[j])
+            i = j
+        return out
+
+    def smooth(self, waypoints: list[NDArray[np.float64]]) -> PiecewisePolynomial:
+        """The C¹ path through the straight pieces of ``waypoints``, each corner blended by a certified quadratic
+        arc (module docstring), as a Drake ``PiecewisePolynomial`` q(s) at unit speed, s in joint-space length."""
+        from pydrake.trajectories import PiecewisePolynomial
+
+        points = [np.asarray(p, dtype=float) for p in waypoints]
+        lengths = [float(np.linalg.norm(b - a)) for a, b in zip(points[:-1], points[1:], strict=True)]
+        blends = []
+        for k in range(1, len(points) - 1):
+            size = 0.4 * min(lengths[k - 1], lengths[k])
+            w = points[k]
+            into, out = (w - points[k - 1]) / lengths[k - 1], (points[k + 1] - w) / lengths[k]
+            for _ in range(30):  # halved until certified; a corner that takes none is a stop (size 0)
+                if self.arc_free(w - size * into, w, w + size * out):
+                    break
+                size /= 2
+            else:
+                size = 0.0
+            blends.append(size)
+        sizes = [0.0, *blends, 0.0]
+        directions = [(b - a) / length for a, b, length in zip(points[:-1], points[1:], lengths, strict=True)]
+        knots = [(0.0, points[0], directions[0])]  # (s, q, q'(s)) at each break
+        s = 0.0
+        for k, u in enumerate(directions):
+            start, end = points[k] + sizes[k] * u, points[k + 1] - sizes[k + 1] * u
+            if k > 0 and sizes[k] > 0:  # the arc from the previous piece's end, at unit speed: 2·size long
+                s += 2 * sizes[k]
+                knots.append((s, start, u))
+            elif k > 0:  # a corner without an arc: the path stops there (q' = 0)
+                knots[-1] = (knots[-1][0], knots[-1][1], np.zeros_like(u))
+            s += float(np.linalg.norm(end - start))
+            knots.append((s, end, u))
+        return _hermite([k[0] for k in knots], [k[1] for k in knots], [k[2] for k in knots])
+
+    def plan(self, q0: ArrayLike, qf: ArrayLike, seed: int = 0, budget: float = 5.0, **timing: Any) -> Plan:
+        """The collision-free, smooth, timed motion from ``q0`` to ``qf`` (module docstring); ``timing``: the
+        limits of :func:`armlab.planning.timing.fastest` (``velocity``, ``acceleration``, ``effort``, ``grid`` …)."""
+        budget = check_positive(budget, "budget", "s", "give the planning time budget in seconds (> 0)")
+        began = time.perf_counter()
+        self.checked = 0
+        start, goal = self._endpoint(q0, "the start"), self._endpoint(qf, "the goal")
+        rng = np.random.default_rng(seed)
+        found, nodes = self.search(start, goal, rng, began + budget)
+        waypoints = self.shortcut(found, rng)
+        path = self.smooth(waypoints)
+        s = np.linspace(path.start_time(), path.end_time(), CONFIRM_SAMPLES)
+        confirmed = self.model.drake(np.array([path.value(t)[:, 0] for t in s]))
+        worst = np.unravel_index(int(np.argmin(confirmed.distance)), confirmed.distance.shape) \
+            if confirmed.distance.size else None
+        least = float(confirmed.distance[worst]) if worst is not None else float("inf")
+        if above(-least, -self.clearance):
+            raise RuntimeError(f"{self.arm.name}: Drake's query finds {confirmed.names()[worst[1]]} at "
+                               f"{least * 1e3:+.4g} mm on the certified path: armlab's numpy clearances disagree")
+        planning_time = time.perf_counter() - began
+        timed = fastest(self.arm, path, **{"grid": DEFAULT_GRID, **timing})
+        return Plan(np.array(waypoints), path, timed, least, confirmed.names()[worst[1]] if worst is not None else "",
+                    float(path.end_time() - path.start_time()), planning_time, nodes, self.checked, self.clearance)
+
+
+def _hermite(breaks: list[float], values: list[NDArray], slopes: list[NDArray]) -> PiecewisePolynomial:
+    """Drake's cubic Hermite through ``values`` at ``breaks`` with ``slopes``: exactly each straight piece and each
+    quadratic arc (the unique cubic with those ends and end slopes)."""
+    from pydrake.trajectories import PiecewisePolynomial
+
+    return PiecewisePolynomial.CubicHermite(np.asarray(breaks), np.asarray(values).T, np.asarray(slopes).T)
+
+
+def plan_path(arm: Arm, q0: ArrayLike, qf: ArrayLike, scene: Scene | str | Path | None = None,
+              clearance: float = 0.0, seed: int = 0, budget: float = 5.0, **timing: Any) -> Plan:
+    """A motion of ``arm`` from ``q0`` to ``qf`` (each ``(n,)``, rad and m) that clears ``scene``'s obstacles and
+    the arm itself by ``clearance`` (m) at every point, as fast as the limits allow (:class:`Plan`; module
+    docstring). ``seed``: the random search's seed (the same query, the same plan); ``budget``: the search's time
+    (s). ``timing``: :func:`armlab.planning.timing.fastest`'s limits (``velocity``, ``acceleration``, ``effort``,
+    ``drives``, ``grid`` …). One-line ``ValueError`` for a start or goal outside the limits, in contact or within
+    the clearance, a bad clearance or budget; :class:`NoPathError` when the budget runs out."""
+    return Planner(arm, scene, clearance).plan(q0, qf, seed=seed, budget=budget, **timing)
