@@ -30,8 +30,8 @@ if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
     from armlab.kinematics.dh import DHTable
     from armlab.kinematics.ik_closed_form import ClosedForm
-    from armlab.models.meshes import Hull
     from armlab.models.extras import MotionFn, PaperScheme
+    from armlab.models.meshes import Hull
     from armlab.models.plant import PlantOptions
 
 __all__ = ["MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]

@@ -9,7 +9,8 @@ first fixed child declared). ``package://NAME/…`` meshes are found through :fu
 URDF's folder and the two above it, the folders ``package_paths`` names (``--package-path``) and
 ``ROS_PACKAGE_PATH``, or by a folder of that name there. A collision mesh is its convex hull (STL and
 COLLADA ones read by armlab, :attr:`~armlab.models.arm.Arm.collision_hulls`); a mesh that cannot be found, or a
-collision mesh with no hull, is left out with a warning (:mod:`armlab.models.meshes`). ``<mimic>`` on a fixed joint does nothing and is ignored.
+collision mesh with no hull, is left out with a warning (:mod:`armlab.models.meshes`). ``<mimic>`` on a fixed
+joint does nothing and is ignored.
 Refused with a one-line ``ValueError``: XML document-type or entity definitions (outside comments),
 an empty ``<robot>``, an unexpanded xacro file, joint cycles, mimic on a moving joint, floating and
 planar joints, reversed limits, a non-physical inertia or a centre of mass far beyond the arm

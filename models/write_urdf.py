@@ -16,14 +16,15 @@ the parent link, a red ball at the tool. Every joint is actuated through a ``Sim
 
 Collision geometry (a :class:`Body` with ``collides``): capsules of the link's radius along its axis, by default
 from its frame's origin to the next frame's origin (``linkI_capsule``, ``linkI_capsule2`` … for an axis of several
-pieces; a sphere where the axis has no length), and a column from the base to joint 1, where there is one, as a capsule of
-link 1's radius (``base_link_column``). The base disc has none: the ground under the arm is a scene's floor.
+pieces; a sphere where the axis has no length), and a column from the base to joint 1, where there is one, as a
+capsule of link 1's radius (``base_link_column``). The base disc has none: the ground under the arm is a scene's floor.
 Drake filters the pairs of adjacent links itself; the pairs that touch by construction (:func:`touching_pairs`:
 the links of a wrist whose frames coincide) are filtered by Drake collision filter groups written here.
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from html import escape
 
@@ -214,7 +215,7 @@ def _capsule_collision(name: str, start: NDArray, end: NDArray, radius: float) -
 def _link_collisions(i: int, body: Body, end: NDArray) -> list[str]:
     """Link ``i``'s collision capsules along its axis (:func:`link_axis`): ``linkI_capsule``, ``linkI_capsule2`` …"""
     points = link_axis(body, end)
-    pieces = list(zip(points[:-1], points[1:], strict=True)) or [(points[0], points[0])]
+    pieces = list(itertools.pairwise(points)) or [(points[0], points[0])]
     return [_capsule_collision(f"link{i}_capsule{k + 1 if k else ''}", a, b, body.radius)
             for k, (a, b) in enumerate(pieces)]
 
@@ -224,7 +225,7 @@ def _to_axis(point: NDArray, axis: list[NDArray[np.float64]]) -> float:
     if len(axis) == 1:
         return float(np.linalg.norm(point - axis[0]))
     best = np.inf
-    for a, b in zip(axis[:-1], axis[1:], strict=True):
+    for a, b in itertools.pairwise(axis):
         s = float(np.clip((point - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0))
         best = min(best, float(np.linalg.norm(point - a - s * (b - a))))
     return best

@@ -24,6 +24,7 @@ limits allow (:func:`plan_path`, ``armlab plan ARM to``).
 
 from __future__ import annotations
 
+import itertools
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -250,10 +251,8 @@ class Planner:
     def smooth(self, waypoints: list[NDArray[np.float64]]) -> PiecewisePolynomial:
         """The C¹ path through the straight pieces of ``waypoints``, each corner blended by a certified quadratic
         arc (module docstring), as a Drake ``PiecewisePolynomial`` q(s) at unit speed, s in joint-space length."""
-        from pydrake.trajectories import PiecewisePolynomial
-
         points = [np.asarray(p, dtype=float) for p in waypoints]
-        lengths = [float(np.linalg.norm(b - a)) for a, b in zip(points[:-1], points[1:], strict=True)]
+        lengths = [float(np.linalg.norm(b - a)) for a, b in itertools.pairwise(points)]
         blends = []
         for k in range(1, len(points) - 1):
             size = 0.4 * min(lengths[k - 1], lengths[k])
@@ -293,17 +292,18 @@ class Planner:
         waypoints = self.shortcut(found, rng)
         path = self.smooth(waypoints)
         s = np.linspace(path.start_time(), path.end_time(), CONFIRM_SAMPLES)
-        confirmed = self.model.drake(np.array([path.value(t)[:, 0] for t in s]))
-        worst = np.unravel_index(int(np.argmin(confirmed.distance)), confirmed.distance.shape) \
-            if confirmed.distance.size else None
-        least = float(confirmed.distance[worst]) if worst is not None else float("inf")
-        if above(-least, -self.clearance):
-            raise RuntimeError(f"{self.arm.name}: Drake's query finds {confirmed.names()[worst[1]]} at "
-                               f"{least * 1e3:+.4g} mm on the certified path: armlab's numpy clearances disagree")
         planning_time = time.perf_counter() - began
+        confirmed = self.model.drake(np.array([path.value(t)[:, 0] for t in s]))
+        least, closest = float("inf"), ""
+        if confirmed.distance.size:
+            pair = int(np.argmin(confirmed.distance.min(axis=0)))
+            least, closest = float(confirmed.distance[:, pair].min()), confirmed.names()[pair]
+        if above(-least, -self.clearance):
+            raise RuntimeError(f"{self.arm.name}: Drake's query finds {closest} at {least * 1e3:+.4g} mm on the "
+                               "certified path: armlab's numpy clearances disagree")
         timed = fastest(self.arm, path, **{"grid": DEFAULT_GRID, **timing})
-        return Plan(np.array(waypoints), path, timed, least, confirmed.names()[worst[1]] if worst is not None else "",
-                    float(path.end_time() - path.start_time()), planning_time, nodes, self.checked, self.clearance)
+        return Plan(np.array(waypoints), path, timed, least, closest, float(path.end_time() - path.start_time()),
+                    planning_time, nodes, self.checked, self.clearance)
 
 
 def _hermite(breaks: list[float], values: list[NDArray], slopes: list[NDArray]) -> PiecewisePolynomial:
@@ -311,7 +311,8 @@ def _hermite(breaks: list[float], values: list[NDArray], slopes: list[NDArray]) 
     quadratic arc (the unique cubic with those ends and end slopes)."""
     from pydrake.trajectories import PiecewisePolynomial
 
-    return PiecewisePolynomial.CubicHermite(np.asarray(breaks), np.asarray(values).T, np.asarray(slopes).T)
+    return PiecewisePolynomial.CubicHermite(breaks, [np.asarray(v, dtype=float).reshape(-1, 1) for v in values],
+                                            [np.asarray(v, dtype=float).reshape(-1, 1) for v in slopes])
 
 
 def plan_path(arm: Arm, q0: ArrayLike, qf: ArrayLike, scene: Scene | str | Path | None = None,

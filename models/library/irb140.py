@@ -42,6 +42,6 @@ def build() -> Arm:
              "limits": "position: the toolbox's qlim (joint 6 ±400°); velocity: ABB's, as ARTE's parameters.m",
              "masses": "not used: the toolbox's have centres of mass at 198 km and 80 m (unit slips) and none for "
                        "the wrist; a kinematic arm"}
-    return library_dh_arm("irb140", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],
-                          [degrees(lo, hi, velocity_deg=v) for (lo, hi), v in zip(LIMITS_DEG, VELOCITY_DEG,
-                                                                                  strict=True)], None, notes, RADII, HOME)
+    limits = [degrees(lo, hi, velocity_deg=v) for (lo, hi), v in zip(LIMITS_DEG, VELOCITY_DEG, strict=True)]
+    return library_dh_arm("irb140", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH], limits,
+                          None, notes, RADII, HOME)
