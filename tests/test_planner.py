@@ -147,3 +147,26 @@ def test_the_simulated_plan_keeps_its_clearance(planned):
     assert run.clearance is not None
     assert run.clearance.distance.min() >= MARGIN - 2 * drake.motion_bound() @ lag
     assert run.collisions == []
+
+
+def test_segments_file_plan_segment(tmp_path, planned):
+    """A segments file's "plan" segment (its scene beside the file) is plan_path's timed motion, then a quintic on."""
+    arm, _, plan = planned
+    (tmp_path / "box.json").write_text(json.dumps(SCENE))
+    path = tmp_path / "run.json"
+    path.write_text(json.dumps({"segments": [
+        {"from": START, "to": GOAL, "plan": {"scene": "box.json", "clearance": MARGIN, "seed": 1}, "label": "around"},
+        {"to": START, "tf": 2.0}]}))
+    motion = armlab.read_segments(arm, path)
+    assert motion.labels() == ["around", "2"]
+    np.testing.assert_allclose(motion.breaks[1], plan.duration, rtol=1e-12)
+    q = motion.evaluate(np.linspace(0, plan.duration, 50), 1)[0]
+    np.testing.assert_allclose(q, plan.motion.evaluate(np.linspace(0, plan.duration, 50), 1)[0], rtol=0, atol=1e-12)
+    for bad, message in (({"scene": "box.json", "radius": 1}, r"\"plan\" = .* is not allowed"),
+                         ({"scene": 3}, "plan scene = 3 must be a scene file's name")):
+        path.write_text(json.dumps({"segments": [{"from": START, "to": GOAL, "plan": bad}]}))
+        with pytest.raises(ValueError, match=message):
+            armlab.read_segments(arm, path)
+    path.write_text(json.dumps({"segments": [{"from": START, "to": GOAL, "plan": {"scene": "box.json"}, "tf": 1}]}))
+    with pytest.raises(ValueError, match="takes no \"tf\""):
+        armlab.read_segments(arm, path)
