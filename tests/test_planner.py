@@ -158,7 +158,7 @@ def test_segments_file_plan_segment(tmp_path, planned):
         {"from": START, "to": GOAL, "plan": {"scene": "box.json", "clearance": MARGIN, "seed": 1}, "label": "around"},
         {"to": START, "tf": 2.0}]}))
     motion = armlab.read_segments(arm, path)
-    assert motion.labels() == ["around", "2"]
+    assert motion.labels == ["around", "2"]
     np.testing.assert_allclose(motion.breaks[1], plan.duration, rtol=1e-12)
     q = motion.evaluate(np.linspace(0, plan.duration, 50), 1)[0]
     np.testing.assert_allclose(q, plan.motion.evaluate(np.linspace(0, plan.duration, 50), 1)[0], rtol=0, atol=1e-12)
