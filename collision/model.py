@@ -320,17 +320,23 @@ class CollisionModel:
         distance, point_a, point_b = np.empty((len(flat), G)), np.empty((len(flat), G, 3)), np.empty((len(flat), G, 3))
         A = [self._parts[a] for a, _ in self._geometry_pairs]
         B = [self._parts[b] for _, b in self._geometry_pairs]
+        geometries = list(dict.fromkeys(g for pair in self._geometry_pairs for g in pair))  # each part's ends once
+        index = {g: k for k, g in enumerate(geometries)}
+        ia, ib = (np.array([index[pair[k]] for pair in self._geometry_pairs], dtype=np.intp) for k in (0, 1))
+        rA, rB = np.array([p.radius for p in A]), np.array([p.radius for p in B])
+        floor = np.array([p.kind == "floor" for p in B], dtype=bool)
+        box = np.array([p.kind == "box" for p in B], dtype=bool)
+        capsule = ~(floor | box)
         for block in blocks(len(flat)) if G else []:
             frames = self.arm.table.frames(flat[block])  # (B, n+2, 4, 4)
-            ends = [self._ends(frames, part) for part in (*A, *B)]
-            P0 = np.stack([e[0] for e in ends[:G]], axis=1)
-            P1 = np.stack([e[1] for e in ends[:G]], axis=1)
-            Q0 = np.stack([e[0] for e in ends[G:]], axis=1)
-            Q1 = np.stack([e[1] for e in ends[G:]], axis=1)
-            rA, rB = np.array([p.radius for p in A]), np.array([p.radius for p in B])
-            floor = np.array([p.kind == "floor" for p in B])
-            box = np.array([p.kind == "box" for p in B])
-            d, pa, pb = capsule_capsule(P0, P1, rA, Q0, Q1, rB)
+            ends = [self._ends(frames, self._parts[g]) for g in geometries]
+            E0, E1 = np.stack([e[0] for e in ends], axis=1), np.stack([e[1] for e in ends], axis=1)
+            P0, P1, Q0, Q1 = E0[:, ia], E1[:, ia], E0[:, ib], E1[:, ib]
+            size = len(frames)
+            d, pa, pb = np.empty((size, G)), np.empty((size, G, 3)), np.empty((size, G, 3))
+            if capsule.any():
+                d[:, capsule], pa[:, capsule], pb[:, capsule] = capsule_capsule(
+                    P0[:, capsule], P1[:, capsule], rA[capsule], Q0[:, capsule], Q1[:, capsule], rB[capsule])
             if floor.any():
                 fd, fa, fb = capsule_floor(P0[:, floor], P1[:, floor], rA[floor], Q0[:, floor], Q1[:, floor])
                 d[:, floor], pa[:, floor], pb[:, floor] = fd, fa, fb

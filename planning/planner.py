@@ -46,7 +46,7 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
     from armlab.planning.timing import Fastest
 
-__all__ = ["CONFIRM_SAMPLES", "NoPathError", "Plan", "Planner", "plan_path"]
+__all__ = ["CONFIRM_SAMPLES", "NoPathError", "Plan", "Planner", "Route", "plan_path"]
 
 #: Points along the smooth path at which Drake's query confirms the clearance.
 CONFIRM_SAMPLES = 200
@@ -54,6 +54,10 @@ CONFIRM_SAMPLES = 200
 STEP = 0.5
 #: The most pieces one edge is split into before it counts as blocked (its clearance within round-off of the bound).
 MAX_PIECES = 1 << 16
+#: A curve's first samples (:func:`_first_samples`): one per this much (m) of its possible clearance change, at
+#: most this many; then only the pieces not certified are split.
+FIRST_SPACING = 0.05
+FIRST_SAMPLES = 32
 #: Seeded shortcut attempts.
 SHORTCUTS = 60
 
@@ -93,6 +97,20 @@ class Plan:
         return self.timed.duration
 
 
+@dataclass(frozen=True)
+class Route:
+    """A collision-free path before its timing (:meth:`Planner.route`): ``waypoints`` ``(k, n)``, the smooth
+    ``path`` q(s), the trees' size ``nodes``, ``planning_time`` (s; ``search_time`` of it the search's) and the
+    configurations ``checked``."""
+
+    waypoints: NDArray[np.float64]
+    path: PiecewisePolynomial
+    nodes: int
+    planning_time: float
+    checked: int
+    search_time: float
+
+
 class Planner:
     """Collision-free joint paths of ``arm`` among ``scene``'s obstacles, ``clearance`` (m) from every one and from
     itself: the checks :func:`plan_path` uses (module docstring), one collision model for many queries."""
@@ -123,8 +141,10 @@ class Planner:
         return np.logical_not(above(-self.clearances(q), -self.clearance))
 
     def _certify(self, points: Any, starts: NDArray[np.float64], speed: float) -> bool:
-        """Whether the curve ``points(t)`` (t ∈ [0, 1] → ``(m, n)``), whose point moves at most ``speed`` (clearance
-        m per unit t) is free: samples at ``starts`` and 1, pieces split until certified (module docstring)."""
+        """Whether the curve ``points(t)`` (t ∈ [0, 1] → ``(m, n)``), whose clearances change at most ``speed`` (m
+        per unit t), is free: samples at ``starts`` and 1, each piece not certified split (in one batch a round)
+        into as many as its samples' clearances say it needs, until all are certified or a sample is within the
+        clearance (module docstring)."""
         t = np.append(starts, 1.0)
         d = self.clearances(points(t))
         margin = self.clearance
@@ -137,7 +157,11 @@ class Planner:
                 return True
             if len(t) > MAX_PIECES:
                 return False
-            middle = (t[:-1] + t[1:])[~certified] / 2
+            # split each uncertified piece into as many as its two clearances say would certify (2 … 64)
+            lo, width = t[:-1][~certified], h[~certified]
+            room = (d[:-1] + d[1:])[~certified] - 2 * margin  # > 0: both samples clear the margin
+            parts = np.clip(np.ceil(speed * width / np.maximum(room, 1e-300)), 2, 64).astype(int)
+            middle = np.concatenate([a + w * np.arange(1, k) / k for a, w, k in zip(lo, width, parts, strict=True)])
             dm = self.clearances(points(middle))
             t_new = np.concatenate([t, middle])
             order = np.argsort(t_new, kind="stable")
@@ -148,21 +172,17 @@ class Planner:
         point (certified: module docstring)."""
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
         speed = float(self.lipschitz @ np.abs(b - a))  # clearance change per unit t, at most
-        pieces = max(1, int(np.ceil(speed / 0.02)))  # a first sample every ~2 cm of motion
-        return self._certify(lambda t: a + np.asarray(t)[:, None] * (b - a), np.linspace(0, 1, pieces + 1)[:-1],
-                             speed)
+        return self._certify(lambda t: a + np.asarray(t)[:, None] * (b - a), _first_samples(speed), speed)
 
     def arc_free(self, p: NDArray, w: NDArray, r: NDArray) -> bool:
         """Whether the quadratic Bézier arc p → r with control point ``w`` clears by the clearance (its speed
         B'(t) = 2((1 − t)(w − p) + t(r − w)) is at most its larger end's, the bound used)."""
         speed = 2 * max(float(self.lipschitz @ np.abs(w - p)), float(self.lipschitz @ np.abs(r - w)))
-        pieces = max(1, int(np.ceil(speed / 0.02)))
-
         def points(t: ArrayLike) -> NDArray[np.float64]:
             t = np.asarray(t)[:, None]
             return (1 - t) ** 2 * p + 2 * t * (1 - t) * w + t**2 * r
 
-        return self._certify(points, np.linspace(0, 1, pieces + 1)[:-1], speed)
+        return self._certify(points, _first_samples(speed), speed)
 
     # ------------------------------------------------------------------ search
     def _endpoint(self, q: ArrayLike, which: str) -> NDArray[np.float64]:
@@ -280,19 +300,27 @@ class Planner:
             knots.append((s, end, u))
         return _hermite([k[0] for k in knots], [k[1] for k in knots], [k[2] for k in knots])
 
-    def plan(self, q0: ArrayLike, qf: ArrayLike, seed: int = 0, budget: float = 5.0, **timing: Any) -> Plan:
-        """The collision-free, smooth, timed motion from ``q0`` to ``qf`` (module docstring); ``timing``: the
-        limits of :func:`armlab.planning.timing.fastest` (``velocity``, ``acceleration``, ``effort``, ``grid`` …)."""
+    def route(self, q0: ArrayLike, qf: ArrayLike, seed: int = 0, budget: float = 5.0) -> Route:
+        """The collision-free smooth path from ``q0`` to ``qf``, untimed and unconfirmed: search, shortcutting and
+        smoothing (module docstring, steps 1-4), within ``budget`` s of search."""
         budget = check_positive(budget, "budget", "s", "give the planning time budget in seconds (> 0)")
         began = time.perf_counter()
         self.checked = 0
         start, goal = self._endpoint(q0, "the start"), self._endpoint(qf, "the goal")
         rng = np.random.default_rng(seed)
         found, nodes = self.search(start, goal, rng, began + budget)
+        searched = time.perf_counter() - began
         waypoints = self.shortcut(found, rng)
         path = self.smooth(waypoints)
+        return Route(np.array(waypoints), path, nodes, time.perf_counter() - began, self.checked, searched)
+
+    def plan(self, q0: ArrayLike, qf: ArrayLike, seed: int = 0, budget: float = 5.0, **timing: Any) -> Plan:
+        """The collision-free, smooth, confirmed, timed motion from ``q0`` to ``qf`` (module docstring: :meth:`route`,
+        then Drake's confirmation and the timing); ``timing``: the limits of
+        :func:`armlab.planning.timing.fastest` (``velocity``, ``acceleration``, ``effort``, ``grid`` …)."""
+        route = self.route(q0, qf, seed, budget)
+        path = route.path
         s = np.linspace(path.start_time(), path.end_time(), CONFIRM_SAMPLES)
-        planning_time = time.perf_counter() - began
         confirmed = self.model.drake(np.array([path.value(t)[:, 0] for t in s]))
         least, closest = float("inf"), ""
         if confirmed.distance.size:
@@ -302,8 +330,16 @@ class Planner:
             raise RuntimeError(f"{self.arm.name}: Drake's query finds {closest} at {least * 1e3:+.4g} mm on the "
                                "certified path: armlab's numpy clearances disagree")
         timed = fastest(self.arm, path, **{"grid": DEFAULT_GRID, **timing})
-        return Plan(np.array(waypoints), path, timed, least, closest, float(path.end_time() - path.start_time()),
-                    planning_time, nodes, self.checked, self.clearance)
+        return Plan(route.waypoints, path, timed, least, closest, float(path.end_time() - path.start_time()),
+                    route.planning_time, route.nodes, route.checked, self.clearance)
+
+
+def _first_samples(speed: float) -> NDArray[np.float64]:
+    """Where a curve's check starts (t ∈ [0, 1), the end added): a sample every :data:`FIRST_SPACING` m of the
+    most its clearance can change (``speed``, m per unit t), at most :data:`FIRST_SAMPLES`; the certificate splits
+    the pieces it cannot certify (far from everything, a coarse piece certifies; near something, it is split)."""
+    pieces = int(min(FIRST_SAMPLES, max(1, np.ceil(speed / FIRST_SPACING))))
+    return np.linspace(0.0, 1.0, pieces + 1)[:-1]
 
 
 def _hermite(breaks: list[float], values: list[NDArray], slopes: list[NDArray]) -> PiecewisePolynomial:
