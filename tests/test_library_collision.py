@@ -8,7 +8,7 @@ import struct
 
 import numpy as np
 import pytest
-from helpers import armlab_main, random_q
+from helpers import armlab_main, random_q, three_link_urdf
 from numpy.testing import assert_allclose
 
 import armlab
@@ -158,25 +158,6 @@ def _obj(points: np.ndarray) -> str:
         f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in _FACES)
 
 
-def _mesh_arm(folder, mesh: str) -> str:
-    """A two-joint arm 0.1 m up whose forearm is the mesh ``mesh``, centred 0.15 m from the elbow."""
-    limit = '<limit lower="-3" upper="3" effort="10" velocity="5"/>'
-    path = folder / "arm.urdf"
-    path.write_text(f"""<robot name="meshy">
-  <link name="base"/>
-  <link name="upper"><collision><origin xyz="0.2 0 0" rpy="0 1.5707963267948966 0"/>
-    <geometry><cylinder radius="0.03" length="0.4"/></geometry></collision></link>
-  <link name="fore"><collision><origin xyz="0.15 0 0"/><geometry><mesh filename="{mesh}"/></geometry></collision>
-  </link>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.1"/>
-    <axis xyz="0 1 0"/>{limit}</joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/>
-    <axis xyz="0 1 0"/>{limit}</joint>
-</robot>
-""")
-    return str(path)
-
-
 def test_stl_and_collada_collision_meshes_are_their_convex_hulls(tmp_path):
     """The same box as an OBJ (Drake reads it), a binary STL and a COLLADA file in centimetres with nested node
     transforms (armlab reads them): the forearm's clearance to the floor is the same to 1e-9 m, and the test's own
@@ -196,10 +177,10 @@ def test_stl_and_collada_collision_meshes_are_their_convex_hulls(tmp_path):
         (folder / f"box.{kind}").write_bytes((tmp_path / f"box.{kind}").read_bytes())
         with warnings.catch_warnings():
             warnings.simplefilter("error")  # nothing left out
-            arms[kind] = get_arm(_mesh_arm(folder, f"box.{kind}"))
+            arms[kind] = get_arm(three_link_urdf(folder, f'<mesh filename="box.{kind}"/>'))
     assert len(arms["stl"].collision_hulls) == 1 and arms["obj"].collision_hulls == ()
     for q2 in (0.0, 0.5, -1.0, 2.0):
-        q = [0.0, q2]
+        q = [0.0, q2, 0.0]
         rows = {kind: {r["pair"]: r["distance"] for r in clearance(arm, q, floor)} for kind, arm in arms.items()}
         # joints about +y turn x towards −z: the box's centre 0.15 m along (cos q2, 0, −sin q2) from (0.4, 0, 0.1)
         expected = 0.1 - 0.15 * np.sin(q2) - (half[0] * abs(np.sin(q2)) + half[2] * abs(np.cos(q2))) + 0.05
@@ -209,7 +190,7 @@ def test_stl_and_collada_collision_meshes_are_their_convex_hulls(tmp_path):
     flat.mkdir()
     (flat / "box.stl").write_bytes(_stl(points * [1, 1, 0]))
     with pytest.warns(UserWarning, match=r"collision mesh\(es\) left out.*one plane"):
-        get_arm(_mesh_arm(flat, "box.stl"))
+        get_arm(three_link_urdf(flat, '<mesh filename="box.stl"/>'))
 
 
 def test_package_found_by_its_folder_name(tmp_path):
@@ -227,7 +208,8 @@ def test_package_found_by_its_folder_name(tmp_path):
                                          '<maintainer email="a@b.c">a</maintainer><license>BSD</license></package>')
     mesh = package / "robots" / "meshy" / "meshes" / "box.stl"
     mesh.write_bytes(_stl(_box_points(np.array([0.15, 0.02, 0.02]))))
-    urdf = _mesh_arm(package / "robots" / "meshy" / "urdf", "package://example-robot-data/robots/meshy/meshes/box.stl")
+    urdf = three_link_urdf(package / "robots" / "meshy" / "urdf",
+                           '<mesh filename="package://example-robot-data/robots/meshy/meshes/box.stl"/>')
     with pytest.warns(UserWarning, match="1 mesh"):
         assert get_arm(urdf).collision_hulls == ()  # not found without the package path
     with warnings.catch_warnings():
