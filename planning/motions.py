@@ -337,7 +337,8 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
             raise ValueError(f"{where}: expected an object, got {spec!r}")
         tool_path = any(key in spec for key in _TOOL_PATH_KEYS)
         timed = spec.get("profile") == "fastest" or "plan" in spec
-        allowed = known | ({"plan"} if "plan" in spec else set()) | ({"samples", *_TOOL_PATH_KEYS} if tool_path else {"through", "degree"} if "through" in spec
+        allowed = known | ({"plan"} if "plan" in spec else set()) | (
+                           {"samples", *_TOOL_PATH_KEYS} if tool_path else {"through", "degree"} if "through" in spec
                            else set()) | ({"velocity", "acceleration", "effort"} if timed
                                           else {"speed", "acceleration"} if tool_path
                                           else {"velocity", "acceleration"} if spec.get("profile") == "trapezoid"

@@ -46,18 +46,18 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
     from armlab.planning.timing import Fastest
 
-__all__ = ["CONFIRM_SAMPLES", "NoPathError", "Plan", "Planner", "Route", "plan_path"]
+__all__ = ["CONFIRM_SAMPLES", "NoPathError", "Plan", "Planner", "Roadmap", "Route", "plan_path"]
 
 #: Points along the smooth path at which Drake's query confirms the clearance.
 CONFIRM_SAMPLES = 200
 #: The longest step of one tree extension (rad, or m for a prismatic joint; Euclidean in joint space).
-STEP = 0.5
+STEP = 2.0
 #: The most pieces one edge is split into before it counts as blocked (its clearance within round-off of the bound).
 MAX_PIECES = 1 << 16
 #: A curve's first samples (:func:`_first_samples`): one per this much (m) of its possible clearance change, at
 #: most this many; then only the pieces not certified are split.
 FIRST_SPACING = 0.05
-FIRST_SAMPLES = 32
+FIRST_SAMPLES = 8
 #: Seeded shortcut attempts.
 SHORTCUTS = 60
 
@@ -300,25 +300,33 @@ class Planner:
             knots.append((s, end, u))
         return _hermite([k[0] for k in knots], [k[1] for k in knots], [k[2] for k in knots])
 
-    def route(self, q0: ArrayLike, qf: ArrayLike, seed: int = 0, budget: float = 5.0) -> Route:
+    def route(self, q0: ArrayLike, qf: ArrayLike, seed: int = 0, budget: float = 5.0,
+              roadmap: Roadmap | None = None) -> Route:
         """The collision-free smooth path from ``q0`` to ``qf``, untimed and unconfirmed: search, shortcutting and
-        smoothing (module docstring, steps 1-4), within ``budget`` s of search."""
+        smoothing (module docstring, steps 1-4), within ``budget`` s of search; with a ``roadmap`` (of this planner)
+        its shortest free path instead of the search (:class:`Roadmap`)."""
         budget = check_positive(budget, "budget", "s", "give the planning time budget in seconds (> 0)")
         began = time.perf_counter()
         self.checked = 0
         start, goal = self._endpoint(q0, "the start"), self._endpoint(qf, "the goal")
         rng = np.random.default_rng(seed)
-        found, nodes = self.search(start, goal, rng, began + budget)
+        if roadmap is not None:
+            if roadmap.planner is not self:
+                raise ValueError("the roadmap was built by another planner (another arm, scene or clearance)")
+            found, nodes = roadmap.path(start, goal), len(roadmap.nodes)
+        else:
+            found, nodes = self.search(start, goal, rng, began + budget)
         searched = time.perf_counter() - began
         waypoints = self.shortcut(found, rng)
         path = self.smooth(waypoints)
         return Route(np.array(waypoints), path, nodes, time.perf_counter() - began, self.checked, searched)
 
-    def plan(self, q0: ArrayLike, qf: ArrayLike, seed: int = 0, budget: float = 5.0, **timing: Any) -> Plan:
+    def plan(self, q0: ArrayLike, qf: ArrayLike, seed: int = 0, budget: float = 5.0, roadmap: Roadmap | None = None,
+             **timing: Any) -> Plan:
         """The collision-free, smooth, confirmed, timed motion from ``q0`` to ``qf`` (module docstring: :meth:`route`,
         then Drake's confirmation and the timing); ``timing``: the limits of
         :func:`armlab.planning.timing.fastest` (``velocity``, ``acceleration``, ``effort``, ``grid`` …)."""
-        route = self.route(q0, qf, seed, budget)
+        route = self.route(q0, qf, seed, budget, roadmap)
         path = route.path
         s = np.linspace(path.start_time(), path.end_time(), CONFIRM_SAMPLES)
         confirmed = self.model.drake(np.array([path.value(t)[:, 0] for t in s]))
@@ -332,6 +340,102 @@ class Planner:
         timed = fastest(self.arm, path, **{"grid": DEFAULT_GRID, **timing})
         return Plan(route.waypoints, path, timed, least, closest, float(path.end_time() - path.start_time()),
                     route.planning_time, route.nodes, route.checked, self.clearance)
+
+
+class Roadmap:
+    """A lazy probabilistic roadmap (Bohlin & Kavraki's Lazy PRM, ICRA 2000) of one planner's arm and scene, for many
+    queries in it: ``nodes`` seeded random free configurations, each joined to its ``neighbours`` nearest (joint-space
+    distance), the edges checked only when a query's shortest path uses them (certified as :meth:`Planner.edge_free`
+    does) and remembered, blocked or free, for the next queries. ``Planner.route(…, roadmap=)`` or
+    ``plan_path(…, roadmap=)`` use it instead of the tree search."""
+
+    def __init__(self, planner: Planner, nodes: int = 400, neighbours: int = 10, seed: int = 0) -> None:
+        for value, name in ((nodes, "nodes"), (neighbours, "neighbours")):
+            if not isinstance(value, int) or isinstance(value, bool) or value < 2:
+                raise ValueError(f"{name} = {value!r} is not allowed: a whole number ≥ 2")
+        self.planner = planner
+        rng = np.random.default_rng(seed)
+        found: list[NDArray[np.float64]] = []
+        for _ in range(1000):  # batches of samples until enough are free
+            q = rng.uniform(planner.lower, planner.upper, (max(64, nodes), planner.arm.n))
+            found.extend(q[planner.free(q)])
+            if len(found) >= nodes:
+                break
+        if len(found) < nodes:
+            raise ValueError(f"{planner.arm.name}: fewer than {nodes} free configurations found: the scene leaves "
+                             "the arm almost no room")
+        self.nodes = np.array(found[:nodes])
+        self.neighbours = neighbours
+        self._near = self._nearest(self.nodes)
+        self._verdict: dict[tuple[int, int], bool] = {}
+
+    @property
+    def verdicts(self) -> dict[tuple[int, int], bool]:
+        """The roadmap edges checked so far (node index pairs, the lower first) and whether each is free."""
+        return dict(self._verdict)
+
+    def _nearest(self, points: NDArray[np.float64]) -> NDArray[np.intp]:
+        """The indices of each point's :attr:`neighbours` nearest roadmap nodes (itself excluded) ``(m, k)``."""
+        gaps = np.linalg.norm(points[:, None, :] - self.nodes[None, :, :], axis=-1)
+        gaps[gaps == 0] = np.inf
+        return np.argsort(gaps, axis=1)[:, :self.neighbours]
+
+    def _free(self, a: int, b: int, points: NDArray[np.float64]) -> bool:
+        key = (min(a, b), max(a, b))
+        if key not in self._verdict or key[1] >= len(self.nodes):  # a query's own edges are not remembered
+            verdict = self.planner.edge_free(points[a], points[b])
+            if key[1] >= len(self.nodes):
+                return verdict
+            self._verdict[key] = verdict
+        return self._verdict[key]
+
+    def path(self, q0: NDArray[np.float64], qf: NDArray[np.float64]) -> list[NDArray[np.float64]]:
+        """The shortest path from ``q0`` to ``qf`` (both free) through the roadmap whose edges are free, checking
+        the edges of each shortest candidate in turn (Dijkstra's search); :class:`NoPathError` when the free edges
+        do not connect them."""
+        import heapq
+
+        if self.planner.edge_free(q0, qf):
+            return [q0, qf]
+        N = len(self.nodes)
+        points = np.vstack([self.nodes, q0, qf])
+        ends = self._nearest(np.stack([q0, qf]))
+        graph: dict[int, set[int]] = {i: set(map(int, row)) for i, row in enumerate(self._near)}
+        for i in range(N):
+            for j in self._near[i]:
+                graph[int(j)].add(i)
+        graph[N], graph[N + 1] = set(map(int, ends[0])), set(map(int, ends[1]))
+        for end, row in ((N, ends[0]), (N + 1, ends[1])):
+            for j in row:
+                graph[int(j)].add(end)
+        blocked: set[tuple[int, int]] = {key for key, free in self._verdict.items() if not free}
+        while True:
+            best, back = {N: 0.0}, {N: -1}
+            heap = [(0.0, N)]
+            while heap:
+                cost, i = heapq.heappop(heap)
+                if i == N + 1 or cost > best.get(i, np.inf):
+                    if i == N + 1:
+                        break
+                    continue
+                for j in graph[i]:
+                    if (min(i, j), max(i, j)) in blocked:
+                        continue
+                    step = cost + float(np.linalg.norm(points[j] - points[i]))
+                    if step < best.get(j, np.inf):
+                        best[j], back[j] = step, i
+                        heapq.heappush(heap, (step, j))
+            if N + 1 not in back:
+                raise NoPathError(f"{self.planner.arm.name}: the roadmap's free edges do not join the start to the "
+                                  f"goal ({N} nodes): build it with more nodes or neighbours")
+            route = [N + 1]
+            while back[route[-1]] >= 0:
+                route.append(back[route[-1]])
+            route.reverse()
+            bad = next(((a, b) for a, b in itertools.pairwise(route) if not self._free(a, b, points)), None)
+            if bad is None:
+                return [points[i] for i in route]
+            blocked.add((min(bad), max(bad)))
 
 
 def _first_samples(speed: float) -> NDArray[np.float64]:

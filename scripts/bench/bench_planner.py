@@ -1,10 +1,11 @@
 """Benchmark: motions planned around obstacles (issue 30), armlab's planner against OMPL's RRT-Connect.
 
-Scenes written for it: a table and a shelf in front of UR5, Panda, Puma 560 and urm6, each sized by the arm's reach
-R (the farthest tool point over 20 000 random configurations): the **table**, a 0.04 m top of 0.7R × 1.2R at
-x = 0.55R, z = 0.3R over a floor; the **shelf**, two 0.03 m boards of 0.35R × R at x = 0.65R, z = 0.15R and 0.5R,
-a back wall behind them and the floor. Queries: seeded random pairs of free configurations (joints within their
-limits, clipped to ±π), the same for every planner.
+Scenes written for it: a table and a shelf in front of UR5, Panda, Puma 560 and urm6, each placed in the arm's
+workspace: from 20 000 random configurations' tool points above the floor, X the 95th percentile of x and z_p
+the p-th percentile of z (urm6 reaches only 0.56-1.0 m high, the others from the floor up). The **table**: a
+0.04 m top of 0.9X × 1.6X at x = 0.6X, z = z₂₅, over a floor; the **shelf**: two 0.03 m boards of 0.45X × 1.4X at
+x = 0.7X, z = z₁₅ and z₆₀, a back wall at x = 0.95X from z₁₅ to z₆₀, and the floor. Queries: seeded random
+pairs of free configurations (joints within their limits, clipped to ±π), the same for every planner.
 
 * the **straight joint line**'s failure rate (armlab's certified edge check) over 200 random free pairs per scene:
   how often a plain quintic between two free poses would hit something;
@@ -47,10 +48,13 @@ from armlab.planning.planner import STEP, NoPathError, Planner
 ARMS = ("ur5", "panda", "puma560", "urm6")
 
 
-def reach(arm: Arm) -> float:
-    """The farthest tool point (m) from the base over 20 000 seeded random configurations."""
+def workspace(arm: Arm) -> tuple[float, float, float, float]:
+    """X, z₁₅, z₂₅, z₆₀ (m) of the arm's tool points above the floor over 20 000 seeded random configurations."""
     q = _uniform(arm, np.random.default_rng(0), 20_000)
-    return float(np.linalg.norm(arm.forward(q).tool[:, :3, 3], axis=1).max())
+    points = arm.forward(q).tool[:, :3, 3]
+    points = points[points[:, 2] > 0]
+    z15, z25, z60 = np.percentile(points[:, 2], [15, 25, 60])
+    return float(np.percentile(points[:, 0], 95)), float(z15), float(z25), float(z60)
 
 
 def _limits(arm: Arm) -> tuple[np.ndarray, np.ndarray]:
@@ -62,13 +66,14 @@ def _uniform(arm: Arm, rng: np.random.Generator, count: int) -> np.ndarray:
     return rng.uniform(*_limits(arm), (count, arm.n))
 
 
-def scenes(R: float) -> dict[str, Scene]:
-    """The table and the shelf for an arm of reach ``R`` (m) (module docstring)."""
+def scenes(X: float, z15: float, z25: float, z60: float) -> dict[str, Scene]:
+    """The table and the shelf in a workspace of :func:`workspace`'s numbers (m) (module docstring)."""
     floor = {"name": "floor", "shape": "floor", "z": -0.02}
-    table = [{"name": "table", "shape": "box", "size": [0.7 * R, 1.2 * R, 0.04], "xyz": [0.55 * R, 0, 0.3 * R]}]
-    shelf = [{"name": "low board", "shape": "box", "size": [0.35 * R, R, 0.03], "xyz": [0.65 * R, 0, 0.15 * R]},
-             {"name": "high board", "shape": "box", "size": [0.35 * R, R, 0.03], "xyz": [0.65 * R, 0, 0.5 * R]},
-             {"name": "back", "shape": "box", "size": [0.03, R, 0.6 * R], "xyz": [0.84 * R, 0, 0.3 * R]}]
+    table = [{"name": "table", "shape": "box", "size": [0.9 * X, 1.6 * X, 0.04], "xyz": [0.6 * X, 0, z25]}]
+    shelf = [{"name": "low board", "shape": "box", "size": [0.45 * X, 1.4 * X, 0.03], "xyz": [0.7 * X, 0, z15]},
+             {"name": "high board", "shape": "box", "size": [0.45 * X, 1.4 * X, 0.03], "xyz": [0.7 * X, 0, z60]},
+             {"name": "back", "shape": "box", "size": [0.03, 1.4 * X, z60 - z15],
+              "xyz": [0.95 * X, 0, (z15 + z60) / 2]}]
     return {"table": scene_from_dict({"obstacles": [*table, floor]}, "table"),
             "shelf": scene_from_dict({"obstacles": [*shelf, floor]}, "shelf")}
 
@@ -132,7 +137,7 @@ def check_rate(count: int) -> tuple[float, float]:
     arm = get_arm("ur5")
     q = _uniform(arm, np.random.default_rng(1), count)
     rates = []
-    for scene in (scenes(reach(arm))["table"], None):
+    for scene in (scenes(*workspace(arm))["table"], None):
         planner = Planner(arm, scene)
         planner.clearances(q[:100])
         cpu = time.process_time()
@@ -156,8 +161,8 @@ def main() -> None:
     overall: dict[str, dict[str, list[float]]] = {}
     for name in ARMS:
         arm = get_arm(name)
-        R = reach(arm)
-        for label, scene in scenes(R).items():
+        X, *heights = workspace(arm)
+        for label, scene in scenes(X, *heights).items():
             planner = Planner(arm, scene)
             rng = np.random.default_rng(30)
             candidates = queries(planner, rng, 200)
@@ -187,7 +192,7 @@ def main() -> None:
             ratio = (statistics.median(found["ompl"]) / statistics.median(found["search"])
                      if found["ompl"] and found["search"] else float("nan"))
             overall[key].setdefault("blocked", []).extend([blocked, len(candidates)])
-            print(f"{name:8s} {label:6s} R = {R:.3f} m: straight line blocked {blocked}/{len(candidates)}; of "
+            print(f"{name:8s} {label:6s} X = {X:.3f} m: straight line blocked {blocked}/{len(candidates)}; of "
                   f"those planned, armlab {len(pairs) - failures['armlab']}/{len(pairs)} (search "
                   f"{_stats(found['search'])}; route {_stats(found['route'])}); OMPL "
                   f"{len(pairs) - failures['ompl']}/{len(pairs)} (solve {_stats(found['ompl'])}); OMPL/armlab "
@@ -196,11 +201,12 @@ def main() -> None:
         queries_total = max(1, sum(data["queries"]))
         line_fails = sum(data["blocked"][0::2]) / max(1, sum(data["blocked"][1::2]))
         success = 1 - sum(data["failures armlab"]) / queries_total
-        route = statistics.median(data["route"]) if data["route"] else float("nan")
+        median = statistics.median(data["route"]) if data["route"] else float("nan")
         goal = 0.1 if key == "6-DOF" else 0.2
-        print(f"{key}: straight line fails {line_fails:.1%}; armlab success {success:.1%} of {queries_total}, route {_stats(data['route'])}, search "
+        print(f"{key}: straight line fails {line_fails:.1%}; armlab success {success:.1%} of {queries_total}, route "
+              f"{_stats(data['route'])}, search "
               f"{_stats(data['search'])}; OMPL success {1 - sum(data['failures ompl']) / queries_total:.1%}, solve "
-              f"{_stats(data['ompl'])}; goal median ≤ {goal * 1e3:g} ms: {'met' if route <= goal else 'NOT met'}")
+              f"{_stats(data['ompl'])}; goal median ≤ {goal * 1e3:g} ms: {'met' if median <= goal else 'NOT met'}")
 
 
 if __name__ == "__main__":
