@@ -185,7 +185,9 @@ class Planner:
         return self._certify(points, _first_samples(speed), speed)
 
     # ------------------------------------------------------------------ search
-    def _endpoint(self, q: ArrayLike, which: str) -> NDArray[np.float64]:
+    def endpoint(self, q: ArrayLike, which: str) -> NDArray[np.float64]:
+        """``q`` ``(n,)`` as a query's start or goal (``which`` names it in messages): within the joint limits and
+        clear of the obstacles and the arm itself by the clearance, else a one-line ``ValueError``."""
         q = self.arm.check_q(q, which)
         if q.ndim != 1:
             raise ValueError(f"{which} has shape {q.shape}: give one configuration of {self.arm.n} joint values")
@@ -308,7 +310,7 @@ class Planner:
         budget = check_positive(budget, "budget", "s", "give the planning time budget in seconds (> 0)")
         began = time.perf_counter()
         self.checked = 0
-        start, goal = self._endpoint(q0, "the start"), self._endpoint(qf, "the goal")
+        start, goal = self.endpoint(q0, "the start"), self.endpoint(qf, "the goal")
         rng = np.random.default_rng(seed)
         if roadmap is not None:
             if roadmap.planner is not self:

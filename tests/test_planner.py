@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 import pytest
-from helpers import armlab_main
+from helpers import RECOMPUTED_ATOL, RECOMPUTED_RTOL, armlab_main
 
 import armlab
 from armlab.collision.model import CollisionModel
@@ -204,3 +204,26 @@ def test_a_roadmap_serves_many_queries_in_one_scene():
     assert roadmap.verdicts == remembered and len(again) >= 3
     with pytest.raises(ValueError, match="nodes = 1 is not allowed"):
         Roadmap(planner, nodes=1)
+
+
+@pytest.mark.slow
+@pytest.mark.cluster
+def test_many_queries_on_a_dask_cluster_are_the_routes_planned_here(tmp_path):
+    """A benchmark set on a real LocalCluster of two worker processes: each query's route is the one this process
+    plans with the same seed (the same computation in another process: equal up to rounding); a goal in the box is
+    refused before any worker starts."""
+    from armlab.analysis.plans import plan_queries
+
+    scene = tmp_path / "box.json"
+    scene.write_text(json.dumps(SCENE))
+    queries = np.array([[START, GOAL], [GOAL, START], [START, [0.0, 0.0, 0.0, -1.6, 0.0, 2.0, 0.8]]])
+    results = plan_queries("panda", queries, scene, clearance=MARGIN, seed=4, workers=2)
+    planner = Planner(armlab.load("panda"), scene_from_dict(SCENE), MARGIN)
+    for k, (result, (a, b)) in enumerate(zip(results, queries, strict=True)):
+        assert result["found"]
+        here = planner.route(a, b, seed=4 + k)
+        np.testing.assert_allclose(np.array(result["waypoints"]), here.waypoints, rtol=RECOMPUTED_RTOL,
+                                   atol=RECOMPUTED_ATOL)
+        assert result["nodes"] == here.nodes and result["checked"] == here.checked
+    with pytest.raises(ValueError, match="query 1's goal is in contact"):
+        plan_queries("panda", [[START, [0.0, 0.5, 0.0, -1.2, 0.0, 1.7, 0.8]]], scene, workers=1)

@@ -13,6 +13,8 @@ pairs of free configurations (joints within their limits, clipped to ±π), the 
   planner), for each:
 * **armlab** (:meth:`armlab.planning.planner.Planner.route`: RRT-Connect with batched, certified edge checks,
   shortcutting and smoothing; the search's time and the whole route's), budget ``--budget`` s;
+* armlab's **lazy PRM** (:class:`armlab.planning.planner.Roadmap`, 400 nodes, 10 neighbours, built once per
+  scene, its time reported apart): each query's route through it, the edges checked so far remembered;
 * **OMPL**'s ``RRTConnect`` (PyPI ``ompl``, the bench extra) in the same joint space with the **same** checker:
   its state validity is armlab's clearance of one configuration (numpy's closed forms) ≥ 0, its motions checked
   at OMPL's resolution (``--resolution`` rad between checks, OMPL's discrete validator: not certified between
@@ -43,7 +45,7 @@ import numpy as np
 from armlab.collision.scene import Scene, scene_from_dict
 from armlab.models import get_arm
 from armlab.models.arm import Arm
-from armlab.planning.planner import STEP, NoPathError, Planner
+from armlab.planning.planner import STEP, NoPathError, Planner, Roadmap
 
 ARMS = ("ur5", "panda", "puma560", "urm6")
 
@@ -169,8 +171,11 @@ def main() -> None:
             blocked_flags = [not planner.edge_free(a, b) for a, b in candidates]
             blocked = sum(blocked_flags)
             pairs = [pair for pair, flag in zip(candidates, blocked_flags, strict=True) if flag][:count]
-            found: dict[str, list[float]] = {"search": [], "route": [], "ompl": []}
-            failures = {"armlab": 0, "ompl": 0}
+            found: dict[str, list[float]] = {"search": [], "route": [], "prm": [], "ompl": []}
+            failures = {"armlab": 0, "ompl": 0, "prm": 0}
+            began = time.perf_counter()
+            roadmap = Roadmap(planner, nodes=400, neighbours=10, seed=0)
+            built = time.perf_counter() - began
             for seed, (a, b) in enumerate(pairs):
                 try:
                     route = planner.route(a, b, seed=seed, budget=args.budget)
@@ -178,6 +183,10 @@ def main() -> None:
                     found["route"].append(route.planning_time)
                 except NoPathError:
                     failures["armlab"] += 1
+                try:
+                    found["prm"].append(planner.route(a, b, seed=seed, roadmap=roadmap).planning_time)
+                except NoPathError:
+                    failures["prm"] += 1
                 solved, solve = ompl_solve(planner, a, b, args.budget, args.resolution, seed)
                 if solved:
                     found["ompl"].append(solve)
@@ -188,13 +197,15 @@ def main() -> None:
                 overall.setdefault(key, {}).setdefault(what, []).extend(times)
             overall[key].setdefault("failures armlab", []).append(failures["armlab"])
             overall[key].setdefault("failures ompl", []).append(failures["ompl"])
+            overall[key].setdefault("failures prm", []).append(failures["prm"])
             overall[key].setdefault("queries", []).append(len(pairs))
             ratio = (statistics.median(found["ompl"]) / statistics.median(found["search"])
                      if found["ompl"] and found["search"] else float("nan"))
             overall[key].setdefault("blocked", []).extend([blocked, len(candidates)])
             print(f"{name:8s} {label:6s} X = {X:.3f} m: straight line blocked {blocked}/{len(candidates)}; of "
                   f"those planned, armlab {len(pairs) - failures['armlab']}/{len(pairs)} (search "
-                  f"{_stats(found['search'])}; route {_stats(found['route'])}); OMPL "
+                  f"{_stats(found['search'])}; route {_stats(found['route'])}); PRM built in {built * 1e3:.0f} ms, "
+                  f"{len(pairs) - failures['prm']}/{len(pairs)} (route {_stats(found['prm'])}); OMPL "
                   f"{len(pairs) - failures['ompl']}/{len(pairs)} (solve {_stats(found['ompl'])}); OMPL/armlab "
                   f"search {ratio:.2f}×", flush=True)
     for key, data in overall.items():
@@ -205,7 +216,8 @@ def main() -> None:
         goal = 0.1 if key == "6-DOF" else 0.2
         print(f"{key}: straight line fails {line_fails:.1%}; armlab success {success:.1%} of {queries_total}, route "
               f"{_stats(data['route'])}, search "
-              f"{_stats(data['search'])}; OMPL success {1 - sum(data['failures ompl']) / queries_total:.1%}, solve "
+              f"{_stats(data['search'])}; PRM success {1 - sum(data['failures prm']) / queries_total:.1%}, route "
+              f"{_stats(data['prm'])}; OMPL success {1 - sum(data['failures ompl']) / queries_total:.1%}, solve "
               f"{_stats(data['ompl'])}; goal median ≤ {goal * 1e3:g} ms: {'met' if median <= goal else 'NOT met'}")
 
 
