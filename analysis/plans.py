@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike
 
 from armlab.analysis.sweep import dask_client, default_workers
 from armlab.collision.scene import read_scene, scene_from_dict
+from armlab.models import get_arm
 from armlab.planning.planner import NoPathError, Planner
 
 __all__ = ["plan_queries"]
@@ -28,9 +29,6 @@ __all__ = ["plan_queries"]
 @functools.lru_cache(maxsize=8)
 def _planner(arm: str, scene: str | None, clearance: float) -> Planner:
     """A worker's planner of ``arm`` (a name or a file) in ``scene`` (a scene's JSON text, or ``None``), built once."""
-    # lazy: the models' registry (armlab.models.get_arm) is what the worker loads the arm through
-    from armlab.models import get_arm
-
     return Planner(get_arm(arm), None if scene is None else scene_from_dict(json.loads(scene), "scene"), clearance)
 
 

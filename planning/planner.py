@@ -26,6 +26,7 @@ limits allow (:func:`plan_path`, ``armlab plan ARM to``).
 
 from __future__ import annotations
 
+import heapq
 import itertools
 import time
 from dataclasses import dataclass
@@ -397,8 +398,6 @@ class Roadmap:
         """The shortest path from ``q0`` to ``qf`` (both free) through the roadmap whose edges are free, checking
         the edges of each shortest candidate in turn (Dijkstra's search); :class:`NoPathError` when the free edges
         do not connect them."""
-        import heapq
-
         if self.planner.edge_free(q0, qf):
             return [q0, qf]
         N = len(self.nodes)
