@@ -227,3 +227,12 @@ def test_many_queries_on_a_dask_cluster_are_the_routes_planned_here(tmp_path):
         assert result["nodes"] == here.nodes and result["checked"] == here.checked
     with pytest.raises(ValueError, match="query 1's goal is in contact"):
         plan_queries("panda", [[START, [0.0, 0.5, 0.0, -1.2, 0.0, 1.7, 0.8]]], scene, workers=1)
+
+
+def test_cli_plan_options_of_the_other_kind_are_refused():
+    """plan ARM to takes no tool-path timing options; plan ARM line takes no scene: one line each, exit 2."""
+    result = armlab_main("plan", "panda", "to", "--to", ",".join(map(str, GOAL)), "--tf", "2")
+    assert result.returncode == 2 and "--tf: not an option of 'plan ARM to'" in result.stderr
+    result = armlab_main("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--tf", "2", "--clearance",
+                         "0.01")
+    assert result.returncode == 2 and "--clearance: not an option of 'plan ARM line'" in result.stderr

@@ -132,7 +132,25 @@ def _cmd_plan_to(arm: Arm, args: argparse.Namespace) -> int:
     return 0
 
 
+#: The options of ``plan ARM to`` only, and of ``plan ARM line|arc`` only (given for the other: an error, not ignored).
+_TO_ONLY = ("scene", "seed", "budget")
+_PATH_ONLY = ("through", "centre", "axis", "angle", "tf", "speed", "tool_acceleration", "q0", "branch", "fastest",
+              "plot")
+
+
+def _check_options(args: argparse.Namespace, defaults: dict[str, Any]) -> None:
+    """A ``ValueError`` naming the options given that the path kind ignores."""
+    given = [name for name in (_PATH_ONLY if args.path == "to" else (*_TO_ONLY, "clearance"))
+             if getattr(args, name) != defaults[name]]
+    if given:
+        shown = ", ".join("--" + name.replace("_", "-") for name in given)
+        why = ("it times the planned path as fast as the limits allow" if args.path == "to" else
+               "--scene, --clearance, --seed and --budget plan a motion around obstacles: 'plan ARM to'")
+        raise ValueError(f"{shown}: not an option of 'plan ARM {args.path}' ({why})")
+
+
 def _cmd_plan(args: argparse.Namespace) -> int:
+    _check_options(args, args.defaults)
     arm = with_drives(arm_of(args), args.drives)
     if args.path == "to":
         return _cmd_plan_to(arm, args)
@@ -233,3 +251,4 @@ def register(subparsers: Any) -> None:
     p.add_argument("--deg", action="store_true", help="--q0 and --angle in degrees")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_plan)
+    p.set_defaults(defaults={name: p.get_default(name) for name in (*_TO_ONLY, *_PATH_ONLY, "clearance")})
