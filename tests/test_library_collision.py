@@ -222,3 +222,28 @@ def test_package_found_by_its_folder_name(tmp_path):
     geometry = pinocchio.buildGeomFromUrdf(model, urdf, pinocchio.GeometryType.COLLISION, package_dirs=[str(share)])
     (pin_mesh,) = [g.meshPath for g in geometry.geometryObjects if g.meshPath.endswith(".stl")]
     assert pin_mesh == str(mesh.resolve())
+
+
+@pytest.mark.parametrize("name", LIBRARY)
+def test_models_readme_gives_every_library_collision_radius(name):
+    """models/README.md's table of the library arms' collision geometry gives each link's radius (mm) as the arm's
+    module has it, and the pairs filtered by construction as the arm's URDF writes them."""
+    from armlab.models.arm import MODELS_DIR
+
+    text = (MODELS_DIR / "README.md").read_text()
+
+    def radii_cell(line: str) -> bool:  # the geometry table's second cell: the radii, "90, 70, …"
+        cells = line.split("|")
+        return len(cells) == 7 and all(part.strip().replace(".", "").isdigit()
+                                       for part in cells[2].split(";")[0].split(","))
+
+    (row,) = [line for line in text.splitlines() if line.startswith(f"| `{name}` |") and radii_cell(line)]
+    radii = row.split("|")[2].split(";")[0].split(",")
+    arm = get_arm(name)
+    assert [float(r) for r in radii] == [round(body.radius * 1e3, 1) for body in arm.bodies]
+    filtered = touching_pairs(arm.table, arm.bodies, arm.limits)
+    cell = row.split("|")[4]
+    assert (cell.strip() == "none") == (not filtered)
+    for a, b in filtered:
+        shown = "base column" if b == "base_link" else b
+        assert f"{a}–{shown}" in cell, (a, b, cell)
