@@ -68,6 +68,7 @@ bench: setup
 	$(BIN)/python scripts/bench/bench_ik.py
 	$(BIN)/python scripts/bench/bench_simulate.py
 	$(BIN)/python scripts/bench/bench_plan.py
+	$(BIN)/python scripts/bench/bench_planner.py
 	$(BIN)/python scripts/bench/bench_analysis.py
 	$(BIN)/python scripts/bench/bench_reproduce.py
 	$(BIN)/python scripts/bench/bench_drives.py

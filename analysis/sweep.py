@@ -228,7 +228,7 @@ def _record(out: Path, study: Study, study_json: dict[str, Any], run: dict[str, 
 
 
 # ---------------------------------------------------------------------------------------- the engine
-def _client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any:
+def dask_client(stack: ExitStack, workers: int | None, scheduler: str | None) -> Any:
     """A Dask client of the cluster at ``scheduler``, or of a new ``LocalCluster`` whose scheduler and workers keep
     their scratch files in a private temporary folder (made by ``mkdtemp``, mode 0700, not the shared
     ``$TMPDIR/dask-scratch-space``); ``stack`` closes them and removes the folder on every exit path."""
@@ -326,7 +326,7 @@ def run_sweep(
             _lock(stack, out)
         earlier = _existing(out, study, study_json)  # checked before anything is made
         # An existing scheduler is reached (and has a worker) before a new folder is made.
-        client = _client(stack, None, scheduler) if scheduler is not None and len(earlier or ()) < len(
+        client = dask_client(stack, None, scheduler) if scheduler is not None and len(earlier or ()) < len(
             candidates) else None
         if not locked:
             _lock(stack, out)
@@ -373,7 +373,7 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
 
     started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     with ExitStack() as stack:
-        client = client or _client(stack, workers or (None if scheduler else default_workers()), scheduler)
+        client = client or dask_client(stack, workers or (None if scheduler else default_workers()), scheduler)
         appender = _Appender(out / RESULTS)
         stack.callback(appender.close)
         bar = stack.enter_context(tqdm(total=len(todo), unit="candidate", file=sys.stderr, dynamic_ncols=True,

@@ -32,6 +32,7 @@ if TYPE_CHECKING:
         line,
         load,
         paper_motion,
+        plan_path,
         quintic,
         read_segments,
         simulate,
@@ -62,6 +63,7 @@ _EXPORTS = {
     **{name: "armlab.api" for name in ("constant_rate", "draw", "load", "paper_motion", "quintic", "read_segments",
                                        "simulate", "size_drives", "through")},
     **{name: "armlab.api" for name in ("arc", "fastest", "line", "trapezoidal")},  # tool paths, profiles, timing
+    "plan_path": "armlab.api",  # motions around obstacles
 }
 
 __all__ = [  # the names of _EXPORTS, listed for readers and linters
@@ -81,6 +83,7 @@ __all__ = [  # the names of _EXPORTS, listed for readers and linters
     "line",
     "load",
     "paper_motion",
+    "plan_path",
     "quintic",
     "read_segments",
     "simulate",

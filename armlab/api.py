@@ -54,6 +54,8 @@ from armlab.models.plant import PlantOptions
 from armlab.planning.motions import paper_motion as motion_of_paper
 from armlab.planning.motions import quintic_motion
 from armlab.planning.motions import read_segments as read
+from armlab.planning.planner import Plan
+from armlab.planning.planner import plan_path as plan_around
 from armlab.planning.timing import DEFAULT_GRID, Fastest
 from armlab.planning.timing import fastest as time_optimal
 from armlab.sizing.catalogue import Gearboxes, Motors, read_gearboxes, read_motors
@@ -66,8 +68,8 @@ if TYPE_CHECKING:
 
     from armlab.drives.train import DriveTrain
 
-__all__ = ["arc", "constant_rate", "draw", "fastest", "line", "load", "paper_motion", "quintic", "read_segments",
-           "simulate", "size_drives", "through", "trapezoidal"]
+__all__ = ["arc", "constant_rate", "draw", "fastest", "line", "load", "paper_motion", "plan_path", "quintic",
+           "read_segments", "simulate", "size_drives", "through", "trapezoidal"]
 
 
 def load(name: str | Path, *, drives: str | Path | DriveTrain | None = None, tool: str | None = None,
@@ -194,6 +196,22 @@ def fastest(arm: Arm, path: Motion, velocity: float | ArrayLike | None = None,
     constraint active along the path) and ṡ against its limit curve."""
     return time_optimal(arm, path, velocity, acceleration, effort, drives, motor_speed, motor_torque, grid,
                         gravity=gravity, payload=payload)
+
+
+def plan_path(arm: Arm, q0: ArrayLike, qf: ArrayLike, scene: Scene | str | Path | None = None,
+              clearance: float = 0.0, seed: int = 0, budget: float = 5.0, velocity: float | ArrayLike | None = None,
+              acceleration: float | ArrayLike | None = None, effort: float | ArrayLike | None = None,
+              drives: DriveTrain | None = None, grid: int = DEFAULT_GRID) -> Plan:
+    """A motion from ``q0`` to ``qf`` (rad, m) that misses ``scene``'s obstacles (a :class:`Scene` or a scene file)
+    and the arm itself by ``clearance`` (m) at every point, as fast as the limits allow (MATLAB's
+    ``manipulatorRRT`` then ``contopptraj``; :mod:`armlab.planning.planner`): RRT-Connect (seeded by ``seed``,
+    within ``budget`` s), edges certified free in batches, shortcut, smoothed, confirmed by Drake's query, timed by
+    :func:`fastest` with the limits given (the arm file's otherwise). A :class:`~armlab.planning.planner.Plan`:
+    ``.motion`` (what :func:`simulate` takes), ``.min_clearance`` (m), ``.length``, ``.planning_time``,
+    ``.duration`` (s). One-line ``ValueError`` for a start or goal outside the limits or not clear;
+    :class:`~armlab.planning.planner.NoPathError` (a ``ValueError``) when the budget runs out."""
+    return plan_around(arm, q0, qf, as_scene(scene), clearance, seed, budget, velocity=velocity,
+                       acceleration=acceleration, effort=effort, drives=drives, grid=grid)
 
 
 def paper_motion(arm: Arm, path: str | None = None, tf: float | None = None) -> Motion:

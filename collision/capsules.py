@@ -83,29 +83,26 @@ def segment_box(
     """The closest points of segment P0–P1 (``(..., 3)``, m, in the box's frame) and the box of half edges
     ``half`` (``(..., 3)``, m, centred at the origin): ``(C_S, C_B)``; equal where the segment meets the box.
 
-    The squared distance of the segment's point P(s) to the box is convex in s and quadratic between the s
-    where P(s) crosses a face plane: each of those pieces is minimised in closed form, and the least taken.
+    The squared distance of the segment's point P(s) to the box, f(s) = Σ_k (x_k − clamp(x_k, ±h_k))², is convex
+    and quadratic between the s where P(s) crosses a face plane, so its slope f'(s)/2 = Σ_k (x_k − clamp(x_k)) d_k
+    is nondecreasing and linear between those knots: the least s is where the slope crosses zero, interpolated
+    between the last knot where it is ≤ 0 and the first where it is > 0 (s = 0 or 1 where it does not cross).
     """
     d = P1 - P0
     with np.errstate(divide="ignore", invalid="ignore"):
         cross = np.concatenate([(-half - P0) / d, (half - P0) / d], axis=-1)  # (..., 6): where P(s) crosses a plane
-    cross = np.where(np.isfinite(cross), np.clip(cross, 0.0, 1.0), 0.0)
-    knots = np.sort(np.concatenate([np.zeros(P0.shape[:-1] + (1,)), np.ones(P0.shape[:-1] + (1,)), cross], axis=-1),
-                    axis=-1)  # (..., 8)
-    lo, hi = knots[..., :-1], knots[..., 1:]  # the 7 pieces
-    mid = (lo + hi) / 2
-    x = P0[..., None, :] + mid[..., None] * d[..., None, :]  # (..., 7, 3)
-    face = np.clip(x, -half[..., None, :], half[..., None, :])
-    outside = x != face  # the axes on which the piece lies beyond a face (fixed on the piece)
-    e, dd = (P0[..., None, :] - face) * outside, d[..., None, :] * outside
-    den = _dot(dd, dd)
-    best = np.where(den > 0, -_dot(e, dd) / np.where(den > 0, den, 1.0), mid)
-    best = np.clip(best, lo, hi)
-    point = P0[..., None, :] + best[..., None] * d[..., None, :]
-    near = np.clip(point, -half[..., None, :], half[..., None, :])
-    gap = point - near
-    k = np.argmin(_dot(gap, gap), axis=-1)[..., None, None]
-    return np.take_along_axis(point, k, axis=-2)[..., 0, :], np.take_along_axis(near, k, axis=-2)[..., 0, :]
+    ends = P0.shape[:-1] + (1,)
+    knots = np.concatenate([np.where(np.isfinite(cross), np.clip(cross, 0.0, 1.0), 0.0), np.zeros(ends),
+                            np.ones(ends)], axis=-1)  # (..., 8), unsorted
+    x = P0[..., None, :] + knots[..., None] * d[..., None, :]  # (..., 8, 3)
+    slope = np.einsum("...jk,...k->...j", x - np.clip(x, -half[..., None, :], half[..., None, :]), d)
+    rising = slope > 0
+    s_a, g_a = (np.where(rising, -np.inf, v).max(axis=-1) for v in (knots, slope))  # the last knot with slope ≤ 0
+    s_b, g_b = (np.where(rising, v, np.inf).min(axis=-1) for v in (knots, slope))  # the first with slope > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(np.isinf(s_a), 0.0, np.where(np.isinf(s_b), 1.0, s_a - g_a * (s_b - s_a) / (g_b - g_a)))
+    point = P0 + s[..., None] * d
+    return point, np.clip(point, -half, half)
 
 
 def capsule_box(

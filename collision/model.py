@@ -53,7 +53,8 @@ class Part:
 
     ``kind``: ``"capsule"`` (axis ``a``–``b`` (m) in that frame, radius m; a sphere has ``a`` = ``b``),
     ``"floor"`` (through ``a`` with outward normal ``b``), ``"box"`` (half edges ``a`` (m), its pose in that
-    frame ``X``) or ``"other"`` (a cylinder, mesh …: Drake only).
+    frame ``X``) or ``"other"`` (a cylinder, mesh …: Drake only). ``extent``: how far from the frame's origin the
+    shape reaches (m), what :meth:`CollisionModel.motion_bound` needs.
     """
 
     owner: str
@@ -63,6 +64,8 @@ class Part:
     b: NDArray[np.float64]
     radius: float = 0.0
     X: NDArray[np.float64] | None = None
+    #: The farthest any point of the shape lies from its frame's origin (m; inf for a floor).
+    extent: float = np.inf
 
 
 @dataclass(frozen=True)
@@ -160,24 +163,59 @@ class CollisionModel:
 
     def _part(self, geometry: Any, frames: dict[Any, tuple[int, NDArray[np.float64]]]) -> Part:
         """The geometry as numpy sees it (:class:`Part`), in the arm's frame its body is fixed in."""
-        from pydrake.geometry import Box, Capsule, HalfSpace, Sphere
+        from pydrake.geometry import Box, Capsule, Convex, Cylinder, HalfSpace, Mesh, Sphere
 
         inspector = self._inspector
         body = self.plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
         frame, X_FB = frames[body.index()]
         X_FG = X_FB @ _transform(inspector.GetPoseInFrame(geometry))
         shape, owner = inspector.GetShape(geometry), geometry_owner(self.plant, inspector, geometry)
+        centre = float(np.linalg.norm(X_FG[:3, 3]))
         if isinstance(shape, Capsule):
             half = X_FG[:3, 2] * shape.length() / 2
-            return Part(owner, frame, "capsule", X_FG[:3, 3] - half, X_FG[:3, 3] + half, shape.radius())
+            return Part(owner, frame, "capsule", X_FG[:3, 3] - half, X_FG[:3, 3] + half, shape.radius(),
+                        extent=centre + shape.length() / 2 + shape.radius())
         if isinstance(shape, Sphere):
-            return Part(owner, frame, "capsule", X_FG[:3, 3], X_FG[:3, 3].copy(), shape.radius())
+            return Part(owner, frame, "capsule", X_FG[:3, 3], X_FG[:3, 3].copy(), shape.radius(),
+                        extent=centre + shape.radius())
         if isinstance(shape, HalfSpace):
             return Part(owner, frame, "floor", X_FG[:3, 3], X_FG[:3, 2])
         if isinstance(shape, Box):
-            return Part(owner, frame, "box", np.array([shape.width(), shape.depth(), shape.height()]) / 2,
-                        np.zeros(3), X=X_FG)
-        return Part(owner, frame, "other", X_FG[:3, 3], X_FG[:3, 2])
+            half_edges = np.array([shape.width(), shape.depth(), shape.height()]) / 2
+            return Part(owner, frame, "box", half_edges, np.zeros(3), X=X_FG,
+                        extent=centre + float(np.linalg.norm(half_edges)))
+        if isinstance(shape, Cylinder):
+            reach = centre + float(np.hypot(shape.length() / 2, shape.radius()))
+        elif isinstance(shape, Convex | Mesh):
+            hull = inspector.GetConvexHull(geometry)
+            vertices = np.array([hull.vertex(i) for i in range(hull.num_vertices())])
+            reach = float(np.linalg.norm(vertices @ X_FG[:3, :3].T + X_FG[:3, 3], axis=1).max())
+        else:
+            reach = np.inf
+        return Part(owner, frame, "other", X_FG[:3, 3], X_FG[:3, 2], extent=reach)
+
+    def motion_bound(self) -> NDArray[np.float64]:
+        """Per joint j, ``(n,)``: how far (m) a point of the arm's geometry can move per unit of q_j (rad or m): no
+        point moves more than Σ_j bound_j·|Δq_j| between two configurations Δq apart (along the straight joint
+        path between them), so no clearance changes by more than twice that (both shapes of a pair may move).
+
+        A revolute joint's bound is the farthest the geometry beyond it reaches from its axis, bounded along the
+        chain: the joint origins' distances (each constant on its link), the prismatic strokes between and each
+        shape's :attr:`Part.extent`; a prismatic joint's is 1. ``inf`` where a shape's reach is unknown."""
+        n, table = self.arm.n, self.arm.table
+        span = [float(np.linalg.norm(row.P)) for row in table.rows[1:]]  # frame k+1's origin in frame k, k = 1 … n−1
+        lower, upper = self.arm.limit_arrays(unlimited=0.0)
+        stroke = np.where(self.arm.revolute, 0.0, np.maximum(np.abs(lower), np.abs(upper)))
+        reach = np.zeros(n + 1)  # the farthest shape of each frame 1 … n from its origin
+        for part in self._parts.values():
+            if part.frame > 0:
+                reach[part.frame] = max(reach[part.frame], part.extent)
+        bound = np.ones(n)
+        for j in range(1, n + 1):
+            if self.arm.revolute[j - 1]:
+                bound[j - 1] = max((sum(span[j - 1:f - 1]) + float(stroke[j:f].sum()) + reach[f]
+                                    for f in range(j, n + 1) if reach[f] > 0), default=0.0)
+        return bound
 
     @property
     def numpy_ready(self) -> bool:
@@ -187,9 +225,10 @@ class CollisionModel:
                    for a, b in self._geometry_pairs)
 
     # ---------------------------------------------------------------- queries
-    def distances(self, q: ArrayLike) -> Clearances:
-        """The clearances of every pair at ``q`` ``(n,)`` or ``(N, n)`` (rad, m): numpy when it can, else Drake."""
-        return self.numpy(q) if self.numpy_ready else self.drake(q)
+    def distances(self, q: ArrayLike, depth: bool = True) -> Clearances:
+        """The clearances of every pair at ``q`` ``(n,)`` or ``(N, n)`` (rad, m): numpy when it can, else Drake;
+        ``depth``: as :meth:`numpy`'s."""
+        return self.numpy(q, depth) if self.numpy_ready else self.drake(q)
 
     def _reduce(self, q: NDArray[np.float64], distance: NDArray, point_a: NDArray, point_b: NDArray) -> Clearances:
         """Per-geometry-pair results ``(N, G)`` → per owner pair ``(N, P)``: the nearest geometry pair of each."""
@@ -268,10 +307,11 @@ class CollisionModel:
         raise ValueError(f"{self._parts[geometry].owner}: a {type(shape).__name__} cannot be checked against the "
                          "floor: give the link a box, sphere, cylinder, capsule or mesh")
 
-    def numpy(self, q: ArrayLike) -> Clearances:
+    def numpy(self, q: ArrayLike, depth: bool = True) -> Clearances:
         """The clearances of every pair at ``q`` ``(n,)`` or ``(N, n)``, computed in batches with numpy
         (:mod:`armlab.collision.capsules`); ``ValueError`` unless :attr:`numpy_ready`. Where a capsule's axis
-        enters a box the depth comes from Drake (:func:`armlab.collision.capsules.capsule_box`)."""
+        enters a box the depth comes from Drake (:func:`armlab.collision.capsules.capsule_box`); with ``depth``
+        False it is left at −radius, above the true signed distance (what a contact test needs: it is < 0)."""
         if not self.numpy_ready:
             raise ValueError(f"{self.arm.name}: a pair has a cylinder, mesh or a box on a link: only Drake computes it")
         q = as_batch(q, self.arm.n)
@@ -280,17 +320,23 @@ class CollisionModel:
         distance, point_a, point_b = np.empty((len(flat), G)), np.empty((len(flat), G, 3)), np.empty((len(flat), G, 3))
         A = [self._parts[a] for a, _ in self._geometry_pairs]
         B = [self._parts[b] for _, b in self._geometry_pairs]
+        geometries = list(dict.fromkeys(g for pair in self._geometry_pairs for g in pair))  # each part's ends once
+        index = {g: k for k, g in enumerate(geometries)}
+        ia, ib = (np.array([index[pair[k]] for pair in self._geometry_pairs], dtype=np.intp) for k in (0, 1))
+        rA, rB = np.array([p.radius for p in A]), np.array([p.radius for p in B])
+        floor = np.array([p.kind == "floor" for p in B], dtype=bool)
+        box = np.array([p.kind == "box" for p in B], dtype=bool)
+        capsule = ~(floor | box)
         for block in blocks(len(flat)) if G else []:
             frames = self.arm.table.frames(flat[block])  # (B, n+2, 4, 4)
-            ends = [self._ends(frames, part) for part in (*A, *B)]
-            P0 = np.stack([e[0] for e in ends[:G]], axis=1)
-            P1 = np.stack([e[1] for e in ends[:G]], axis=1)
-            Q0 = np.stack([e[0] for e in ends[G:]], axis=1)
-            Q1 = np.stack([e[1] for e in ends[G:]], axis=1)
-            rA, rB = np.array([p.radius for p in A]), np.array([p.radius for p in B])
-            floor = np.array([p.kind == "floor" for p in B])
-            box = np.array([p.kind == "box" for p in B])
-            d, pa, pb = capsule_capsule(P0, P1, rA, Q0, Q1, rB)
+            ends = [self._ends(frames, self._parts[g]) for g in geometries]
+            E0, E1 = np.stack([e[0] for e in ends], axis=1), np.stack([e[1] for e in ends], axis=1)
+            P0, P1, Q0, Q1 = E0[:, ia], E1[:, ia], E0[:, ib], E1[:, ib]
+            size = len(frames)
+            d, pa, pb = np.empty((size, G)), np.empty((size, G, 3)), np.empty((size, G, 3))
+            if capsule.any():
+                d[:, capsule], pa[:, capsule], pb[:, capsule] = capsule_capsule(
+                    P0[:, capsule], P1[:, capsule], rA[capsule], Q0[:, capsule], Q1[:, capsule], rB[capsule])
             if floor.any():
                 fd, fa, fb = capsule_floor(P0[:, floor], P1[:, floor], rA[floor], Q0[:, floor], Q1[:, floor])
                 d[:, floor], pa[:, floor], pb[:, floor] = fd, fa, fb
@@ -299,7 +345,7 @@ class CollisionModel:
                 half = np.array([p.a for p in B if p.kind == "box"])
                 bd, ba, bb, inside = capsule_box(P0[:, box], P1[:, box], rA[box], X, half)
                 d[:, box], pa[:, box], pb[:, box] = bd, ba, bb
-                for k, j in np.argwhere(inside):  # the axis enters the box: Drake's depth
+                for k, j in np.argwhere(inside) if depth else ():  # the axis enters the box: Drake's depth
                     column = np.flatnonzero(box)[j]
                     d[k, column], pa[k, column], pb[k, column] = self._drake_at(flat[block][k], column)
             distance[block], point_a[block], point_b[block] = d, pa, pb

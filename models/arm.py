@@ -32,6 +32,7 @@ if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
     from armlab.kinematics.ik_closed_form import ClosedForm
     from armlab.models.extras import MotionFn, PaperScheme
+    from armlab.models.meshes import Hull
     from armlab.models.plant import PlantOptions
 
 __all__ = ["MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
@@ -133,9 +134,16 @@ class Arm:
             raise ValueError(f"{self.name}: the drive train has {drives.n} joint(s); the arm has {self.n} "
                              f"({', '.join(self.joint_names)})")
         return replace(self, drives=drives)
-    #: Pairs of links (URDF names) never checked for collision beyond the adjacent ones, each by design (the
-    #: arm's module says why); written into its URDF as Drake collision filter groups.
+    #: Pairs of links (URDF names) never checked for collision beyond the adjacent ones and those that touch by
+    #: construction (:func:`armlab.models.write_urdf.touching_pairs`), each by design (the arm's module says why);
+    #: written into its URDF as Drake collision filter groups.
     collision_filters: tuple[tuple[str, str], ...] = ()
+    #: A user's URDF's STL and COLLADA collision meshes, as the vertices of their convex hulls: Drake reads neither
+    #: kind, so the plant registers them itself (:func:`armlab.models.plant.add_arm_plant`).
+    collision_hulls: tuple[Hull, ...] = ()
+    #: A rest pose its source names (rad, m; a library arm's "home" or "ready"), where ``armlab plan ARM to``
+    #: starts when no ``--from`` is given; ``None``: none named.
+    home: tuple[float, ...] | None = None
 
     def __repr__(self) -> str:
         kinds = "".join(row.kind for row in self.table.rows)

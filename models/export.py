@@ -64,9 +64,9 @@ def dh_text(arm: Arm) -> str:
 
     The drive train (``arm.drives``, if any) leaves as the columns :meth:`~armlab.drives.train.DriveTrain.fields`
     (joint side, as :func:`armlab.drives.read.drive_train` reads them), the collision capsules (if any link
-    collides) as ``radius`` (m). ``ValueError`` for an arm without a DH description (its geometry is a URDF's or
-    a paper's matrix), and for what a DH table cannot hold: collision geometry on some links only, a drive
-    train's Coulomb speed other than :data:`~armlab.drives.train.COULOMB_SPEED`.
+    collides) as ``radius`` (m; 0 for a link without a shape). ``ValueError`` for an arm without a DH description
+    (its geometry is a URDF's or a paper's matrix), and for what a DH table cannot hold: a drive train's Coulomb
+    speed other than :data:`~armlab.drives.train.COULOMB_SPEED`.
     """
     table = arm.dh
     if table is None:
@@ -76,9 +76,6 @@ def dh_text(arm: Arm) -> str:
         raise ValueError(f"{arm.name}: its drive train's coulomb_speed = {drives.coulomb_speed:g} rad/s cannot be "
                          f"written in a DH table (it reads {COULOMB_SPEED:g} rad/s): export it with --urdf")
     colliding = [body.collides for body in arm.bodies]
-    if any(colliding) and not all(colliding):
-        raise ValueError(f"{arm.name}: only some links have collision geometry; a DH table's radius column gives "
-                         "every link its capsule: export it with --urdf")
     base, tool = dh_base_tool(arm)
     lines = [f"# {arm.name}: exported by armlab from {arm.paper}", f"# convention: {table.convention}",
              "# units: rad"]
@@ -93,7 +90,7 @@ def dh_text(arm: Arm) -> str:
     header += ["effort", "velocity"]
     if drives is not None:
         header += drives.fields()
-    if all(colliding):
+    if any(colliding):
         header.append("radius")
     lines.append(",".join(header))
     for i, (row, lim) in enumerate(zip(table.rows, arm.limits, strict=True)):
@@ -107,8 +104,8 @@ def dh_text(arm: Arm) -> str:
         cells += ["" if value is None else _number(value) for value in (lim.effort, lim.velocity)]
         if drives is not None:
             cells += [_number(drives.per_joint(name)[i]) for name in drives.fields()]
-        if all(colliding):
-            cells.append(_number(arm.bodies[i].radius))
+        if any(colliding):
+            cells.append(_number(arm.bodies[i].radius if colliding[i] else 0.0))
         lines.append(",".join(cells))
     return "\n".join(lines) + "\n"
 

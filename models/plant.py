@@ -243,12 +243,28 @@ def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
         raise ValueError(f"{source}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
     if arm.base_link != "world":  # Drake's URDF parser makes a link named world the world body
         plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(arm.base_link, instance))
+    _add_hulls(plant, arm, instance)
     actuators = (plant.get_joint_actuator(JointActuatorIndex(i)) for i in range(plant.num_actuators()))
     actuated = {a.joint().name() for a in actuators if a.model_instance() == instance}
     for name in arm.joint_names:
         if name not in actuated:
             plant.AddJointActuator(f"{name}_actuator", plant.GetJointByName(name, instance))
     return instance
+
+
+def _add_hulls(plant: MultibodyPlant, arm: Arm, instance: Any) -> None:
+    """Register the arm's STL and COLLADA collision meshes (:attr:`~armlab.models.arm.Arm.collision_hulls`) as
+    Drake ``Convex`` shapes of their vertices (Drake makes the hull) on their links, before ``Finalize``; a plant
+    without a scene graph has no geometry to add them to."""
+    from pydrake.geometry import Convex, ProximityProperties
+    from pydrake.math import RigidTransform
+
+    for hull in arm.collision_hulls if plant.geometry_source_is_registered() else ():
+        body = (plant.world_body() if hull.link == "world" and arm.base_link == "world"
+                else plant.GetBodyByName(hull.link, instance))
+        plant.RegisterCollisionGeometry(body, RigidTransform(np.array(hull.pose)),
+                                        Convex(np.asfortranarray(hull.points.T), hull.name), hull.name,
+                                        ProximityProperties())
 
 
 def _set_drive_train(plant: MultibodyPlant, arm: Arm, instance: Any) -> None:
@@ -291,16 +307,17 @@ def parse_model_file(path: Path, packages: dict[str, Path]) -> tuple[MultibodyPl
     """A user's SDFormat (``.sdf``) or MuJoCo MJCF (``.xml``) file parsed by Drake's own parser into a new plant,
     not finalized (:mod:`armlab.models.read_sdf` reads the arm out of it); ``(plant, model instance)``.
 
-    ``packages``: ``{name: package.xml}`` for ``package://`` URIs. ``ValueError`` (one line) if Drake cannot
-    load the file or it holds more than one model.
+    ``packages``: ``{name: package folder}`` for ``package://`` URIs (:func:`armlab.models.read_urdf.package_roots`).
+    ``ValueError`` (one line) if Drake cannot load the file or it holds more than one model.
     """
     from pydrake.multibody.parsing import Parser
     from pydrake.multibody.plant import MultibodyPlant
 
     plant = MultibodyPlant(0.0)
     parser = Parser(plant)
-    for package_xml in packages.values():
-        parser.package_map().AddPackageXml(str(package_xml))
+    for name, folder in packages.items():
+        if not parser.package_map().Contains(name):
+            parser.package_map().Add(name, str(folder))
     try:
         instances = parser.AddModels(file_name=str(path))
     except RuntimeError as error:

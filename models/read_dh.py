@@ -17,8 +17,9 @@ A **DH table** is a CSV file (the README's section "Your own arm: the DH table f
   (kg·m² about the centre of mass), ``effort`` (N·m or N) and ``velocity`` (rad/s or m/s) limits, the
   drive train's columns (:data:`armlab.drives.read.DRIVE_COLUMNS`: ``gear_ratio``, ``rotor_inertia``,
   ``efficiency``, ``viscous``, ``coulomb`` or motor side ``viscous_motor``, ``coulomb_motor``), which give the
-  arm its ``drives`` (:mod:`armlab.drives.read`), and ``radius`` (m, > 0): the link's collision capsule along the
-  offset to the next joint (:mod:`armlab.collision`); a table without it has no collision geometry.
+  arm its ``drives`` (:mod:`armlab.drives.read`), and ``radius`` (m): the link's collision capsules along its
+  offsets d and a to the next joint (:mod:`armlab.collision`; 0: the link has no shape, it is never checked); a
+  table without it has no collision geometry.
 
 A table without the ``mass`` column is a *kinematic* arm (``Arm.has_dynamics`` False): no masses
 are invented. Missing effort/velocity limits are unknown (``None``). At most
@@ -212,10 +213,11 @@ def _read(path: Path) -> tuple[DHTable, list[JointLimits], list[DHInertial] | No
 
 
 def _radius(text: str, what: str) -> float:
-    """A link's collision radius (m) from its cell: a finite number > 0."""
+    """A link's collision radius (m) from its cell: a finite number ≥ 0 (0: the link has no shape)."""
     value = file_number(text, what) if text else -1.0
-    if not value > 0:
-        raise ValueError(f"{what} = {text or '(empty)'} is not allowed: a collision radius is a number > 0 m")
+    if not value >= 0:
+        raise ValueError(f"{what} = {text or '(empty)'} is not allowed: a collision radius is a number > 0 m, or 0 "
+                         "for a link with no collision shape")
     return value
 
 
@@ -243,6 +245,33 @@ def _pose(path: Path, key: str, text: str, deg: bool) -> NDArray:
     return homogeneous((T_Z6(yaw) @ T_Z5(pitch) @ T_Z4(roll))[:3, :3], np.array([x, y, z]))
 
 
+def _axes(table: DHTable, locating: LocatingTable, base: NDArray, limits: Sequence[JointLimits]
+          ) -> list[tuple[tuple[float, float, float], ...]]:
+    """Each link's collision axis along its DH offsets, in its link frame {i} (m): a standard link runs d_i along
+    z_{i−1}, then a_i along x_i; a modified link a_i along x_i, then d_{i+1} along z_{i+1} (its capsules follow
+    the offsets, not the shortcut between its joints). A prismatic link (a boom) reaches back from its joint's
+    origin by its upper stroke: at full stroke it still spans from the joint to its end."""
+    zero = np.zeros(table.n)
+    dh = base @ table.frames(zero)  # DH frames 0 … n in the base frame, (n+1, 4, 4)
+    links = locating.frames(zero)[1:table.n + 2]  # link frames {1} … {n} and the tool
+    out = []
+    for i in range(1, table.n + 1):
+        row = table.rows[i - 1]
+        if table.convention == "standard":
+            start, corner = dh[i - 1, :3, 3], dh[i - 1, :3, 3] + row.d * dh[i - 1, :3, 2]
+        else:
+            start = dh[i, :3, 3]
+            corner = dh[i, :3, 3] + (table.rows[i].a * dh[i, :3, 0] if i < table.n else 0.0)
+        to_link = np.linalg.inv(links[i - 1])
+        points = [to_link[:3, :3] @ p + to_link[:3, 3] for p in (start, corner)] + [links[i][:3, 3] @ to_link[:3, :3].T
+                                                                                    + to_link[:3, 3]]
+        upper = limits[i - 1].upper
+        if row.kind == "T" and upper is not None and upper > 0:
+            points.insert(0, points[0] - upper * np.array([0.0, 0.0, 1.0]))
+        out.append(tuple((float(p[0]), float(p[1]), float(p[2])) for p in points))
+    return out
+
+
 def _dh_in_links(table: DHTable, locating: LocatingTable, base: NDArray) -> list[NDArray]:
     """Each DH frame i in the URDF's link frame {i} (``base``: DH frame 0 in the base frame): X = T_{{i}}⁻¹ · T_i,
     constant in q, both in the base frame."""
@@ -264,7 +293,8 @@ def from_dh(
 
     ``inertials`` (one per link, in the links' DH frames) are moved into the URDF's link frames {i};
     ``None`` or all masses 0 gives a kinematic arm (``has_dynamics`` False, no ``<inertial>``). ``radii``
-    (m, one per link): each link's collision capsule; ``None``: the arm has no collision geometry. ``base``
+    (m, one per link): each link's collision capsules, along its offsets (0: the link has no shape); ``None``: the
+    arm has no collision geometry. ``base``
     (4×4) is DH frame 0 in the arm's base frame and ``tool`` (4×4) the tool frame in DH frame n
     (``None``: the identity; :func:`dh_base_tool` gives them back).
     """
@@ -300,7 +330,8 @@ def from_dh(
     if radii is not None:
         if len(radii) != n:
             raise ValueError(f"{name}: need {n} link radii, got {len(radii)}")
-        bodies = tuple(replace(body, radius=float(r), collides=True) for body, r in zip(bodies, radii, strict=True))
+        bodies = tuple(replace(body, radius=float(r), collides=True, axis=axis) if r > 0 else body
+                       for body, r, axis in zip(bodies, radii, _axes(table, locating, base_pose, limits), strict=True))
     return Arm(
         name=name,
         paper="user DH table",

@@ -7,8 +7,10 @@ Drake's world itself) and the tool is the link ``tool`` names (``--tool LINK``, 
 the last moving link or a link welded to it), else the end of the chain (past the last joint, the
 first fixed child declared). ``package://NAME/…`` meshes are found through :func:`package_roots`: the
 URDF's folder and the two above it, the folders ``package_paths`` names (``--package-path``) and
-``ROS_PACKAGE_PATH``. A mesh that cannot be found, or a collision mesh Drake cannot use, is left out
-with a warning (:mod:`armlab.models.meshes`). ``<mimic>`` on a fixed joint does nothing and is ignored.
+``ROS_PACKAGE_PATH``, or by a folder of that name there. A collision mesh is its convex hull (STL and
+COLLADA ones read by armlab, :attr:`~armlab.models.arm.Arm.collision_hulls`); a mesh that cannot be found, or a
+collision mesh with no hull, is left out with a warning (:mod:`armlab.models.meshes`). ``<mimic>`` on a fixed
+joint does nothing and is ignored.
 Refused with a one-line ``ValueError``: XML document-type or entity definitions (outside comments),
 an empty ``<robot>``, an unexpanded xacro file, joint cycles, mimic on a moving joint, floating and
 planar joints, reversed limits, a non-physical inertia or a centre of mass far beyond the arm
@@ -39,7 +41,7 @@ from armlab.drives.train import DriveTrain
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm
-from armlab.models.meshes import Meshes, check_meshes, without_doctype
+from armlab.models.meshes import Hull, Meshes, check_meshes, without_doctype
 from armlab.models.write_urdf import DRAKE_NAMESPACE, Body, JointLimits, Point, check_inertia
 
 __all__ = ["check_com_distances", "check_numbers", "from_urdf", "package_roots", "read_xml"]
@@ -310,15 +312,30 @@ def _welded(link: str, children: dict[str, list[_Joint]]) -> list[str]:
     return out
 
 
+def _hulls(path: Path, root: ET.Element, meshes: Meshes) -> tuple[Hull, ...]:
+    """The STL and COLLADA collision meshes :func:`~armlab.models.meshes.check_meshes` read, each on its link at its
+    ``<collision>``'s origin, for the plant to register as convex hulls."""
+    out = []
+    for link in root.iter("link"):
+        collisions = [child for child in link if child.tag == "collision"]
+        for k, element in enumerate(collisions):
+            if element in meshes.hulls:
+                name = element.get("name") or f"{link.get('name')}_collision{k + 1}"
+                pose = _pose(element, f"{path}: link {link.get('name')!r} collision")
+                out.append(Hull(str(link.get("name")), tuple(map(tuple, pose.tolist())), meshes.hulls[element], name))
+    return tuple(out)
+
+
 def _drake_text(root: ET.Element, meshes: Meshes) -> str:
     """The URDF as Drake reads it: each kept mesh as the ``file://`` URI of its checked file, the visuals and
-    collisions :func:`~armlab.models.meshes.check_meshes` left out removed, ``<mimic>`` of fixed joints removed
+    collisions :func:`~armlab.models.meshes.check_meshes` left out or read as hulls (:func:`_hulls`) removed,
+    ``<mimic>`` of fixed joints removed
     (Drake refuses one; it does nothing), effort and velocity limits of 0 (ROS's "none") removed. ``root`` is
     changed."""
     for mesh, file in meshes.files.items():
         mesh.set("filename", file.as_uri())
     for link in root.iter("link"):
-        for element in [child for child in link if child in meshes.dropped]:
+        for element in [child for child in link if child in meshes.dropped or child in meshes.hulls]:
             link.remove(element)
     for joint in root.iter("joint"):
         for mimic in joint.findall("mimic") if joint.get("type") == "fixed" else []:
@@ -412,6 +429,7 @@ def from_urdf(path: str | Path, tool: str | None = None, package_paths: Sequence
         has_dynamics=any(body.mass > 0 for body in bodies),
         link_names=tuple(names),
         drives=_drive_train(path, root, joints, [row.name for row in rows]),
+        collision_hulls=_hulls(path, root, meshes),
         model_text=_drake_text(root, meshes),
         tool_source=("chosen (tool=, --tool)" if tool is not None else
                      "the end of the chain: the first link declared past the last joint"
@@ -432,13 +450,16 @@ def check_com_distances(path: Path, table: LocatingTable, bodies: list[Body], li
 
 
 def package_roots(urdf: Path, package_paths: Sequence[str | Path] = ()) -> dict[str, Path]:
-    """The ROS packages a URDF may use: ``{name: package.xml}``.
+    """The ROS packages a URDF may use: ``{name: package folder}``.
 
-    Found, the first of a name winning, in the URDF's folder and the two above it (a package's layout), then
-    below each folder of ``package_paths`` and of ``ROS_PACKAGE_PATH`` (``os.pathsep``-separated), as ROS's
-    ``rospack`` and Drake's ``PackageMap`` do: a folder holding a ``package.xml`` is a package (not searched
-    further), others are searched up to :data:`_PACKAGE_DEPTH` levels down. ``ValueError`` for a
-    ``package_paths`` entry that is not a folder.
+    Found, the first of a name winning, by their ``package.xml``'s ``<name>``: in the URDF's folder and the two above
+    it (a package's layout), then below each folder of ``package_paths`` and of ``ROS_PACKAGE_PATH``
+    (``os.pathsep``-separated), as ROS's ``rospack`` and Drake's ``PackageMap`` do: a folder holding a
+    ``package.xml`` is a package (not searched further), others are searched up to :data:`_PACKAGE_DEPTH` levels
+    down. Then, for names no ``package.xml`` gives, by folder, as Pinocchio and other tools without ROS resolve
+    ``package://NAME/…``: a folder of ``package_paths`` or ``ROS_PACKAGE_PATH`` called NAME, or a folder called NAME
+    directly inside one (example-robot-data's ``package.xml`` names it ``example_robot_descriptions``, its URDFs
+    say ``package://example-robot-data/…``). ``ValueError`` for a ``package_paths`` entry that is not a folder.
     """
     out: dict[str, Path] = {}
     found = [folder / "package.xml" for folder in list(Path(urdf).resolve().parents)[:3]]
@@ -446,15 +467,20 @@ def package_roots(urdf: Path, package_paths: Sequence[str | Path] = ()) -> dict[
         if not Path(folder).is_dir():
             raise ValueError(f"package path {str(folder)!r} is not a folder: give the folder that holds ROS "
                              "packages (each a folder with a package.xml)")
-    env = [folder for folder in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if folder]
-    for folder in [*package_paths, *env]:
-        found.extend(_packages_below(Path(folder)))
+    env = [Path(folder) for folder in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if folder]
+    paths = [*map(Path, package_paths), *(folder for folder in env if folder.is_dir())]
+    for folder in paths:
+        found.extend(_packages_below(folder))
     for package_xml in found:
         if package_xml.is_file():
             name = (_xml(package_xml, "package.xml").findtext("name") or "").strip()
             if not name:
                 raise ValueError(f"{package_xml}: a package.xml needs a <name>")
-            out.setdefault(name, package_xml.resolve())
+            out.setdefault(name, package_xml.parent.resolve())
+    for folder in paths:
+        for named in [folder, *sorted(child for child in folder.iterdir() if child.is_dir())]:
+            if not named.name.startswith("."):
+                out.setdefault(named.resolve().name if named == folder else named.name, named.resolve())
     return out
 
 

@@ -14,25 +14,29 @@ on fixed joints; an unknown effort or velocity limit is left out of ``<limit>``.
 axis, a dark block on each prismatic axis and the guide it slides on (over its stroke) on
 the parent link, a red ball at the tool. Every joint is actuated through a ``SimpleTransmission``.
 
-Collision geometry (a :class:`Body` with ``collides``): a capsule per link along its segment
-(``linkI_capsule``), and a column from the base to joint 1, where there is one, as a capsule of link 1's
-radius (``base_link_column``). The base disc has none: the ground under the arm is a scene's floor. Drake
-filters the pairs of adjacent links itself.
+Collision geometry (a :class:`Body` with ``collides``): capsules of the link's radius along its axis, by default
+from its frame's origin to the next frame's origin (``linkI_capsule``, ``linkI_capsule2`` … for an axis of several
+pieces; a sphere where the axis has no length), and a column from the base to joint 1, where there is one, as a
+capsule of link 1's radius (``base_link_column``). The base disc has none: the ground under the arm is a scene's floor.
+Drake filters the pairs of adjacent links itself; the pairs that touch by construction (:func:`touching_pairs`:
+the links of a wrist whose frames coincide) are filtered by Drake collision filter groups written here.
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from html import escape
 
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.bounds import above
 from armlab.drives.train import DriveTrain
 from armlab.kinematics.locating import LocatingTable, orientation_angles
 
-__all__ = ["DRAKE_NAMESPACE", "Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_inertials",
-           "urdf_text"]
+__all__ = ["DRAKE_NAMESPACE", "Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_axis",
+           "link_inertials", "touching_pairs", "urdf_text"]
 
 #: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …), declared as ``xmlns:drake``.
 DRAKE_NAMESPACE = "http://drake.mit.edu"
@@ -48,9 +52,10 @@ class Body:
     ``inertia`` (kg·m², 3×3 about the centre of mass, axes of {i}). ``mass = 0`` with neither:
     a link without mass data (a kinematic arm's), written with no ``<inertial>``.
 
-    ``collides``: the link has collision geometry, a capsule of ``radius`` (m) along the segment from its
-    frame's origin to the next frame's origin (a sphere of ``radius`` when that segment has no length);
-    ``False``: the arm's file gives no geometry (the link is drawn, never checked).
+    ``collides``: the link has collision geometry, capsules of ``radius`` (m) joining the points of its ``axis``
+    (in the link frame {i}, m; e.g. a DH link's offsets d and a, bent where they meet); no ``axis``: the segment
+    from its frame's origin to the next frame's origin (a sphere of ``radius`` where the axis has no length);
+    ``False``: the arm's file gives the link no geometry (it is drawn, never checked).
     """
 
     mass: float
@@ -59,6 +64,7 @@ class Body:
     com: tuple[float, float, float] | None = None
     inertia: tuple[tuple[float, float, float], ...] | None = None
     collides: bool = False
+    axis: tuple[tuple[float, float, float], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -175,16 +181,87 @@ def _cylinder_visual(T: NDArray, radius: float, length: float, material: str) ->
             f'<material name="{material}"/></visual>')
 
 
-def _capsule_collision(name: str, end: NDArray, radius: float) -> str:
-    """A collision capsule of ``radius`` (m) from the frame's origin to ``end`` (m), or a sphere when ``end`` is 0."""
-    length = float(np.linalg.norm(end))
-    if length < 1e-9:
-        return f'<collision name="{name}"><geometry><sphere radius="{_f(radius)}"/></geometry></collision>'
+#: Pieces of a link's axis shorter than this (m) are no piece (a sphere where the whole axis is shorter).
+_NO_LENGTH = 1e-9
+
+
+def link_axis(body: Body, end: NDArray) -> list[NDArray[np.float64]]:
+    """The points of a link's collision axis in its frame (m): its ``axis``, or its origin and ``end`` (the next
+    frame's origin), pieces of no length dropped; one point where the axis has no length."""
+    given = [np.asarray(point, dtype=float) for point in body.axis] or [np.zeros(3), np.asarray(end, dtype=float)]
+    points = given[:1]
+    for point in given[1:]:
+        if np.linalg.norm(point - points[-1]) >= _NO_LENGTH:
+            points.append(point)
+    return points
+
+
+def _capsule_collision(name: str, start: NDArray, end: NDArray, radius: float) -> str:
+    """A collision capsule of ``radius`` (m) from ``start`` to ``end`` (m, in the link frame), or a sphere at
+    ``start`` when they coincide."""
+    length = float(np.linalg.norm(end - start))
     T = np.eye(4)
-    T[:3, :3] = _z_to(end / length)
-    T[:3, 3] = end / 2
+    if length < _NO_LENGTH:
+        T[:3, 3] = start
+        origin = _origin(T) if np.any(start) else ""
+        return (f'<collision name="{name}">{origin}<geometry><sphere radius="{_f(radius)}"/></geometry>'
+                "</collision>")
+    T[:3, :3] = _z_to((end - start) / length)
+    T[:3, 3] = (start + end) / 2
     return (f'<collision name="{name}">{_origin(T)}<geometry><capsule radius="{_f(radius)}" '
             f'length="{_f(length)}"/></geometry></collision>')
+
+
+def _link_collisions(i: int, body: Body, end: NDArray) -> list[str]:
+    """Link ``i``'s collision capsules along its axis (:func:`link_axis`): ``linkI_capsule``, ``linkI_capsule2`` …"""
+    points = link_axis(body, end)
+    pieces = list(itertools.pairwise(points)) or [(points[0], points[0])]
+    return [_capsule_collision(f"link{i}_capsule{k + 1 if k else ''}", a, b, body.radius)
+            for k, (a, b) in enumerate(pieces)]
+
+
+def _to_axis(point: NDArray, axis: list[NDArray[np.float64]]) -> float:
+    """The distance (m) of ``point`` to the polyline ``axis`` (its points, one or more)."""
+    if len(axis) == 1:
+        return float(np.linalg.norm(point - axis[0]))
+    best = np.inf
+    for a, b in itertools.pairwise(axis):
+        s = float(np.clip((point - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0))
+        best = min(best, float(np.linalg.norm(point - a - s * (b - a))))
+    return best
+
+
+def touching_pairs(table: LocatingTable, bodies: tuple[Body, ...], limits: tuple[JointLimits, ...]
+                   ) -> list[tuple[str, str]]:
+    """The pairs of links, not adjacent, whose collision shapes touch at every pose by construction.
+
+    Links i and j > i + 1 are joined by the links between: joint i+1's origin A (fixed on link i) lies within
+    d(A, axis i) of link i's axis, joint j's origin B within d(B, axis j) of link j's, and A and B are at most the
+    distances between the joint origins of the links between apart (each constant on its link), plus the strokes
+    of the prismatic joints between. When all that is within the two radii (a spherical wrist: its frames coincide,
+    the links between have no length), the two shapes overlap whatever the joints do, and checking them says
+    nothing. ``(link j, link i)`` names; the base's column (:func:`urdf_text`, of link 1's radius) is link 0.
+    """
+    n = table.n
+    origins = [np.asarray(row.P, dtype=float) for row in table.rows] + [table.tool[:3, 3]]  # joint i+1 in frame {i}
+    column = bool(np.linalg.norm(origins[0]) >= _NO_LENGTH and any(body.collides for body in bodies))
+    axes = [[np.zeros(3), origins[0]]] + [link_axis(body, end) for body, end in zip(bodies, origins[1:], strict=True)]
+    shaped = [column] + [body.collides for body in bodies]
+    radius = [bodies[0].radius] + [body.radius for body in bodies]
+    span = [float(np.linalg.norm(end)) for end in origins[1:]]  # link k's joint origins apart, k = 1 … n
+    strokes = [max(abs(lim.lower or 0.0), abs(lim.upper or 0.0)) if row.kind == "T" else 0.0
+               for row, lim in zip(table.rows, limits, strict=True)]
+    names = ["base_link"] + [f"link{i}" for i in range(1, n + 1)]
+    pairs = []
+    for i in range(n + 1):
+        for j in range(i + 2, n + 1):
+            if not (shaped[i] and shaped[j]):
+                continue
+            apart = (_to_axis(origins[i], axes[i]) + sum(span[i:j - 1]) + sum(strokes[i:j])
+                     + _to_axis(np.zeros(3), axes[j]))
+            if not above(apart, radius[i] + radius[j]):
+                pairs.append((names[j], names[i]))
+    return pairs
 
 
 def _rail_visual(T_fixed: NDArray, axis: NDArray, lower: float, upper: float, radius: float) -> str:
@@ -214,8 +291,9 @@ def urdf_text(
     ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint; ``drives`` the drive train
     (module docstring), ``None`` for none. ``ros_limits``: an unknown effort or velocity limit is written as 0,
     ROS's "none" (urdfdom, and so Pinocchio, needs both attributes; armlab reads 0 as unknown), not left out.
-    ``collision_filters``: pairs of link names never checked against each other (beyond the adjacent ones), written
-    as Drake's ``<drake:collision_filter_group>`` (a group of the two that ignores itself).
+    ``collision_filters``: pairs of link names never checked against each other (beyond the adjacent ones and
+    :func:`touching_pairs`, always filtered), written as Drake's ``<drake:collision_filter_group>`` (a group of the
+    two that ignores itself).
     """
     n = table.n
     if len(bodies) != n or len(limits) != n:
@@ -223,10 +301,11 @@ def urdf_text(
     if drives is not None and drives.n != n:
         raise ValueError(f"{name}: the drive train has {drives.n} joints, the arm {n}")
     link_names = ["base_link"] + [f"link{i}" for i in range(1, n + 1)] + [tool_name]
+    filters = list(dict.fromkeys((*collision_filters, *touching_pairs(table, bodies, limits))))
     out = ['<?xml version="1.0"?>']
     if comment:
         out.append(f"<!-- {comment} -->")
-    drake = f' xmlns:drake="{DRAKE_NAMESPACE}"' if drives is not None or collision_filters else ""
+    drake = f' xmlns:drake="{DRAKE_NAMESPACE}"' if drives is not None or filters else ""
     out.append(f'<robot name="{escape(name, quote=True)}"{drake}>')  # html, not xml.sax.saxutils: that imports urllib
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
     out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')
@@ -240,7 +319,7 @@ def urdf_text(
         seg, _, length = _segment(np.asarray(table.rows[0].k), pedestal, bodies[0].radius)
         visuals[0].append(_cylinder_visual(seg, bodies[0].radius, length, "base"))
         if any(body.collides for body in bodies):
-            visuals[0].append(_capsule_collision("base_link_column", pedestal, bodies[0].radius))
+            visuals[0].append(_capsule_collision("base_link_column", np.zeros(3), pedestal, bodies[0].radius))
     for i, (row, body, lim) in enumerate(zip(table.rows, bodies, limits, strict=True), start=1):
         if row.kind == "T" and lim.lower is not None and lim.upper is not None:  # the slider's guide, on the parent
             visuals[i - 1].append(_rail_visual(row.T_fixed, np.asarray(row.k, dtype=float), lim.lower, lim.upper,
@@ -274,7 +353,7 @@ def urdf_text(
             out.append(f'    <visual>{_origin(joint_drum)}<geometry><cylinder radius="{_f(body.radius * 1.3)}" '
                        f'length="{_f(body.radius * 2.4)}"/></geometry>{_JOINT_MATERIAL}</visual>')
         if body.collides:
-            out.append(f"    {_capsule_collision(f'link{i}_capsule', np.asarray(end, dtype=float), body.radius)}")
+            out.extend(f"    {element}" for element in _link_collisions(i, body, np.asarray(end, dtype=float)))
         out.extend(f"    {visual}" for visual in visuals[i])
         out.append("  </link>")
         kind = "prismatic" if row.kind == "T" else ("continuous" if lim.lower is None else "revolute")
@@ -320,7 +399,7 @@ def urdf_text(
                    "</hardwareInterface></joint>"
                    f'<actuator name="{row.name}_motor"><mechanicalReduction>{ratio}</mechanicalReduction>{motor}'
                    "</actuator></transmission>")
-    for a, b in collision_filters:
+    for a, b in filters:
         group = f"filter_{a}_{b}"
         out.append(f'  <drake:collision_filter_group name="{group}"><drake:member link="{a}"/>'
                    f'<drake:member link="{b}"/><drake:ignored_collision_filter_group name="{group}"/>'

@@ -73,6 +73,10 @@ A segments file is JSON: {"deg": false, "segments": [SEGMENT, ...]}. Each SEGMEN
            rest (Drake's Toppra, as armlab plan --fastest), without "tf": the joint limits are the
            arm's file's and its drive train's, or "velocity", "acceleration" and "effort" (one, or
            one per joint); the payload and gravity are the run's (--payload, --gravity).
+  a planned motion: "to": [q1, ...] with "plan": {"scene": FILE, "clearance": m, "seed": 0, "budget": s}
+           (every key optional; the scene file relative to the segments file): a collision-free path
+           around the scene's obstacles and the arm itself, timed as fast as the limits allow (as
+           armlab plan ARM to; "velocity", "acceleration", "effort" as for "fastest"), no "tf".
 With "deg": true, revolute joint values and rates are in degrees (prismatic ones stay m)."""
 
 
@@ -285,16 +289,59 @@ def read_segments(arm: Arm, path: str | Path, payload: float = 0.0, gravity: str
     if not isinstance(deg, bool):
         raise ValueError(f"--segments {path}: \"deg\" = {json.dumps(deg)} must be true or false")
     return parse_segments(arm, data["segments"], deg, f"--segments {path.name}", f"segments from {path.name}",
-                          payload=payload, gravity=gravity)
+                          payload=payload, gravity=gravity, folder=path.parent)
+
+
+#: The keys of a segment's "plan" object (:func:`_planned`).
+_PLAN_KEYS = ("scene", "clearance", "seed", "budget")
+
+
+def _planned(arm: Arm, spec: Mapping[str, Any], q0: NDArray[np.float64], qf: NDArray[np.float64], deg: bool,
+             label: str, where: str, folder: Path | None) -> Motion:
+    """A "plan" segment: :func:`armlab.planning.planner.plan_path` from ``q0`` to ``qf`` around its scene (a file
+    relative to ``folder``, the segments file's), timed as fast as the limits allow."""
+    # lazy: the planner loads Drake's SceneGraph and Toppra, only for a planned segment
+    from armlab.kinematics.quintic import TrajectorySegment
+    from armlab.planning.planner import plan_path
+
+    options = spec["plan"]
+    if options is True:
+        options = {}
+    if not isinstance(options, dict) or set(options) - set(_PLAN_KEYS):
+        raise ValueError(f"{where}: \"plan\" = {cut(json.dumps(options))} is not allowed: true, or an object of "
+                         f"{', '.join(_PLAN_KEYS)}")
+    if "tf" in spec:
+        raise ValueError(f"{where}: a \"plan\" segment takes no \"tf\": its duration is the least the limits allow")
+    scene = options.get("scene")
+    if scene is not None and not isinstance(scene, str):
+        raise ValueError(f"{where}: plan scene = {json.dumps(scene)} must be a scene file's name")
+    numbers = {key: json_number(options[key], f"{where} plan {key}") for key in ("clearance", "budget")
+               if key in options}
+    seed = options.get("seed", 0)
+    if not (is_json_number(seed) and isinstance(seed, int)):
+        raise ValueError(f"{where}: plan seed = {json.dumps(seed)} must be a whole number")
+    velocity, acceleration, effort = (_rates(arm, spec, key, deg and key != "effort", where)
+                                      for key in ("velocity", "acceleration", "effort"))
+    try:
+        plan = plan_path(arm, q0, qf, None if scene is None else (folder or Path()) / scene,
+                         numbers.get("clearance", 0.0), seed, numbers.get("budget", 5.0), velocity=velocity,
+                         acceleration=acceleration, effort=effort)
+    except ValueError as error:
+        raise ValueError(f"{where}: {error}") from None
+    timing = cast(TrajectorySegment, plan.motion.segments[0])  # fastest's motion: one trajectory segment
+    return Motion((TrajectorySegment(timing.trajectory, label),),
+                  f"a path planned around {scene or 'the arm itself'} (clearance {plan.min_clearance * 1e3:.4g} mm),"
+                  " time-optimal timing (Toppra)")
 
 
 def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, description: str,
                    start: NDArray[np.float64] | None = None, payload: float = 0.0,
-                   gravity: str | ArrayLike | None = None) -> Motion:
+                   gravity: str | ArrayLike | None = None, folder: Path | None = None) -> Motion:
     """The motion of a list of SEGMENT objects (:data:`SEGMENTS_FILE_HELP`), read from JSON; ``where_file`` starts
     every message (``"--segments f.json"``); ``start`` (n,): where a first segment without a start begins (else it
-    needs one); ``payload`` (kg), ``gravity``: what the run carries, the ``"fastest"`` segments' timing too. Every
-    end is checked against the limits."""
+    needs one); ``payload`` (kg), ``gravity``: what the run carries, the ``"fastest"`` segments' timing too;
+    ``folder``: where a "plan" segment's scene file is (default the current folder). Every end is checked against
+    the limits."""
     load = _Load(payload, gravity)
     if not isinstance(specs, list) or not specs:
         raise ValueError(f"{where_file}: expected a non-empty list of segments")
@@ -306,8 +353,9 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
         if not isinstance(spec, dict):
             raise ValueError(f"{where}: expected an object, got {spec!r}")
         tool_path = any(key in spec for key in _TOOL_PATH_KEYS)
-        timed = spec.get("profile") == "fastest"
-        allowed = known | ({"samples", *_TOOL_PATH_KEYS} if tool_path else {"through", "degree"} if "through" in spec
+        timed = spec.get("profile") == "fastest" or "plan" in spec
+        allowed = known | ({"plan"} if "plan" in spec else set()) | (
+                           {"samples", *_TOOL_PATH_KEYS} if tool_path else {"through", "degree"} if "through" in spec
                            else set()) | ({"velocity", "acceleration", "effort"} if timed
                                           else {"speed", "acceleration"} if tool_path
                                           else {"velocity", "acceleration"} if spec.get("profile") == "trapezoid"
@@ -339,6 +387,12 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
         if (qf is None) == (rate is None):
             raise ValueError(f"{where}: give exactly one of \"to\", \"to_point\" or \"rate\" (or a tool path: "
                              "\"line_to\", \"arc_through\" or \"arc_centre\")")
+        if "plan" in spec:
+            if qf is None or "profile" in spec:
+                raise ValueError(f"{where}: a \"plan\" segment needs \"to\" (or \"to_point\") and takes no "
+                                 "\"rate\" or \"profile\"")
+            segments.extend(_planned(arm, spec, q0, qf, deg, label, where, folder).segments)
+            continue
         if timed and qf is not None:
             from pydrake.trajectories import PiecewisePolynomial  # lazy: Drake, only for a time-optimal segment
 

@@ -111,6 +111,34 @@ def two_link_urdf(mass2: float = 0.5, mesh: str | None = None) -> str:
 """
 
 
+def three_link_urdf(folder: Path, fore: str) -> str:
+    """A user's three-link arm in the x–z plane (joints about y, 0.1 m above its base box): link fore is ``fore``
+    (collision geometry centred 0.15 m from the elbow; ``part.obj``, a 0.3 × 0.04 × 0.04 m box, is written beside)."""
+    (folder / "part.obj").write_text("".join(f"v {x * 0.15:g} {y * 0.02:g} {z * 0.02:g}\n" for x in (-1, 1)
+                                             for y in (-1, 1) for z in (-1, 1))
+                                     + "f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\nf 1 5 6\nf 1 6 2\nf 3 4 8\nf 3 8 7\n"
+                                       "f 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n")
+    limit = '<limit lower="-3" upper="3" effort="10" velocity="5"/>'
+    path = folder / "three.urdf"
+    path.write_text(f"""<robot name="three">
+  <link name="base"><collision><origin xyz="0 0 -0.05"/><geometry><box size="0.3 0.3 0.1"/></geometry>
+    </collision></link>
+  <link name="upper"><collision><origin xyz="0.2 0 0" rpy="0 1.5707963267948966 0"/>
+    <geometry><cylinder radius="0.03" length="0.4"/></geometry></collision></link>
+  <link name="fore"><collision><origin xyz="0.15 0 0" {'rpy="0 1.5707963267948966 0"' if 'cylinder' in fore else ''}/>
+    <geometry>{fore}</geometry></collision></link>
+  <link name="hand"><collision><geometry><sphere radius="0.04"/></geometry></collision></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.1"/>
+    <axis xyz="0 1 0"/>{limit}</joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/>
+    <axis xyz="0 1 0"/>{limit}</joint>
+  <joint name="wrist" type="revolute"><parent link="fore"/><child link="hand"/><origin xyz="0.3 0 0"/>
+    <axis xyz="0 1 0"/>{limit}</joint>
+</robot>
+""")
+    return str(path)
+
+
 def assert_rounding_close(actual: ArrayLike, desired: ArrayLike, ulps: float) -> None:
     """``actual`` = ``desired`` up to ``ulps`` units in the last place of ``desired``'s largest magnitude.
 

@@ -7,7 +7,7 @@ import json
 
 import numpy as np
 import pytest
-from helpers import random_q
+from helpers import random_q, three_link_urdf
 from numpy.testing import assert_allclose
 
 from armlab.analysis.workspace import workspace
@@ -182,7 +182,7 @@ def test_rrrr_tool_driven_into_its_stand_in_simulation(tmp_path):
 
 
 def test_cli_check_and_strict_exit(tmp_path, capsys):
-    assert main(["check", "rrrr", "--q", "0,80,160,60", "--deg", "--top", "1"]) == 0
+    assert main(["check", "rrrr", "--q", "0,80,160,60", "--deg", "--top", "1"]) == 3  # in contact
     out = capsys.readouterr().out.splitlines()
     assert out[0] == "rrrr: 3 pair(s) checked; 2 in contact; the 1 smallest clearances:"
     assert out[1].split()[:2] == ["link4–link1", "-60.0000"]
@@ -196,7 +196,7 @@ def test_cli_check_reads_a_urdf_with_its_tool_option(tmp_path, capsys):
     urdf = tmp_path / "rrrr.urdf"
     urdf.write_text(get_arm("rrrr").urdf())
     assert main(["check", str(urdf), "--tool", "link4", "--package-path", str(tmp_path), "--q", "0,80,160,60",
-                 "--deg", "--top", "1"]) == 0
+                 "--deg", "--top", "1"]) == 3
     out = capsys.readouterr().out.splitlines()
     assert out[0] == "rrrr: 3 pair(s) checked; 2 in contact; the 1 smallest clearances:"
     assert out[1].split()[:2] == ["link4–link1", "-60.0000"]
@@ -340,38 +340,11 @@ def test_models_readme_gives_every_collision_radius(name):
         assert body.collides and f"{body.radius * 1e3:g}" in line, (name, body.radius)
 
 
-def _user_urdf(folder, fore: str) -> str:
-    """A user's three-link arm in the x–z plane (joints about y, 0.1 m above its base box): link fore is ``fore``."""
-    (folder / "part.obj").write_text("".join(f"v {x * 0.15:g} {y * 0.02:g} {z * 0.02:g}\n" for x in (-1, 1)
-                                             for y in (-1, 1) for z in (-1, 1))
-                                     + "f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\nf 1 5 6\nf 1 6 2\nf 3 4 8\nf 3 8 7\n"
-                                       "f 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n")
-    limit = '<limit lower="-3" upper="3" effort="10" velocity="5"/>'
-    path = folder / "three.urdf"
-    path.write_text(f"""<robot name="three">
-  <link name="base"><collision><origin xyz="0 0 -0.05"/><geometry><box size="0.3 0.3 0.1"/></geometry>
-    </collision></link>
-  <link name="upper"><collision><origin xyz="0.2 0 0" rpy="0 1.5707963267948966 0"/>
-    <geometry><cylinder radius="0.03" length="0.4"/></geometry></collision></link>
-  <link name="fore"><collision><origin xyz="0.15 0 0" {'rpy="0 1.5707963267948966 0"' if 'cylinder' in fore else ''}/>
-    <geometry>{fore}</geometry></collision></link>
-  <link name="hand"><collision><geometry><sphere radius="0.04"/></geometry></collision></link>
-  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.1"/>
-    <axis xyz="0 1 0"/>{limit}</joint>
-  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="0.4 0 0"/>
-    <axis xyz="0 1 0"/>{limit}</joint>
-  <joint name="wrist" type="revolute"><parent link="fore"/><child link="hand"/><origin xyz="0.3 0 0"/>
-    <axis xyz="0 1 0"/>{limit}</joint>
-</robot>
-""")
-    return str(path)
-
-
 @pytest.mark.parametrize("fore", ['<mesh filename="part.obj"/>', '<cylinder radius="0.03" length="0.3"/>'])
 def test_user_urdf_mesh_and_cylinder_against_the_floor(tmp_path, fore):
     """A URDF's own mesh (its convex hull) and cylinder against the floor, through Drake: the lowest point of the
     link tilted by the elbow, by the test's own formula (centre height less half its extent along z)."""
-    arm = get_arm(_user_urdf(tmp_path, fore))
+    arm = get_arm(three_link_urdf(tmp_path, fore))
     floor = scene_from_dict({"obstacles": [{"name": "floor", "shape": "floor", "z": -0.05}]})
     for q2 in (0.0, 0.5, -1.0):
         rows = {row["pair"]: row["distance"] for row in clearance(arm, [0.0, q2, 0.0], floor)}
@@ -385,7 +358,7 @@ def test_user_urdf_mesh_and_cylinder_against_the_floor(tmp_path, fore):
     # clearances are those of the geometry that is left, fore's pairs gone
     (tmp_path / "part.stl").write_bytes(b"solid x\nendsolid x\n")
     with pytest.warns(UserWarning, match=r"collision mesh\(es\) left out"):
-        stl = get_arm(_user_urdf(tmp_path, '<mesh filename="part.stl"/>'))
+        stl = get_arm(three_link_urdf(tmp_path, '<mesh filename="part.stl"/>'))
     pairs = {row["pair"] for row in clearance(stl, [0.0, 0.0, 0.0], floor)}
     assert "hand–floor" in pairs and not any("fore" in pair for pair in pairs)
 

@@ -187,13 +187,13 @@ def test_workers_keep_glibc_s_adaptive_malloc(cluster: Cluster) -> None:
 
     from distributed import Client
 
-    from armlab.analysis.sweep import _client
+    from armlab.analysis.sweep import dask_client
 
     def environment() -> tuple[str | None, str | None]:
         return os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OPENBLAS_NUM_THREADS")
 
     with ExitStack() as stack:
-        local = _client(stack, 1, None)
+        local = dask_client(stack, 1, None)
         assert list(local.run(environment).values()) == [(None, "1")]
     with Client(cluster.address) as client:
         assert list(client.run(environment).values()) == [(None, "1")] * 2

@@ -105,24 +105,23 @@ def test_dh_round_trip(key, tmp_path):
 def test_dh_round_trip_carries_drives_and_radii(tmp_path):
     puma = armlab.load("puma560")  # a library arm with its drive train
     assert puma.drives is not None
-    radii = np.linspace(0.03, 0.08, puma.n)
-    original = replace(puma, bodies=tuple(replace(body, radius=float(r), collides=True)
-                                          for body, r in zip(puma.bodies, radii, strict=True)))
+    radii = np.array([0.09, 0.07, 0.0, 0.05, 0.04, 0.03])  # link 3 without a shape (radius 0)
+    original = replace(puma, bodies=tuple(replace(body, radius=float(r), collides=True) if r > 0 else
+                                          replace(body, collides=False) for body, r in
+                                          zip(puma.bodies, radii, strict=True)))
     (path,) = armlab.export(original, dh=tmp_path / "puma560.csv")
     copy = armlab.load(path)
     _assert_same_arm(original, copy)  # inverse dynamics through each arm's own drive train
     assert copy.drives is not None
     for name in DRIVE_FIELDS:
         np.testing.assert_allclose(getattr(copy.drives, name), getattr(original.drives, name), atol=TOL, rtol=TOL)
-    assert [body.collides for body in copy.bodies] == [True] * puma.n
-    assert [body.radius for body in copy.bodies] == list(radii)  # exact: the shortest decimal reads back
+    assert [body.collides for body in copy.bodies] == [True, True, False, True, True, True]
+    # exact: the shortest decimal reads back
+    assert [body.radius for body in copy.bodies if body.collides] == [r for r in radii if r > 0]
 
 
 def test_dh_export_refuses_what_a_table_cannot_hold(tmp_path):
     puma = armlab.load("puma560")
-    some = replace(puma, bodies=(replace(puma.bodies[0], collides=True), *puma.bodies[1:]))
-    with pytest.raises(ValueError, match="only some links have collision geometry"):
-        armlab.export(some, dh=tmp_path / "some.csv")
     slow = puma.with_drives(replace(puma.drives, coulomb_speed=0.1))
     with pytest.raises(ValueError, match=r"coulomb_speed = 0\.1 rad/s cannot be written in a DH table"):
         armlab.export(slow, dh=tmp_path / "slow.csv")

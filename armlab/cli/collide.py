@@ -1,4 +1,7 @@
-"""``armlab check``: the arm's clearances at the joint values given, by pair, against itself and a scene."""
+"""``armlab check``: the arm's clearances at the joint values given, by pair, against itself and a scene.
+
+Exit status 0 when every pair is apart, 3 when a pair is in contact (the ``--strict-limits`` convention: a check
+that fails), 2 for bad input."""
 
 from __future__ import annotations
 
@@ -28,7 +31,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps({"arm": arm.name, "q": q.tolist(), "units": "m", "in_contact": len(touching) > 0,
                           "clearances": rows}, indent=2))
-        return 0
+        return 3 if touching else 0
     shown = rows if args.all else rows[: args.top]
     if not rows:
         print(f"{arm.name}: no pair to check (adjacent links are never checked; give --scene to check obstacles)")
@@ -39,12 +42,13 @@ def _cmd_check(args: argparse.Namespace) -> int:
     for row in shown:
         state = f"in contact, penetration {row['depth'] * 1e3:.4g} mm" if below(row["distance"], 0.0) else "apart"
         print(f"  {row['pair']:28s} {row['distance'] * 1e3:+10.4f} mm  {state}")
-    return 0
+    return 3 if touching else 0
 
 
 def register(subparsers: Any) -> None:
     """Add the ``check`` subcommand to the CLI's subparsers."""
-    p = subparsers.add_parser("check", help="collision check: the clearance of every pair of links (and obstacles)")
+    p = subparsers.add_parser("check", help="collision check: the clearance of every pair of links (and obstacles); "
+                              "exits 3 when a pair is in contact")
     add_arm(p)
     p.add_argument("--q", required=True, help="joint values v1,v2,… (rad and m; see --deg)")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees")

@@ -1,11 +1,14 @@
-"""``armlab plan``: a tool line or arc by IK along it, timed by a profile or as fast as the limits allow.
+"""``armlab plan``: a tool line or arc by IK along it, timed by a profile or as fast as the limits allow; or a
+joint motion around obstacles (``armlab plan ARM to --from Q --to Q --scene FILE``).
 
-A thin layer over :func:`armlab.line`, :func:`armlab.arc` and :func:`armlab.fastest` (:mod:`armlab.api`): it
-parses the points, prints the plan (duration, the joints at both ends and, with ``--fastest``, the minimum duration
-and the constraint active along the path), may plot ṡ against its limit curve (``--plot``) and simulate it
-(``--simulate DIR``, :func:`armlab.simulate`), with a ``--payload`` at the tool (timed with it too), warning of
-every limit the run passes (the ones the timing was planned within among them; exit 3 with ``--strict-limits``,
-as ``armlab simulate``). ``armlab simulate --segments`` runs the same paths from a file.
+A thin layer over :func:`armlab.line`, :func:`armlab.arc`, :func:`armlab.fastest` and :func:`armlab.plan_path`
+(:mod:`armlab.api`): it parses the points, prints the plan (duration, the joints at both ends and, with
+``--fastest``, the minimum duration and the constraint active along the path; ``to``: the path's smallest
+clearance, its length, the planning time and the timed duration), may plot ṡ against its limit curve (``--plot``)
+and simulate it (``--simulate DIR``, :func:`armlab.simulate`), with a ``--payload`` at the tool (timed with it
+too), warning of every limit the run passes (the ones the timing was planned within among them; exit 3 with
+``--strict-limits``, as ``armlab simulate``). ``armlab simulate --segments`` runs the same paths from a file.
+``to`` exits 3 when no path is found within ``--budget``.
 """
 
 from __future__ import annotations
@@ -13,19 +16,21 @@ from __future__ import annotations
 import argparse
 import io
 import json
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from armlab.cli.args import add_arm, add_drives, arm_of
+from armlab.cli.collide import SCENE_HELP
 from armlab.cli.simulate import run_status
 from armlab.drives.read import with_drives
 from armlab.files import write_file
 from armlab.kinematics.cartesian import DEFAULT_SAMPLES, PROFILES
 from armlab.limits import allowed, per_joint
 from armlab.presentation.figures import DPI
-from armlab.values import joint_values, parse_floats
+from armlab.values import check_payload, joint_values, parse_floats
 
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
@@ -80,11 +85,78 @@ def _plot(best: Fastest, arm: Arm, path: str) -> None:
     write_file(path, data.getvalue())  # complete or not at all
 
 
-def _cmd_plan(args: argparse.Namespace) -> int:
-    # lazy: the plant's module (armlab --help stays fast)
-    from armlab.models.plant import check_payload
+def _cmd_plan_to(arm: Arm, args: argparse.Namespace) -> int:
+    """``armlab plan ARM to``: :func:`armlab.plan_path`, printed (or JSON), simulated with ``--simulate``."""
+    # lazy: the planner loads Drake's SceneGraph and Toppra
+    from armlab.api import plan_path
+    from armlab.planning.planner import NoPathError
 
+    if args.end is None:
+        raise ValueError("plan ARM to needs --to Q: the goal joint values")
+    if args.start is None and arm.home is None:
+        raise ValueError(f"{arm.name} names no home pose: give --from Q, the start joint values")
+    q0 = np.array(arm.home) if args.start is None else joint_values(arm, args.start, args.deg, "--from")
+    qf = joint_values(arm, args.end, args.deg, "--to")
+    try:
+        plan = plan_path(arm, q0, qf, args.scene, clearance=args.clearance, seed=args.seed, budget=args.budget,
+                         velocity=_limits(arm, args.velocity, "--velocity"),
+                         acceleration=_limits(arm, args.acceleration, "--acceleration"),
+                         effort=_limits(arm, args.effort, "--effort"), grid=args.grid)
+    except NoPathError as error:
+        print(f"armlab: error: {error}", file=sys.stderr)
+        return 3
+    summary: dict[str, Any] = {
+        "arm": arm.name, "scene": args.scene, "clearance": plan.clearance, "min_clearance": plan.min_clearance,
+        "closest_pair": plan.closest_pair, "length": plan.length, "planning_time": plan.planning_time,
+        "duration": plan.duration, "waypoints": plan.waypoints.tolist(), "nodes": plan.nodes,
+        "configurations_checked": plan.samples_checked, "most_active": plan.timed.most_active}
+    if args.simulate:
+        # lazy: the simulation loads Drake's systems
+        from armlab.api import simulate
+
+        run = simulate(arm, plan.motion, scene=args.scene)
+        summary["simulation"] = {"out": args.simulate, "written": run.save(args.simulate),
+                                 "max_tracking_error": run.summary["max_tracking_error"]}
+    if args.json:
+        print(json.dumps(summary, indent=2, default=lambda v: None))
+        return 0
+    where = "itself" if args.scene is None else f"itself and the obstacles of {args.scene}"
+    print(f"{arm.name}: a path around {where}: {len(plan.waypoints)} waypoints ({plan.nodes} tree nodes, "
+          f"{plan.samples_checked} configurations checked), smoothed")
+    print(f"smallest clearance: {plan.min_clearance * 1e3:.4g} mm ({plan.closest_pair}; asked "
+          f"{plan.clearance * 1e3:g} mm)")
+    print(f"path length: {plan.length:.4g} (joint space, rad and m)")
+    print(f"planning time: {plan.planning_time * 1e3:.4g} ms")
+    print(f"timed as fast as the limits allow (Toppra): {plan.duration:.4g} s, mostly {plan.timed.most_active}")
+    if args.simulate:
+        sim = summary["simulation"]
+        print(f"simulated: max tracking error {max(sim['max_tracking_error']):.3g}; wrote {args.simulate}: "
+              f"{' '.join(sim['written'])}")
+    return 0
+
+
+#: The options of ``plan ARM to`` only, and of ``plan ARM line|arc`` only (given for the other: an error, not ignored).
+_TO_ONLY = ("scene", "seed", "budget")
+_PATH_ONLY = ("through", "centre", "axis", "angle", "tf", "speed", "tool_acceleration", "q0", "branch", "fastest",
+              "plot")
+
+
+def _check_options(args: argparse.Namespace, defaults: dict[str, Any]) -> None:
+    """A ``ValueError`` naming the options given that the path kind ignores."""
+    given = [name for name in (_PATH_ONLY if args.path == "to" else (*_TO_ONLY, "clearance"))
+             if getattr(args, name) != defaults[name]]
+    if given:
+        shown = ", ".join("--" + name.replace("_", "-") for name in given)
+        why = ("it times the planned path as fast as the limits allow" if args.path == "to" else
+               "--scene, --clearance, --seed and --budget plan a motion around obstacles: 'plan ARM to'")
+        raise ValueError(f"{shown}: not an option of 'plan ARM {args.path}' ({why})")
+
+
+def _cmd_plan(args: argparse.Namespace) -> int:
+    _check_options(args, args.defaults)
     arm = with_drives(arm_of(args), args.drives)
+    if args.path == "to":
+        return _cmd_plan_to(arm, args)
     payload = check_payload(args.payload, "--payload")
     motion = _motion(arm, args)
     t = np.linspace(0.0, motion.duration, 4 * args.samples + 1)
@@ -151,12 +223,19 @@ def _cmd_plan(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``plan`` subcommand to the ``armlab`` CLI's subparsers."""
-    p = subparsers.add_parser("plan", help="a straight line or circular arc of the tool, timed or time-optimal")
+    p = subparsers.add_parser("plan", help="a straight line or circular arc of the tool, timed or time-optimal; or "
+                              "'to': a joint motion around a scene's obstacles")
     add_arm(p)
-    p.add_argument("path", choices=("line", "arc"), help="the tool's path")
+    p.add_argument("path", choices=("line", "arc", "to"), help="the tool's path (line, arc), or 'to': a collision-"
+                   "free joint motion from --from to --to (RRT-Connect, smoothed, timed by Toppra)")
     p.add_argument("--from", dest="start", help="start point x,y(,z) m (line: default the tool at --q0; arc: with "
-                   "--centre)")
-    p.add_argument("--to", dest="end", help="line: end point x,y(,z) m")
+                   "--centre); to: start joint values (default the arm's home pose)")
+    p.add_argument("--to", dest="end", help="line: end point x,y(,z) m; to: goal joint values")
+    p.add_argument("--scene", help=SCENE_HELP)
+    p.add_argument("--clearance", type=float, default=0.0, help="to: the least distance (m) kept from every obstacle "
+                   "and between the arm's links (default 0)")
+    p.add_argument("--seed", type=int, default=0, help="to: the random search's seed (default 0)")
+    p.add_argument("--budget", type=float, default=5.0, help="to: the search's time budget in s (default 5)")
     p.add_argument("--through", nargs=3, metavar="P", help="arc: three points x,y(,z), from the first by the second "
                    "to the third")
     p.add_argument("--centre", help="arc: centre x,y(,z) m")
@@ -170,9 +249,10 @@ def register(subparsers: Any) -> None:
     p.add_argument("--branch", type=int, help="closed-form IK branch at the start (rr: 0 θ2 ≥ 0, 1 θ2 ≤ 0)")
     p.add_argument("--samples", type=int, default=DEFAULT_SAMPLES, help=f"IK samples (default {DEFAULT_SAMPLES})")
     p.add_argument("--fastest", action="store_true", help="time-optimal timing by Drake's Toppra within the limits")
-    p.add_argument("--velocity", help="--fastest: joint velocity limits (one, or one per joint; default the file's)")
-    p.add_argument("--acceleration", help="--fastest: joint acceleration limits (default none)")
-    p.add_argument("--effort", help="--fastest: joint effort limits (default the file's)")
+    p.add_argument("--velocity", help="--fastest, to: joint velocity limits (one, or one per joint; default the "
+                   "file's)")
+    p.add_argument("--acceleration", help="--fastest, to: joint acceleration limits (default none)")
+    p.add_argument("--effort", help="--fastest, to: joint effort limits (default the file's)")
     p.add_argument("--motor-speed", help="--fastest: motor speed limits, rad/s (one, or one per joint; through the "
                    "drive train's gear ratios)")
     p.add_argument("--motor-torque", help="--fastest: motor torque limits, N·m (through the gear ratios and "
@@ -191,3 +271,4 @@ def register(subparsers: Any) -> None:
     p.add_argument("--deg", action="store_true", help="--q0 and --angle in degrees")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_plan)
+    p.set_defaults(defaults={name: p.get_default(name) for name in (*_TO_ONLY, *_PATH_ONLY, "clearance")})

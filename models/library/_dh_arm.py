@@ -28,12 +28,14 @@ def degrees(lower: float, upper: float, effort: float | None = None, velocity_de
 
 
 def library_dh_arm(name: str, source: str, convention: str, rows: Sequence[DHRow], limits: Sequence[JointLimits],
-                   inertials: Sequence[DHInertial] | None, notes: Mapping[str, str],
-                   closed_form: Callable[[DHTable], ClosedForm] | None = None) -> Arm:
+                   inertials: Sequence[DHInertial] | None, notes: Mapping[str, str], radii: Sequence[float],
+                   home: Sequence[float], closed_form: Callable[[DHTable], ClosedForm] | None = None) -> Arm:
     """The library arm ``name``: DH ``rows`` (``convention`` standard or modified), ``limits``, ``inertials`` in the
-    links' DH frames (``None``: a kinematic arm), cited by ``source`` and ``notes`` (what → where from);
-    ``closed_form`` makes its closed-form inverse kinematics from the table (:mod:`armlab.kinematics.ik_wrist`)."""
+    links' DH frames (``None``: a kinematic arm), cited by ``source`` and ``notes`` (what → where from); ``radii``
+    (m) its links' collision capsules along their DH offsets (models/README.md gives each arm's and why; 0: none);
+    ``home`` its source's rest pose (rad, m); ``closed_form`` makes its closed-form inverse kinematics from the table
+    (:mod:`armlab.kinematics.ik_wrist`)."""
     table = DHTable(tuple(rows), "modified" if convention == "modified" else "standard")
-    arm = from_dh(table, limits, inertials, name=name)
-    return replace(arm, paper=f"library: {source}", notes=dict(notes),
+    arm = from_dh(table, limits, inertials, radii, name=name)
+    return replace(arm, paper=f"library: {source}", notes=dict(notes), home=tuple(float(v) for v in home),
                    closed_form=None if closed_form is None else closed_form(table))

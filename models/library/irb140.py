@@ -30,12 +30,18 @@ LIMITS_DEG = ((-180, 180), (-100, 100), (-220, 60), (-200, 200), (-120, 120), (-
 VELOCITY_DEG = (200, 200, 260, 360, 360, 450)
 
 
+#: Collision capsule radii (m) per link, along its DH offsets: models/README.md gives the reasoning.
+RADII = (0.1, 0.07, 0.06, 0.05, 0.045, 0.03)
+#: The rest pose (rad, m): models/README.md.
+HOME = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
 def build() -> Arm:
     """The IRB 140 (kinematic; see the module)."""
     notes = {"kinematics": "standard DH, the Robotics Toolbox's IRB140 (ABB IRB 140 data sheet)",
              "limits": "position: the toolbox's qlim (joint 6 ±400°); velocity: ABB's, as ARTE's parameters.m",
              "masses": "not used: the toolbox's have centres of mass at 198 km and 80 m (unit slips) and none for "
                        "the wrist; a kinematic arm"}
-    return library_dh_arm("irb140", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],
-                          [degrees(lo, hi, velocity_deg=v) for (lo, hi), v in zip(LIMITS_DEG, VELOCITY_DEG,
-                                                                                  strict=True)], None, notes)
+    limits = [degrees(lo, hi, velocity_deg=v) for (lo, hi), v in zip(LIMITS_DEG, VELOCITY_DEG, strict=True)]
+    return library_dh_arm("irb140", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH], limits,
+                          None, notes, RADII, HOME)

@@ -26,10 +26,16 @@ DH = ((0.18, -np.pi / 2, 0.4), (0.6, 0.0, 0.0), (0.12, np.pi / 2, 0.0), (0.0, -n
 LIMITS_DEG = ((-155, 155), (-180, 65), (-15, 158), (-350, 350), (-130, 130), (-350, 350))
 
 
+#: Collision capsule radii (m) per link, along its DH offsets: models/README.md gives the reasoning.
+RADII = (0.1, 0.07, 0.06, 0.05, 0.045, 0.03)
+#: The rest pose (rad, m): models/README.md.
+HOME = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
 def build() -> Arm:
     """The KR5 (kinematic; see the module)."""
     notes = {"kinematics": "standard DH, the Robotics Toolbox 1.5's KR5 (ARTE's KR5_arc), its 11.5 cm tool included",
              "limits": "the toolbox's qlim; effort and velocity limits not in the source",
              "masses": "none published: a kinematic arm"}
     return library_dh_arm("kr5", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],
-                          [degrees(lo, hi) for lo, hi in LIMITS_DEG], None, notes)
+                          [degrees(lo, hi) for lo, hi in LIMITS_DEG], None, notes, RADII, HOME)

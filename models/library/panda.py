@@ -59,6 +59,12 @@ INERTIA = ((7.0337e-01, -1.3900e-04, 6.7720e-03, 7.0661e-01, 1.9169e-02, 9.1170e
            (1.2516e-02, -4.2800e-04, -1.1960e-03, 1.0027e-02, -7.4100e-04, 4.8150e-03))
 
 
+#: Collision capsule radii (m) per link, along its DH offsets: models/README.md gives the reasoning.
+RADII = (0.06, 0.06, 0.06, 0.05, 0.06, 0.05, 0.035)
+#: The rest pose (rad, m): models/README.md.
+HOME = (0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4)
+
+
 def _inertial(i: int) -> DHInertial:
     """Link ``i``'s (0-based) mass data in armlab's DH frame i (link 7's centre of mass moved to the flange)."""
     xx, xy, xz, yy, yz, zz = INERTIA[i]
@@ -78,4 +84,4 @@ def build() -> Arm:
                   "centre of mass moved from frame 7 to the flange frame",
     }
     return library_dh_arm("panda", SOURCE, "modified", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH], limits,
-                          [_inertial(i) for i in range(7)], notes)
+                          [_inertial(i) for i in range(7)], notes, RADII, HOME)

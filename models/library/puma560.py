@@ -82,6 +82,10 @@ CONFIGURATIONS = {"qz": (0, 0, 0, 0, 0, 0), "qr": (0, np.pi / 2, -np.pi / 2, 0, 
                   "qs": (0, 0, -np.pi / 2, 0, 0, 0), "qn": (0, np.pi / 4, -np.pi, 0, np.pi / 4, 0)}
 
 
+#: Collision capsule radii (m) per link, along its DH offsets: models/README.md gives the reasoning.
+RADII = (0.09, 0.07, 0.06, 0.05, 0.04, 0.03)
+
+
 def drive_train() -> DriveTrain:
     """The Puma 560's drive train, joint side (:meth:`DriveTrain.from_motor_side` of the source's motor-side data,
     T_c+ and |T_c−| per joint)."""
@@ -108,5 +112,5 @@ def build() -> Arm:
                        "armlab.models.library.puma560.drive_train(), the arm's own (arm.drives)",
     }
     arm = library_dh_arm("puma560", SOURCE, "standard", rows, [degrees(lo, hi) for lo, hi in LIMITS_DEG],
-                         inertials, notes, spherical_wrist_closed_form)
+                         inertials, notes, RADII, CONFIGURATIONS["qr"], spherical_wrist_closed_form)
     return arm.with_drives(drive_train())

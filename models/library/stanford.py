@@ -48,6 +48,12 @@ INERTIA = ((0.276, 0.255, 0.071), (0.108, 0.018, 0.100), (2.51, 2.51, 0.006), (0
 SOURCE_VALUES = ((5, (0.003, 0.0004, 0.0)),)
 
 
+#: Collision capsule radii (m) per link, along its DH offsets: models/README.md gives the reasoning.
+RADII = (0.08, 0.06, 0.04, 0.04, 0.035, 0.03)
+#: The rest pose (rad, m): models/README.md.
+HOME = (0.0, 0.0, 0.6, 0.0, 0.0, 0.0)
+
+
 def build() -> Arm:
     """The Stanford arm (see the module for every source, the correction and the caveat)."""
     rows = [DHRow(a, alpha, d, theta, kind) for a, alpha, d, theta, kind in DH]  # type: ignore[arg-type]
@@ -62,4 +68,4 @@ def build() -> Arm:
                   "toolbox's though 0.57-6.45 m from their frames (not a measured arm)",
         "correction link 5": "Izz 0 → 0.0026 kg·m² (triangle inequality); gravity torques unchanged",
     }
-    return library_dh_arm("stanford", SOURCE, "standard", rows, limits, inertials, notes)
+    return library_dh_arm("stanford", SOURCE, "standard", rows, limits, inertials, notes, RADII, HOME)

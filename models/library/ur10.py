@@ -44,6 +44,12 @@ INERTIA = (((0.0341, 0, -0.0043), (0, 0.0353, 0.0001), (-0.0043, 0.0001, 0.0216)
 SOURCE_VALUES = ((6, (0.0, 0.0004, 0.0003)),)
 
 
+#: Collision capsule radii (m) per link, along its DH offsets: models/README.md gives the reasoning.
+RADII = (0.095, 0.075, 0.06, 0.05, 0.05, 0.045)
+#: The rest pose (rad, m): models/README.md.
+HOME = (0.0, -np.pi / 2, 0.0, -np.pi / 2, 0.0, 0.0)
+
+
 def build() -> Arm:
     """The UR10 (see the module for every source and the correction)."""
     inertials = [DHInertial(m, (float(c[0]), float(c[1]), float(c[2])), inertia)
@@ -55,4 +61,4 @@ def build() -> Arm:
         "correction link 6": "Ixx 0 → 0.0001 kg·m² (triangle inequality); gravity torques unchanged",
     }
     return library_dh_arm("ur10", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],
-                          [degrees(-360, 360)] * 6, inertials, notes, ur_closed_form)
+                          [degrees(-360, 360)] * 6, inertials, notes, RADII, HOME, ur_closed_form)

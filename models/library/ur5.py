@@ -40,6 +40,12 @@ COM = ((0, -0.02561, 0.00193), (0.2125, 0, 0.11336), (0.15, 0, 0.0265), (0, -0.0
 FLANGE_RADIUS = 0.0375
 
 
+#: Collision capsule radii (m) per link, along its DH offsets: models/README.md gives the reasoning.
+RADII = (0.075, 0.06, 0.05, 0.045, 0.045, 0.0375)
+#: The rest pose (rad, m): models/README.md.
+HOME = (0.0, -np.pi / 2, 0.0, -np.pi / 2, 0.0, 0.0)
+
+
 def disc(mass: float, radius: float) -> tuple[tuple[float, float, float], ...]:
     """A solid disc's inertia about its centre (kg·m²), axis z: diag(m r²/4, m r²/4, m r²/2)."""
     return ((mass * radius**2 / 4, 0.0, 0.0), (0.0, mass * radius**2 / 4, 0.0), (0.0, 0.0, mass * radius**2 / 2))
@@ -56,4 +62,4 @@ def build() -> Arm:
         "choice link 6": f"a solid disc of radius {FLANGE_RADIUS} m (the flange) so that joint 6 has inertia",
     }
     return library_dh_arm("ur5", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],
-                          [degrees(-360, 360)] * 6, inertials, notes, ur_closed_form)
+                          [degrees(-360, 360)] * 6, inertials, notes, RADII, HOME, ur_closed_form)
