@@ -213,8 +213,9 @@ class CollisionModel:
         bound = np.ones(n)
         for j in range(1, n + 1):
             if self.arm.revolute[j - 1]:
-                bound[j - 1] = max((sum(span[j - 1:f - 1]) + float(stroke[j:f].sum()) + reach[f]
-                                    for f in range(j, n + 1) if reach[f] > 0), default=0.0)
+                reaching = [f for f in range(j, n + 1) if reach[f] > 0]  # not a bound: links with a reach at all
+                bound[j - 1] = max((sum(span[j - 1:f - 1]) + float(stroke[j:f].sum()) + reach[f] for f in reaching),
+                                   default=0.0)
         return bound
 
     @property

@@ -286,7 +286,7 @@ def linearize_loop(arm: Arm, options: SimulationOptions, q0: ArrayLike) -> tuple
             loop.initialize(diagram, context, q0, np.zeros(n))
             source: Any = wired.command.get_system()
             miss = np.asarray(wired.command.Eval(source.GetMyContextFromRoot(context))) - hold
-            if np.all(np.abs(miss) <= 1e-13 * np.maximum(1.0, np.abs(hold))):
+            if np.all(np.abs(miss) <= 1e-13 * np.maximum(1.0, np.abs(hold))):  # not a bound: a fixed point reached
                 break
             q_d = q_d - miss / (design.inertia * design.kp)
     reference_port.FixValue(context, np.concatenate([q_d, np.zeros(2 * n)]))
@@ -331,7 +331,7 @@ def frequency_response(arm: Arm, options: SimulationOptions, q0: ArrayLike,
         if below.size == 0 or below[0] == 0:
             continue
         lo, hi = f[below[0] - 1], f[below[0]]
-        while hi - lo > 1e-12 * hi:
+        while hi - lo > 1e-12 * hi:  # not a bound: bisection
             mid = 0.5 * (lo + hi)
             if abs(_transfer(system, np.array([mid]), n)[0, i]) < 1 / np.sqrt(2):
                 hi = mid

@@ -266,7 +266,7 @@ def _axes(table: DHTable, locating: LocatingTable, base: NDArray, limits: Sequen
         points = [to_link[:3, :3] @ p + to_link[:3, 3] for p in (start, corner)] + [links[i][:3, 3] @ to_link[:3, :3].T
                                                                                     + to_link[:3, 3]]
         upper = limits[i - 1].upper
-        if row.kind == "T" and upper is not None and upper > 0:
+        if row.kind == "T" and upper is not None and upper > 0:  # not a bound: a file's own limit, as given
             points.insert(0, points[0] - upper * np.array([0.0, 0.0, 1.0]))
         out.append(tuple((float(p[0]), float(p[1]), float(p[2])) for p in points))
     return out

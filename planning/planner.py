@@ -121,7 +121,7 @@ class Planner:
 
     def __init__(self, arm: Arm, scene: Scene | str | Path | None = None, clearance: float = 0.0) -> None:
         if not isinstance(clearance, int | float) or isinstance(clearance, bool) or not np.isfinite(clearance) \
-                or clearance < 0:
+                or clearance < 0:  # not a bound: a value the user gave
             raise ValueError(f"clearance = {clearance!r} is not allowed: give a margin ≥ 0 m")
         self.arm, self.clearance = arm, float(clearance)
         self.model = CollisionModel(arm, as_scene(scene))
@@ -198,7 +198,8 @@ class Planner:
         found = self.model.distances(q)
         j = int(np.argmin(found.distance)) if found.distance.size else -1
         if j >= 0 and above(-float(found.distance[j]), -self.clearance):
-            state = "in contact" if found.distance[j] < 0 else f"within the clearance {self.clearance * 1e3:g} mm"
+            touching = found.distance[j] < 0  # not a bound: the wording
+            state = "in contact" if touching else f"within the clearance {self.clearance * 1e3:g} mm"
             raise ValueError(f"{which} is {state}: {found.names()[j]} at {found.distance[j] * 1e3:+.4g} mm; give a "
                              "configuration clear of the obstacles and of the arm itself")
         return q
@@ -236,9 +237,9 @@ class Planner:
             start = nodes[nearest]
             gap = target - start
             distance = float(np.linalg.norm(gap))
-            if distance <= 1e-12:
+            if distance <= 1e-12:  # not a bound: the target reached
                 return added
-            end = target if distance <= STEP else start + gap * (STEP / distance)
+            end = target if distance <= STEP else start + gap * (STEP / distance)  # not a bound: the step length
             if not self.edge_free(start, end):
                 return added
             nodes.append(end)
