@@ -151,7 +151,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``plan`` subcommand to the ``armlab`` CLI's subparsers."""
-    p = subparsers.add_parser("plan", help="a straight line or circular arc of the tool, timed or time-optimal")
+    p = subparsers.add_parser("plan")
     add_arm(p)
     p.add_argument("path", choices=("line", "arc"), help="the tool's path")
     p.add_argument("--from", dest="start", help="start point x,y(,z) m (line: default the tool at --q0; arc: with "
