@@ -19,7 +19,7 @@ import argparse
 import os
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from importlib import import_module
 from typing import Any
 
@@ -64,7 +64,7 @@ class _Commands:
     parser :func:`build_parser` made for ``name`` (a command of :data:`COMMANDS`), given ``options``
     (:data:`_PARSER_OPTIONS`)."""
 
-    def __init__(self, parsers: dict[str, argparse.ArgumentParser]) -> None:
+    def __init__(self, parsers: Mapping[str, argparse.ArgumentParser]) -> None:
         self._parsers = parsers
 
     def add_parser(self, name: str, **options: Any) -> argparse.ArgumentParser:
