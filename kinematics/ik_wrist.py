@@ -5,6 +5,8 @@
   (2013): θ1 from the wrist-2 origin's offset d2 + d3 + d4 from the base axis, θ5 from the tool position along
   z1, θ6 from the tool orientation, then θ2, θ3, θ4 as a planar 3R chain. 8 branches (shoulder ×
   wrist ± × elbow).
+  :func:`ur_branches` solves a whole batch of poses in one pass (numpy over the poses and the 8 branches at once,
+  each DH transform linear in cos θ and sin θ); :func:`ur_ik` is its one pose.
 * :func:`spherical_wrist_ik` — the Puma 560 layout (a spherical wrist: α4 = 90°, α5 = −90°, a4 = a5 = a6 =
   d5 = 0; α1 = 90°, α2 = 0, α3 = −90°, a1 = 0), after Paul, Shimano & Mayer (1981): θ1 from the wrist centre's
   offset d2 + d3 from the base axis, θ2, θ3 from its distance in the arm's plane, and the wrist's
@@ -17,11 +19,13 @@ limits; at a wrist singularity (θ5 = 0) the free angle is ``near``'s. ``ValueEr
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numpy.typing import NDArray
 
 from armlab.bounds import above, below
-from armlab.kinematics.basic_movements import T_Z5, T_Z6
+from armlab.kinematics.basic_movements import T_Z1, T_Z3, T_Z4, T_Z5, T_Z6
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.kinematics.ik_closed_form import ClosedForm
 from armlab.kinematics.ik_target import target_text
@@ -67,26 +71,30 @@ def _rows_or_raise(solutions: list[list[float]], table: DHTable, what: str) -> N
     return np.array(solutions) - _offsets(table)  # DH angles θ = q + offset
 
 
-def _dh(row: DHRow, theta: NDArray) -> NDArray[np.float64]:
-    """The standard DH transform of ``row`` at the DH angles ``theta`` (any shape ``S``), ``S + (4, 4)``:
-    Rz(θ)·Tz(d)·Tx(a)·Rx(α) (000 eq. (9), as :func:`_row` for one angle)."""
-    c, s = np.cos(theta), np.sin(theta)
-    ca, sa = np.cos(row.alpha), np.sin(row.alpha)
-    T = np.zeros(np.shape(theta) + (4, 4))
-    T[..., 0, 0], T[..., 0, 1], T[..., 0, 2], T[..., 0, 3] = c, -s * ca, s * sa, row.a * c
-    T[..., 1, 0], T[..., 1, 1], T[..., 1, 2], T[..., 1, 3] = s, c * ca, -c * sa, row.a * s
-    T[..., 2, 1], T[..., 2, 2], T[..., 2, 3], T[..., 3, 3] = sa, ca, row.d, 1.0
-    return T
+#: Rz(θ) = cos θ·_COS + sin θ·_SIN + _ONE (4×4).
+_COS, _SIN, _ONE = np.diag([1.0, 1.0, 0.0, 0.0]), np.zeros((4, 4)), np.diag([0.0, 0.0, 1.0, 1.0])
+_SIN[0, 1], _SIN[1, 0] = -1.0, 1.0
+#: The two signs of a branch pair: θ5 and −θ5, θ3 and −θ3.
+_SIGNS = np.array([1.0, -1.0])
 
 
-def _inverse(T: NDArray) -> NDArray[np.float64]:
-    """The inverse of rigid transforms ``(..., 4, 4)``: [Rᵀ, −Rᵀp]."""
-    out = np.zeros_like(T)
-    rt = np.swapaxes(T[..., :3, :3], -1, -2)
-    out[..., :3, :3] = rt
-    out[..., :3, 3] = -np.einsum("...ij,...j->...i", rt, T[..., :3, 3])
-    out[..., 3, 3] = 1.0
-    return out
+@functools.cache
+def _dh_parts(row: DHRow, inverse: bool) -> NDArray[np.float64]:
+    """``(3, 4, 4)``: the matrices whose combination cos θ·[0] + sin θ·[1] + [2] is the standard DH transform of
+    ``row`` at the DH angle θ, Rz(θ)·C with C = Tz(d)·Tx(a)·Rx(α) (000 eq. (9), as :func:`_row`), or with
+    ``inverse`` its inverse C⁻¹·Rz(−θ)."""
+    C = T_Z3(row.d) @ T_Z1(row.a) @ T_Z4(row.alpha)
+    if inverse:
+        Ci = np.linalg.inv(C)
+        return np.stack([Ci @ _COS, -(Ci @ _SIN), Ci @ _ONE])
+    return np.stack([_COS @ C, _SIN @ C, _ONE @ C])
+
+
+def _dh(row: DHRow, theta: NDArray, inverse: bool = False) -> NDArray[np.float64]:
+    """The standard DH transform of ``row`` (or with ``inverse`` its inverse) at the DH angles ``theta`` (any
+    shape ``S``), ``S + (4, 4)``."""
+    cos, sin, one = _dh_parts(row, inverse)
+    return np.cos(theta)[..., None, None] * cos + np.sin(theta)[..., None, None] * sin + one
 
 
 def _arccos(c: NDArray) -> NDArray[np.float64]:
@@ -111,26 +119,28 @@ def ur_branches(table: DHTable, position: NDArray, rotation: NDArray, near: NDAr
     phi = np.arctan2(wrist[..., 1], wrist[..., 0])
     with np.errstate(divide="ignore", invalid="ignore"):  # r = 0: that pose's branches are NaN (no shoulder)
         shoulder = np.where(below(r, abs(offset)), np.nan, np.arcsin(np.clip(offset / r, -1.0, 1.0)))
-    t1 = np.stack([phi + shoulder, phi + np.pi - shoulder], -1)  # (..., 2)
-    z1 = np.stack([np.sin(t1), -np.cos(t1), np.zeros_like(t1)], -1)  # (..., 2, 3)
+    t1 = np.empty(batch + (2,))  # the two shoulders
+    t1[..., 0], t1[..., 1] = phi + shoulder, phi + np.pi - shoulder
+    z1 = np.zeros(t1.shape + (3,))  # (..., 2, 3)
+    z1[..., 0], z1[..., 1] = np.sin(t1), -np.cos(t1)
     t5 = _arccos((np.einsum("...j,...kj->...k", position, z1) - offset) / d6)
-    t5 = np.stack([t5, -t5], -1)  # (..., 2 shoulders, 2 wrists)
+    t5 = t5[..., None] * _SIGNS  # (..., 2 shoulders, 2 wrists)
     v = np.einsum("...ji,...kj->...ki", rotation, z1)  # z1 in frame 6: (s5 c6, −s5 s6, c5), (..., 2, 3)
     s5 = np.sin(t5)
     singular = np.abs(s5) < SINGULAR_SIN  # not a bound: a switch of formula where v/s5 has no digits
     safe = np.where(singular, 1.0, s5)
     t6 = np.where(singular, (near[..., 5] + rows[5].theta)[..., None, None],
                   np.arctan2(-v[..., None, 1] / safe, v[..., None, 0] / safe))
-    T14 = (_inverse(_dh(rows[0], t1))[..., None, :, :] @ target[..., None, None, :, :]
-           @ _inverse(_dh(rows[4], t5) @ _dh(rows[5], t6)))  # (..., 2, 2, 4, 4)
+    T14 = (_dh(rows[0], t1, inverse=True)[..., None, :, :] @ target[..., None, None, :, :]
+           @ _dh(rows[5], t6, inverse=True) @ _dh(rows[4], t5, inverse=True))  # (..., 2, 2, 4, 4)
     x, y = T14[..., 0, 3], T14[..., 1, 3]
     t234 = np.arctan2(T14[..., 1, 0], T14[..., 0, 0])
     t3 = _arccos((x * x + y * y - a2 * a2 - a3 * a3) / (2 * a2 * a3))
-    t3 = np.stack([t3, -t3], -1)  # (..., 2, 2, 2 elbows)
+    t3 = t3[..., None] * _SIGNS  # (..., 2, 2, 2 elbows)
     t2 = np.arctan2(y, x)[..., None] - np.arctan2(a3 * np.sin(t3), a2 + a3 * np.cos(t3))
-    shape = t3.shape
-    theta = np.stack([np.broadcast_to(t1[..., :, None, None], shape), t2, t3, t234[..., None] - t2 - t3,
-                      np.broadcast_to(t5[..., None], shape), np.broadcast_to(t6[..., None], shape)], -1)
+    theta = np.empty(t3.shape + (6,))
+    theta[..., 0], theta[..., 1], theta[..., 2] = t1[..., :, None, None], t2, t3
+    theta[..., 3], theta[..., 4], theta[..., 5] = t234[..., None] - t2 - t3, t5[..., None], t6[..., None]
     q = theta.reshape(batch + (8, 6)) - _offsets(table)  # DH angles θ = q + offset
     return np.where(np.isnan(q).any(axis=-1, keepdims=True), np.nan, q)
 
