@@ -157,6 +157,37 @@ def test_closed_form_branches_are_the_numerical_solvers(name: str, rng: np.rando
         assert d.min(axis=1).max() < 1e-6 and d.min(axis=0).max() < 1e-6
 
 
+@pytest.mark.parametrize("name", ["ur5", "ur10"])
+def test_ur_branches_of_a_batch_are_each_poses_closed_form(name: str, rng: np.random.Generator) -> None:
+    """ur_branches solves a batch of poses at once, (N, 8, 6): each pose's existing branches are the one-pose closed
+    form's (same order), each reaching its pose to 1e-9 by FK (the arm's own, a second way); a pose out of reach
+    (beyond the arm, on the base axis closer than the shoulder offset) has only NaN branches."""
+    from armlab.kinematics.dh import DHRow, DHTable
+    from armlab.kinematics.ik_wrist import ur_branches
+
+    arm = get_arm(name)
+    module = __import__(f"armlab.models.library.{name}", fromlist=["DH"])
+    table = DHTable(tuple(DHRow(a, alpha, d, 0.0) for a, alpha, d in module.DH))
+    q = rng.uniform(-np.pi, np.pi, (40, 6))
+    q[0, 4] = 0.0  # a wrist singularity: θ6 is near's
+    targets = arm.forward(q).tool
+    far = np.eye(4)
+    far[:3, 3] = (10.0, 0.0, 0.0)
+    axis = np.eye(4)
+    axis[:3, 3] = (0.0, 0.0, 0.3)
+    targets = np.concatenate([targets, far[None], axis[None]])
+    near = np.concatenate([q, np.zeros((2, 6))])
+    batch = ur_branches(table, targets[:, :3, 3], targets[:, :3, :3], near)
+    assert batch.shape == (42, 8, 6)
+    assert np.isnan(batch[40:]).all()
+    assert arm.closed_form is not None
+    for k in range(40):
+        exists = ~np.isnan(batch[k, :, 0])
+        one = arm.closed_form.solve(targets[k, :3, 3], targets[k, :3, :3], near[k])
+        np.testing.assert_allclose(batch[k, exists], one, atol=1e-12, rtol=0)
+        assert np.abs(arm.forward(batch[k, exists]).tool - targets[k]).max() <= TOL
+
+
 def test_position_target_of_a_six_axis_arm_is_its_branches_at_one_orientation(rng: np.random.Generator) -> None:
     """A position alone on a 6-DOF arm is a continuum: all=True gives the solution reached from near and the other
     branches with its tool orientation (the UR5's closed form), not samples of the continuum."""

@@ -118,7 +118,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``workspace`` and ``sweep`` subcommands to the CLI's subparsers."""
     p = subparsers.add_parser(
-        "workspace", help="an arm's workspace: volume, reach, manipulability, singular configurations",
+        "workspace",
         description=textwrap.fill(
             "Sample ARM's joint space (within the limits; a revolute joint without limits over a full turn), "
             "and report the workspace volume (area for a planar arm) from the voxels the tool point occupies, with "
@@ -143,7 +143,7 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=cmd_workspace)
 
     p = subparsers.add_parser(
-        "sweep", help="a design study: candidates evaluated on a Dask cluster into results.csv and plots",
+        "sweep",
         description="Evaluate every candidate of the study in STUDY.json on a Dask cluster (a local one by default) "
                     "and write DIR/results.csv (one row per candidate), study.json and the plots. A rerun into the "
                     "same DIR computes only the candidates not yet in results.csv.",

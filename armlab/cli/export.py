@@ -25,7 +25,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``export`` subcommand to the CLI's subparsers."""
     p = subparsers.add_parser(
-        "export", help="write an arm as a URDF (any arm) or a DH table (an arm made from one)",
+        "export",
         description="Write ARM as a URDF file (any arm: joint origins and axes from its geometry, each link's "
                     "mass, centre of mass and inertia in the URDF's link frames, a drive train as Drake's "
                     "<drake:gear_ratio>/<drake:rotor_inertia> tags) and/or as a DH table file (an arm made from "

@@ -223,8 +223,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``plan`` subcommand to the ``armlab`` CLI's subparsers."""
-    p = subparsers.add_parser("plan", help="a straight line or circular arc of the tool, timed or time-optimal; or "
-                              "'to': a joint motion around a scene's obstacles")
+    p = subparsers.add_parser("plan")
     add_arm(p)
     p.add_argument("path", choices=("line", "arc", "to"), help="the tool's path (line, arc), or 'to': a collision-"
                    "free joint motion from --from to --to (RRT-Connect, smoothed, timed by Toppra)")
