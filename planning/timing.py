@@ -556,7 +556,9 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
     train = arm.drives if drives is None else drives
     limits = arm_limits(arm, velocity, acceleration, effort, train, motor_speed, motor_torque)
     if np.all(np.isinf(np.concatenate([limits.velocity, limits.acceleration, limits.effort]))):
-        raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give some")
+        raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give "
+                         "velocity=, acceleration= or effort= (armlab plan: --velocity, --acceleration, --effort), "
+                         "motor_speed=/motor_torque= with drives (--motor-speed, --motor-torque)")
     # the rigid arm with the train's reflected inertia: what Toppra's torque constraint holds (friction: below)
     rigid = arm.with_drives(None if train is None else replace(train, viscous=np.zeros(arm.n),
                                                                 coulomb=np.zeros(arm.n)))

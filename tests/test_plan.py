@@ -444,6 +444,45 @@ def test_cli_plan_fastest_as_the_drives_allow(box):
     assert np.all(np.array(logged["max_abs_torque"]) <= np.array([10.0, 2.5]) * 1.01)
 
 
+@pytest.mark.slow
+def test_cli_plan_fastest_needs_no_tf_and_prints_its_units(box):
+    """Issue 33: ``plan --fastest`` without ``--tf`` (it retimes the path: the same duration as with one), the
+    joints in degrees with ``--deg`` and the tracking error and the friction with their units."""
+    from contract import check
+    from helpers import DATA
+
+    argv = ("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5", "--fastest", "--acceleration", "50",
+            "--effort", "10,2.5", "--drives", str(DATA / "rr_drives.csv"), "--motor-speed", "500")
+    outcome = box.main(*argv, "--deg", "--simulate", "run")
+    check(outcome, 0)
+    arm = armlab.load("rr")
+    line = armlab.line(arm, [0.5, 0.3], [0.3, 0.5], tf=2.0)
+    q = line.evaluate(np.array([0.0, 2.0]))[0]
+    lines = outcome.out.splitlines()
+    start = next(x for x in lines if x.startswith("joints from (deg)"))
+    end = next(x for x in lines if x.startswith("joints to   (deg)"))
+    np.testing.assert_allclose([float(v) for v in start.split(")")[1].split()], np.degrees(q[0]), atol=1e-6)
+    np.testing.assert_allclose([float(v) for v in end.split(")")[1].split()], np.degrees(q[1]), atol=1e-6)
+    assert "max tracking error" in outcome.out and next(x for x in lines if "max tracking error" in x).split(
+        "max tracking error ")[1].split(";")[0].endswith(" rad")
+    friction = next(x for x in lines if "friction kept free" in x)
+    assert friction.endswith("joint1 0.55 N·m, joint2 0.3875 N·m")  # 0.05·5 + 0.3, 0.03·6.25 + 0.2 (rr_drives.csv)
+    timed = box.main(*argv, "--tf", "2", "--json")
+    check(timed, 0)
+    duration = float(next(x for x in lines if x.startswith("time-optimal")).split(": ")[1].split(" s;")[0])
+    np.testing.assert_allclose(duration, json.loads(timed.out)["fastest"]["duration"], rtol=1e-5)  # 6 digits printed
+
+
+def test_fastest_without_limits_names_the_options():
+    """Issue 33: "no velocity, acceleration or effort limit …: give some" named none of the ways to give them."""
+    with pytest.raises(ValueError, match=r"give velocity=, acceleration= or effort= \(armlab plan: --velocity, "
+                                         r"--acceleration, --effort\)"):
+        from helpers import DATA
+
+        arm = get_arm(str(DATA / "two_link_masses_dh.csv"))  # no velocity or effort limits in the file
+        fastest(arm, armlab.line(arm, [0.6, 0.3], [0.3, 0.6], tf=2.0))
+
+
 @pytest.mark.parametrize("argv, fragment", [
     (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.5,0.3", "--tf", "2"], "zero length"),
     (["plan", "rr", "line", "--from", "0.5,0.3", "--to", "1.5,0.3", "--tf", "2"], "leaves rr's reach at s = "),
