@@ -189,8 +189,8 @@ def test_line_from_a_point_holds_the_tool_orientation():
 def test_panda_line_from_a_point_holds_its_orientation_within_the_stated_bound():
     """Issue 33: the Panda's line from a 3-vector start held its tool's rotation nowhere (max |R − R0| = 0.21);
     now it holds it, and between the IK samples (on the path to 1e-12 there) the tool is within the README's bound:
-    2e-7 m and rad at the default 201 samples, 2e-8 at 801 (README: not 1e-9, which holds at the samples only). Checked 100 001 times along
-    s against the path's own closed form, by the arm's FK."""
+    2e-7 m and rad at the default 201 samples, 2e-8 at 801 (README: not 1e-9, which holds at the samples only).
+    Checked 100 001 times along s against the path's own closed form, by the arm's FK."""
     from armlab.kinematics.cartesian import tool_joint_path
     from armlab.kinematics.ik_target import pose_error
 

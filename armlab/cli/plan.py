@@ -157,7 +157,8 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     if args.simulate:
         sim = summary["simulation"]
         print(f"simulated{' the time-optimal motion' if args.fastest else ''}: max tracking error "
-              f"{max(sim['max_tracking_error']):.3g} {_error_unit(arm)}; wrote {args.simulate}: {' '.join(sim['written'])}")
+              f"{max(sim['max_tracking_error']):.3g} {_error_unit(arm)}; wrote {args.simulate}: "
+              f"{' '.join(sim['written'])}")
     return status
 
 

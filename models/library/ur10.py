@@ -7,7 +7,9 @@ Standard DH, base frame at the mounting flange, tool frame DH frame 6 (the tool 
 diag(0, 0.0004, 0.0003) kg·m² breaks the triangle inequality (0 + 0.0003 < 0.0004; the toolbox notes it as UR's own
 and that it makes the mass matrix near-singular). armlab raises its Ixx to 0.0001 kg·m², the least physical value.
 **Effect**: gravity torques none (inertia does not enter them); the mass matrix's entries within 0.0001 kg·m² of the
-toolbox's. Position limits ±360° (UR data sheet); effort and velocity limits not in the source. Closed form:
+toolbox's. Position limits ±360° (UR data sheet); velocity 120°/s joints 1-2, 180°/s joints 3-6 (UR10/CB3 User
+Manual's technical specifications); effort 330, 330, 150, 56, 56, 56 N·m (UR's support article "Max. joint torques";
+both as UR's own ROS description, ``Universal_Robots_ROS2_Description`` config/ur10/joint_limits.yaml). Closed form:
 :func:`armlab.kinematics.ik_wrist.ur_ik`, 8 branches.
 """
 
@@ -28,6 +30,10 @@ SOURCE = ("Universal Robots UR10 (CB3); DH, masses, centres of mass and inertias
 #: (a m, α rad, d m) per joint, standard DH, θ offsets 0: Universal Robots' table for the UR10.
 DH = ((0.0, np.pi / 2, 0.1273), (-0.612, 0.0, 0.0), (-0.5723, 0.0, 0.0), (0.0, np.pi / 2, 0.163941),
       (0.0, -np.pi / 2, 0.1157), (0.0, 0.0, 0.0922))
+#: Joint torque limits (N·m), Universal Robots' support article "Max. joint torques" (UR10).
+EFFORT = (330.0, 330.0, 150.0, 56.0, 56.0, 56.0)
+#: Joint speed limits (deg/s), the UR10/CB3 User Manual's technical specifications.
+SPEED_DEG = (120.0, 120.0, 180.0, 180.0, 180.0, 180.0)
 #: Link masses (kg), Universal Robots' table.
 MASS = (7.1, 12.7, 4.27, 2.0, 2.0, 0.365)
 #: Centres of mass (m) in each link's DH frame, Universal Robots' table.
@@ -50,9 +56,11 @@ def build() -> Arm:
                  for m, c, inertia in zip(MASS, COM, INERTIA, strict=True)]
     notes = {
         "kinematics": "standard DH, Universal Robots' 'Parameters for calculations of kinematics and dynamics' (UR10)",
-        "limits": "±360° every joint (UR data sheet); effort and velocity limits not in the source",
+        "limits": "±360° every joint; 120, 120, 180, 180, 180, 180 °/s (UR10/CB3 User Manual); effort 330, 330, 150, "
+                  "56, 56, 56 N·m (UR, 'Max. joint torques')",
         "masses": "UR's table: masses, centres of mass and inertias in the DH frames",
         "correction link 6": "Ixx 0 → 0.0001 kg·m² (triangle inequality); gravity torques unchanged",
     }
     return library_dh_arm("ur10", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],
-                          [degrees(-360, 360)] * 6, inertials, notes, ur_closed_form)
+                          [degrees(-360, 360, effort, speed) for effort, speed in zip(EFFORT, SPEED_DEG, strict=True)],
+                          inertials, notes, ur_closed_form)
