@@ -27,6 +27,7 @@ from armlab.diagrams.drives import (
     write_drives_csv,
 )
 from armlab.diagrams.simulate import summarize
+from armlab.presentation.figures import Figures
 from armlab.presentation.graphviz import fig6_dot, write_pictures
 from armlab.presentation.output import run_folder, write_log_csv, write_summary
 from armlab.presentation.plots import clearance_figure, figures, save_figures
@@ -171,11 +172,12 @@ class Run:
                 'border:1px solid #ccc" title="3-D replay with graphs"></iframe></div>')
 
     # ------------------------------------------------------------------ the files
-    def plot(self, folder: str | Path | None = None) -> dict[str, Any]:
+    def plot(self, folder: str | Path | None = None) -> Figures:
         """The run's matplotlib figures by file name: joints, torques, tool path and motion (:data:`PLOTS`),
         ``clearance.png`` (when the run checked pairs for collisions) and ``drives.png``; written into ``folder``
-        (PNG) only if one is given. Close them with ``plt.close``."""
-        shown = {**figures(self.log), "drives.png": drives_figure(self.log)}
+        (PNG) only if one is given. A :class:`~armlab.presentation.figures.Figures` (a ``dict``): as a Jupyter
+        cell's value it draws them. Close them with ``plt.close``."""
+        shown = Figures({**figures(self.log), "drives.png": drives_figure(self.log)})
         if self.clearance is not None and self.clearance.pairs:
             shown["clearance.png"] = clearance_figure(self.log.arm, self.log.t, self.clearance)
         if folder is not None:

@@ -437,6 +437,27 @@ class Motion:
                                  f"segment 1 has {n}")
         object.__setattr__(self, "segments", segments)
 
+    def __repr__(self) -> str:
+        return (f"<Motion {self.description or 'unnamed'}: {self.duration:g} s, {len(self.segments)} segment(s), "
+                f"{self.segments[0].q_start.size} joints>")
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: what the motion is, then one row per segment: its label, start and end time (s) and its
+        joints at both ends (rad or m)."""
+        import html
+
+        def joints(q: NDArray) -> str:
+            return ", ".join(f"{v:+.4g}" for v in q)
+
+        rows, start = [], 0.0
+        for k, segment in enumerate(self.segments):
+            end = start + segment.duration
+            rows.append(f"<tr><td>{html.escape(segment.label or str(k + 1))}</td><td>{start:.4g}</td><td>{end:.4g}</td>"
+                        f"<td>{joints(segment.q_start)}</td><td>{joints(segment.q_end)}</td></tr>")
+            start = end
+        return (f"<div><b>{html.escape(repr(self)[1:-1])}</b><table><tr><th>segment</th><th>from (s)</th>"
+                f"<th>to (s)</th><th>q at its start</th><th>q at its end</th></tr>{''.join(rows)}</table></div>")
+
     @property
     def n(self) -> int:
         """Number of joints."""
