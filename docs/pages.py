@@ -4,13 +4,16 @@
   of the subpackages (the docstrings carry each method's equations, units and shapes);
 * ``papers/NNN.md`` — each paper's section of a fresh ``armlab reproduce --fast`` report (its verdicts, tables
   and figures) after the docstrings of the paper's arm and method modules;
-* ``notebooks/`` — copies of the repository's notebooks, executed by MyST-NB in the build.
+* ``notebooks/`` — copies of the repository's notebooks, executed by MyST-NB in the build;
+* ``cli/`` — the CLI reference: one page per ``armlab`` command, its ``--help`` as the parser itself prints it
+  (no hand-written copy to fall behind the options).
 
 Everything is written into a folder that the build owns (``docs/_generated``, not committed).
 """
 
 from __future__ import annotations
 
+import argparse
 import importlib
 import os
 import pkgutil
@@ -162,8 +165,45 @@ def write_notebooks(folder: Path) -> None:
             (out / notebook.name).write_bytes(data)
 
 
+#: The width the CLI reference's ``--help`` texts are wrapped to (argparse reads ``COLUMNS``).
+HELP_WIDTH = 100
+
+
+def commands() -> dict[str, tuple[argparse.ArgumentParser, str]]:
+    """Every ``armlab`` subcommand by name: its parser and its one-line help, from the CLI's own parser
+    (``armlab.cli.build_parser``)."""
+    from armlab.cli import build_parser
+
+    (sub,) = [a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)]  # argparse's way in
+    helps = {action.dest: action.help or "" for action in sub._choices_actions}
+    return {name: (parser, helps.get(name, "")) for name, parser in sub.choices.items()}
+
+
+def write_cli(folder: Path) -> None:
+    """``cli/index.md`` (every command with its one-line help) and ``cli/<command>.md`` (its ``--help``, wrapped
+    to :data:`HELP_WIDTH` columns)."""
+    previous = os.environ.get("COLUMNS")
+    os.environ["COLUMNS"] = str(HELP_WIDTH)
+    try:
+        shown = commands()
+        for name, (parser, what) in shown.items():
+            _write(folder / "cli" / f"{name}.md",
+                   f"# `armlab {name}`\n\n{what}\n\n```text\n{parser.format_help()}```\n")
+    finally:
+        if previous is None:
+            os.environ.pop("COLUMNS", None)
+        else:
+            os.environ["COLUMNS"] = previous
+    listing = "".join(f"- [`armlab {name}`]({name}.md): {what}\n" for name, (_, what) in shown.items())
+    _write(folder / "cli" / "index.md",
+           "# CLI reference\n\nEvery command of `armlab`, its options as `armlab COMMAND --help` prints them "
+           f"(generated from the parser at the build of these pages).\n\n{listing}\n"
+           "```{toctree}\n:hidden:\n\n" + "".join(f"{name}\n" for name in shown) + "```\n")
+
+
 def write_all(folder: Path) -> None:
     """Every generated page, into ``folder``."""
+    write_cli(folder)
     write_api(folder)
     write_notebooks(folder)
     write_papers(folder)

@@ -120,3 +120,27 @@ def test_math_is_rendered_offline(site):
     for path in site.rglob("*.html"):
         for link in _parse(path).links:
             assert not (link.startswith("http") and link.endswith(".js")), f"{path.name} loads {link}"
+
+
+def test_the_cli_reference_is_generated_from_the_parser(tmp_path, monkeypatch, capsys):
+    """Issue 33: no CLI reference (options such as ``plan --motor-torque`` were only in ``--help``). docs/pages.py
+    writes one page per command of the CLI's own parser, its ``--help`` text as ``armlab COMMAND --help`` prints it,
+    and an index of every command."""
+    import importlib.util
+
+    from armlab.cli import main
+
+    spec = importlib.util.spec_from_file_location("docs_pages", ROOT / "docs" / "pages.py")
+    pages = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(pages)
+    pages.write_cli(tmp_path)
+    index = (tmp_path / "cli" / "index.md").read_text()
+    names = list(pages.commands())
+    assert {"plan", "simulate", "export", "size", "workspace"} <= set(names)
+    monkeypatch.setenv("COLUMNS", str(pages.HELP_WIDTH))
+    for name in names:
+        assert f"[`armlab {name}`]({name}.md)" in index
+        assert main([name, "--help"]) == 0
+        printed = capsys.readouterr().out
+        assert f"```text\n{printed}```" in (tmp_path / "cli" / f"{name}.md").read_text(), name
+    assert "--motor-torque" in (tmp_path / "cli" / "plan.md").read_text()
