@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -195,7 +196,7 @@ class Workspace:
     volume_voxels: float
     reach: float
     bbox: NDArray[np.float64]  # (2, 3): min and max of x, y, z
-    convergence: dict[str, list[float | None]]
+    convergence: dict[str, Sequence[float | None]]
     q: NDArray[np.float64]
     points: NDArray[np.float64]
     seed: int

@@ -2,8 +2,9 @@
 
 * ``api/`` — every public name of ``armlab`` (its ``__all__``) with its docstring, and one page per module
   of the subpackages (the docstrings carry each method's equations, units and shapes);
-* ``papers/NNN.md`` — each paper's section of a fresh ``armlab reproduce --fast`` report (its verdicts, tables
-  and figures) after the docstrings of the paper's arm and method modules;
+* ``papers/NNN.md`` — what a user does with the paper's arms (the commands, the Python), then the paper's section
+  of a fresh ``armlab reproduce --fast`` report (its verdicts, tables and figures), then the docstrings of the
+  paper's arm and method modules;
 * ``notebooks/`` — copies of the repository's notebooks, executed by MyST-NB in the build;
 * ``cli/`` — the CLI reference: one page per ``armlab`` command, its ``--help`` as the parser itself prints it
   (no hand-written copy to fall behind the options).
@@ -39,18 +40,33 @@ SUBPACKAGES = {  # in the order of the rooms (README's layout)
     "armlab.analysis": "workspaces, singular configurations and design studies",
 }
 
-#: The paper pages: number → (title, the modules whose docstrings give its arm and its equations).
+#: The paper pages: number → (title, its arms, the modules whose docstrings give its arm and its equations).
 PAPERS = {
-    "000": ("Hroncová et al., Robot trajectory planning (2022): the RR and RRRR arms",
+    "000": ("Hroncová et al., Robot trajectory planning (2022): the RR and RRRR arms", ("rr", "rrrr"),
             ["armlab.models.rr", "armlab.models.rrrr", "armlab.kinematics.basic_movements", "armlab.kinematics.dh",
              "armlab.kinematics.quintic"]),
     "001": ("Qin et al., Four degree of freedom manipulator's kinematics simulation analysis based on MATLAB",
-            ["armlab.models.arm4r", "armlab.kinematics.ik_closed_form"]),
-    "003": ("Schonstein & Panc, Kinematical modelling for R2T serial structure (2017)",
+            ("arm4r",), ["armlab.models.arm4r", "armlab.kinematics.ik_closed_form"]),
+    "003": ("Schonstein & Panc, Kinematical modelling for R2T serial structure (2017)", ("r2t",),
             ["armlab.models.r2t", "armlab.kinematics.locating", "armlab.kinematics.iterative"]),
-    "004": ("Ondočko et al., Position forward kinematics of 6-DOF robotic arm",
+    "004": ("Ondočko et al., Position forward kinematics of 6-DOF robotic arm", ("urm6",),
             ["armlab.models.urm6", "armlab.kinematics.urm"]),
 }
+
+
+def paper_lead(paper: str, arms: tuple[str, ...]) -> str:
+    """A paper page's opening: what a user does with the paper's arms (the commands, then the Python)."""
+    lines = [f"armlab reproduce --paper {paper} --out out   # the paper's figures and tables beside armlab's: "
+             "out/report.md"]
+    for arm in arms:
+        lines += [f"armlab show {arm}                       # its joints, parameters and their sources",
+                  f"armlab simulate {arm} --out runs/{arm}      # the paper's motion through Fig. 6's diagram",
+                  f"armlab draw {arm} --out {arm}.png           # its kinematic scheme"]
+    first = arms[0]
+    return ("## What you do with it\n\n```text\n" + "\n".join(lines) + "\n```\n\n"
+            f"In Python: `arm = armlab.load(\"{first}\")`, then `armlab.simulate(arm, armlab.paper_motion(arm))`, "
+            "`armlab.draw(arm)`, `arm.fk(q)`; the report below is what `armlab reproduce` writes, the reference "
+            "after it the arm's and the method's modules.\n\n")
 
 
 def armlab_version() -> str:
@@ -147,12 +163,13 @@ def write_papers(folder: Path) -> None:
     if report.parent.resolve() != target.resolve():
         shutil.copytree(report.parent, target, dirs_exist_ok=True)
     sections = paper_sections(target / "report.md")
-    for paper, (title, mods) in PAPERS.items():
+    for paper, (title, arms, mods) in PAPERS.items():
         docs = "".join(f"```{{eval-rst}}\n.. automodule:: {m}\n   :no-index:\n```\n\n" for m in mods)
         _write(folder / "papers" / f"{paper}.md",
-               f"# Paper {paper}: {title}\n\n## The paper's arm and equations, as armlab writes them\n\n{docs}"
+               f"# Paper {paper}: {title}\n\n{paper_lead(paper, arms)}"
                f"## The report: the paper beside armlab\n\nFrom `armlab reproduce --fast` at the build of these "
-               f"pages (the full run, `make run`, samples finer).\n\n{sections[paper]}")
+               f"pages (the full run, `make run`, samples finer).\n\n{sections[paper]}\n"
+               f"## Reference: the paper's arm and equations, as armlab writes them\n\n{docs}")
 
 
 def write_notebooks(folder: Path) -> None:

@@ -58,17 +58,21 @@ def mujoco_refusal(urdf: str) -> str | None:
     import xml.etree.ElementTree as ET
 
     robot = ET.fromstring(urdf)
-    moving = [j.find("child").get("link") for j in robot.findall("joint") if j.get("type") != "fixed"]
-    links = {link.get("name"): link for link in robot.findall("link")}
-    massless, points, broken = [], [], []
+    moving = [str(j.find("child").get("link"))  # type: ignore[union-attr]  # URDF: a joint has a child
+              for j in robot.findall("joint") if j.get("type") != "fixed"]
+    links = {str(link.get("name")): link for link in robot.findall("link")}
+    massless: list[str] = []
+    points: list[str] = []
+    broken: list[str] = []
     for name in moving:
         inertial = links[name].find("inertial")
-        mass = 0.0 if inertial is None else float(inertial.find("mass").get("value"))
+        mass_tag = None if inertial is None else inertial.find("mass")
+        mass = 0.0 if mass_tag is None else float(mass_tag.get("value", "0"))
+        tag = None if inertial is None else inertial.find("inertia")
         if not above(mass, MUJOCO_MINVAL):
             massless.append(name)
             continue
-        tag = inertial.find("inertia")
-        i = {k: float(tag.get(k, 0.0)) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")}
+        i = {k: float("0" if tag is None else tag.get(k, "0")) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")}
         a, b, c = np.linalg.eigvalsh([[i["ixx"], i["ixy"], i["ixz"]], [i["ixy"], i["iyy"], i["iyz"]],
                                      [i["ixz"], i["iyz"], i["izz"]]])
         if not above(a, MUJOCO_MINVAL):

@@ -144,3 +144,33 @@ def test_the_cli_reference_is_generated_from_the_parser(tmp_path, monkeypatch, c
         printed = capsys.readouterr().out
         assert f"```text\n{printed}```" in (tmp_path / "cli" / f"{name}.md").read_text(), name
     assert "--motor-torque" in (tmp_path / "cli" / "plan.md").read_text()
+
+
+def test_paper_pages_lead_with_what_a_user_does(tmp_path, monkeypatch):
+    """Issue 33: paper pages opened with module autodoc. Each now opens with what a user does with the paper's arms
+    (commands the CLI's parser takes, then the Python), then the report, then the modules' reference."""
+    import importlib.util
+    import shlex
+
+    from armlab.cli import build_parser
+
+    spec = importlib.util.spec_from_file_location("docs_pages", ROOT / "docs" / "pages.py")
+    pages = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(pages)
+    given = tmp_path / "given"
+    given.mkdir()
+    (given / "report.md").write_text("".join(f"## Paper {p}: {t}\n\nverdicts of {p}\n\n" for p, (t, _, _) in
+                                             pages.PAPERS.items()))
+    monkeypatch.setenv("ARMLAB_DOCS_REPRODUCTION", str(given))
+    pages.write_papers(tmp_path / "site")
+    for paper, (_, arms, _) in pages.PAPERS.items():
+        page = (tmp_path / "site" / "papers" / f"{paper}.md").read_text()
+        lead, report, reference = (page.index(h) for h in ("## What you do with it", "## The report",
+                                                           "## Reference: the paper's arm"))
+        assert lead < report < reference and page.index(".. automodule::") > reference
+        assert f"verdicts of {paper}" in page[report:reference]
+        block = page[lead:report].split("```text\n")[1].split("```")[0]
+        commands = [shlex.split(line.split("#")[0])[1:] for line in block.splitlines()]
+        assert commands[0][:2] == ["reproduce", "--paper"] and all(any(a in c for c in commands) for a in arms)
+        for argv in commands:
+            build_parser().parse_args(argv)  # every command is one the CLI takes (SystemExit otherwise)
