@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from armlab.papers.math_html import latex_html
-from armlab.papers.paper_output import MANIFEST
+from armlab.papers.paper_output import MANIFEST, label_parts
 from armlab.papers.report_rows import DIFFERS, MATCHES, NOT_REPRODUCIBLE, VERDICT_KINDS, Row, verdict_counts
 from armlab.papers.value_text import DEVIATION_DIGITS, VALUE_DIGITS, markdown_table, paper_value_text, value_text
 
@@ -213,18 +213,21 @@ def _expressions_block(doc: _Doc, paper: str, text: dict[str, Any]) -> None:
     md, out = [], []
     derived = [e for e in text["entries"] if not e.get("printed", True)]
     for e in (e for e in text["entries"] if e.get("printed", True)):
-        md.append(f"**${e['label']}$** — {e['source']}\n\n$$\n{e['latex']}\n$$\n\n*{e['note']}*\n")
-        symbol, _, words = e["label"].partition(", ")
-        words = f" ({words})" if words else ""
+        symbol, words = label_parts(e["label"])
+        md.append(f"**${symbol}$**{words} — {e['source']}\n\n$$\n{e['latex']}\n$$\n\n*{e['note']}*\n")
         out.append(f'<div class="expr"><div><span class="lhs">{doc.latex(symbol)}{html.escape(words)}</span> — '
                    f"{html.escape(e['source'])}: <i>{html.escape(e['note'])}</i></div>"
                    f"<div>{doc.latex(e['latex'])}</div></div>")
     doc.raw("\n".join(md), '<div class="scroll">' + "".join(out) + "</div>")
     if derived:
         intro = f"Derived beyond the paper (not printed there), in {paper}/{text['md']}: "
-        doc.raw(intro + "; ".join(f"${e['label']}$ ({e['source']})" for e in derived) + ".\n",
-                f"<p>{html.escape(intro)}" + "; ".join(f"{doc.latex(e['label'])} ({html.escape(e['source'])})"
-                                                      for e in derived) + ".</p>")
+        labels = [label_parts(e["label"]) for e in derived]
+        doc.raw(intro + "; ".join(f"${symbol}${words} ({e['source']})" for (symbol, words), e in
+                                  zip(labels, derived, strict=True)) + ".\n",
+                f"<p>{html.escape(intro)}" + "; ".join(f"{doc.latex(symbol)}{html.escape(words)} "
+                                                      f"({html.escape(e['source'])})"
+                                                      for (symbol, words), e in zip(labels, derived, strict=True))
+                + ".</p>")
 
 
 def _errata_block(doc: _Doc, errata: Sequence[dict[str, str]]) -> None:
