@@ -174,3 +174,21 @@ def test_paper_pages_lead_with_what_a_user_does(tmp_path, monkeypatch):
         assert commands[0][:2] == ["reproduce", "--paper"] and all(any(a in c for c in commands) for a in arms)
         for argv in commands:
             build_parser().parse_args(argv)  # every command is one the CLI takes (SystemExit otherwise)
+
+
+@pytest.mark.slow
+def test_the_arm_entry_opens_with_what_a_user_does(site):
+    """Issue 33: the API page's ``Arm`` opened with its 25 constructor fields; its entry now opens with its
+    docstring (``armlab.load(…)``), the constructor left out of the heading."""
+    page = (site / "_generated" / "api" / "index.html").read_text()
+    start = page.index('id="armlab.Arm"')
+    heading = page[start:page.index("</dt>", start)]
+    assert "bodies" not in heading and "urdf_file" not in heading
+    assert "armlab.load(" in html_text(page[start:start + 4000])
+
+
+def html_text(fragment: str) -> str:
+    """The text of an HTML fragment (tags dropped, entities unescaped)."""
+    import html
+
+    return html.unescape(re.sub(r"<[^>]+>", "", fragment))
