@@ -56,12 +56,14 @@ PAPERS = {
 
 def paper_lead(paper: str, arms: tuple[str, ...]) -> str:
     """A paper page's opening: what a user does with the paper's arms (the commands, then the Python)."""
-    lines = [f"armlab reproduce --paper {paper} --out out   # the paper's figures and tables beside armlab's: "
-             "out/report.md"]
+    pairs = [(f"armlab reproduce --paper {paper} --out out", "the paper's figures and tables beside armlab's: "
+              "out/report.md")]
     for arm in arms:
-        lines += [f"armlab show {arm}                       # its joints, parameters and their sources",
-                  f"armlab simulate {arm} --out runs/{arm}      # the paper's motion through Fig. 6's diagram",
-                  f"armlab draw {arm} --out {arm}.png           # its kinematic scheme"]
+        pairs += [(f"armlab show {arm}", "its joints, parameters and their sources"),
+                  (f"armlab simulate {arm} --out runs/{arm}", "the paper's motion through Fig. 6's diagram"),
+                  (f"armlab draw {arm} --out {arm}.png", "its kinematic scheme")]
+    width = max(len(command) for command, _ in pairs) + 2
+    lines = [f"{command.ljust(width)}# {what}" for command, what in pairs]
     first = arms[0]
     return ("## What you do with it\n\n```text\n" + "\n".join(lines) + "\n```\n\n"
             f"In Python: `arm = armlab.load(\"{first}\")`, then `armlab.simulate(arm, armlab.paper_motion(arm))`, "
