@@ -192,3 +192,15 @@ def html_text(fragment: str) -> str:
     import html
 
     return html.unescape(re.sub(r"<[^>]+>", "", fragment))
+
+
+@pytest.mark.slow
+def test_the_mathematics_keeps_its_size_on_the_site(site):
+    """Issue 33: paper 000's T04 matrix was unreadable on the site (its SVG pieces shrunk by the theme's
+    ``img{max-width:100%}`` in narrow matrix cells, with no grid style): every page now carries the report's own
+    math style (armlab.papers.math_html.MATH_CSS), the pieces at their own size, the matrix a bracketed grid."""
+    from armlab.papers.math_html import MATH_CSS
+
+    page = (site / "_generated" / "papers" / "000.html").read_text()
+    assert 'table class="mat"' in page and f"<style>{MATH_CSS}</style>" in page
+    assert "max-width:none" in MATH_CSS and "table.mat{" in MATH_CSS

@@ -605,3 +605,12 @@ def test_an_expressions_label_keeps_its_words_out_of_math_mode(tmp_path):
     assert "**$x_{0M}$** (DH form)" in md and "DH form$" not in md
     assert '<span class="lhs"><svg>x</svg> (DH form)</span>' in page
     assert "## $x_{0M}$ (DH form) — 000 §7" in (tmp_path / "expr.md").read_text()
+
+
+def test_the_report_and_the_site_share_one_math_style():
+    """Issue 33: the report's style for its mathematics (the SVGs at their size, matrices as grids) is the one the
+    documentation site's renderer puts on every page (docs/math_svg.py), not a copy."""
+    from armlab.papers import report
+    from armlab.papers.math_html import MATH_CSS
+
+    assert report._CSS.endswith(MATH_CSS) and "max-width:none" in MATH_CSS
