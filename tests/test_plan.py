@@ -624,7 +624,7 @@ def test_fastest_keeps_the_ur5_torques_within_their_limits(ur5_line, payload, mo
     best = fastest(arm, line, velocity=np.pi, effort=UR5_EFFORT, payload=payload)
     assert best.slowed > 0
     run = armlab.simulate(arm, best.motion, payload=payload)
-    assert run.violations == []  # UR5's file has no limits: the planned ones are what is checked
+    assert run.violations == []  # the planned limits (UR5's own, its file's since issue 33) are what is checked
     assert np.all(np.abs(_drake_torques(arm, run, payload)) <= UR5_EFFORT * (1 + 1e-9))
     # the torques the simulation applied (the reference's and the controller's feedback, which the timing keeps
     # timing.CHECK_MARGIN of each limit free for)
