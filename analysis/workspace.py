@@ -374,9 +374,6 @@ def workspace(
             if model is not None:
                 kept_free.append(free[: KEPT - kept])
     measures = grid.measures()
-    if motions == dim and below(grid.extrapolated(measures), 0.0):
-        raise ValueError(f"{samples} samples leave the voxels of {h:g} m too empty to measure {arm.name}'s workspace "
-                         "(2·V(h) − V(2h) < 0): give more samples or a coarser resolution")
     result = Workspace(
         arm=arm.name, samples=samples, dim=dim, origin=origin, basis=basis, resolution=h,
         volume=grid.extrapolated(measures) if motions == dim else 0.0, volume_voxels=measures[0], motions=motions,

@@ -26,6 +26,7 @@ exactly the same polynomials, when every segment is a polynomial).
 
 from __future__ import annotations
 
+import html
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, cast
@@ -444,7 +445,6 @@ class Motion:
     def _repr_html_(self) -> str:
         """Jupyter's view: what the motion is, then one row per segment: its label, start and end time (s) and its
         joints at both ends (rad or m)."""
-        import html
 
         def joints(q: NDArray) -> str:
             return ", ".join(f"{v:+.4g}" for v in q)

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import os
 import warnings
+import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -55,7 +56,6 @@ def mujoco_refusal(urdf: str) -> str | None:
     :data:`MUJOCO_MINVAL` (no ``<inertial>``: a kinematic arm; a point mass), or whose principal moments
     A ≤ B ≤ C break A + B ≥ C (beyond the slack of :mod:`armlab.bounds`; a value on it MuJoCo may take either
     way by round-off: a correction keeps a margin, as the UR10's)."""
-    import xml.etree.ElementTree as ET
 
     robot = ET.fromstring(urdf)
     moving = [str(j.find("child").get("link"))  # type: ignore[union-attr]  # URDF: a joint has a child

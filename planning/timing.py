@@ -39,6 +39,9 @@ elsewhere and the duration to ≤ 0.1 % are kept.
 
 from __future__ import annotations
 
+import base64
+import html
+import io
 import logging
 from dataclasses import dataclass, replace
 from functools import cached_property
@@ -253,10 +256,8 @@ class Fastest:
         """Jupyter's view: the duration and the active constraint, one row per joint with the limits the timing
         holds (rad/s, rad/s², N·m; m/s, m/s², N for a prismatic joint; — none) and the friction kept free, then ṡ
         against its limit curve (:meth:`rate_figure`) as an inline PNG."""
-        import base64
-        import html
-        import io
 
+        # lazy: matplotlib, only when a notebook shows the timing
         import matplotlib.pyplot as plt
 
         def cell(v: float) -> str:

@@ -6,6 +6,8 @@ legend where more than one curve shares an axis, and is saved as PNG (120 dpi) a
 
 from __future__ import annotations
 
+import base64
+import html
 import io
 import textwrap
 from collections.abc import Sequence
@@ -95,8 +97,6 @@ class Figures(dict[str, Any]):
 
     def _repr_html_(self) -> str:
         """Jupyter's view: each figure as an inline PNG (base64) under its name."""
-        import base64
-        import html
 
         parts = []
         for name, fig in self.items():

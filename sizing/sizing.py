@@ -11,6 +11,7 @@ or after ``max_iterations``; and when a joint has no feasible pair (then nothing
 
 from __future__ import annotations
 
+import html
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -62,7 +63,6 @@ class Sizing:
     def _repr_html_(self) -> str:
         """Jupyter's view: the summary, then one row per joint: the chosen motor and gearbox, ratio, mass (kg) and
         margin, or the joint's nearest infeasible pair and why it fails."""
-        import html
 
         rows = []
         for j in self.joints:
