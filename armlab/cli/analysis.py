@@ -54,8 +54,9 @@ def _format(summary: dict[str, Any]) -> list[str]:
         lines.append(f"collision-free {s['measure']} {s['collision_free_volume']:.6g} {s['volume_unit']} "
                      f"({s['collision_free_fraction']:.1%} of the samples touch nothing; {s['collision_check']})")
     c = s["convergence"]
-    lines.append(f"{s['measure']} vs samples: " + "  ".join(f"{int(n)}: {v:.5g}" for n, v in zip(
-        c["samples"], c["volume_vs_samples"], strict=True)))
+    lines.append(f"{s['measure']} vs samples: " + "  ".join(
+        f"{int(n)}: " + ("— (cells not filled)" if v is None else f"{v:.5g}")
+        for n, v in zip(c["samples"], c["volume_vs_samples"], strict=True)))
     lines.append(f"occupied voxels' {s['measure']} vs voxel edge h: " + "  ".join(f"{h:.4g} m: {v:.5g}" for h, v in zip(
         c["resolution"], c["volume_vs_resolution"], strict=True)))
     if "manipulability" in s:
