@@ -65,7 +65,9 @@ docs: setup run-deps
 bench: setup
 	$(BIN)/python -m pip install --quiet $(CONSTRAINTS) -e '.[test,bench]'
 	$(BIN)/python scripts/bench/bench_kinematics.py
-	$(BIN)/python scripts/bench/bench_ik.py
+	# one BLAS thread: a solve is small matrices, and OpenBLAS threads left waiting by the previous call (Drake, the
+	# toolbox) on a loaded machine add tens of ms of wall time to the next (CPU time unchanged)
+	OPENBLAS_NUM_THREADS=1 $(BIN)/python scripts/bench/bench_ik.py
 	$(BIN)/python scripts/bench/bench_simulate.py
 	$(BIN)/python scripts/bench/bench_plan.py
 	$(BIN)/python scripts/bench/bench_planner.py

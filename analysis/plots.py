@@ -229,7 +229,8 @@ def _convergence(ws: Workspace, path: Path) -> str:
     c = ws.convergence
     fig, axes = new_figure(f"{ws.arm}: convergence of the workspace {ws.measure}", 1, 2, size=(10.0, 4.0))
     ax1, ax2 = np.ravel(axes)
-    ax1.semilogx(c["samples"], c["volume_vs_samples"], "o-")
+    measured = np.array([(n, v) for n, v in zip(c["samples"], c["volume_vs_samples"], strict=True) if v is not None])
+    ax1.semilogx(measured[:, 0], measured[:, 1], "o-")  # None: too few samples to fill the cells (module docstring)
     ax1.set_xlabel("joint-space samples N")
     ax1.set_ylabel(f"{ws.measure}, 2·V(h) − V(2h), h = {ws.resolution:.3g} m [{ws.volume_unit}]")
     ax2.plot(c["resolution"], c["volume_vs_resolution"], "o-")

@@ -12,7 +12,8 @@ order in h). The reported volume is therefore the Richardson extrapolation to h 
 h and 2h, V = 2·V(h) − V(2h), which removes the error of first order in h once the cells are filled;
 the default resolution keeps about :data:`SAMPLES_PER_CELL` samples per occupied cell (estimated from
 the first batch of samples) so that they are. :func:`workspace` records V at N/64 … N samples and V(h)
-at h … 8h, so the convergence is seen.
+at h … 8h, so the convergence is seen; at a number of samples too few to fill the cells 2·V(h) − V(2h) can fall
+below zero, and is recorded as ``None`` (not yet measured) rather than a negative measure.
 
 Manipulability (Yoshikawa's w = √det(J Jᵀ) and the smallest singular value σ_min) and the singular
 configurations are computed on a subsample by :mod:`armlab.analysis.singular`.
@@ -26,6 +27,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -194,7 +196,7 @@ class Workspace:
     volume_voxels: float
     reach: float
     bbox: NDArray[np.float64]  # (2, 3): min and max of x, y, z
-    convergence: dict[str, list[float]]
+    convergence: dict[str, Sequence[float | None]]
     q: NDArray[np.float64]
     points: NDArray[np.float64]
     seed: int
@@ -336,7 +338,7 @@ def workspace(
 
         model = CollisionModel(arm, scene)
     checkpoints = sorted({samples >> k for k in range(SAMPLE_HALVINGS + 1) if samples >> k >= 1})
-    counts: list[float] = []
+    counts: list[float | None] = []
     kept_q: list[NDArray] = []
     kept_points: list[NDArray] = []
     reach, lo, hi = 0.0, np.full(3, np.inf), np.full(3, -np.inf)
@@ -362,8 +364,9 @@ def workspace(
         reach = max(reach, float(np.sqrt(np.max(np.einsum("ij,ij->i", points, points)))))
         lo, hi = np.minimum(lo, points.min(axis=0)), np.maximum(hi, points.max(axis=0))
         done += len(points)
-        if done in checkpoints:
-            counts.append(grid.extrapolated(grid.measures()))
+        if done in checkpoints:  # below zero: the cells are not filled yet, and no measure is negative
+            estimate = grid.extrapolated(grid.measures())
+            counts.append(None if below(estimate, 0.0) else estimate)
         kept = sum(len(k) for k in kept_q)
         if kept < KEPT:
             kept_q.append(q[: KEPT - kept])

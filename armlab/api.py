@@ -144,8 +144,10 @@ def line(arm: Arm, start: ArrayLike | None, end: ArrayLike, tf: float | None = N
          branch: int | None = None, samples: int = DEFAULT_SAMPLES) -> Motion:
     """The tool along the straight line from ``start`` to ``end`` (RTB ``ctraj``, MATLAB ``transformtraj``).
 
-    ``start``, ``end``: points (x, y, z) m (rr: (x, y)) or 4×4 poses (a 6-joint arm then slerps the rotation);
-    ``start=None``: the tool point at ``q0``. Timing ``profile``: ``"minimum-jerk"`` or ``"cubic"`` over ``tf`` s,
+    ``start``, ``end``: points (x, y, z) m (rr: (x, y)) or 4×4 poses. A 6-joint arm (or more) holds the tool's
+    rotation at the start configuration when ``start`` is a point (RTB ``ctraj``'s rule), and slerps it between
+    two given poses (a pose start and a point end: held); ``start=None``: the tool's pose at ``q0``. Timing
+    ``profile``: ``"minimum-jerk"`` or ``"cubic"`` over ``tf`` s,
     or ``"trapezoid"`` with the tool's peak ``speed`` (m/s) and ``acceleration`` (m/s²) or ``tf``. The joints by
     IK at ``samples`` points on one branch, starting at ``q0``, closed-form IK ``branch`` or the IK solution
     nearest zero; ``ValueError`` with the path parameter s and the point where the line leaves the reach, a

@@ -49,8 +49,6 @@ from pathlib import Path
 from types import FrameType, TracebackType
 from typing import Any
 
-from armlab.values import shown
-
 __all__ = [
     "MAX_INPUT_BYTES",
     "MAX_NAME",
@@ -256,6 +254,9 @@ def file_path(path: str | Path) -> Path:
     """``path`` as the Path of a file to write; ``ValueError`` when its text ends with a slash (a folder's name:
     ``Path`` would drop the slash and the file would be written all the same)."""
     if isinstance(path, str) and path.endswith(("/", os.sep)):
+        # lazy: armlab.values loads numpy, which `armlab --help` (importing this module) does without (start-up time)
+        from armlab.values import shown
+
         raise ValueError(f"--out {shown(path)}: ends with '/', a folder; give a file name")
     return Path(path)
 
@@ -303,6 +304,9 @@ def _check_replaceable(out: str | Path) -> Path:
     path = Path(out)
     size = len(os.fsencode(path.name))
     if size > MAX_NAME:
+        # lazy: armlab.values loads numpy, which `armlab --help` (importing this module) does without (start-up time)
+        from armlab.values import shown
+
         raise ValueError(f"--out {shown(str(out))}: its name is {size} bytes long; at most {MAX_NAME} (a file "
                          "system's 255 less room for the temporary folder's suffix)")
     where = path.resolve()

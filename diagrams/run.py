@@ -28,6 +28,8 @@ from armlab.diagrams.drives import (
 )
 from armlab.diagrams.servo import LoopResponse, frequency_response
 from armlab.diagrams.simulate import SimulationOptions, summarize
+from armlab.diagrams.simulate import summarize
+from armlab.presentation.figures import Figures
 from armlab.presentation.graphviz import fig6_dot, write_pictures
 from armlab.presentation.output import run_folder, write_log_csv, write_summary
 from armlab.presentation.plots import clearance_figure, figures, save_figures
@@ -184,12 +186,13 @@ class Run:
         return frequency_response(self.log.arm, options, pose, frequency)
 
     # ------------------------------------------------------------------ the files
-    def plot(self, folder: str | Path | None = None) -> dict[str, Any]:
+    def plot(self, folder: str | Path | None = None) -> Figures:
         """The run's matplotlib figures by file name: joints, torques, tool path and motion (:data:`PLOTS`),
         ``clearance.png`` (when the run checked pairs for collisions), ``drives.png`` and, for a servo run,
         ``servo.png`` and ``bode.png`` (:mod:`armlab.presentation.servo_plots`: its loop linearised about the start
-        pose); written into ``folder`` (PNG) only if one is given. Close them with ``plt.close``."""
-        shown = {**figures(self.log), "drives.png": drives_figure(self.log)}
+        pose); written into ``folder`` (PNG) only if one is given. A :class:`~armlab.presentation.figures.Figures`
+        (a ``dict``): as a Jupyter cell's value it draws them. Close them with ``plt.close``."""
+        shown = Figures({**figures(self.log), "drives.png": drives_figure(self.log)})
         if self.clearance is not None and self.clearance.pairs:
             shown["clearance.png"] = clearance_figure(self.log.arm, self.log.t, self.clearance)
         if self.log.servo is not None:

@@ -44,6 +44,9 @@ nb_execution_show_tb = True
 
 autodoc_default_options = {"members": True, "undoc-members": False, "show-inheritance": False}
 autodoc_member_order = "bysource"
+# a class's entry opens with its docstring (what a user does with it), not its constructor's fields (Arm: 25);
+# the constructor is what armlab.load and the API functions call
+autodoc_class_signature = "separated"
 autodoc_typehints = "signature"
 autodoc_preserve_defaults = True
 

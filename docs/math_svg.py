@@ -11,7 +11,7 @@ from typing import Any
 
 from docutils import nodes
 
-from armlab.papers.math_html import latex_html
+from armlab.papers.math_html import MATH_CSS, latex_html
 
 
 def _inline(self: Any, node: nodes.Element) -> None:
@@ -24,7 +24,13 @@ def _block(self: Any, node: nodes.Element) -> None:
     raise nodes.SkipNode
 
 
+def _style(app: Any, pagename: str, templatename: str, context: dict[str, Any], doctree: Any) -> None:
+    """Every page carries :data:`~armlab.papers.math_html.MATH_CSS` (the report's own style for its pieces)."""
+    context["metatags"] = context.get("metatags", "") + f"<style>{MATH_CSS}</style>"
+
+
 def setup(app: Any) -> dict[str, bool]:
-    """Register the renderer as ``html_math_renderer = "armlab"``."""
+    """Register the renderer as ``html_math_renderer = "armlab"``, and its style on every page."""
     app.add_html_math_renderer("armlab", (_inline, None), (_block, None))
+    app.connect("html-page-context", _style)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

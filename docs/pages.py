@@ -2,15 +2,19 @@
 
 * ``api/`` — every public name of ``armlab`` (its ``__all__``) with its docstring, and one page per module
   of the subpackages (the docstrings carry each method's equations, units and shapes);
-* ``papers/NNN.md`` — each paper's section of a fresh ``armlab reproduce --fast`` report (its verdicts, tables
-  and figures) after the docstrings of the paper's arm and method modules;
-* ``notebooks/`` — copies of the repository's notebooks, executed by MyST-NB in the build.
+* ``papers/NNN.md`` — what a user does with the paper's arms (the commands, the Python), then the paper's section
+  of a fresh ``armlab reproduce --fast`` report (its verdicts, tables and figures), then the docstrings of the
+  paper's arm and method modules;
+* ``notebooks/`` — copies of the repository's notebooks, executed by MyST-NB in the build;
+* ``cli/`` — the CLI reference: one page per ``armlab`` command, its ``--help`` as the parser itself prints it
+  (no hand-written copy to fall behind the options).
 
 Everything is written into a folder that the build owns (``docs/_generated``, not committed).
 """
 
 from __future__ import annotations
 
+import argparse
 import importlib
 import os
 import pkgutil
@@ -36,18 +40,35 @@ SUBPACKAGES = {  # in the order of the rooms (README's layout)
     "armlab.analysis": "workspaces, singular configurations and design studies",
 }
 
-#: The paper pages: number → (title, the modules whose docstrings give its arm and its equations).
+#: The paper pages: number → (title, its arms, the modules whose docstrings give its arm and its equations).
 PAPERS = {
-    "000": ("Hroncová et al., Robot trajectory planning (2022): the RR and RRRR arms",
+    "000": ("Hroncová et al., Robot trajectory planning (2022): the RR and RRRR arms", ("rr", "rrrr"),
             ["armlab.models.rr", "armlab.models.rrrr", "armlab.kinematics.basic_movements", "armlab.kinematics.dh",
              "armlab.kinematics.quintic"]),
     "001": ("Qin et al., Four degree of freedom manipulator's kinematics simulation analysis based on MATLAB",
-            ["armlab.models.arm4r", "armlab.kinematics.ik_closed_form"]),
-    "003": ("Schonstein & Panc, Kinematical modelling for R2T serial structure (2017)",
+            ("arm4r",), ["armlab.models.arm4r", "armlab.kinematics.ik_closed_form"]),
+    "003": ("Schonstein & Panc, Kinematical modelling for R2T serial structure (2017)", ("r2t",),
             ["armlab.models.r2t", "armlab.kinematics.locating", "armlab.kinematics.iterative"]),
-    "004": ("Ondočko et al., Position forward kinematics of 6-DOF robotic arm",
+    "004": ("Ondočko et al., Position forward kinematics of 6-DOF robotic arm", ("urm6",),
             ["armlab.models.urm6", "armlab.kinematics.urm"]),
 }
+
+
+def paper_lead(paper: str, arms: tuple[str, ...]) -> str:
+    """A paper page's opening: what a user does with the paper's arms (the commands, then the Python)."""
+    pairs = [(f"armlab reproduce --paper {paper} --out out", "the paper's figures and tables beside armlab's: "
+              "out/report.md")]
+    for arm in arms:
+        pairs += [(f"armlab show {arm}", "its joints, parameters and their sources"),
+                  (f"armlab simulate {arm} --out runs/{arm}", "the paper's motion through Fig. 6's diagram"),
+                  (f"armlab draw {arm} --out {arm}.png", "its kinematic scheme")]
+    width = max(len(command) for command, _ in pairs) + 2
+    lines = [f"{command.ljust(width)}# {what}" for command, what in pairs]
+    first = arms[0]
+    return ("## What you do with it\n\n```text\n" + "\n".join(lines) + "\n```\n\n"
+            f"In Python: `arm = armlab.load(\"{first}\")`, then `armlab.simulate(arm, armlab.paper_motion(arm))`, "
+            "`armlab.draw(arm)`, `arm.fk(q)`; the report below is what `armlab reproduce` writes, the reference "
+            "after it the arm's and the method's modules.\n\n")
 
 
 def armlab_version() -> str:
@@ -144,12 +165,13 @@ def write_papers(folder: Path) -> None:
     if report.parent.resolve() != target.resolve():
         shutil.copytree(report.parent, target, dirs_exist_ok=True)
     sections = paper_sections(target / "report.md")
-    for paper, (title, mods) in PAPERS.items():
+    for paper, (title, arms, mods) in PAPERS.items():
         docs = "".join(f"```{{eval-rst}}\n.. automodule:: {m}\n   :no-index:\n```\n\n" for m in mods)
         _write(folder / "papers" / f"{paper}.md",
-               f"# Paper {paper}: {title}\n\n## The paper's arm and equations, as armlab writes them\n\n{docs}"
+               f"# Paper {paper}: {title}\n\n{paper_lead(paper, arms)}"
                f"## The report: the paper beside armlab\n\nFrom `armlab reproduce --fast` at the build of these "
-               f"pages (the full run, `make run`, samples finer).\n\n{sections[paper]}")
+               f"pages (the full run, `make run`, samples finer).\n\n{sections[paper]}\n"
+               f"## Reference: the paper's arm and equations, as armlab writes them\n\n{docs}")
 
 
 def write_notebooks(folder: Path) -> None:
@@ -162,8 +184,45 @@ def write_notebooks(folder: Path) -> None:
             (out / notebook.name).write_bytes(data)
 
 
+#: The width the CLI reference's ``--help`` texts are wrapped to (argparse reads ``COLUMNS``).
+HELP_WIDTH = 100
+
+
+def commands() -> dict[str, tuple[argparse.ArgumentParser, str]]:
+    """Every ``armlab`` subcommand by name: its parser and its one-line help, from the CLI's own parser
+    (``armlab.cli.build_parser``)."""
+    from armlab.cli import build_parser
+
+    (sub,) = [a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)]  # argparse's way in
+    helps = {action.dest: action.help or "" for action in sub._choices_actions}
+    return {name: (parser, helps.get(name, "")) for name, parser in sub.choices.items()}
+
+
+def write_cli(folder: Path) -> None:
+    """``cli/index.md`` (every command with its one-line help) and ``cli/<command>.md`` (its ``--help``, wrapped
+    to :data:`HELP_WIDTH` columns)."""
+    previous = os.environ.get("COLUMNS")
+    os.environ["COLUMNS"] = str(HELP_WIDTH)
+    try:
+        shown = commands()
+        for name, (parser, what) in shown.items():
+            _write(folder / "cli" / f"{name}.md",
+                   f"# `armlab {name}`\n\n{what}\n\n```text\n{parser.format_help()}```\n")
+    finally:
+        if previous is None:
+            os.environ.pop("COLUMNS", None)
+        else:
+            os.environ["COLUMNS"] = previous
+    listing = "".join(f"- [`armlab {name}`]({name}.md): {what}\n" for name, (_, what) in shown.items())
+    _write(folder / "cli" / "index.md",
+           "# CLI reference\n\nEvery command of `armlab`, its options as `armlab COMMAND --help` prints them "
+           f"(generated from the parser at the build of these pages).\n\n{listing}\n"
+           "```{toctree}\n:hidden:\n\n" + "".join(f"{name}\n" for name in shown) + "```\n")
+
+
 def write_all(folder: Path) -> None:
     """Every generated page, into ``folder``."""
+    write_cli(folder)
     write_api(folder)
     write_notebooks(folder)
     write_papers(folder)

@@ -18,7 +18,7 @@ s(t) — a Drake ``PathParameterizedTrajectory`` q(s(t)), one :class:`~armlab.ki
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -239,17 +239,31 @@ def tool_joint_path(arm: Arm, path: ToolPath, q0: ArrayLike | None = None, branc
                     samples: int = DEFAULT_SAMPLES) -> PiecewisePolynomial:
     """The joint path q(s) ``(n, 1)``, s in [0, 1], that puts ``arm``'s tool on ``path``, untimed (what
     :func:`tool_motion_along` times, and what :func:`armlab.planning.timing.fastest` takes): IK at ``samples``
-    values of s on one branch from ``q0``, IK ``branch`` or the solution nearest zero, as there."""
+    values of s on one branch from ``q0``, IK ``branch`` or the solution nearest zero, as there.
+
+    A 6-joint arm (or more) on a path of points (no rotation given) holds the tool's rotation at the start
+    configuration (RTB ``ctraj``'s rule). The tool is on the path at the samples to
+    :data:`~armlab.kinematics.ik_path.PATH_TOL`; between them, the quintic Hermite interpolant's error (the
+    Panda's 0.45 m line from its ready pose: 4.2e-8 m and 1.6e-7 rad at 201 samples, 3.4e-9 m and 1.3e-8 rad
+    at 801; ``tests/test_plan.py`` holds it to 2e-7 and 2e-8)."""
     if not isinstance(samples, int) or isinstance(samples, bool) or samples < 2:
         raise ValueError(f"samples = {samples!r} is not allowed: a whole number ≥ 2")
+    start = start_joints(arm, path, q0, branch)
+    if arm.n >= 6 and path.R0 is None:
+        held = arm.fk(start)[:3, :3]
+        path = replace(path, R0=held, R1=held)
     s = np.linspace(0.0, 1.0, samples)
     p, dp, ddp = path.points(s)
     rotations = path.rotations(s) if arm.n >= 6 else None
-    start = start_joints(arm, path, q0, branch)
     return joint_path(solve_path(arm, f"the {path.kind}", s, p, dp, ddp, start, *(rotations or (None, None, None))))
 
 
 def tool_path_text(arm: Arm, path: ToolPath) -> str:
     """"the tool along a 0.2828 m line (position)": what a motion of ``arm`` along ``path`` is."""
-    what = "orientation followed" if arm.n >= 6 and path.R0 is not None and path.R1 is not None else "position"
+    if arm.n < 6:
+        what = "position"
+    elif path.R0 is None or path.R1 is None or not np.linalg.norm(rotation_log(path.R1 @ path.R0.T)):
+        what = "orientation held"
+    else:
+        what = "orientation slerped"
     return f"the tool along a {path.length:.4g} m {path.kind} ({what})"

@@ -148,11 +148,12 @@ def _joint_difference(arm: Arm, q: NDArray, near: NDArray) -> NDArray[np.float64
 
 def _distinct(arm: Arm, q: NDArray, tol: float) -> NDArray[np.float64]:
     """The rows of ``q`` ``(k, n)`` that differ from every earlier row by more than ``tol`` (revolute: modulo 2π)."""
+    d = q[None, :, :] - q[:, None, :]
+    d = np.where(arm.revolute, np.remainder(d + np.pi, 2 * np.pi) - np.pi, d)
+    same = tolerated(np.abs(d).max(axis=-1), tol).tolist()  # (k, k): row i within tol of row j
     keep: list[int] = []
-    for i in range(q.shape[0]):
-        d = q[keep] - q[i]
-        d = np.where(arm.revolute, np.remainder(d + np.pi, 2 * np.pi) - np.pi, d)
-        if not keep or not tolerated(np.abs(d).max(axis=-1).min(), tol):
+    for i, row in enumerate(same):
+        if not any(row[j] for j in keep):
             keep.append(i)
     return q[keep]
 

@@ -26,6 +26,7 @@ exactly the same polynomials, when every segment is a polynomial).
 
 from __future__ import annotations
 
+import html
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, cast
@@ -436,6 +437,26 @@ class Motion:
                 raise ValueError(f"segment {k + 1} ({s.label or 'unnamed'}) has {s.q_start.size} joints; "
                                  f"segment 1 has {n}")
         object.__setattr__(self, "segments", segments)
+
+    def __repr__(self) -> str:
+        return (f"<Motion {self.description or 'unnamed'}: {self.duration:g} s, {len(self.segments)} segment(s), "
+                f"{self.segments[0].q_start.size} joints>")
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: what the motion is, then one row per segment: its label, start and end time (s) and its
+        joints at both ends (rad or m)."""
+
+        def joints(q: NDArray) -> str:
+            return ", ".join(f"{v:+.4g}" for v in q)
+
+        rows, start = [], 0.0
+        for k, segment in enumerate(self.segments):
+            end = start + segment.duration
+            rows.append(f"<tr><td>{html.escape(segment.label or str(k + 1))}</td><td>{start:.4g}</td><td>{end:.4g}</td>"
+                        f"<td>{joints(segment.q_start)}</td><td>{joints(segment.q_end)}</td></tr>")
+            start = end
+        return (f"<div><b>{html.escape(repr(self)[1:-1])}</b><table><tr><th>segment</th><th>from (s)</th>"
+                f"<th>to (s)</th><th>q at its start</th><th>q at its end</th></tr>{''.join(rows)}</table></div>")
 
     @property
     def n(self) -> int:

@@ -14,18 +14,25 @@ float. Both files read back to the same arm (tests/test_export.py: forward kinem
 dynamics equal to 1e-9, through Drake and through Pinocchio; the DH table's drive train and radii too).
 
 Every path is checked before anything is written (:func:`check_output`), and each file is written completely
-or not at all (:func:`armlab.files.write_file`).
+or not at all (:func:`armlab.files.write_file`). A URDF MuJoCo will not load (a kinematic arm, a moving link
+without mass or rotational inertia, principal moments off the triangle inequality A + B ≥ C:
+:func:`mujoco_refusal`) is still written, for the programs that read it, with a one-line
+:class:`MujocoWarning` saying why.
 """
 
 from __future__ import annotations
 
 import os
+import warnings
+import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from armlab.drives.train import COULOMB_SPEED
+from armlab.bounds import above, below
+from armlab.drives.train import COULOMB_SPEED, DRIVE_FIELDS
 from armlab.files import write_file
 from armlab.kinematics.locating import orientation_angles
 from armlab.models.read_dh import dh_base_tool, dh_inertials
@@ -34,7 +41,49 @@ if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
     from armlab.models.arm import Arm
 
-__all__ = ["check_output", "dh_text", "export"]
+__all__ = ["MUJOCO_MINVAL", "MujocoWarning", "check_output", "dh_text", "export", "mujoco_refusal"]
+
+#: MuJoCo's mjMINVAL: the mass (kg) and principal moments of inertia (kg·m²) every moving body must exceed.
+MUJOCO_MINVAL = 1e-15
+
+
+class MujocoWarning(UserWarning):
+    """An exported URDF that MuJoCo will not load, and why (Drake, Pinocchio and ROS read it)."""
+
+
+def mujoco_refusal(urdf: str) -> str | None:
+    """Why MuJoCo will not load the URDF text ``urdf``, in one phrase, or ``None``: a moving link (the child of a
+    joint that is not fixed) whose mass or smallest principal moment of inertia is not above
+    :data:`MUJOCO_MINVAL` (no ``<inertial>``: a kinematic arm; a point mass), or whose principal moments
+    A ≤ B ≤ C break A + B ≥ C (beyond the slack of :mod:`armlab.bounds`; a value on it MuJoCo may take either
+    way by round-off: a correction keeps a margin, as the UR10's)."""
+
+    robot = ET.fromstring(urdf)
+    moving = [str(j.find("child").get("link"))  # type: ignore[union-attr]  # URDF: a joint has a child
+              for j in robot.findall("joint") if j.get("type") != "fixed"]
+    links = {str(link.get("name")): link for link in robot.findall("link")}
+    massless: list[str] = []
+    points: list[str] = []
+    broken: list[str] = []
+    for name in moving:
+        inertial = links[name].find("inertial")
+        mass_tag = None if inertial is None else inertial.find("mass")
+        mass = 0.0 if mass_tag is None else float(mass_tag.get("value", "0"))
+        tag = None if inertial is None else inertial.find("inertia")
+        if not above(mass, MUJOCO_MINVAL):
+            massless.append(name)
+            continue
+        i = {k: float("0" if tag is None else tag.get(k, "0")) for k in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")}
+        a, b, c = np.linalg.eigvalsh([[i["ixx"], i["ixy"], i["ixz"]], [i["ixy"], i["iyy"], i["iyz"]],
+                                     [i["ixz"], i["iyz"], i["izz"]]])
+        if not above(a, MUJOCO_MINVAL):
+            points.append(name)
+        elif below(a + b, c):
+            broken.append(name)
+    reasons = ([f"{', '.join(massless)} without mass"] if massless else []) + (
+        [f"{', '.join(points)} without rotational inertia (point masses)"] if points else []) + (
+        [f"{', '.join(broken)} off the triangle inequality of the principal moments"] if broken else [])
+    return "; ".join(reasons) or None
 
 
 def check_output(path: str | Path, suffix: str, what: str) -> Path:
@@ -116,7 +165,8 @@ def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = Non
 
     ``drives``: the drive train written into both files (the URDF's Drake tags, the DH table's drive columns);
     ``None``: the arm's own, if it carries one. Both paths are checked (and the DH description's existence)
-    before anything is written.
+    before anything is written. A :class:`MujocoWarning` when MuJoCo will not load the URDF
+    (:func:`mujoco_refusal`).
     """
     if urdf is None and dh is None:
         raise ValueError("nothing to export: give a URDF file (urdf=, --urdf) or a DH table file (dh=, --dh)")
@@ -130,4 +180,9 @@ def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = Non
         texts.append((dh, dh_text(arm.with_drives(train))))
     if urdf is not None:
         texts.insert(0, (urdf, arm.urdf(train, ros_limits=True)))
-    return [write_file(path, text) for path, text in texts]
+    written = [write_file(path, text) for path, text in texts]
+    refusal = None if urdf is None else mujoco_refusal(texts[0][1])
+    if refusal is not None:
+        warnings.warn(MujocoWarning(f"MuJoCo will not load {urdf}: {arm.name}'s {refusal}, and MuJoCo needs mass and "
+                                    "inertia on every moving link (Drake, Pinocchio and ROS read it)"), stacklevel=2)
+    return written

@@ -117,6 +117,26 @@ def quiet_drake(below: int = logging.WARNING) -> Iterator[None]:
         logger.setLevel(level)
 
 
+@contextmanager
+def drake_once() -> Iterator[None]:
+    """Each distinct Drake log line at most once inside the block (a replay's two collision layers each say that
+    Meshcat does not draw a scene's floor, a half space: one line says it)."""
+    seen: set[str] = set()
+
+    def first(record: logging.LogRecord) -> bool:
+        text = record.getMessage()
+        new = text not in seen
+        seen.add(text)
+        return new
+
+    logger = logging.getLogger("drake")
+    logger.addFilter(first)
+    try:
+        yield
+    finally:
+        logger.removeFilter(first)
+
+
 def default_context(diagram: Any) -> Any:
     """``diagram.CreateDefaultContext()`` without Drake's warning that deformable contact ignores a scene's floor
     (a half space; armlab has no deformable bodies)."""

@@ -19,7 +19,18 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["latex_html", "math_svg", "to_mathtext"]
+__all__ = ["MATH_CSS", "latex_html", "math_svg", "to_mathtext"]
+
+#: The style :func:`latex_html`'s pieces need wherever they are shown (the report, the documentation site): the
+#: SVGs at their own size (a page's ``img{max-width:100%}`` in a narrow matrix cell shrinks them unreadably), a
+#: long sum's lines stacked, a matrix a bracketed grid.
+MATH_CSS = """
+.math img.m{vertical-align:middle;max-width:none;height:auto}
+.ml{display:inline-flex;flex-direction:column;vertical-align:middle}.ml>span:not(:first-child){padding-left:2em}
+table.mat{display:inline-table;width:auto;border:none;border-left:2px solid #333;border-right:2px solid #333;
+vertical-align:middle;margin:0 .3em}table.mat td{border:none;padding:2px 8px;vertical-align:middle;white-space:nowrap}
+div.math{overflow-x:auto}
+"""
 
 #: Visual characters (commands, braces, sub/superscript marks not counted) per rendered line, and per line
 #: of a matrix cell.

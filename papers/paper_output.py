@@ -30,10 +30,17 @@ from armlab.presentation.figures import save
 from armlab.presentation.graphviz import fig6_dot, render
 from armlab.presentation.replay import write_replay
 
-__all__ = ["MANIFEST", "PaperOutput", "errata_checked", "load_rows"]
+__all__ = ["MANIFEST", "PaperOutput", "errata_checked", "label_parts", "load_rows"]
 
 #: The file in each paper folder that records what the paper's script wrote (:meth:`PaperOutput.finish`).
 MANIFEST = "manifest.json"
+
+
+def label_parts(label: str) -> tuple[str, str]:
+    """An expression's label "x_{0M}, DH form" as its symbol (LaTeX, "x_{0M}") and its words (" (DH form)", plain
+    text: in math mode their spaces would be lost, "x0M,DHform")."""
+    symbol, _, words = label.partition(", ")
+    return symbol, f" ({words})" if words else ""
 
 
 @dataclass
@@ -111,7 +118,8 @@ class PaperOutput:
         paper: named there, with a pointer to ``stem.md``)."""
         lines = [f"# {title}", "", intro, ""]
         for item, note in entries:
-            lines += [f"## ${item.label}$ — {item.source}", "", f"$$\n{item.latex}\n$$", "", f"*{note}*", ""]
+            symbol, words = label_parts(item.label)
+            lines += [f"## ${symbol}${words} — {item.source}", "", f"$$\n{item.latex}\n$$", "", f"*{note}*", ""]
         (self.folder / f"{stem}.md").write_text("\n".join(lines))
         self._record("texts", {"label": label, "md": f"{stem}.md", "intro": intro, "entries": [
             {"label": item.label, "source": item.source, "latex": item.latex, "note": note,

@@ -21,8 +21,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from armlab.papers.math_html import latex_html
-from armlab.papers.paper_output import MANIFEST
+from armlab.papers.math_html import MATH_CSS, latex_html
+from armlab.papers.paper_output import MANIFEST, label_parts
 from armlab.papers.report_rows import DIFFERS, MATCHES, NOT_REPRODUCIBLE, VERDICT_KINDS, Row, verdict_counts
 from armlab.papers.value_text import DEVIATION_DIGITS, VALUE_DIGITS, markdown_table, paper_value_text, value_text
 
@@ -45,10 +45,6 @@ figure.big{grid-column:1/-1;cursor:zoom-out;overflow-x:auto}figure.big img{width
 margin:auto}figcaption{font-size:.82em;color:#555}figcaption a{margin-left:.5em;white-space:nowrap}
 .toc{columns:2;font-size:.92em;background:#f6f8fa;padding:.6em 1.2em;border:1px solid #dde}
 .toc ul{margin:.1em 0;padding-left:1.2em}.toc>ul{padding-left:0;list-style:none}
-.math img.m{vertical-align:middle}.ml{display:inline-flex;flex-direction:column;vertical-align:middle}
-.ml>span:not(:first-child){padding-left:2em}
-table.mat{display:inline-table;border:none;border-left:2px solid #333;border-right:2px solid #333;
-vertical-align:middle;margin:0 .3em}table.mat td{border:none;padding:2px 8px;vertical-align:middle}
 .scroll{max-height:560px;overflow:auto;border:1px solid #ddd;padding:.3em .6em;background:#fcfcfc}
 .expr{margin:.6em 0 .9em}.expr .lhs{margin-right:.4em}.files{font-size:.88em}
 .claim{border-left:4px solid #a15c00;padding:.2em .8em;background:#fffaf2;margin:.6em 0}
@@ -57,7 +53,7 @@ table.rows{width:100%;table-layout:fixed}table.rows th:nth-child(1){width:36%}ta
 table.rows th:nth-child(3){width:15%}table.rows th:nth-child(4){width:7%}table.rows td{overflow-wrap:anywhere}
 .erratum{margin:.7em 0;padding:.3em .6em;border-left:4px solid #1f5fa8;background:#f7f9fc}
 .pc{display:grid;grid-template-columns:1fr 1fr;gap:.3em 1em;margin-top:.3em}.pc>div{overflow-x:auto}
-.tag{display:block;font-size:.78em;color:#666;text-transform:uppercase;letter-spacing:.04em}"""
+.tag{display:block;font-size:.78em;color:#666;text-transform:uppercase;letter-spacing:.04em}""" + MATH_CSS
 
 
 def _anchor(*parts: str) -> str:
@@ -213,18 +209,21 @@ def _expressions_block(doc: _Doc, paper: str, text: dict[str, Any]) -> None:
     md, out = [], []
     derived = [e for e in text["entries"] if not e.get("printed", True)]
     for e in (e for e in text["entries"] if e.get("printed", True)):
-        md.append(f"**${e['label']}$** — {e['source']}\n\n$$\n{e['latex']}\n$$\n\n*{e['note']}*\n")
-        symbol, _, words = e["label"].partition(", ")
-        words = f" ({words})" if words else ""
+        symbol, words = label_parts(e["label"])
+        md.append(f"**${symbol}$**{words} — {e['source']}\n\n$$\n{e['latex']}\n$$\n\n*{e['note']}*\n")
         out.append(f'<div class="expr"><div><span class="lhs">{doc.latex(symbol)}{html.escape(words)}</span> — '
                    f"{html.escape(e['source'])}: <i>{html.escape(e['note'])}</i></div>"
                    f"<div>{doc.latex(e['latex'])}</div></div>")
     doc.raw("\n".join(md), '<div class="scroll">' + "".join(out) + "</div>")
     if derived:
         intro = f"Derived beyond the paper (not printed there), in {paper}/{text['md']}: "
-        doc.raw(intro + "; ".join(f"${e['label']}$ ({e['source']})" for e in derived) + ".\n",
-                f"<p>{html.escape(intro)}" + "; ".join(f"{doc.latex(e['label'])} ({html.escape(e['source'])})"
-                                                      for e in derived) + ".</p>")
+        labels = [label_parts(e["label"]) for e in derived]
+        doc.raw(intro + "; ".join(f"${symbol}${words} ({e['source']})" for (symbol, words), e in
+                                  zip(labels, derived, strict=True)) + ".\n",
+                f"<p>{html.escape(intro)}" + "; ".join(f"{doc.latex(symbol)}{html.escape(words)} "
+                                                      f"({html.escape(e['source'])})"
+                                                      for (symbol, words), e in zip(labels, derived, strict=True))
+                + ".</p>")
 
 
 def _errata_block(doc: _Doc, errata: Sequence[dict[str, str]]) -> None:

@@ -39,6 +39,9 @@ elsewhere and the duration to ≤ 0.1 % are kept.
 
 from __future__ import annotations
 
+import base64
+import html
+import io
 import logging
 from dataclasses import dataclass, replace
 from functools import cached_property
@@ -243,6 +246,35 @@ class Fastest:
     limits: Limits
     friction: NDArray[np.float64]
     slowed: int = 0
+
+    def __repr__(self) -> str:
+        slowed = f"; slowed on {self.slowed} grid interval(s)" if self.slowed else ""
+        return (f"<Fastest: {self.duration:.6g} s; a limit active on {self.active_fraction:.0%} of the path, mostly "
+                f"{self.most_active or 'none'}{slowed}>")
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: the duration and the active constraint, one row per joint with the limits the timing
+        holds (rad/s, rad/s², N·m; m/s, m/s², N for a prismatic joint; — none) and the friction kept free, then ṡ
+        against its limit curve (:meth:`rate_figure`) as an inline PNG."""
+
+        # lazy: matplotlib, only when a notebook shows the timing
+        import matplotlib.pyplot as plt
+
+        def cell(v: float) -> str:
+            return "—" if not np.isfinite(v) else f"{v:.4g}"
+
+        rows = "".join(
+            f"<tr><td>{k + 1}</td><td>{cell(v)}</td><td>{cell(a)}</td><td>{cell(e)}</td><td>{f:.4g}</td></tr>"
+            for k, (v, a, e, f) in enumerate(zip(self.limits.velocity, self.limits.acceleration, self.limits.effort,
+                                                 self.friction, strict=True)))
+        fig = self.rate_figure("time-optimal path rate against its limit")
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format="png", dpi=100)
+        plt.close(fig)
+        image = base64.b64encode(buffer.getvalue()).decode("ascii")
+        return (f"<div><b>{html.escape(repr(self)[1:-1])}</b><table><tr><th>joint</th><th>velocity limit</th>"
+                "<th>acceleration limit</th><th>effort limit</th><th>friction kept free</th></tr>"
+                f'{rows}</table><img src="data:image/png;base64,{image}" alt="ṡ against its limit curve"></div>')
 
     @property
     def active_fraction(self) -> float:
@@ -556,7 +588,9 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
     train = arm.drives if drives is None else drives
     limits = arm_limits(arm, velocity, acceleration, effort, train, motor_speed, motor_torque)
     if np.all(np.isinf(np.concatenate([limits.velocity, limits.acceleration, limits.effort]))):
-        raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give some")
+        raise ValueError(f"{arm.name} has no velocity, acceleration or effort limit to time the path by: give "
+                         "velocity=, acceleration= or effort= (armlab plan: --velocity, --acceleration, --effort), "
+                         "motor_speed=/motor_torque= with drives (--motor-speed, --motor-torque)")
     # the rigid arm with the train's reflected inertia: what Toppra's torque constraint holds (friction: below)
     rigid = arm.with_drives(None if train is None else replace(train, viscous=np.zeros(arm.n),
                                                                 coulomb=np.zeros(arm.n), coulomb_negative=None))

@@ -6,6 +6,8 @@ legend where more than one curve shares an axis, and is saved as PNG (120 dpi) a
 
 from __future__ import annotations
 
+import base64
+import html
 import io
 import textwrap
 from collections.abc import Sequence
@@ -20,7 +22,7 @@ from armlab.files import write_file
 if TYPE_CHECKING:
     from matplotlib.typing import RcKeyType
 
-__all__ = ["DPI", "draw_chain_3d", "new_figure", "save", "save_png", "set_equal_3d", "wrap_title"]
+__all__ = ["DPI", "Figures", "draw_chain_3d", "new_figure", "save", "save_png", "set_equal_3d", "wrap_title"]
 
 DPI = 120
 
@@ -83,6 +85,27 @@ def save(fig: Any, stem: Path) -> list[Path]:
     fig.savefig(paths[1])
     plt.close(fig)
     return paths
+
+
+class Figures(dict[str, Any]):
+    """Matplotlib figures by file name (``"joints.png"`` → figure): a ``dict``, which a Jupyter cell whose value it
+    is draws — each figure inline as a PNG under its name (:meth:`_repr_html_`) — rather than listing
+    ``<Figure …>`` objects."""
+
+    def __repr__(self) -> str:
+        return f"<Figures: {', '.join(self)}>"
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: each figure as an inline PNG (base64) under its name."""
+
+        parts = []
+        for name, fig in self.items():
+            buffer = io.BytesIO()
+            fig.savefig(buffer, format="png", dpi=DPI)
+            data = base64.b64encode(buffer.getvalue()).decode("ascii")
+            parts.append(f'<figure><figcaption>{html.escape(name)}</figcaption>'
+                         f'<img src="data:image/png;base64,{data}" alt="{html.escape(name)}"></figure>')
+        return "<div>" + "".join(parts) + "</div>"
 
 
 def save_png(fig: Any, path: Path) -> str:

@@ -414,6 +414,7 @@ def replay_page(
     """
     # lazy: armlab --help loads armlab.presentation.replay but not this (start-up time)
     from armlab.collision.model import CollisionModel
+    from armlab.models.plant import drake_once
 
     times, q, tool_path = _check_run(arm, times, q, tool_path)
     tau = None if tau is None else np.asarray(tau, dtype=float)
@@ -433,6 +434,15 @@ def replay_page(
     frames_tau = None if tau is None else _interpolate(t, frame_run, times, run, tau)
     model = CollisionModel.optional(arm, scene)
 
+    with drake_once():  # a floor in the scene: Drake's "Meshcat does not display HalfSpace" once, not per layer
+        return _recorded_page(arm, tool_path, run, payload, title, shown, fps, k, t, frame_run, frames_q, frames_tau,
+                              deg, scene, model)
+
+
+def _recorded_page(arm: Arm, tool_path: NDArray, run: NDArray, payload: float, title: str | None, shown: Any,
+                   fps: float, k: NDArray, t: NDArray, frame_run: NDArray, frames_q: NDArray,
+                   frames_tau: NDArray | None, deg: bool, scene: Obstacles | None, model: CollisionModel | None) -> str:
+    """:func:`replay_page`'s recording, its input checked and resampled to frames."""
     meshcat = start_meshcat()
     shown_scene = build_scene(arm, meshcat, publish_period=1 / fps, obstacles=scene, collision=model is not None)
     reach = np.concatenate([reach_points(arm, frames_q), tool_path])

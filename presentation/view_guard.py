@@ -46,7 +46,8 @@ if TYPE_CHECKING:
 
     from pydrake.geometry import Meshcat
 
-__all__ = ["BROWSER_BLOCKED_PORTS", "MAX_MESSAGE", "Guard", "check_event", "relayed_event", "start_hidden_meshcat"]
+__all__ = ["BROWSER_BLOCKED_PORTS", "MAX_MESSAGE", "OPEN_CONTROLS", "Guard", "check_event", "open_controls",
+           "relayed_event", "start_hidden_meshcat"]
 
 #: The Fetch standard's "bad ports" above 1023 (no browser connects to them), in the order tried for Drake's
 #: own server; 6000 (X11) last.
@@ -71,6 +72,19 @@ def start_hidden_meshcat() -> Meshcat:
 
 #: A slider: its (lowest, highest, step) value, in the slider's own units.
 SliderRange = tuple[float, float, float]
+
+
+#: What the viewer's page runs after Meshcat's own script: its control panel (the joint sliders) open, not folded
+#: under "Open Controls" (Meshcat's viewer closes it when it starts).
+OPEN_CONTROLS = b"<script>viewer.gui.open();</script>"
+
+
+def open_controls(page: bytes) -> bytes:
+    """Meshcat's page with :data:`OPEN_CONTROLS` before its ``</body>``; any other response unchanged."""
+    end = page.rfind(b"</body>")
+    if b"new MeshCat.Viewer(" not in page or end < 0:
+        return page
+    return page[:end] + OPEN_CONTROLS + page[end:]
 
 
 def _beyond(step: float) -> float:
@@ -217,7 +231,7 @@ class _Relay(WebSocketHandler):
         self.set_status(response.code)
         if "Content-Type" in response.headers:
             self.set_header("Content-Type", response.headers["Content-Type"])
-        self.finish(response.body or b"")
+        self.finish(open_controls(response.body or b""))
 
     async def open(self, *args: Any, **kwargs: Any) -> None:
         self.upstream = await websocket_connect(f"ws://{self.guard._upstream}/")

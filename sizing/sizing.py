@@ -12,6 +12,8 @@ or after ``max_iterations``; and when a joint has no feasible pair (then nothing
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import html
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -53,6 +55,32 @@ class Sizing:
     safety_factor: float
     rank: str
     conditions: Conditions = field(default_factory=Conditions)
+
+    def __repr__(self) -> str:
+        if not self.feasible:
+            missing = ", ".join(j.joint for j in self.joints if j.chosen is None)
+            return f"<Sizing {self.arm.name}: infeasible ({missing} without a feasible motor and gearbox)>"
+        return (f"<Sizing {self.arm.name}: {len(self.joints)} joints sized, drive mass {self.drive_mass:.4g} kg, "
+                f"smallest margin {self.margin:.3g}, {self.iterations} iteration(s)"
+                f"{'' if self.converged else ', not converged'}>")
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: the summary, then one row per joint: the chosen motor and gearbox, ratio, mass (kg) and
+        margin, or the joint's nearest infeasible pair and why it fails."""
+
+        rows = []
+        for j in self.joints:
+            c = j.chosen
+            if c is not None:
+                rows.append(f"<tr><td>{html.escape(j.joint)}</td><td>{html.escape(c.motor_name)}</td>"
+                            f"<td>{html.escape(c.gearbox_name)}</td><td>{c.ratio:.4g}</td><td>{c.mass:.4g}</td>"
+                            f"<td>{c.margin:.3g}</td></tr>")
+            else:
+                why = "; ".join(j.nearest[0].failed) if j.nearest else "no pair checked"
+                rows.append(f"<tr><td>{html.escape(j.joint)}</td><td colspan=5>none feasible: "
+                            f"{html.escape(why)}</td></tr>")
+        return (f"<div><b>{html.escape(repr(self)[1:-1])}</b><table><tr><th>joint</th><th>motor</th><th>gearbox</th>"
+                f"<th>ratio</th><th>mass (kg)</th><th>margin</th></tr>{''.join(rows)}</table></div>")
 
     @property
     def feasible(self) -> bool:

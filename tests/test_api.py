@@ -269,3 +269,55 @@ def test_the_live_viewer_in_a_notebook_says_what_to_do_when_localhost_is_not_rea
     note = notebook_note("http://localhost:7001")
     assert '<iframe src="http://localhost:7001"' in note
     assert "ssh -L 7001:localhost:7001" in note and "/proxy/7001/" in note and "replay" in note
+
+
+@pytest.mark.slow
+def test_a_motion_and_a_fastest_timing_print_short_and_show_a_table_in_a_notebook():
+    """Issue 33: ``Motion`` and ``Fastest`` showed raw dataclass dumps in Jupyter (arrays, Drake objects); now a
+    one-line repr and an HTML table (a fastest timing's with its rate figure drawn)."""
+    arm = armlab.load("rr")
+    motion = armlab.quintic(arm, [0.0, 0.5], [1.0, 1.0], 2.0)
+    text = repr(motion)
+    assert text == f"<Motion {motion.description}: 2 s, 1 segment(s), 2 joints>" and len(text) < 160
+    cells = re.findall(r"<td>(.*?)</td>", motion._repr_html_())
+    assert cells[1:3] == ["0", "2"]
+    np.testing.assert_allclose([float(v) for v in cells[3].split(", ")], [0.0, 0.5], atol=1e-12)
+    np.testing.assert_allclose([float(v) for v in cells[4].split(", ")], [1.0, 1.0], rtol=1e-4)
+    best = armlab.fastest(arm, motion, effort=[9.0, 3.0])
+    text = repr(best)
+    assert text.startswith(f"<Fastest: {best.duration:.6g} s;") and "np.float64" not in text and len(text) < 200
+    page = best._repr_html_()
+    cells = re.findall(r"<td>(.*?)</td>", page)
+    np.testing.assert_allclose([float(cells[5 * k + 3]) for k in range(2)], [9.0, 3.0], rtol=1e-12)
+    assert '<img src="data:image/png;base64,' in page
+
+
+@pytest.mark.slow
+def test_a_runs_plots_and_a_sizing_show_in_a_notebook():
+    """Issue 33: ``run.plot()`` as a cell's value showed a dict of ``<Figure …>`` and drew nothing; a ``Sizing``
+    a dataclass dump. Now the figures are drawn inline (one PNG per figure, under its name), and a sizing is one
+    line and a table of the chosen drives."""
+    import base64
+
+    arm = armlab.load("rr")
+    run = armlab.simulate(arm, armlab.quintic(arm, [0.0, 0.5], [1.0, 1.0], 1.0), log_period=0.01)
+    shown = run.plot()
+    assert isinstance(shown, dict) and repr(shown) == f"<Figures: {', '.join(shown)}>"
+    page = shown._repr_html_()
+    images = re.findall(r'<img src="data:image/png;base64,([^"]+)"', page)
+    assert len(images) == len(shown) and all(base64.b64decode(i)[:8] == b"\x89PNG\r\n\x1a\n" for i in images)
+    assert re.findall(r"<figcaption>(.*?)</figcaption>", page) == list(shown)
+    import matplotlib.pyplot as plt
+
+    for fig in shown.values():
+        plt.close(fig)
+    sizing = armlab.size_drives(arm)
+    text = repr(sizing)
+    assert text.startswith("<Sizing rr: ") and len(text) < 200 and "np.float64" not in text
+    cells = re.findall(r"<td>(.*?)</td>", sizing._repr_html_())
+    if sizing.feasible:
+        assert f"drive mass {sizing.drive_mass:.4g} kg" in text
+        assert cells[1::6] == [j.chosen.motor_name for j in sizing.joints]
+        np.testing.assert_allclose([float(v) for v in cells[4::6]], [j.chosen.mass for j in sizing.joints], rtol=1e-3)
+    else:
+        assert "infeasible" in text and any("none feasible" in c for c in cells)

@@ -6,6 +6,8 @@ import argparse
 import subprocess
 import sys
 
+import pytest
+
 from armlab import __version__
 from armlab.cli import build_parser
 
@@ -42,3 +44,33 @@ def test_every_argument_of_every_command_has_help():
         missing += [f"armlab {name} {'/'.join(a.option_strings) or a.dest}" for a in sub._actions if not a.help]
     assert missing == []
     assert {"draw", "diagram", "view", "simulate"} <= set(commands(parser))
+
+
+def test_help_imports_no_command_module_nor_numpy():
+    """``armlab --help`` lists every command from armlab.cli.COMMANDS without importing the command modules or the
+    library (start-up time); ``armlab fk --help`` imports only the module of fk."""
+    code = ("import sys; from armlab.cli import main\n"
+            "try:\n    main([*sys.argv[1:], '--help'])\nexcept SystemExit:\n    pass\n"
+            "print(sorted(m for m in sys.modules if m.startswith(('armlab.cli.', 'numpy'))))")
+    listed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert listed.stdout.splitlines()[-1] == "['armlab.cli.args']"
+    assert "    fk        forward kinematics" in listed.stdout
+    fk = subprocess.run([sys.executable, "-c", code, "fk"], capture_output=True, text=True, check=True)
+    loaded = eval(fk.stdout.splitlines()[-1])
+    assert "armlab.cli.kinematics" in loaded and "armlab.cli.simulate" not in loaded and "numpy" in loaded
+    assert "usage: armlab fk [-h]" in fk.stdout
+
+
+def test_every_command_has_its_options_and_commands_lists_each_once():
+    """A command's own parser from build_parser([name]) is the one build_parser() gives (same help), and a module's
+    register can fill in only the commands COMMANDS names."""
+    from armlab.cli import COMMANDS, _Commands
+
+    every = commands(build_parser())
+    assert list(every) == list(COMMANDS)
+    for name in COMMANDS:
+        assert commands(build_parser([name]))[name].format_help() == every[name].format_help(), name
+    with pytest.raises(KeyError, match=r"'nothing' is not in armlab\.cli\.COMMANDS"):
+        _Commands({}).add_parser("nothing")
+    with pytest.raises(TypeError, match="aliases"):
+        _Commands({"fk": argparse.ArgumentParser()}).add_parser("fk", aliases=["f"])

@@ -120,3 +120,87 @@ def test_math_is_rendered_offline(site):
     for path in site.rglob("*.html"):
         for link in _parse(path).links:
             assert not (link.startswith("http") and link.endswith(".js")), f"{path.name} loads {link}"
+
+
+def test_the_cli_reference_is_generated_from_the_parser(tmp_path, monkeypatch, capsys):
+    """Issue 33: no CLI reference (options such as ``plan --motor-torque`` were only in ``--help``). docs/pages.py
+    writes one page per command of the CLI's own parser, its ``--help`` text as ``armlab COMMAND --help`` prints it,
+    and an index of every command."""
+    import importlib.util
+
+    from armlab.cli import main
+
+    spec = importlib.util.spec_from_file_location("docs_pages", ROOT / "docs" / "pages.py")
+    pages = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(pages)
+    pages.write_cli(tmp_path)
+    index = (tmp_path / "cli" / "index.md").read_text()
+    names = list(pages.commands())
+    assert {"plan", "simulate", "export", "size", "workspace"} <= set(names)
+    monkeypatch.setenv("COLUMNS", str(pages.HELP_WIDTH))
+    for name in names:
+        assert f"[`armlab {name}`]({name}.md)" in index
+        assert main([name, "--help"]) == 0
+        printed = capsys.readouterr().out
+        assert f"```text\n{printed}```" in (tmp_path / "cli" / f"{name}.md").read_text(), name
+    assert "--motor-torque" in (tmp_path / "cli" / "plan.md").read_text()
+
+
+def test_paper_pages_lead_with_what_a_user_does(tmp_path, monkeypatch):
+    """Issue 33: paper pages opened with module autodoc. Each now opens with what a user does with the paper's arms
+    (commands the CLI's parser takes, then the Python), then the report, then the modules' reference."""
+    import importlib.util
+    import shlex
+
+    from armlab.cli import build_parser
+
+    spec = importlib.util.spec_from_file_location("docs_pages", ROOT / "docs" / "pages.py")
+    pages = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(pages)
+    given = tmp_path / "given"
+    given.mkdir()
+    (given / "report.md").write_text("".join(f"## Paper {p}: {t}\n\nverdicts of {p}\n\n" for p, (t, _, _) in
+                                             pages.PAPERS.items()))
+    monkeypatch.setenv("ARMLAB_DOCS_REPRODUCTION", str(given))
+    pages.write_papers(tmp_path / "site")
+    for paper, (_, arms, _) in pages.PAPERS.items():
+        page = (tmp_path / "site" / "papers" / f"{paper}.md").read_text()
+        lead, report, reference = (page.index(h) for h in ("## What you do with it", "## The report",
+                                                           "## Reference: the paper's arm"))
+        assert lead < report < reference and page.index(".. automodule::") > reference
+        assert f"verdicts of {paper}" in page[report:reference]
+        block = page[lead:report].split("```text\n")[1].split("```")[0]
+        commands = [shlex.split(line.split("#")[0])[1:] for line in block.splitlines()]
+        assert commands[0][:2] == ["reproduce", "--paper"] and all(any(a in c for c in commands) for a in arms)
+        for argv in commands:
+            build_parser().parse_args(argv)  # every command is one the CLI takes (SystemExit otherwise)
+
+
+@pytest.mark.slow
+def test_the_arm_entry_opens_with_what_a_user_does(site):
+    """Issue 33: the API page's ``Arm`` opened with its 25 constructor fields; its entry now opens with its
+    docstring (``armlab.load(…)``), the constructor left out of the heading."""
+    page = (site / "_generated" / "api" / "index.html").read_text()
+    start = page.index('id="armlab.Arm"')
+    heading = page[start:page.index("</dt>", start)]
+    assert "bodies" not in heading and "urdf_file" not in heading
+    assert "armlab.load(" in html_text(page[start:start + 4000])
+
+
+def html_text(fragment: str) -> str:
+    """The text of an HTML fragment (tags dropped, entities unescaped)."""
+    import html
+
+    return html.unescape(re.sub(r"<[^>]+>", "", fragment))
+
+
+@pytest.mark.slow
+def test_the_mathematics_keeps_its_size_on_the_site(site):
+    """Issue 33: paper 000's T04 matrix was unreadable on the site (its SVG pieces shrunk by the theme's
+    ``img{max-width:100%}`` in narrow matrix cells, with no grid style): every page now carries the report's own
+    math style (armlab.papers.math_html.MATH_CSS), the pieces at their own size, the matrix a bracketed grid."""
+    from armlab.papers.math_html import MATH_CSS
+
+    page = (site / "_generated" / "papers" / "000.html").read_text()
+    assert 'table class="mat"' in page and f"<style>{MATH_CSS}</style>" in page
+    assert "max-width:none" in MATH_CSS and "table.mat{" in MATH_CSS

@@ -44,3 +44,20 @@ def test_notebook_runs(path, tmp_path, monkeypatch):
             assert html and ("<iframe" in html[0] if cell.source.strip() == "run" else "<table" in html[0]), path.name
         assert not [o for o in cell.outputs if o.get("output_type") == "error"]
     assert figures >= 1
+
+
+def test_the_workspace_notebook_prints_the_volume_it_labels(capsys, monkeypatch):
+    """Issue 33: notebook 04 printed "volume reach 1.0043 m" (the measure's name as a label, then the reach); its
+    first cell now prints the volume it names, with its unit, and the reach — the numbers of its own ``ws``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    monkeypatch.setattr("matplotlib.pyplot.show", lambda *a, **k: None)
+    notebook = json.loads((ROOT / "notebooks" / "04_workspace_and_study.ipynb").read_text())
+    cell = next(c for c in notebook["cells"] if c.get("id") == "04-01")
+    space: dict = {}
+    exec("".join(cell["source"]), space)  # the notebook's own cell, as its kernel runs it
+    ws = space["ws"]
+    line = capsys.readouterr().out.strip()
+    assert line == f"volume {ws.volume:.4g} m³, reach {ws.reach:.4f} m", line
+    assert ws.measure == "volume" and ws.volume_unit == "m³"

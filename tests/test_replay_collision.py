@@ -140,3 +140,19 @@ def test_an_arm_without_collision_geometry_has_no_layer(tmp_path):
     scene.write_text(json.dumps({"obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.1, "xyz": [1, 1, 1]}]}))
     with pytest.raises(ValueError, match="no collision geometry"):
         replay_page(arm, t, np.zeros((11, arm.n)), scene=read_scene(scene))
+
+
+def test_a_floor_in_the_scene_is_said_once(tmp_path, caplog):
+    """Issue 33: with a floor in the scene, Drake said "Meshcat does not display HalfSpace geometry" once per
+    collision layer (twice a run); now once. The page still records (its collision layer holds the floor's pair)."""
+    import logging
+
+    scene = tmp_path / "scene.json"
+    scene.write_text(json.dumps({"obstacles": [{"name": "floor", "shape": "floor", "z": -0.5}]}))
+    arm = get_arm("rr")
+    t = np.linspace(0.0, 1.0, 11)
+    with caplog.at_level(logging.WARNING, logger="drake"):
+        page = replay_page(arm, t, np.tile([0.3, 0.5], (11, 1)), scene=read_scene(scene))
+    said = [r for r in caplog.records if r.name == "drake" and "HalfSpace" in r.getMessage()]
+    assert len(said) == 1
+    assert json.loads(re.search(r"const D = (\{.*?\});\n", page).group(1))["collision"] is not None

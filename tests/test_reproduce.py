@@ -585,3 +585,32 @@ def test_without_worker_processes_the_tasks_run_here(monkeypatch):
         assert dict(pool.done()) == {0: 25}
     assert lines == ["worker processes are not available here ([Errno 24] Too many open files); working in "
                      "this process", "task 5 working"]
+
+
+def test_an_expressions_label_keeps_its_words_out_of_math_mode(tmp_path):
+    """Issue 33: the site showed "x0M,DHform": a label "x_{0M}, DH form" went into math mode whole (MyST's $…$),
+    where its spaces are lost. The symbol is math, the words plain text, in the report's Markdown, its HTML and the
+    paper's expressions file."""
+    from armlab.kinematics.symbolic import LatexItem
+    from armlab.papers.paper_output import PaperOutput
+    from armlab.papers.report import _Doc, _expressions_block
+
+    out = PaperOutput("000", tmp_path)
+    out.expressions("expr", "Fig. 15", "Fig. 15", "the tool point", [(LatexItem(r"x_{0M}, DH form", "000 §7", "L_2"),
+                                                                      "as printed")])
+    text = out.manifest["texts"][0]
+    doc = _Doc(tmp_path, math={"x_{0M}": "<svg>x</svg>", "L_2": "<svg>L</svg>"})
+    _expressions_block(doc, "000", text)
+    md, page = "".join(doc.md), "".join(doc.html)
+    assert "**$x_{0M}$** (DH form)" in md and "DH form$" not in md
+    assert '<span class="lhs"><svg>x</svg> (DH form)</span>' in page
+    assert "## $x_{0M}$ (DH form) — 000 §7" in (tmp_path / "expr.md").read_text()
+
+
+def test_the_report_and_the_site_share_one_math_style():
+    """Issue 33: the report's style for its mathematics (the SVGs at their size, matrices as grids) is the one the
+    documentation site's renderer puts on every page (docs/math_svg.py), not a copy."""
+    from armlab.papers import report
+    from armlab.papers.math_html import MATH_CSS
+
+    assert report._CSS.endswith(MATH_CSS) and "max-width:none" in MATH_CSS

@@ -182,3 +182,16 @@ def test_a_slider_sent_to_its_end_by_the_page_reaches_the_end(viewer):
         assert asyncio.run(session()) == pytest.approx(end, abs=1e-12)
     finally:
         viewer.meshcat.DeleteSlider("end test")
+
+
+def test_the_page_opens_its_controls(viewer):
+    """Issue 33: the joint sliders hid under Meshcat's "Open Controls" (its viewer closes the panel when it starts);
+    the page the viewer serves opens it, after Meshcat's own script made the viewer."""
+    from armlab.presentation.view_guard import OPEN_CONTROLS
+
+    request = urllib.request.Request(f"http://127.0.0.1:{viewer.guard.port}/",
+                                     headers={"Host": f"localhost:{viewer.guard.port}"})
+    with urllib.request.urlopen(request, timeout=10) as response:
+        page = response.read()
+    assert page.count(OPEN_CONTROLS) == 1 and page.index(b"new MeshCat.Viewer(") < page.index(OPEN_CONTROLS)
+    assert page.index(OPEN_CONTROLS) < page.rindex(b"</body>")

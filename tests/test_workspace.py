@@ -214,3 +214,14 @@ def test_point_cloud_legend_counts_the_points_drawn_and_ticks_its_colour_scale(t
     ticks = [float(v) for v in re.findall(r'translateX\(-50%\)">([^<]+)</span>', legend)]
     norm = manipulability_norm(ws.manipulability)
     np.testing.assert_allclose(norm(np.array(ticks)), np.linspace(0.0, 1.0, LEGEND_TICKS), atol=2e-3)  # 3 digits
+
+
+def test_no_negative_area_in_the_convergence_or_the_result(capsys) -> None:
+    """Issue 33: ``armlab workspace rr`` printed a negative area at its first checkpoints (2·V(h) − V(2h) with the
+    cells not yet filled): those are "not filled", never negative."""
+    from armlab.cli import main
+
+    assert main(["workspace", "rr", "--samples", "15625"]) == 0
+    row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("area vs samples"))
+    values = [v.split()[0] for v in row.split(": ")[2:]]
+    assert "— (cells not filled)" in row and all(v == "—" or float(v) > 0 for v in values)

@@ -2,7 +2,8 @@
 May import: base, kinematics, drives, models, collision, presentation, planning, controllers,
 diagrams, sizing, analysis, api, papers.
 
-One module per command family: :mod:`~armlab.cli.kinematics` (``list``, ``show``, ``fk``, ``ik``),
+One module per command family (:data:`COMMANDS` lists the commands, with the line `armlab --help` prints for
+each; `armlab COMMAND` imports only its module): :mod:`~armlab.cli.kinematics` (``list``, ``show``, ``fk``, ``ik``),
 :mod:`~armlab.cli.simulate` (``simulate``, ``diagram``), :mod:`~armlab.cli.view`, :mod:`~armlab.cli.draw`,
 :mod:`~armlab.cli.reproduce`, :mod:`~armlab.cli.analysis` (``workspace``, ``sweep``) and
 :mod:`~armlab.cli.export`, :mod:`~armlab.cli.plan`, :mod:`~armlab.cli.size` and :mod:`~armlab.cli.collide`
@@ -18,24 +19,72 @@ import argparse
 import os
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from importlib import import_module
+from typing import Any
 
 from armlab import __version__
 from armlab.cli.args import Parser, error_text, join_negative_values, silence, write_error, write_warning
 from armlab.files import stop_on_signals
 
-__all__ = ["build_parser", "main"]
+__all__ = ["COMMANDS", "build_parser", "main"]
 
 #: The message when the standard output is closed (``armlab list >&-``): nothing could be printed.
 STDOUT_CLOSED = "standard output is closed"
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``armlab`` argument parser with every subcommand."""
-    # lazy: the command modules (and the library they load: numpy, the arms …) are imported here, not at the top, so
-    # that main's stop-signal handlers are in place first: a Ctrl-C during the start-up is handled like any other.
-    from armlab.cli import analysis, collide, draw, export, kinematics, plan, reproduce, simulate, size, view
+#: Every command: the module of this package whose ``register`` adds its options, and its line in ``armlab --help``,
+#: in that order. ``armlab COMMAND …`` imports only COMMAND's module (and the library it loads), ``armlab --help`` none.
+COMMANDS: dict[str, tuple[str, str]] = {
+    "list": ("kinematics", "the arms, one line each"),
+    "show": ("kinematics", "an arm's joints, parameters and URDF"),
+    "fk": ("kinematics", "forward kinematics: tool pose and named points"),
+    "ik": ("kinematics", "inverse kinematics: joint values reaching a target position or pose"),
+    "simulate": ("simulate", "simulate a motion through paper 000's Fig. 6 diagram; write log, summary, plots, "
+                             "diagram"),
+    "diagram": ("simulate", "write paper 000's Fig. 6 diagram of an arm as .dot, .svg, .png or .pdf"),
+    "plan": ("plan", "a straight line or circular arc of the tool, timed or time-optimal; or 'to': a joint motion "
+                     "around a scene's obstacles"),
+    "view": ("view", "3-D view of an arm with a slider per joint (Meshcat, in a browser)"),
+    "draw": ("draw", "draw an arm's kinematic scheme (frames, joint axes, DH or locating parameters) as .png, .svg or "
+                     ".pdf"),
+    "reproduce": ("reproduce", "regenerate the papers' figures and tables, with a report"),
+    "workspace": ("analysis", "an arm's workspace: volume, reach, manipulability, singular configurations"),
+    "sweep": ("analysis", "a design study: candidates evaluated on a Dask cluster into results.csv and plots"),
+    "export": ("export", "write an arm as a URDF (any arm) or a DH table (an arm made from one)"),
+    "size": ("size", "the motor and gearbox each joint needs, from catalogues, for a duty cycle and load cases"),
+    "check": ("collide", "collision check: the clearance of every pair of links (and obstacles); exits 3 when a "
+                         "pair is in contact"),
+}
 
+#: What a command module may pass to ``add_parser`` besides the name (the help is the command's line in COMMANDS).
+_PARSER_OPTIONS = frozenset({"description", "epilog", "formatter_class"})
+
+
+class _Commands:
+    """The subparsers as a command module's ``register`` sees them: ``add_parser(name, **options)`` returns the
+    parser :func:`build_parser` made for ``name`` (a command of :data:`COMMANDS`), given ``options``
+    (:data:`_PARSER_OPTIONS`)."""
+
+    def __init__(self, parsers: Mapping[str, argparse.ArgumentParser]) -> None:
+        self._parsers = parsers
+
+    def add_parser(self, name: str, **options: Any) -> argparse.ArgumentParser:
+        if name not in self._parsers:
+            raise KeyError(f"command {name!r} is not in armlab.cli.COMMANDS")
+        unknown = set(options) - _PARSER_OPTIONS
+        if unknown:
+            raise TypeError(f"add_parser({name!r}): {sorted(unknown)} not among {sorted(_PARSER_OPTIONS)}")
+        parser = self._parsers[name]
+        for key, value in options.items():
+            setattr(parser, key, value)
+        return parser
+
+
+def build_parser(commands: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """The ``armlab`` argument parser: every command listed, with the options of those in ``commands`` (names of
+    :data:`COMMANDS`; the default None: of every command). A name not in COMMANDS adds nothing (argparse rejects it
+    as an invalid choice)."""
     parser = Parser(prog="armlab", description="Serial robot arms modelled, checked and simulated with Drake.",
                     epilog="'armlab COMMAND --help' explains a command. 'armlab' alone prints this help and "
                            "exits with code 2; bad input ends with one line 'armlab: error: …' and code 2.")
@@ -43,21 +92,24 @@ def build_parser() -> argparse.ArgumentParser:
                         help="print armlab's version and exit")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser, title="commands",
                                 metavar="COMMAND", help="what to do (below); 'armlab COMMAND --help' for its options")
-    kinematics.register(sub)
-    simulate.register(sub)
-    plan.register(sub)
-    view.register(sub)
-    draw.register(sub)
-    reproduce.register(sub)
-    analysis.register(sub)
-    export.register(sub)
-    size.register(sub)
-    collide.register(sub)
+    parsers = {name: sub.add_parser(name, help=line) for name, (_, line) in COMMANDS.items()}
+    wanted = COMMANDS if commands is None else [name for name in commands if name in COMMANDS]
+    for module in dict.fromkeys(COMMANDS[name][0] for name in wanted):
+        # the command modules (and the library they load: numpy, the arms …) are imported here, not at the top, so
+        # that main's stop-signal handlers are in place first (a Ctrl-C during the start-up is handled like any
+        # other), and only the one the command line names (start-up time: armlab --help imports none)
+        import_module(f"armlab.cli.{module}").register(_Commands(parsers))
     return parser
 
 
+def _command(argv: Sequence[str]) -> list[str]:
+    """The command ``argv`` names, as a list of one: its first word that is not an option (the options before it are
+    armlab's own, ``-h`` and ``--version``, which take no value); empty when it names none."""
+    return [word for word in argv if not word.startswith("-")][:1]
+
+
 def _run(argv: list[str]) -> int:
-    parser = build_parser()
+    parser = build_parser(_command(argv))
     if not argv:  # no command: the usage and the list of commands, exit code 2 (as for any usage error)
         parser.print_help()
         return 2

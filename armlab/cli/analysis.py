@@ -54,8 +54,9 @@ def _format(summary: dict[str, Any]) -> list[str]:
         lines.append(f"collision-free {s['measure']} {s['collision_free_volume']:.6g} {s['volume_unit']} "
                      f"({s['collision_free_fraction']:.1%} of the samples touch nothing; {s['collision_check']})")
     c = s["convergence"]
-    lines.append(f"{s['measure']} vs samples: " + "  ".join(f"{int(n)}: {v:.5g}" for n, v in zip(
-        c["samples"], c["volume_vs_samples"], strict=True)))
+    lines.append(f"{s['measure']} vs samples: " + "  ".join(
+        f"{int(n)}: " + ("— (cells not filled)" if v is None else f"{v:.5g}")
+        for n, v in zip(c["samples"], c["volume_vs_samples"], strict=True)))
     lines.append(f"occupied voxels' {s['measure']} vs voxel edge h: " + "  ".join(f"{h:.4g} m: {v:.5g}" for h, v in zip(
         c["resolution"], c["volume_vs_resolution"], strict=True)))
     if "manipulability" in s:
@@ -118,7 +119,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``workspace`` and ``sweep`` subcommands to the CLI's subparsers."""
     p = subparsers.add_parser(
-        "workspace", help="an arm's workspace: volume, reach, manipulability, singular configurations",
+        "workspace",
         description=textwrap.fill(
             "Sample ARM's joint space (within the limits; a revolute joint without limits over a full turn), "
             "and report the workspace volume (area for a planar arm) from the voxels the tool point occupies, with "
@@ -143,7 +144,7 @@ def register(subparsers: Any) -> None:
     p.set_defaults(func=cmd_workspace)
 
     p = subparsers.add_parser(
-        "sweep", help="a design study: candidates evaluated on a Dask cluster into results.csv and plots",
+        "sweep",
         description="Evaluate every candidate of the study in STUDY.json on a Dask cluster (a local one by default) "
                     "and write DIR/results.csv (one row per candidate), study.json and the plots. A rerun into the "
                     "same DIR computes only the candidates not yet in results.csv.",

@@ -47,8 +47,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``check`` subcommand to the CLI's subparsers."""
-    p = subparsers.add_parser("check", help="collision check: the clearance of every pair of links (and obstacles); "
-                              "exits 3 when a pair is in contact")
+    p = subparsers.add_parser("check")
     add_arm(p)
     p.add_argument("--q", required=True, help="joint values v1,v2,… (rad and m; see --deg)")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees")

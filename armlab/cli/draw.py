@@ -22,8 +22,7 @@ def _cmd_draw(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``draw`` subcommand to the CLI's subparsers."""
-    p = subparsers.add_parser("draw", help="draw an arm's kinematic scheme (frames, joint axes, DH or locating "
-                                           "parameters) as .png, .svg or .pdf",
+    p = subparsers.add_parser("draw",
                               description="Draw ARM's kinematic scheme at the joint values --q, like the papers' "
                                           "figures: links, joint axes, frames {0}…{n} and the tool as RGB triads, "
                                           "and the DH (a, α, d, θ) or locating (P_i, k_i) parameters.")

@@ -25,13 +25,15 @@ def _cmd_export(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``export`` subcommand to the CLI's subparsers."""
     p = subparsers.add_parser(
-        "export", help="write an arm as a URDF (any arm) or a DH table (an arm made from one)",
+        "export",
         description="Write ARM as a URDF file (any arm: joint origins and axes from its geometry, each link's "
                     "mass, centre of mass and inertia in the URDF's link frames, a drive train as Drake's "
                     "<drake:gear_ratio>/<drake:rotor_inertia> tags) and/or as a DH table file (an arm made from "
                     "one: radians, mass data in the DH frames, '# base:' and '# tool:' lines), which ROS, Drake, "
-                    "Pinocchio, MuJoCo and armlab read back to the same kinematics and dynamics. Each file is "
-                    "written completely or not at all; a path that cannot be written is refused first.")
+                    "Pinocchio, MuJoCo and armlab read back to the same kinematics and dynamics (MuJoCo: an arm "
+                    "with mass and inertia on every moving link; a one-line warning says when it will not load "
+                    "the URDF, and why). Each file is written completely or not at all; a path that cannot be "
+                    "written is refused first.")
     add_arm(p)
     p.add_argument("--urdf", metavar="FILE", help="the URDF file to write (FILE.urdf)")
     p.add_argument("--dh", metavar="FILE", help="the DH table file to write (FILE.csv)")

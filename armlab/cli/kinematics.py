@@ -249,15 +249,15 @@ def _mark(touching: list[str], clearance: float | None) -> str:
 
 def register(subparsers: Any) -> None:
     """Add the ``list``, ``show``, ``fk`` and ``ik`` subcommands to the CLI's subparsers."""
-    p = subparsers.add_parser("list", help="the arms, one line each")
+    p = subparsers.add_parser("list")
     p.set_defaults(func=_cmd_list)
 
-    p = subparsers.add_parser("show", help="an arm's joints, parameters and URDF")
+    p = subparsers.add_parser("show")
     add_arm(p)
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_show)
 
-    p = subparsers.add_parser("fk", help="forward kinematics: tool pose and named points")
+    p = subparsers.add_parser("fk")
     add_arm(p)
     p.add_argument("--q", required=True, help="joint values v1,v2,… (rad and m; see --deg)")
     p.add_argument("--qd", help="joint rates v1,v2,… (rad/s and m/s; deg/s with --deg): print the tool's twist")
@@ -266,7 +266,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_fk)
 
-    p = subparsers.add_parser("ik", help="inverse kinematics: joint values reaching a target position or pose")
+    p = subparsers.add_parser("ik")
     add_arm(p)
     p.add_argument("--target", required=True, help="tool position x,y,z in metres (rr: x,y)")
     p.add_argument("--rpy", help="tool orientation roll,pitch,yaw (rad; see --deg), R = Rz(yaw)·Ry(pitch)·Rx(roll) "

@@ -52,7 +52,10 @@ def _motion(arm: Arm, args: argparse.Namespace) -> Motion:
     from armlab.api import arc, line
 
     q0 = None if args.q0 is None else joint_values(arm, args.q0, args.deg, "--q0")
-    timing = {"tf": args.tf, "profile": args.profile, "speed": args.speed, "acceleration": args.tool_acceleration,
+    tf = args.tf
+    if args.fastest and tf is None and args.profile != "trapezoid":
+        tf = 1.0  # the path's parameter only: --fastest retimes it, keeping the geometric path
+    timing = {"tf": tf, "profile": args.profile, "speed": args.speed, "acceleration": args.tool_acceleration,
               "q0": q0, "branch": args.branch, "samples": args.samples}
     if args.path == "line":
         start = None if args.start is None else _point(args.start, "--from")
@@ -152,6 +155,11 @@ def _check_options(args: argparse.Namespace, defaults: dict[str, Any]) -> None:
         raise ValueError(f"{shown}: not an option of 'plan ARM {args.path}' ({why})")
 
 
+def _error_unit(arm: Arm) -> str:
+    """The unit of the largest tracking error over all joints: rad, m, or "rad or m" for a mixed arm."""
+    return "rad" if arm.revolute.all() else "m" if not arm.revolute.any() else "rad or m"
+
+
 def _cmd_plan(args: argparse.Namespace) -> int:
     _check_options(args, args.defaults)
     arm = with_drives(arm_of(args), args.drives)
@@ -201,9 +209,12 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(summary, indent=2, default=lambda v: None))
         return status
-    print(f"{arm.name}: {summary['motion']}: {summary['duration']:.6g} s")
-    print("joints from  " + "  ".join(f"{v:+.6f}" for v in summary["q_start"]))
-    print("joints to    " + "  ".join(f"{v:+.6f}" for v in summary["q_end"]))
+    timed = args.tf is not None or args.profile == "trapezoid"
+    print(f"{arm.name}: {summary['motion']}" + (f": {summary['duration']:.6g} s" if timed or not args.fastest else ""))
+    scale = np.where(arm.revolute, np.degrees(1.0) if args.deg else 1.0, 1.0)
+    unit = "(" + " or ".join(dict.fromkeys(("deg" if args.deg else "rad") if r else "m" for r in arm.revolute)) + ")"
+    print(f"joints from {unit}  " + "  ".join(f"{v:+.6f}" for v in np.asarray(summary["q_start"]) * scale))
+    print(f"joints to   {unit}  " + "  ".join(f"{v:+.6f}" for v in np.asarray(summary["q_end"]) * scale))
     if args.fastest:
         f = summary["fastest"]
         print(f"time-optimal (Toppra, {args.grid} grid points): {f['duration']:.6g} s; a limit is active on "
@@ -213,18 +224,19 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                   "between its grid points")
         if any(f["friction_kept_free"]):
             print("  the drives' friction kept free of the effort limits: " + ", ".join(
-                f"{name} {v:.4g}" for name, v in zip(arm.joint_names, f["friction_kept_free"], strict=True)))
+                f"{name} {v:.4g} {'N·m' if r else 'N'}"
+                for name, v, r in zip(arm.joint_names, f["friction_kept_free"], arm.revolute, strict=True)))
     if args.simulate:
         sim = summary["simulation"]
         print(f"simulated{' the time-optimal motion' if args.fastest else ''}: max tracking error "
-              f"{max(sim['max_tracking_error']):.3g}; wrote {args.simulate}: {' '.join(sim['written'])}")
+              f"{max(sim['max_tracking_error']):.3g} {_error_unit(arm)}; wrote {args.simulate}: "
+              f"{' '.join(sim['written'])}")
     return status
 
 
 def register(subparsers: Any) -> None:
     """Add the ``plan`` subcommand to the ``armlab`` CLI's subparsers."""
-    p = subparsers.add_parser("plan", help="a straight line or circular arc of the tool, timed or time-optimal; or "
-                              "'to': a joint motion around a scene's obstacles")
+    p = subparsers.add_parser("plan")
     add_arm(p)
     p.add_argument("path", choices=("line", "arc", "to"), help="the tool's path (line, arc), or 'to': a collision-"
                    "free joint motion from --from to --to (RRT-Connect, smoothed, timed by Toppra)")
@@ -241,7 +253,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--centre", help="arc: centre x,y(,z) m")
     p.add_argument("--axis", help="arc: axis x,y,z (right-handed)")
     p.add_argument("--angle", type=float, help="arc: angle (rad; deg with --deg)")
-    p.add_argument("--tf", type=float, help="duration (s) of the profile")
+    p.add_argument("--tf", type=float, help="duration (s) of the profile (not needed with --fastest)")
     p.add_argument("--profile", default="minimum-jerk", choices=PROFILES, help="time profile (default minimum-jerk)")
     p.add_argument("--speed", type=float, help="trapezoid: the tool's peak speed along the path (m/s)")
     p.add_argument("--tool-acceleration", type=float, help="trapezoid: the tool's peak acceleration (m/s²)")
@@ -268,7 +280,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--strict-limits", action="store_true",
                    help="--simulate: exit with status 3 when the run passes a limit (the arm's, or one --fastest "
                         "timed it within) or a pair collides (always a warning on stderr)")
-    p.add_argument("--deg", action="store_true", help="--q0 and --angle in degrees")
+    p.add_argument("--deg", action="store_true", help="--q0, --angle and the printed joints in degrees")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_plan)
     p.set_defaults(defaults={name: p.get_default(name) for name in (*_TO_ONLY, *_PATH_ONLY, "clearance")})

@@ -31,7 +31,7 @@ def _cmd(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``reproduce`` subcommand to the ``armlab`` CLI's subparsers."""
-    p = subparsers.add_parser("reproduce", help="regenerate the papers' figures and tables, with a report")
+    p = subparsers.add_parser("reproduce")
     p.add_argument("--paper", default="all", help="000, 001, 003, 004 or all (default all); one paper is redone, "
                    "the others an earlier reproduction in --out holds are kept in the report")
     p.add_argument("--out", default="out", help="output folder (default out/)")

@@ -280,7 +280,6 @@ def register(subparsers: Any) -> None:
     """Add the ``simulate`` and ``diagram`` subcommands to the CLI's subparsers."""
     p = subparsers.add_parser(
         "simulate",
-        help="simulate a motion through paper 000's Fig. 6 diagram; write log, summary, plots, diagram",
         description=textwrap.fill(
             "Simulate ARM through paper 000's Fig. 6 as a Drake diagram (trajectory source → inverse dynamics "
             "controller → MultibodyPlant, with loggers) and write DIR/log.csv, summary.json, diagram.svg "
@@ -314,7 +313,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (written completely or not at all)")
     p.set_defaults(func=cmd_simulate)
 
-    p = subparsers.add_parser("diagram", help="write paper 000's Fig. 6 diagram of an arm as .dot, .svg, .png or .pdf",
+    p = subparsers.add_parser("diagram",
                               description="Write the Drake diagram of ARM (the one armlab simulate runs) as paper "
                                           "000's Fig. 6 (connected ports only, signals named; --full: Drake's whole "
                                           "graph) as DOT, or SVG/PNG/PDF through graphviz's dot, chosen by the "

@@ -63,7 +63,7 @@ def cmd_size(args: argparse.Namespace) -> int:
 def register(subparsers: Any) -> None:
     """Add the ``size`` subcommand to the CLI's subparsers."""
     p = subparsers.add_parser(
-        "size", help="the motor and gearbox each joint needs, from catalogues, for a duty cycle and load cases",
+        "size",
         description=textwrap.fill(
             "Choose every joint's motor and gearbox from the catalogues for the motion (or duty cycle) and every "
             "load case: RMS and peak motor torque (times the safety factor) within the motor's rated and peak "

@@ -20,7 +20,7 @@ def _cmd_view(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add the ``view`` subcommand to the CLI's subparsers."""
-    p = subparsers.add_parser("view", help="3-D view of an arm with a slider per joint (Meshcat, in a browser)")
+    p = subparsers.add_parser("view")
     add_arm(p)
     p.add_argument("--q", help="initial joint values v1,v2,… (rad and m; see --deg); default: zeros within limits")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees: --q, the sliders and the "

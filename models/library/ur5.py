@@ -10,8 +10,11 @@ inertia of a solid disc of its mass, radius :data:`FLANGE_RADIUS` (chosen, not f
 about its axis, Izz = m r²/2, and half that about x and y. **Effect**: Izz = m r²/2 = 1.33e-4 kg·m² (a diagonal entry
 of the mass matrix the toolbox has as 0); the torques change by that inertia times the link's angular acceleration.
 
-Position limits ±360° (UR's data sheet: working range ±360° on every joint); effort and velocity limits not in the
-source (unknown). Its closed form: :func:`armlab.kinematics.ik_wrist.ur_ik`, 8 branches.
+Position limits ±360° (UR's data sheet: working range ±360° on every joint); velocity 180°/s every joint (UR5/CB3
+User Manual's technical specifications); effort 150 N·m joints 1-3, 28 N·m joints 4-6 (UR's support article
+"Max. joint torques"; both as UR's own ROS description, ``Universal_Robots_ROS2_Description`` config/ur5/
+joint_limits.yaml, carries them). d1 = 0.089159 m, UR's own DH table (the toolbox has 0.089459). Its closed form:
+:func:`armlab.kinematics.ik_wrist.ur_ik`, 8 branches.
 """
 
 from __future__ import annotations
@@ -29,8 +32,10 @@ SOURCE = ("Universal Robots UR5 (CB3); DH, masses and centres of mass from Unive
           "inertias) but link 6, a disc of radius 0.0375 m (chosen)")
 
 #: (a m, α rad, d m) per joint, standard DH, θ offsets 0: Universal Robots' table for the UR5.
-DH = ((0.0, np.pi / 2, 0.089459), (-0.425, 0.0, 0.0), (-0.39225, 0.0, 0.0), (0.0, np.pi / 2, 0.10915),
+DH = ((0.0, np.pi / 2, 0.089159), (-0.425, 0.0, 0.0), (-0.39225, 0.0, 0.0), (0.0, np.pi / 2, 0.10915),
       (0.0, -np.pi / 2, 0.09465), (0.0, 0.0, 0.0823))
+#: Joint torque limits (N·m), Universal Robots' support article "Max. joint torques" (UR5).
+EFFORT = (150.0, 150.0, 150.0, 28.0, 28.0, 28.0)
 #: Link masses (kg), Universal Robots' table.
 MASS = (3.7, 8.393, 2.33, 1.219, 1.219, 0.1897)
 #: Centres of mass (m) in each link's DH frame, Universal Robots' table (the toolbox's values).
@@ -57,9 +62,11 @@ def build() -> Arm:
     inertials[5] = DHInertial(MASS[5], inertials[5].com, disc(MASS[5], FLANGE_RADIUS))
     notes = {
         "kinematics": "standard DH, Universal Robots' 'Parameters for calculations of kinematics and dynamics' (UR5)",
-        "limits": "±360° every joint (UR data sheet); effort and velocity limits not in the source",
+        "limits": "±360° and 180°/s every joint (UR5/CB3 User Manual); effort 150, 150, 150, 28, 28, 28 N·m (UR, "
+                  "'Max. joint torques')",
         "masses": "UR's table: masses and centres of mass in the DH frames; point masses (no inertias published)",
         "choice link 6": f"a solid disc of radius {FLANGE_RADIUS} m (the flange) so that joint 6 has inertia",
     }
     return library_dh_arm("ur5", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],
-                          [degrees(-360, 360)] * 6, inertials, notes, RADII, HOME, ur_closed_form)
+                          [degrees(-360, 360, effort, 180.0) for effort in EFFORT], inertials, notes, RADII, HOME,
+                          ur_closed_form)

@@ -11,8 +11,12 @@ and reports per pose the wall time of each, the distinct solutions each finds (D
 rad, its accuracy), whether q itself is among armlab's, and how many of Drake's are not among armlab's
 (it should be none). Then the median times and their ratio (measured in the same run, taking turns).
 
-Then (``--single-poses``, default 20; 0 skips it) the cost of **one** solution nearest ``near`` on the library arms
-UR5, Puma 560 (closed forms), KR5 and Panda (numerical, one start), issue 22's goal ≤ 5 ms for a 6-DOF arm: for random
+Then (``--closed-form-poses``, default 20000; 0 skips it) the UR closed form alone (all 8 branches of one pose, goal
+≤ 50 µs; a batch of poses in one call, goal ≥ 1e5 poses/s), beside the arm's batched FK of as many configurations.
+
+Then (``--single-poses``, default 50; 0 skips it) the cost of **one** solution nearest ``near`` on the seven library
+arms (UR5, UR10, Puma 560 by closed forms; the others numerically, one start), issue 34's goal ≤ 0.5 × the Robotics
+Toolbox's ``ik_LM`` on every arm (issue 22's: ≤ 5 ms for a 6-DOF arm): for random
 in-limit q and near = q + 0.2 rad noise (a tracking step), ``solve(arm, FK(q), near=near)`` beside Drake's
 ``InverseKinematics`` from the one start ``near``, and the Robotics Toolbox's ``ik_LM`` from ``near`` where it is
 installed; median times, their ratios, and how many calls each solved (armlab's to 1e-9 by its own FK).
@@ -99,8 +103,9 @@ def single_solution(names: tuple[str, ...], poses: int) -> None:
         plant = arm.make_plant()
         robot = None
         if rtb is not None:
-            robot = {"ur5": rtb.models.DH.UR5, "puma560": rtb.models.DH.Puma560, "panda": rtb.models.DH.Panda,
-                     "kr5": rtb.models.DH.KR5}[name]()
+            robot = {"ur5": rtb.models.DH.UR5, "ur10": rtb.models.DH.UR10, "puma560": rtb.models.DH.Puma560,
+                     "panda": rtb.models.DH.Panda, "kr5": rtb.models.DH.KR5, "irb140": rtb.models.DH.IRB140,
+                     "stanford": rtb.models.DH.Stanford}[name]()
             robot.tool = SE3()  # armlab's tool is the last DH frame
         lower, upper = arm.limit_arrays(unlimited=np.pi)
         lower, upper = np.maximum(lower, -np.pi), np.minimum(upper, np.pi)
@@ -129,8 +134,47 @@ def single_solution(names: tuple[str, ...], poses: int) -> None:
         print(f" {name:9s} {ms['armlab']:6.2f} ({1e3 * float(np.median(cpu)):5.2f}) ({solved['armlab']:3d}/{poses})  "
               f"{ms['drake']:8.2f} "
               f"({solved['drake']:3d}/{poses})   {ms['drake'] / ms['armlab']:10.1f}×   "
-              + (f"{ms['rtb']:8.2f} ({solved['rtb']:3d}/{poses})   {ms['rtb'] / ms['armlab']:10.1f}×"
+              + (f"{ms['rtb']:8.2f} ({solved['rtb']:3d}/{poses})   {ms['rtb'] / ms['armlab']:10.2f}×   "
+                 f"armlab/ik_LM {ms['armlab'] / ms['rtb']:5.2f} (goal ≤ 0.5)"
                  if robot is not None else "not installed"))
+
+
+def closed_form_timing(names: tuple[str, ...], poses: int) -> None:
+    """Print the cost of a UR closed form alone (:func:`armlab.kinematics.ik_wrist.ur_branches`): all 8 branches of
+    one pose (median CPU µs per pose over ``poses`` poses; goal ≤ 50 µs) and of ``poses`` poses in one batched call
+    (poses/s; goal ≥ 1e5), beside the arm's own batched FK of the same number of configurations (the reference, in
+    the same run) and a check that every branch reaches its pose to 1e-9 by that FK."""
+    from armlab.kinematics.dh import DHRow, DHTable
+    from armlab.kinematics.ik_wrist import ur_branches
+
+    print(f"closed form alone (UR layout, ur_branches), {poses} random poses; CPU time, median of 5 for the batch")
+    print(" arm     one pose, 8 branches [µs]   batch [poses/s]   batched FK [configurations/s]   FK/IK   worst miss")
+    rng = np.random.default_rng(2)
+    for name in names:
+        arm = get_arm(name)
+        module = __import__(f"armlab.models.library.{name}", fromlist=["DH"])
+        table = DHTable(tuple(DHRow(a, alpha, d, 0.0) for a, alpha, d in module.DH))
+        q = rng.uniform(-np.pi, np.pi, (poses, arm.n))
+        targets = arm.forward(q).tool
+        position, rotation = targets[:, :3, 3], targets[:, :3, :3]
+        one = []
+        for k in range(min(poses, 500)):
+            start = time.process_time()
+            ur_branches(table, position[k], rotation[k], q[k])
+            one.append(time.process_time() - start)
+        batch, fk = [], []
+        for _ in range(5):  # in turns
+            start = time.process_time()
+            branches = ur_branches(table, position, rotation, q)
+            batch.append(time.process_time() - start)
+            start = time.process_time()
+            arm.forward(q)
+            fk.append(time.process_time() - start)
+        exists = ~np.isnan(branches[..., 0])
+        miss = np.abs(arm.forward(branches[exists]).tool - np.repeat(targets, 8, axis=0)[exists.ravel()]).max()
+        rate, fk_rate = poses / float(np.median(batch)), poses / float(np.median(fk))
+        print(f" {name:6s}  {1e6 * float(np.median(one)):26.1f}   {rate:15.3g}   {fk_rate:29.3g}   "
+              f"{fk_rate / rate:5.1f}   {miss:.1e}")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -138,7 +182,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--arm", default="urm6", help="an arm solved numerically (not rr, arm4r, r2t)")
     parser.add_argument("--poses", type=int, default=10, help="random poses to solve (0: skip the multi-start part)")
     parser.add_argument("--drake-starts", type=int, default=64, help="starts for Drake's InverseKinematics")
-    parser.add_argument("--single-poses", type=int, default=20,
+    parser.add_argument("--closed-form-poses", type=int, default=20000,
+                        help="poses for the closed form timed alone (0: skip it)")
+    parser.add_argument("--single-poses", type=int, default=50,
                         help="poses per library arm for the one-solution timing (0: skip it)")
     args = parser.parse_args(argv)
     arm = get_arm(args.arm)
@@ -165,8 +211,10 @@ def main(argv: list[str] | None = None) -> int:
         ratio = np.median(drake_s) / np.median(ours_s)
         print(f"median: armlab {np.median(ours_s):.3f} s, Drake {np.median(drake_s):.3f} s per pose "
               f"(Drake / armlab = {ratio:.1f}× with {args.drake_starts} vs {SEEDS} starts)")
+    if args.closed_form_poses > 0:
+        closed_form_timing(("ur5", "ur10"), args.closed_form_poses)
     if args.single_poses > 0:
-        single_solution(("ur5", "puma560", "kr5", "panda"), args.single_poses)
+        single_solution(("ur5", "ur10", "puma560", "irb140", "stanford", "kr5", "panda"), args.single_poses)
     return 0
 
 
