@@ -28,7 +28,6 @@ from armlab.diagrams.drives import (
 )
 from armlab.diagrams.servo import LoopResponse, frequency_response
 from armlab.diagrams.simulate import SimulationOptions, summarize
-from armlab.diagrams.simulate import summarize
 from armlab.presentation.figures import Figures
 from armlab.presentation.graphviz import fig6_dot, write_pictures
 from armlab.presentation.output import run_folder, write_log_csv, write_summary

@@ -30,9 +30,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from armlab.drives.train import COULOMB_SPEED
 from armlab.bounds import above, below
-from armlab.drives.train import COULOMB_SPEED, DRIVE_FIELDS
+from armlab.drives.train import COULOMB_SPEED
 from armlab.files import write_file
 from armlab.kinematics.locating import orientation_angles
 from armlab.models.read_dh import dh_base_tool, dh_inertials

@@ -11,9 +11,8 @@ or after ``max_iterations``; and when a joint has no feasible pair (then nothing
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import html
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
