@@ -53,9 +53,10 @@ class MujocoWarning(UserWarning):
 def mujoco_refusal(urdf: str) -> str | None:
     """Why MuJoCo will not load the URDF text ``urdf``, in one phrase, or ``None``: a moving link (the child of a
     joint that is not fixed) whose mass or smallest principal moment of inertia is not above
-    :data:`MUJOCO_MINVAL` (no ``<inertial>``: a kinematic arm; a point mass), or whose principal moments
-    A ≤ B ≤ C break A + B ≥ C (beyond the slack of :mod:`armlab.bounds`; a value on it MuJoCo may take either
-    way by round-off: a correction keeps a margin, as the UR10's)."""
+    :data:`MUJOCO_MINVAL` (no ``<inertial>``: a kinematic arm, whose file MuJoCo refuses or, where the link has
+    collision geometry, reads with masses it infers from that geometry, not the arm's; a point mass), or whose
+    principal moments A ≤ B ≤ C break A + B ≥ C (beyond the slack of :mod:`armlab.bounds`; a value on it MuJoCo
+    may take either way by round-off: a correction keeps a margin, as the UR10's)."""
 
     robot = ET.fromstring(urdf)
     moving = [str(j.find("child").get("link"))  # type: ignore[union-attr]  # URDF: a joint has a child
@@ -182,6 +183,8 @@ def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = Non
     written = [write_file(path, text) for path, text in texts]
     refusal = None if urdf is None else mujoco_refusal(texts[0][1])
     if refusal is not None:
-        warnings.warn(MujocoWarning(f"MuJoCo will not load {urdf}: {arm.name}'s {refusal}, and MuJoCo needs mass and "
-                                    "inertia on every moving link (Drake, Pinocchio and ROS read it)"), stacklevel=2)
+        warnings.warn(MujocoWarning(f"MuJoCo will not load {urdf} as it is: {arm.name}'s {refusal}, and MuJoCo needs "
+                                    "mass and inertia on every moving link (it refuses the file, or infers masses from "
+                                    "the collision geometry, not the arm's; Drake, Pinocchio and ROS read it)"),
+                      stacklevel=2)
     return written

@@ -110,7 +110,7 @@ def test_simulate_without_dot_writes_all_but_the_svgs_with_one_warning(tmp_path,
     assert out.stderr == f"armlab: warning: {NO_DOT}\n"
     written = out.stdout.splitlines()[-1].removeprefix("wrote runs/arm3r: ").split()
     # everything else, the DOT text included (no clearance.png: arm3r's table has no radius column, no collision pairs)
-    assert set(written) == set(RUN_OUTPUTS) - SVGS - {"clearance.png"}
+    assert set(written) == set(RUN_OUTPUTS) - SVGS - {"clearance.png", "servo.png", "bode.png"}
     assert sorted(p.name for p in (tmp_path / "runs" / "arm3r").iterdir()) == sorted(written)
     assert "digraph" in (tmp_path / "runs" / "arm3r" / "diagram.dot").read_text()
 
@@ -122,7 +122,8 @@ def test_run_save_without_dot_warns_once_and_writes_the_rest(tmp_path, no_dot):
     with pytest.warns(DotMissingWarning) as caught:
         written = run.save(tmp_path / "run")
     assert [str(w.message) for w in caught] == [NO_DOT]
-    assert set(written) == set(RUN_OUTPUTS) - SVGS - {"clearance.png"}  # arm3r has no collision geometry
+    # arm3r has no collision geometry, and the run is not a servo run
+    assert set(written) == set(RUN_OUTPUTS) - SVGS - {"clearance.png", "servo.png", "bode.png"}
     assert {p.name for p in (tmp_path / "run").iterdir()} == set(written)
 
 

@@ -73,6 +73,7 @@ def test_numpy_certificate_agrees_with_drake_along_the_smooth_path(planned):
 def test_the_same_seed_gives_the_same_plan(planned):
     arm, scene, plan = planned
     again = armlab.plan_path(arm, START, GOAL, scene, clearance=MARGIN, seed=1)
+    # exact: the same code on the same input
     np.testing.assert_array_equal(again.waypoints, plan.waypoints)  # exact: the same seeded computation
     assert again.duration == plan.duration
 

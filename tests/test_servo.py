@@ -73,6 +73,7 @@ def test_continuous_computed_torque_servo_equals_drakes_inverse_dynamics_control
     motion = paper_motion(arm)
     ideal = simulate(arm, motion, SimulationOptions(log_period=0.01, sampling="periodic"))
     servo = simulate(arm, motion, SimulationOptions(log_period=0.01, saturate=True))
+    # exact: a copy or a constant
     assert servo.servo is not None and servo.servo["torque_limit"] == [100.0, 100.0]
     for a, b in ((ideal.q, servo.q), (ideal.qd, servo.qd), (ideal.tau, servo.tau), (servo.tau_command, servo.tau)):
         np.testing.assert_allclose(b, a, rtol=0, atol=1e-12 * max(1.0, float(np.max(np.abs(a)))))
@@ -230,6 +231,7 @@ def test_noise_has_its_seed_and_its_standard_deviation():
         return log.measured[1:, :2] - log.q[:-1]
 
     first, again, other = measured(7), measured(7), measured(8)
+    # exact: the same code on the same input
     np.testing.assert_array_equal(first, again)  # one seed, one run
     assert not np.allclose(first, other)
     noise = first[1:]  # the first held value is the start's, noise-free
@@ -242,8 +244,11 @@ def test_the_drive_file_reads_the_motor_electrics(tmp_path):
     train = read_drive_file(RR_MOTORS, ["joint1", "joint2"])
     e = train.electrics
     assert e is not None
+    # exact: parsed from the same decimal text
     np.testing.assert_array_equal(e.resistance, [1.2, 2.0])
+    # exact: a copy or a constant
     np.testing.assert_array_equal(e.back_emf, e.torque_constant)  # default: k_e = k_t (SI)
+    # exact: parsed from the same decimal text
     np.testing.assert_array_equal(e.peak_current, [6.0, 4.0])
     assert read_drive_file(DATA / "rr_drives.csv", ["joint1", "joint2"]).electrics is None
     bad = tmp_path / "bad.csv"
@@ -296,6 +301,7 @@ def test_the_voltage_saturates_at_the_bus():
     assert run.summary["servo"]["peak_voltage"][0] == pytest.approx(6.0, rel=1e-12)
     graphs = {g.title: g for g in log_graphs(run.log)}  # the replay's graphs: tracking, current, voltage
     assert graphs["tracking error q−q_d"].labels == ("q−q_d1 [rad]", "q−q_d2 [rad]")
+    # exact: a copy or a constant
     np.testing.assert_array_equal(graphs["motor currents i"].values, run.log.current)
     assert graphs["winding voltages V"].labels == ("V1 [V]", "V2 [V]")
 
@@ -336,8 +342,10 @@ def test_simulate_a_servo_run_prints_and_writes_it(tmp_path):
     assert header[-6:] == ["E_el1", "E_el2", "E_mech1", "E_mech2", "E_cu1", "E_cu2"]
     summary = json.loads((out / "summary.json").read_text())
     servo = summary["servo"]
+    # exact: parsed from the same decimal text
     assert servo["controller"] == "pid" and servo["rate_hz"] == 1000.0
     assert servo["gains"]["Kp"] == pytest.approx(np.array(servo["gains"]["kp"]) * servo["joint_inertia"])
+    # exact: parsed from the same decimal text
     assert servo["current_loop"]["bus_voltage"] == [48.0, 48.0]
     table = np.loadtxt(out / "log.csv", delimiter=",", skiprows=1)
     current = table[:, header.index("i1")]
@@ -368,6 +376,7 @@ def test_a_study_evaluates_the_tracking_error_against_rate_and_encoder():
     study = parse_study(SERVO_STUDY)
     assert study.objective_columns == ["max_tracking_error_1", "max_tracking_error_2", "rms_tracking_error_1",
                                        "rms_tracking_error_2"]
+    # exact: a copy or a constant
     assert study.servo_settings((2.0, 16384.0)) == {"controller": "pd+feedforward", "bandwidth": 5.0,
                                                     "encoder_side": "joint", "rate": 2000.0, "encoder": 16384}
     got = evaluate(study, (2.0, 16384.0))
@@ -495,6 +504,7 @@ def test_elastic_joints_need_their_stiffness_and_the_linearised_loop_stiffens_to
         read_drive_file(bad, ["joint1", "joint2"])
     good = tmp_path / "good.csv"
     good.write_text("gear_ratio,rotor_inertia,stiffness,twist_damping\n100,1.2e-5,2e4,1\n80,0.8e-5,1e4,0.5\n")
+    # exact: parsed from the same decimal text
     assert read_drive_file(good, ["joint1", "joint2"]).elasticity.stiffness.tolist() == [2e4, 1e4]
     options = SimulationOptions(controller="computed-torque", bandwidth=5.0, elastic=True)
     stiff = frequency_response(elastic(arm, 1e7), options, [-0.66, 1.71])

@@ -147,6 +147,35 @@ ALLOWED: dict[tuple[str, str], str] = {
         PARSED,
     ('test_dh_file_rules.py', 'assert table.n == 2 and [b.mass for b in inertials] == [1.0, 2.0]'):
         PARSED,
+    ('test_drives_checks.py', 'assert duty_type(np.full(5, 2.0), np.zeros(5), np.ones(5)) == ("S1", 1.0)'):
+        BY_CONSTRUCTION,
+    ('test_drives_checks.py', 'assert set(np.unique(gearboxes.life_basis)) == {1.0, 2.0}'):
+        BOOLEAN,
+    ('test_drives_select.py', 'np.testing.assert_array_equal(~below(smallest, 1.0), feasible)'):
+        BOOLEAN,
+    ('test_planner.py', 'np.testing.assert_array_equal(again.waypoints, plan.waypoints)'):
+        DETERMINISM,
+    ('test_servo.py', 'assert read_drive_file(good, ["joint1", "joint2"]).elasticity.stiffness.tolist() == [2e4, 1e4]'):
+        PARSED,
+    ('test_servo.py', 'assert servo.servo is not None and servo.servo["torque_limit"] == [100.0, 100.0]'):
+        BY_CONSTRUCTION,
+    ('test_servo.py', 'assert servo["controller"] == "pid" and servo["rate_hz"] == 1000.0'):
+        PARSED,
+    ('test_servo.py', 'assert servo["current_loop"]["bus_voltage"] == [48.0, 48.0]'):
+        PARSED,
+    ('test_servo.py',
+     'assert study.servo_settings((2.0, 16384.0)) == {"controller": "pd+feedforward", "bandwidth": 5.0,'):
+        BY_CONSTRUCTION,
+    ('test_servo.py', 'np.testing.assert_array_equal(e.back_emf, e.torque_constant)'):
+        BY_CONSTRUCTION,
+    ('test_servo.py', 'np.testing.assert_array_equal(e.peak_current, [6.0, 4.0])'):
+        PARSED,
+    ('test_servo.py', 'np.testing.assert_array_equal(e.resistance, [1.2, 2.0])'):
+        PARSED,
+    ('test_servo.py', 'np.testing.assert_array_equal(first, again)'):
+        DETERMINISM,
+    ('test_servo.py', 'np.testing.assert_array_equal(graphs["motor currents i"].values, run.log.current)'):
+        BY_CONSTRUCTION,
 }
 
 
