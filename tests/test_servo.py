@@ -468,9 +468,14 @@ def test_a_two_mass_joint_rings_at_its_analytic_frequency(arm1r):
     system = Linearize(diagram, diagram.CreateDefaultContext())
     j_link = joint_inertia(plant, [0.0])[0]
     omega = np.sqrt(stiffness * (1 / 0.1 + 1 / j_link))
-    eigenvalues = np.sort_complex(np.linalg.eigvals(system.A()))
-    np.testing.assert_allclose(np.sort(np.abs(eigenvalues.imag))[-2:], omega, rtol=1e-12)
-    np.testing.assert_allclose(eigenvalues.real, 0.0, atol=1e-12 * omega)
+    eigenvalues = np.linalg.eigvals(system.A())
+    ringing = np.argsort(np.abs(eigenvalues.imag))[-2:]
+    np.testing.assert_allclose(np.abs(eigenvalues[ringing].imag), omega, rtol=1e-12)
+    np.testing.assert_allclose(eigenvalues[ringing].real, 0.0, atol=1e-12 * omega)
+    # the pair turning together: a double zero with one eigenvector (a Jordan block), which an eigenvalue solver
+    # returns perturbed by about √(ε·‖A‖) (1e-7 here, its sign and size the BLAS kernel's), not to round-off
+    rest = np.delete(eigenvalues, ringing)
+    assert np.all(np.abs(rest) <= np.sqrt(np.finfo(float).eps * np.abs(system.A()).max()) * 10)
 
 
 @pytest.mark.slow
