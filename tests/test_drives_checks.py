@@ -108,8 +108,7 @@ def test_a_constant_torque_heats_the_winding_as_the_hand_worked_step_response():
     np.testing.assert_allclose(stats["winding_peak_C"], 40.0 + P * (R1 + R2), rtol=0, atol=1e-6)
     np.testing.assert_allclose(values["winding temperature"], (P * (R1 + R2), T_MAX - 40.0), rtol=1e-12)
     np.testing.assert_allclose(ratio["winding temperature"], (T_MAX - 40.0) / (P * (R1 + R2)), rtol=1e-12)
-    # exact: a copy or a constant
-    assert duty_type(np.full(5, 2.0), np.zeros(5), np.ones(5)) == ("S1", 1.0)
+    assert duty_type(np.full(5, 2.0), np.zeros(5), np.ones(5)) == ("S1", 1.0)  # exact: a copy or a constant
 
 
 @pytest.mark.slow  # 300 short scipy integrations, ~2 s
@@ -285,8 +284,7 @@ def test_the_example_catalogues_have_every_column_labelled_illustrative():
                  "bus_capacitance"):
         assert np.all(np.isfinite(getattr(motors, name)))
     assert np.isnan(motors.brake_torque).any() and np.isfinite(motors.brake_torque).any()  # some motors have none
-    # exact: booleans or integer codes
-    assert set(np.unique(gearboxes.life_basis)) == {1.0, 2.0}
+    assert set(np.unique(gearboxes.life_basis)) == {1.0, 2.0}  # exact: booleans or integer codes
     folder = Path(__file__).resolve().parents[1] / "scripts" / "examples" / "catalogues"
     for path in folder.glob("*.csv"):
         assert "ILLUSTRATIVE" in path.read_text().splitlines()[0]

@@ -107,8 +107,7 @@ def _assert_screen_sound(seed: int, arm_name: str, safety: float) -> None:
         smallest = np.nanmin(evaluate(task, motors, gearboxes, every // B, every % B, safety, describe=True).ratios,
                              axis=0)
         # the selection's pass decides as every check does
-        # exact: booleans or integer codes
-        np.testing.assert_array_equal(~below(smallest, 1.0), feasible)
+        np.testing.assert_array_equal(~below(smallest, 1.0), feasible)  # exact: booleans or integer codes
         np.testing.assert_allclose(smallest[feasible] - 1, margin[feasible], rtol=1e-12)  # its margins are exact
         finite = np.isfinite(ratio.ravel())
         assert not np.any(below(ratio.ravel()[finite], smallest[finite]))

@@ -73,8 +73,7 @@ def test_continuous_computed_torque_servo_equals_drakes_inverse_dynamics_control
     motion = paper_motion(arm)
     ideal = simulate(arm, motion, SimulationOptions(log_period=0.01, sampling="periodic"))
     servo = simulate(arm, motion, SimulationOptions(log_period=0.01, saturate=True))
-    # exact: a copy or a constant
-    assert servo.servo is not None and servo.servo["torque_limit"] == [100.0, 100.0]
+    assert servo.servo is not None and servo.servo["torque_limit"] == [100.0, 100.0]  # exact: a copy or a constant
     for a, b in ((ideal.q, servo.q), (ideal.qd, servo.qd), (ideal.tau, servo.tau), (servo.tau_command, servo.tau)):
         np.testing.assert_allclose(b, a, rtol=0, atol=1e-12 * max(1.0, float(np.max(np.abs(a)))))
 
@@ -231,8 +230,7 @@ def test_noise_has_its_seed_and_its_standard_deviation():
         return log.measured[1:, :2] - log.q[:-1]
 
     first, again, other = measured(7), measured(7), measured(8)
-    # exact: the same code on the same input
-    np.testing.assert_array_equal(first, again)  # one seed, one run
+    np.testing.assert_array_equal(first, again)  # exact: one seed, one run, the same code on the same input
     assert not np.allclose(first, other)
     noise = first[1:]  # the first held value is the start's, noise-free
     assert abs(np.std(noise) / sigma - 1) < 5 / np.sqrt(2 * noise.size)  # five standard errors of the estimate
@@ -244,12 +242,9 @@ def test_the_drive_file_reads_the_motor_electrics(tmp_path):
     train = read_drive_file(RR_MOTORS, ["joint1", "joint2"])
     e = train.electrics
     assert e is not None
-    # exact: parsed from the same decimal text
-    np.testing.assert_array_equal(e.resistance, [1.2, 2.0])
-    # exact: a copy or a constant
-    np.testing.assert_array_equal(e.back_emf, e.torque_constant)  # default: k_e = k_t (SI)
-    # exact: parsed from the same decimal text
-    np.testing.assert_array_equal(e.peak_current, [6.0, 4.0])
+    np.testing.assert_array_equal(e.resistance, [1.2, 2.0])  # exact: parsed from the same decimal text
+    np.testing.assert_array_equal(e.back_emf, e.torque_constant)  # exact: the default k_e = k_t (SI) is a copy
+    np.testing.assert_array_equal(e.peak_current, [6.0, 4.0])  # exact: parsed from the same decimal text
     assert read_drive_file(DATA / "rr_drives.csv", ["joint1", "joint2"]).electrics is None
     bad = tmp_path / "bad.csv"
     bad.write_text("gear_ratio,resistance,inductance\n100,1,1e-3\n80,1,1e-3\n")
@@ -301,8 +296,7 @@ def test_the_voltage_saturates_at_the_bus():
     assert run.summary["servo"]["peak_voltage"][0] == pytest.approx(6.0, rel=1e-12)
     graphs = {g.title: g for g in log_graphs(run.log)}  # the replay's graphs: tracking, current, voltage
     assert graphs["tracking error q−q_d"].labels == ("q−q_d1 [rad]", "q−q_d2 [rad]")
-    # exact: a copy or a constant
-    np.testing.assert_array_equal(graphs["motor currents i"].values, run.log.current)
+    np.testing.assert_array_equal(graphs["motor currents i"].values, run.log.current)  # exact: a copy or a constant
     assert graphs["winding voltages V"].labels == ("V1 [V]", "V2 [V]")
 
 
@@ -342,11 +336,9 @@ def test_simulate_a_servo_run_prints_and_writes_it(tmp_path):
     assert header[-6:] == ["E_el1", "E_el2", "E_mech1", "E_mech2", "E_cu1", "E_cu2"]
     summary = json.loads((out / "summary.json").read_text())
     servo = summary["servo"]
-    # exact: parsed from the same decimal text
-    assert servo["controller"] == "pid" and servo["rate_hz"] == 1000.0
+    assert servo["controller"] == "pid" and servo["rate_hz"] == 1000.0  # exact: parsed from the same decimal text
     assert servo["gains"]["Kp"] == pytest.approx(np.array(servo["gains"]["kp"]) * servo["joint_inertia"])
-    # exact: parsed from the same decimal text
-    assert servo["current_loop"]["bus_voltage"] == [48.0, 48.0]
+    assert servo["current_loop"]["bus_voltage"] == [48.0, 48.0]  # exact: parsed from the same decimal text
     table = np.loadtxt(out / "log.csv", delimiter=",", skiprows=1)
     current = table[:, header.index("i1")]
     assert servo["peak_current"][0] == pytest.approx(np.max(np.abs(current)), rel=1e-9)
