@@ -156,15 +156,19 @@ def test_the_wheel_holds_the_examples_and_the_licence_and_works_outside_the_repo
     source = tmp_path / "source"  # a copy: setuptools' build/ inside the repository could hold stale files
     shutil.copytree(ROOT, source, ignore=shutil.ignore_patterns(".*", "build", "*.egg-info", "__pycache__", "out",
                                                                 "runs"))
-    _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", "-w", str(tmp_path / "dist"), str(source)],
-         tmp_path)
+    # verbose: the build backend's own warnings are shown (pip's --quiet hid setuptools' 50-line warning of a data
+    # folder absent from `packages`, printed on every install)
+    built = _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-v", "-w", str(tmp_path / "dist"), str(source)],
+                 tmp_path)
+    assert "absent from the `packages` configuration" not in built.stdout + built.stderr
     (wheel,) = (tmp_path / "dist").glob("armlab-*.whl")
     names = set(zipfile.ZipFile(wheel).namelist())
     assert {"armlab/scripts/examples/arm3r.csv", "armlab/scripts/examples/size_drives.py",
             "armlab/scripts/examples/reachable.py", "armlab/scripts/examples/paper_figures.py",
             "armlab/analysis/studies/urm6_theta3_theta5.json", "armlab/models/urm6.urdf",
             "armlab/scripts/examples/catalogues/motors.csv",
-            "armlab/scripts/examples/catalogues/gearboxes.csv"} <= names
+            "armlab/scripts/examples/catalogues/gearboxes.csv",
+            "armlab/scripts/examples/drives/rr_motors.csv"} <= names
     licence = [n for n in names if n.endswith(".dist-info/licenses/LICENSE")]
     assert len(licence) == 1
     # exact: the licence text, not numbers
