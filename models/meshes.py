@@ -20,7 +20,6 @@ plane, an unreadable file) or is of another kind is left out, with one warning, 
 from __future__ import annotations
 
 import json
-import re
 import struct
 import warnings
 import xml.etree.ElementTree as ET
@@ -33,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 __all__ = ["COLLISION_SUFFIXES", "HULL_SUFFIXES", "Hull", "MeshWarning", "Meshes", "check_meshes", "check_references",
-           "mesh_points", "without_doctype"]
+           "MAX_XML_DEPTH", "mesh_points", "parse_xml"]
 
 #: Mesh files Drake makes collision geometry of (a convex hull) itself.
 COLLISION_SUFFIXES = (".obj", ".vtk", ".gltf")
@@ -72,12 +71,44 @@ class Meshes:
     hulls: dict[ET.Element, NDArray[np.float64]] = field(default_factory=dict)
 
 
-def without_doctype(text: str, what: str) -> str:
-    """``text`` unless it defines a document type or entities (``<!DOCTYPE``, ``<!ENTITY``: entity expansion)
-    outside its comments: then a ``ValueError`` naming ``what``."""
-    if re.search(r"<!(DOCTYPE|ENTITY)", re.sub(r"<!--.*?-->", "", text, flags=re.DOTALL)):
-        raise ValueError(f"{what}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not allowed")
-    return text
+#: The deepest nesting of elements a user's XML file may have (an MJCF arm of 64 joints nests ~70 bodies): deeper,
+#: the file is refused before anything walks its tree (ElementTree writes a tree back recursively).
+MAX_XML_DEPTH = 256
+
+
+class _Refusing(ET.TreeBuilder):
+    """ElementTree's tree builder, refusing (``ValueError``) a document type (the parser's own DOCTYPE hook, called
+    at ``<!DOCTYPE``, before any entity of it is declared: without one no entity can be) and nesting deeper than
+    :data:`MAX_XML_DEPTH`."""
+
+    def __init__(self, what: str) -> None:
+        super().__init__()
+        self.what = what
+        self.depth = 0
+
+    def doctype(self, name: str, pubid: str | None, system: str | None) -> None:
+        raise ValueError(f"{self.what}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not "
+                         "allowed")
+
+    def start(self, tag: str, attrs: dict[str, str]) -> ET.Element:  # type: ignore[override]  # ET's own signature
+        self.depth += 1
+        if self.depth > MAX_XML_DEPTH:
+            raise ValueError(f"{self.what}: elements nested more than {MAX_XML_DEPTH} deep are not allowed")
+        return super().start(tag, attrs)
+
+    def end(self, tag: str) -> ET.Element:
+        self.depth -= 1
+        return super().end(tag)
+
+
+def parse_xml(text: str, what: str) -> ET.Element:
+    """The root element of the XML ``text`` (a user's file, named ``what`` in errors): ``ValueError`` for a document
+    type or entity definitions (entity expansion, external entities; refused by the parser's own DOCTYPE hook, so
+    no comment, processing instruction or CDATA section can hide one) or nesting deeper than
+    :data:`MAX_XML_DEPTH`; ``xml.etree.ElementTree.ParseError`` for text that is not XML."""
+    parser = ET.XMLParser(target=_Refusing(what))
+    parser.feed(text)
+    return parser.close()
 
 
 def _inside(path: Path, folders: Sequence[Path], what: str) -> Path:
@@ -142,7 +173,7 @@ def _pulled_in(mesh: Path) -> list[str]:
 def _collada_images(mesh: Path) -> list[str]:
     """The image files a COLLADA (``.dae``) mesh names: its ``<init_from>`` paths (1.4) or their ``<ref>`` (1.5)."""
     try:
-        root = ET.fromstring(without_doctype(mesh.read_text(encoding="utf-8", errors="replace"), str(mesh)))
+        root = parse_xml(mesh.read_text(encoding="utf-8", errors="replace"), str(mesh))
     except ET.ParseError:  # not XML (an empty file, a Git LFS pointer): no viewer reads anything through it
         return []
     names = []
@@ -287,7 +318,7 @@ def _collada_points(data: bytes, what: str) -> NDArray[np.float64]:
     """A COLLADA document's vertices: each ``<instance_geometry>`` of its scene's nodes through the nodes'
     transforms (every geometry as it is, if the scene places none), times its ``<unit meter>``."""
     try:
-        root = ET.fromstring(without_doctype(data.decode("utf-8", errors="replace"), what))
+        root = parse_xml(data.decode("utf-8", errors="replace"), what)
     except ET.ParseError as error:
         raise ValueError(f"not a COLLADA file: {error}") from None
     elements = list(root.iter())
@@ -351,16 +382,22 @@ def _check_pulled_in(path: Path, mesh: Path, folders: Sequence[Path]) -> None:
             pending.append(named)
 
 
-def check_references(path: Path, references: Sequence[str], packages: dict[str, Path]) -> None:
-    """``ValueError`` naming the file unless every file ``references`` name (relative to the folder of ``path``, an
-    SDFormat or MJCF file, or ``package://`` of one of ``packages``), and every file those name, lies inside that
-    folder or the packages' (the rules of :func:`check_meshes`), and exists."""
+def check_references(path: Path, references: Sequence[str], packages: dict[str, Path],
+                     base: Path | None = None) -> list[Path]:
+    """The files ``references`` name (relative to the folder of ``base``, default ``path``, an SDFormat or MJCF file
+    or one it includes, or ``package://`` of one of ``packages``), resolved; ``ValueError`` naming the file unless
+    each, and every file those name, lies inside the folder of ``path`` or the packages' (the rules of
+    :func:`check_meshes`), and exists."""
     folders = [path.resolve().parent] + [folder.resolve() for folder in packages.values()]
+    base = path if base is None else base
+    out = []
     for reference in references:
-        what = f"{path}: {reference!r}"
-        file = _reference(reference, path.resolve().parent, packages, folders, what)
+        what = f"{base}: {reference!r}"
+        file = _reference(reference, base.resolve().parent, packages, folders, what)
         if file is None:
             raise ValueError(f"{what} names a ROS package that is not found: --package-path DIR or ROS_PACKAGE_PATH")
         if not file.is_file():
             raise ValueError(f"{what}: no such file {file}")
         _check_pulled_in(path, file, folders)
+        out.append(file)
+    return out

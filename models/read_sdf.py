@@ -44,6 +44,10 @@ __all__ = ["FORMATS", "from_model_file"]
 
 #: The formats by file suffix: (the format's name, its root element).
 FORMATS = {".sdf": ("SDFormat", "sdf"), ".xml": ("MJCF", "mujoco")}
+#: The most files one SDFormat or MJCF file may ``<include>``, all levels together, and how deep includes may nest
+#: (a file that includes itself, or one that includes it, is refused whatever the count).
+MAX_INCLUDES = 64
+MAX_INCLUDE_DEPTH = 8
 _ALLOWED_JOINTS = ("revolute", "prismatic", "weld")
 
 
@@ -64,6 +68,58 @@ def _references(root: ET.Element, suffix: str) -> list[str]:
         prefix = folders.get(folder or "", folders.get("assetdir", "")) if folder else ""
         out.append(f"{prefix.rstrip('/')}/{name}" if prefix else name)
     return out
+
+
+def _check_files(path: Path, root: ET.Element, packages: dict[str, Path]) -> None:
+    """``ValueError`` unless every file ``path`` (``root`` parsed) names, and every file the files it include
+    name, recursively, lies inside its folder or its ``packages`` (:func:`~armlab.models.meshes.check_references`):
+    each included file read as the file itself is (:func:`~armlab.models.read_urdf.read_xml`), before Drake parses
+    anything; a file included by itself or by one it includes (Drake's parsers recurse without end), more than
+    :data:`MAX_INCLUDES` included files or nesting deeper than :data:`MAX_INCLUDE_DEPTH` are refused. An SDFormat
+    file's ``<uri>`` is relative to the file naming it, its includes ``.sdf`` files; an MJCF ``<include file=>`` is
+    replaced in ``root`` by the included file's elements (as MuJoCo does), whose files are then relative to
+    ``path``'s folder and its ``<compiler>``'s."""
+    suffix = path.suffix.lower()
+    kind, tag = FORMATS[suffix]
+    count = 0
+
+    def visit(file: Path, tree: ET.Element, chain: tuple[Path, ...]) -> None:
+        nonlocal count
+        for parent in list(tree.iter()):
+            for include in [child for child in parent if child.tag == "include"]:
+                name = ((include.get("file") if tag == "mujoco" else include.findtext("uri")) or "").strip()
+                what = f"{file}: <include> {name!r}"
+                if not name:
+                    raise ValueError(f"{file}: an <include> names no file")
+                if tag == "sdf":
+                    name = name.replace("model://", "package://", 1)
+                base = path if tag == "mujoco" else file
+                (target,) = check_references(path, [name], packages, base=base)
+                typed = target if name.startswith("package://") else base.parent / name  # for messages
+                if target.resolve() in chain:
+                    itself = "itself" if target.resolve() == chain[-1] else f"{target.name}, which includes it"
+                    raise ValueError(f"{what} includes {itself}: recursive includes are not allowed")
+                if tag == "sdf" and target.suffix.lower() != ".sdf":
+                    raise ValueError(f"{what}: an SDFormat <include> names an SDFormat file (.sdf)")
+                count += 1
+                if count > MAX_INCLUDES or len(chain) > MAX_INCLUDE_DEPTH:
+                    raise ValueError(f"{what}: more than {MAX_INCLUDES} included files or includes nested more than "
+                                     f"{MAX_INCLUDE_DEPTH} deep are not allowed")
+                included = read_xml(typed, f"{kind} file")
+                if included.tag != tag:
+                    raise ValueError(f"{what}: its root element is <{included.tag}>, an {kind} file needs <{tag}>")
+                visit(typed, included, (*chain, target.resolve()))
+                if tag == "mujoco":  # the include's place takes the included file's elements
+                    at = list(parent).index(include)
+                    parent.remove(include)
+                    for k, child in enumerate(included):
+                        parent.insert(at + k, child)
+        if tag == "sdf":
+            check_references(path, _references(tree, suffix), packages, base=file)
+
+    visit(path, root, (path.resolve(),))
+    if tag == "mujoco":
+        check_references(path, _references(root, suffix), packages)
 
 
 def _group(joints_below: dict[Any, list[Any]], body: Any) -> list[Any]:
@@ -89,6 +145,8 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     root = read_xml(path, f"{kind} file")
     if root.tag != tag:
         raise ValueError(f"{path}: the root element is <{root.tag}>, an {kind} file ({path.suffix}) needs <{tag}>")
+    packages = package_roots(path, package_paths)
+    _check_files(path, root, packages)  # MJCF: its includes expanded into ``root``
     if tag == "sdf" and len(models := root.findall("model") + root.findall("world/model")) != 1:
         raise ValueError(f"{path} holds {len(models)} models: armlab takes one serial arm per file")
     free = [repr(element.get("name")) if element.get("name") else f"of body {body.get('name')!r}"
@@ -97,8 +155,6 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     if free:  # Drake leaves such a body free, with no joint to see
         raise ValueError(f"{path}: joint {free[0]} is a free joint (a floating base: armlab's arms stand on their "
                          "base); allowed: hinge, slide and fixed")
-    packages = package_roots(path, package_paths)
-    check_references(path, _references(root, path.suffix.lower()), packages)
     plant, instance = parse_model_file(path, packages)
 
     joints = [plant.get_joint(index) for index in plant.GetJointIndices(instance)]

@@ -41,7 +41,7 @@ from armlab.drives.train import DriveTrain
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm
-from armlab.models.meshes import Hull, Meshes, check_meshes, without_doctype
+from armlab.models.meshes import Hull, Meshes, check_meshes, parse_xml
 from armlab.models.write_urdf import DRAKE_NAMESPACE, Body, JointLimits, Point, check_inertia
 
 __all__ = ["check_com_distances", "check_numbers", "from_urdf", "package_roots", "read_xml"]
@@ -75,11 +75,11 @@ def _pose(element: ET.Element | None, what: str) -> np.ndarray:
 
 def _xml(path: Path, what: str) -> ET.Element:
     """The root element of an XML file; entity and document-type definitions (entity expansion) are refused."""
-    text = without_doctype(read_text(path, what), f"{path} ({what})")
+    text = read_text(path, what)
     if "drake:" in text and "xmlns:drake" not in text:  # Drake's own tags, their namespace undeclared as Drake allows
         text = re.sub(r"<robot\b", f'<robot xmlns:drake="{DRAKE_NAMESPACE}"', text, count=1)
     try:
-        return ET.fromstring(text)
+        return parse_xml(text, f"{path} ({what})")
     except ET.ParseError as error:
         raise ValueError(f"{path} is not valid XML: {error}") from None
 

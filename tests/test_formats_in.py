@@ -94,6 +94,11 @@ def _model(name: str = "m", extra: str = "") -> str:
     ("mesh.xml", '<mujoco model="m"><asset><mesh file="/etc/hostname"/></asset><worldbody/></mujoco>',
      "'/etc/hostname' is an absolute path"),
     ("doctype.sdf", '<?xml version="1.0"?><!DOCTYPE sdf [<!ENTITY x "y">]>' + _sdf(_model()), "entity definitions"),
+    # issue 36, item 2: a processing instruction holding "<!--" does not hide a DOCTYPE
+    ("pi.sdf", '<?xml version="1.0"?><?note <!-- ?><!DOCTYPE sdf [<!ENTITY x "y">]><!-- -->' + _sdf(_model())[21:],
+     "entity definitions"),
+    ("pi.xml", '<?note <!-- ?><!DOCTYPE mujoco [<!ENTITY x "y">]><!-- --><mujoco model="&x;"><worldbody/></mujoco>',
+     "entity definitions"),
     ("wrong.sdf", '<robot name="x"/>', "the root element is <robot>, an SDFormat file (.sdf) needs <sdf>"),
     ("inf.sdf", _sdf(_model().replace("<ixx>1</ixx>", "<ixx>inf</ixx>")), "not a finite number"),
 ])
