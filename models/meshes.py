@@ -31,8 +31,18 @@ from urllib.parse import unquote
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["COLLISION_SUFFIXES", "HULL_SUFFIXES", "Hull", "MeshWarning", "Meshes", "check_meshes", "check_references",
-           "MAX_XML_DEPTH", "mesh_points", "parse_xml"]
+__all__ = [
+    "COLLISION_SUFFIXES",
+    "HULL_SUFFIXES",
+    "MAX_XML_DEPTH",
+    "Hull",
+    "MeshWarning",
+    "Meshes",
+    "check_meshes",
+    "check_references",
+    "mesh_points",
+    "parse_xml",
+]
 
 #: Mesh files Drake makes collision geometry of (a convex hull) itself.
 COLLISION_SUFFIXES = (".obj", ".vtk", ".gltf")
