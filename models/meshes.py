@@ -100,7 +100,7 @@ class _Refusing(ET.TreeBuilder):
         raise ValueError(f"{self.what}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not "
                          "allowed")
 
-    def start(self, tag: str, attrs: dict[str, str]) -> ET.Element:  # type: ignore[override]  # ET's own signature
+    def start(self, tag: str, attrs: dict[str, str]) -> ET.Element:
         self.depth += 1
         if self.depth > MAX_XML_DEPTH:
             raise ValueError(f"{self.what}: elements nested more than {MAX_XML_DEPTH} deep are not allowed")
