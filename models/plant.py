@@ -43,6 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.drives.train import DriveTrain
+from armlab.files import native_call
 from armlab.limits import check_positive
 from armlab.values import check_payload, gravity_vector
 
@@ -339,7 +340,8 @@ def parse_model_file(path: Path, packages: dict[str, Path]) -> tuple[MultibodyPl
         if not parser.package_map().Contains(name):
             parser.package_map().Add(name, str(folder))
     try:
-        instances = parser.AddModels(file_name=str(path))
+        with native_call():  # a stop signal ends the process even if Drake's parser never returns
+            instances = parser.AddModels(file_name=str(path))
     except RuntimeError as error:
         raise ValueError(f"{path}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
     if len(instances) != 1:
