@@ -226,3 +226,30 @@ def test_every_export_loads_in_mujoco_or_says_in_one_line_why_not(name, tmp_path
         assert len(err.splitlines()) == 1 and "MuJoCo will not load" in err, err
         assert "without mass" in err if kinematic else ("point masses" in err) == ("mjMINVAL" in reason)
     assert loads == (name != "ur5")  # ur10 loads now: its corrected inertia keeps a margin
+
+
+# issue 36, item 3: names are escaped in the URDF's attributes, kept out of its comments, and read back
+@pytest.mark.parametrize("name, joint", [
+    ("a--b", "j&1"),
+    ('x--><!DOCTYPE robot [<!ENTITY e SYSTEM "file:///etc/hostname">]><!--', "j'\"<>1"),
+    ("tab\tand\nline", "j\r2"),
+])
+def test_names_leave_as_they_are(tmp_path, name, joint):
+    rr = armlab.load("rr")
+    arm = replace(rr, name=name, table=replace(rr.table, rows=(replace(rr.table.rows[0], name=joint),
+                                                               *rr.table.rows[1:])))
+    (path,) = armlab.export(arm, urdf=tmp_path / "out.urdf")
+    text = path.read_text()
+    assert "DOCTYPE" not in text.split("<robot")[0] and "<!ENTITY" not in text.split("<robot")[0]
+    copy = armlab.load(path)
+    assert copy.name == name and copy.joint_names == [joint, *rr.joint_names[1:]]
+
+
+def test_a_name_xml_cannot_hold_is_refused_before_writing(tmp_path):
+    arm = replace(armlab.load("rr"), name="a\x01b")
+    result = armlab_main("export", "rr", "--urdf", str(tmp_path / "ok.urdf"))
+    assert result.returncode == 0 and result.stdout.startswith("wrote ")
+    with pytest.raises(ValueError, match=r"out\.urdf: a name of the arm 'a\\x01b' or of its joints cannot be "
+                                         "written as XML"):
+        armlab.export(arm, urdf=tmp_path / "out.urdf")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ok.urdf"]
