@@ -197,7 +197,7 @@ def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = Non
     if dh is not None:
         texts.append((dh, dh_text(arm.with_drives(train))))
     if urdf is not None:
-        texts.insert(0, (urdf, arm.urdf(train, ros_limits=True)))
+        texts.insert(0, (urdf, arm.urdf(train, ros_limits=True, upright=True)))
     if urdf is not None:
         _check_names(texts[0][1], arm, urdf)
     written = [write_file(path, text) for path, text in texts]

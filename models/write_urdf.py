@@ -37,7 +37,7 @@ from armlab.drives.train import DriveTrain
 from armlab.kinematics.locating import LocatingTable, orientation_angles
 
 __all__ = ["DRAKE_NAMESPACE", "Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_axis",
-           "link_inertials", "touching_pairs", "urdf_text"]
+           "link_inertials", "touching_pairs", "upright", "urdf_text"]
 
 #: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …), declared as ``xmlns:drake``.
 DRAKE_NAMESPACE = "http://drake.mit.edu"
@@ -122,6 +122,22 @@ def _z_to(direction: NDArray) -> NDArray:
         return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
     K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]]) / s
     return np.eye(3) + s * K + (1 - c) * K @ K
+
+
+def upright(gravity: tuple[float, float, float]) -> NDArray[np.float64] | None:
+    """The pose (4×4, no translation) of a base frame in which gravity is ``gravity`` (m/s², ``(3,)``) within a
+    world frame in which it is −z: the smallest turn taking its direction to −z; ``None`` when it already is −z
+    or there is none (zero gravity: nothing to turn)."""
+    g = np.asarray(gravity, dtype=float)
+    norm = float(np.linalg.norm(g))
+    if norm == 0 or (g[0] == 0 and g[1] == 0 and g[2] < 0):  # exact: no turn at all
+        return None
+    d, down = g / norm, np.array([0.0, 0.0, -1.0])
+    v, c = np.cross(d, down), float(d @ down)
+    K = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    X = np.eye(4)
+    X[:3, :3] = np.diag([1.0, -1.0, -1.0]) if not above(c, -1.0) else np.eye(3) + K + K @ K / (1 + c)
+    return X
 
 
 def cylinder_inertia(mass: float, radius: float, length: float) -> NDArray:
@@ -301,6 +317,7 @@ def urdf_text(
     drives: DriveTrain | None = None,
     ros_limits: bool = False,
     collision_filters: tuple[tuple[str, str], ...] = (),
+    gravity: tuple[float, float, float] | None = None,
 ) -> str:
     """URDF of the chain: links ``base_link``, ``link1`` … ``linkN``, ``tool_name`` and the points.
     ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint; ``drives`` the drive train
@@ -309,6 +326,9 @@ def urdf_text(
     ``collision_filters``: pairs of link names never checked against each other (beyond the adjacent ones and
     :func:`touching_pairs`, always filtered), written as Drake's ``<drake:collision_filter_group>`` (a group of the
     two that ignores itself).
+    ``gravity``: the arm's gravity (m/s², base frame) when it is not along −z, which every URDF reader assumes: the
+    URDF's root is then a ``world`` link, its ``base_link`` welded to it turned so that gravity is −z in ``world``
+    (:func:`upright`).
     """
     n = table.n
     if len(bodies) != n or len(limits) != n:
@@ -340,6 +360,11 @@ def urdf_text(
             visuals[i - 1].append(_rail_visual(row.T_fixed, np.asarray(row.k, dtype=float), lim.lower, lim.upper,
                                                body.radius))
     ends = [row.P for row in table.rows[1:]] + [tuple(table.tool[:3, 3])]
+    turn = None if gravity is None else upright(gravity)
+    if turn is not None:
+        out.append('  <link name="world"/>')
+        out.append('  <joint name="world_base_link" type="fixed"><parent link="world"/><child link="base_link"/>'
+                   f"{_origin(turn)}</joint>")
     out.append('  <link name="base_link">')
     out.extend(f"    {visual}" for visual in visuals[0])
     out.append("  </link>")
