@@ -31,6 +31,8 @@ from urllib.parse import unquote
 import numpy as np
 from numpy.typing import NDArray
 
+from armlab.values import shown
+
 __all__ = [
     "COLLISION_SUFFIXES",
     "HULL_SUFFIXES",
@@ -238,13 +240,13 @@ def check_meshes(path: Path, root: ET.Element, packages: dict[str, Path]) -> Mes
     if missing:
         warnings.warn(MeshWarning(
             f"{path}: {len(missing)} mesh(es) not found, their visuals and collisions left out (kinematics and "
-            f"dynamics do not need them): {_listed(missing)}"
+            f"dynamics do not need them): {listed(missing)}"
             + ("; a package:// mesh needs its package found: --package-path DIR or ROS_PACKAGE_PATH" if unfound
                else "")), stacklevel=3)
     if unusable:
         warnings.warn(MeshWarning(
             f"{path}: {len(unusable)} collision mesh(es) left out: a collision mesh is the convex hull of an "
-            f"{', '.join((*COLLISION_SUFFIXES, *HULL_SUFFIXES))} file's vertices: {_listed(unusable)}"), stacklevel=3)
+            f"{', '.join((*COLLISION_SUFFIXES, *HULL_SUFFIXES))} file's vertices: {listed(unusable)}"), stacklevel=3)
     return Meshes(files, dropped, hulls)
 
 
@@ -370,11 +372,12 @@ def _collada_points(data: bytes, what: str) -> NDArray[np.float64]:
     return np.unique(points * unit, axis=0)
 
 
-def _listed(references: list[str], most: int = 3) -> str:
-    """The first ``most`` distinct ``references``, and how many more."""
-    distinct = list(dict.fromkeys(references))
+def listed(names: Sequence[str], most: int = 3) -> str:
+    """The first ``most`` distinct ``names`` (each quoted and cut: :func:`armlab.values.shown`), and how many more:
+    a message names a few of a file's many, in one line of bounded length."""
+    distinct = list(dict.fromkeys(names))
     more = f" and {len(distinct) - most} more" if len(distinct) > most else ""
-    return ", ".join(map(repr, distinct[:most])) + more
+    return ", ".join(map(shown, distinct[:most])) + more
 
 
 def _check_pulled_in(path: Path, mesh: Path, folders: Sequence[Path]) -> None:

@@ -36,7 +36,7 @@ import numpy as np
 from armlab.arm_file import MAX_JOINTS
 from armlab.kinematics.locating import JointRow, LocatingTable
 from armlab.models.arm import Arm
-from armlab.models.meshes import check_references
+from armlab.models.meshes import check_references, listed
 from armlab.models.read_urdf import check_com_distances, package_roots, read_xml
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
@@ -173,7 +173,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     on_world = any(joint.parent_body().index() == world for joint in joints)
     if len(roots) + on_world != 1:
         names = [body.name() for body in roots] + (["world"] if on_world else [])
-        raise ValueError(f"{path}: a serial arm has one root body, found {', '.join(map(repr, names))}")
+        raise ValueError(f"{path}: a serial arm has one root body, found {len(names)}: {listed(names)}")
     if roots:
         plant.WeldFrames(plant.world_frame(), roots[0].body_frame())  # as a URDF's root link: the base
     try:

@@ -41,7 +41,7 @@ from armlab.drives.train import DriveTrain
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm
-from armlab.models.meshes import Hull, Meshes, check_meshes, parse_xml
+from armlab.models.meshes import Hull, Meshes, check_meshes, listed, parse_xml
 from armlab.models.write_urdf import DRAKE_NAMESPACE, Body, JointLimits, Point, check_inertia
 
 __all__ = ["check_com_distances", "check_numbers", "from_urdf", "package_roots", "read_xml"]
@@ -174,7 +174,7 @@ def _tree(path: Path, links: dict[str, ET.Element],
     if len(roots) != 1:
         if not roots:
             raise ValueError(f"{path}: the joints form a cycle: every link has a parent, so there is no root link")
-        raise ValueError(f"{path}: a serial arm has one root link, found {roots}")
+        raise ValueError(f"{path}: a serial arm has one root link, found {len(roots)}: {listed(roots)}")
     reached, stack = {roots[0]}, [roots[0]]
     while stack:
         for below in children[stack.pop()]:
@@ -182,7 +182,7 @@ def _tree(path: Path, links: dict[str, ET.Element],
             stack.append(below.child)
     if len(reached) != len(links):
         cycle = sorted(set(links) - reached)
-        raise ValueError(f"{path}: the joints form a cycle through link(s) {', '.join(map(repr, cycle[:5]))}, "
+        raise ValueError(f"{path}: the joints form a cycle through link(s) {listed(cycle, 5)}, "
                          f"not connected to the root link {roots[0]!r}")
     return roots[0], children
 

@@ -387,6 +387,9 @@ ARM_FILES = [
     # issue 36, item 17: elements nested deeper than Python's recursion limit
     *[("deep.urdf", DEEP_URDF, argv, 2, "deep.urdf (URDF): elements nested more than 256 deep are not allowed")
       for argv in (("show", "{}"), ("simulate", "{}", "--out", "run"))],
+    # issue 36, item 25: 150 000 unconnected links named in a line of bounded length
+    ("many.urdf", '<robot name="x">' + "".join(f'<link name="l{k}"/>' for k in range(150_000)) + "</robot>",
+     ("show", "{}"), 2, "a serial arm has one root link, found 150000: 'l0', 'l1', 'l2' and 149997 more"),
 ]
 
 

@@ -86,7 +86,7 @@ def _model(name: str = "m", extra: str = "") -> str:
      "joint of body 'a' is a free joint (a floating base"),
     ("ball.xml", '<mujoco model="m"><worldbody><body name="a"><joint name="b" type="ball"/><inertial pos="0 0 0" '
                  'mass="1" diaginertia="1 1 1"/></body></worldbody></mujoco>', "joint 'b' is a ball_rpy joint"),
-    ("roots.sdf", _sdf(_model(extra=_LINK.format("c"))), "a serial arm has one root body, found 'a', 'c'"),
+    ("roots.sdf", _sdf(_model(extra=_LINK.format("c"))), "a serial arm has one root body, found 2: 'a', 'c'"),
     ("branch.sdf", _sdf(_model(extra=_LINK.format("c") + _REVOLUTE.format("k", "a", "c"))),
      "body 'a' branches into 2 moving chains"),
     ("outside.sdf", _sdf(_model(extra='<link name="v"><visual name="v"><geometry><mesh><uri>../x.obj</uri></mesh>'
