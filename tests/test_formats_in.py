@@ -7,6 +7,9 @@ tool frame where the arm's forward kinematics does (two ways). Bad files get the
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from helpers import DATA, armlab_main
@@ -110,3 +113,21 @@ def test_bad_files_get_one_line_refusals(tmp_path, name, text, message):
     result = armlab_main("show", str(path))
     assert result.returncode == 2
     assert result.stderr.count("\n") == 1 and message in result.stderr, result.stderr
+
+
+def test_drake_log_lines_only_after_success_each_once(tmp_path):
+    """Issue 36, item 26: Drake's warnings (attributes its MJCF parser ignores, on two joints, each said twice by
+    Drake) are dropped after an error, whose line stays the only one, and shown once each after a success."""
+    text = FILES[1].read_text().replace('type="hinge"', 'type="hinge" frictionloss="0.1"').replace(
+        "<worldbody>", '<option integrator="RK4"/><worldbody>')
+    path = _write(tmp_path, "attr.xml", text)
+    run = [sys.executable, "-m", "armlab"]
+    failed = subprocess.run([*run, "simulate", str(path), "--out", str(tmp_path / "run")], capture_output=True,
+                            text=True, timeout=300)
+    assert failed.returncode == 2 and failed.stderr.count("\n") == 1, failed.stderr
+    assert failed.stderr.startswith("armlab: error: two_link has no paper motion"), failed.stderr
+    shown = subprocess.run([*run, "show", str(path)], capture_output=True, text=True, timeout=300)
+    assert shown.returncode == 0, shown.stderr
+    lines = shown.stderr.splitlines()
+    assert len(lines) == len(set(lines)) == 3, lines  # integrator; frictionloss on lines 7 and 10
+    assert all("is currently unsupported and will be ignored" in line for line in lines)
