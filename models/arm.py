@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     from armlab.kinematics.dh import DHTable
     from armlab.kinematics.ik_closed_form import ClosedForm
     from armlab.models.extras import MotionFn, PaperScheme
-    from armlab.models.meshes import Hull
+    from armlab.models.meshes import Hull, Shape
     from armlab.models.plant import PlantOptions
 
 __all__ = ["MODELS_DIR", "Arm", "Forward", "ForwardFn", "chosen", "from_paper", "parameter_notes"]
@@ -141,6 +141,9 @@ class Arm:
     #: A user's URDF's STL and COLLADA collision meshes, as the vertices of their convex hulls: Drake reads neither
     #: kind, so the plant registers them itself (:func:`armlab.models.plant.add_arm_plant`).
     collision_hulls: tuple[Hull, ...] = ()
+    #: An SDFormat or MJCF file's collision shapes, on the arm's links (:func:`armlab.models.read_sdf.from_model_file`):
+    #: the plant registers them (:func:`armlab.models.plant.add_arm_plant`).
+    collision_shapes: tuple[Shape, ...] = ()
     #: A rest pose its source names (rad, m; a library arm's "home" or "ready"), where ``armlab plan ARM to``
     #: starts when no ``--from`` is given; ``None``: none named.
     home: tuple[float, ...] | None = None

@@ -40,6 +40,7 @@ __all__ = [
     "Hull",
     "MeshWarning",
     "Meshes",
+    "Shape",
     "check_meshes",
     "check_references",
     "mesh_points",
@@ -66,6 +67,22 @@ class Hull:
     pose: tuple[tuple[float, ...], ...]
     points: NDArray[np.float64]
     name: str
+
+
+@dataclass(frozen=True)
+class Shape:
+    """A collision shape of an SDFormat or MJCF file's link, for the plant to register on the arm's link ``link``
+    (its generated URDF's name: ``base_link``, ``link1`` …) at ``pose`` (4×4 nested tuples, in that link's frame
+    {i}): ``kind`` ``"box"`` (``size``: its three edges, m), ``"sphere"`` (radius), ``"cylinder"`` and
+    ``"capsule"`` (radius, length along its z), ``"ellipsoid"`` (its three semi-axes) or ``"convex"`` (the convex
+    hull of the mesh ``file``, checked inside the file's folder, ``size`` its scale per axis); named ``name``."""
+
+    link: str
+    pose: tuple[tuple[float, ...], ...]
+    kind: str
+    size: tuple[float, ...]
+    name: str
+    file: str | None = None
 
 
 @dataclass(frozen=True)

@@ -36,7 +36,7 @@ import numpy as np
 from armlab.arm_file import MAX_JOINTS
 from armlab.kinematics.locating import JointRow, LocatingTable
 from armlab.models.arm import Arm
-from armlab.models.meshes import check_references, listed
+from armlab.models.meshes import Shape, check_references, listed
 from armlab.models.read_urdf import check_com_distances, package_roots, read_xml
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
@@ -122,6 +122,39 @@ def _check_files(path: Path, root: ET.Element, packages: dict[str, Path]) -> Non
         check_references(path, _references(root, suffix), packages)
 
 
+def _shapes(plant: Any, inspector: Any, context: Any, groups: list[tuple[str, list[Any], Any]]) -> tuple[Shape, ...]:
+    """The collision shapes of each link's bodies (``groups``: the link's name in the arm's URDF, its bodies, its
+    frame's pose in the world at q = 0, 4×4), in the link's frame: boxes, spheres, cylinders, capsules, ellipsoids
+    and the convex hulls of meshes read from files (another shape, such as a half space on a body, left out)."""
+    from pydrake.geometry import Box, Capsule, Convex, Cylinder, Ellipsoid, Mesh, Sphere
+
+    out: list[Shape] = []
+    for name, bodies, X_WL in groups:
+        for index in bodies:
+            body = plant.get_body(index)
+            X_WB = plant.EvalBodyPoseInWorld(context, body).GetAsMatrix4()
+            for geometry in plant.GetCollisionGeometriesForBody(body):
+                shape = inspector.GetShape(geometry)
+                size: tuple[float, ...]
+                file = None
+                if isinstance(shape, Box):
+                    kind, size = "box", (shape.width(), shape.depth(), shape.height())
+                elif isinstance(shape, Sphere):
+                    kind, size = "sphere", (shape.radius(),)
+                elif isinstance(shape, Cylinder | Capsule):
+                    kind, size = type(shape).__name__.lower(), (shape.radius(), shape.length())
+                elif isinstance(shape, Ellipsoid):
+                    kind, size = "ellipsoid", (shape.a(), shape.b(), shape.c())
+                elif isinstance(shape, Convex | Mesh) and shape.source().is_path():
+                    kind, size, file = "convex", tuple(map(float, shape.scale3())), str(shape.source().path())
+                else:
+                    continue
+                pose = np.linalg.solve(X_WL, X_WB @ inspector.GetPoseInFrame(geometry).GetAsMatrix4())
+                out.append(Shape(name, tuple(map(tuple, pose.tolist())), kind, tuple(map(float, size)),
+                                 f"{name}_{inspector.GetName(geometry).rpartition('::')[2]}_{len(out) + 1}", file))
+    return tuple(out)
+
+
 def _group(joints_below: dict[Any, list[Any]], body: Any) -> list[Any]:
     """``body`` and every body welded to it below, not past a moving joint."""
     out, stack = [], [body]
@@ -135,6 +168,7 @@ def _group(joints_below: dict[Any, list[Any]], body: Any) -> list[Any]:
 def from_model_file(path: str | Path, tool: str | None = None, package_paths: Sequence[str | Path] = ()) -> Arm:
     """An arm from a user's SDFormat or MJCF file of one serial chain (module docstring); ``ValueError`` naming
     what is wrong."""
+    from pydrake.geometry import SceneGraph
     from pydrake.multibody.tree import JointActuatorIndex
 
     # lazy: the arm readers sit below armlab.diagrams (its plant module imports armlab.models.arm's package)
@@ -155,7 +189,8 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     if free:  # Drake leaves such a body free, with no joint to see
         raise ValueError(f"{path}: joint {free[0]} is a free joint (a floating base: armlab's arms stand on their "
                          "base); allowed: hinge, slide and fixed")
-    plant, instance = parse_model_file(path, packages)
+    scene_graph = SceneGraph()
+    plant, instance = parse_model_file(path, packages, scene_graph)
 
     joints = [plant.get_joint(index) for index in plant.GetJointIndices(instance)]
     for joint in joints:
@@ -202,6 +237,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     bodies: list[Body] = []
     link = roots[0].index() if roots else world
     frame = np.eye(4) if not roots else roots[0].body_frame().CalcPoseInWorld(context).GetAsMatrix4()
+    groups = [] if not roots else [("base_link", _group(below, link), frame)]  # each link's bodies, its frame
     last_group: list[Any] = []
     while True:
         moving = [j for j in below.get(link, []) if j.type_name() != "weld" or moves(j.child_body().index())]
@@ -222,6 +258,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
                              tuple(map(tuple, T[:3, :3]))))
         limits.append(_limits(joint, actuated.get(joint.name())))
         last_group = _group(below, link)
+        groups.append((f"link{len(rows)}", last_group, X))
         inertia = plant.CalcSpatialInertia(context, joint.frame_on_child(), last_group)
         bodies.append(_body(inertia, f"{path}: link {plant.get_body(link).name()!r}"))
         frame = X
@@ -246,6 +283,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
         gravity=(0.0, 0.0, -9.81),
         has_dynamics=any(body.mass > 0 for body in bodies),
         tool_source="chosen (tool=, --tool)" if tool is not None else "the last body welded past the last joint",
+        collision_shapes=_shapes(plant, scene_graph.model_inspector(), context, groups),
     )
 
 

@@ -131,3 +131,28 @@ def test_drake_log_lines_only_after_success_each_once(tmp_path):
     lines = shown.stderr.splitlines()
     assert len(lines) == len(set(lines)) == 3, lines  # integrator; frictionloss on lines 7 and 10
     assert all("is currently unsupported and will be ignored" in line for line in lines)
+
+
+def test_collision_shapes_of_the_file_are_checked(tmp_path):
+    """Issue 36, "also": an SDFormat file's <collision> elements and an MJCF file's geoms are the arm's collision
+    geometry for ``armlab check`` (they were ignored: "no collision geometry")."""
+    sdf = FILES[0].read_text().replace(
+        '<link name="upper">', '<link name="upper"><collision name="c"><pose>0.25 0 0 0 1.5707963267948966 0</pose>'
+        "<geometry><capsule><radius>0.03</radius><length>0.4</length></capsule></geometry></collision>").replace(
+        '<link name="fore"><pose>0.5 0 0 0 0 0</pose>', '<link name="fore"><pose>0.5 0 0 0 0 0</pose><collision '
+        'name="c"><pose>0.2 0 0 0 0 0</pose><geometry><box><size>0.4 0.05 0.05</size></box></geometry></collision>')
+    mjcf = FILES[1].read_text().replace(
+        '<inertial pos="0.25 0 0"', '<geom type="capsule" fromto="0.05 0 0 0.45 0 0" size="0.03"/><inertial '
+        'pos="0.25 0 0"').replace('<inertial pos="0.2 0 0"', '<geom type="box" pos="0.2 0 0" size="0.2 0.025 0.025"/>'
+                                                             '<inertial pos="0.2 0 0"')
+    scene = _write(tmp_path, "scene.json", '{"obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.05, '
+                                           '"xyz": [0.7, 0, 0.1]}]}')
+    for name, text in (("c.sdf", sdf), ("c.xml", mjcf)):
+        result = armlab_main("check", str(_write(tmp_path, name, text)), "--q", "0,0", "--scene", str(scene))
+        assert result.returncode == 0, result.stderr
+        lines = result.stdout.splitlines()
+        assert lines[0] == "two_link: 2 pair(s) checked; none in contact; the 2 smallest clearances:"
+        # the box's top at z = 0.025 m, the ball's bottom at 0.05 m; the capsule's end (0.45, 0, 0) to the ball's
+        # centre √(0.25² + 0.1²) m, less both radii
+        assert lines[1].split()[:2] == ["link2–ball", "+25.0000"]
+        assert lines[2].split()[:2] == ["link1–ball", f"{(np.hypot(0.25, 0.1) - 0.08) * 1000:+.4f}"]
