@@ -289,12 +289,15 @@ def test_an_included_file_names_no_file_from_elsewhere(tmp_path, main_file, file
 
 @pytest.mark.parametrize("main_file", ["self.sdf", "self.xml"])
 def test_a_file_that_includes_itself_is_refused_before_drake_parses_it(tmp_path, main_file):
-    """Item 4: Drake's SDFormat parser crashed (SIGSEGV); item 5: its MJCF parser grew without end."""
-    text = (_MJCF.read_text().replace("<worldbody>", f'<include file="{main_file}"/><worldbody>')
+    """Item 4: Drake's SDFormat parser crashed (SIGSEGV) on a file including itself through its ROS package; item 5:
+    Drake's MJCF parser grew without end."""
+    (tmp_path / "package.xml").write_text("<package><name>pk</name></package>")
+    name = main_file if main_file.endswith(".xml") else f"package://pk/{main_file}"
+    text = (_MJCF.read_text().replace("<worldbody>", f'<include file="{name}"/><worldbody>')
             if main_file.endswith(".xml") else
-            _SDF.read_text().replace("</model>", f"</model><include><uri>{main_file}</uri></include>", 1))
+            _SDF.read_text().replace("</model>", f"</model><include><uri>{name}</uri></include>", 1))
     (tmp_path / main_file).write_text(text)
     result = _run_limited(["show", main_file], tmp_path)
     assert result.returncode == 2, result.stderr[-300:]
-    assert result.stderr == (f"armlab: error: {main_file}: <include> {main_file!r} includes itself: recursive "
+    assert result.stderr == (f"armlab: error: {main_file}: <include> {name!r} includes itself: recursive "
                              "includes are not allowed\n")
