@@ -18,7 +18,7 @@
 * :func:`stop_on_signals` turns SIGINT and SIGTERM into :class:`Interrupted` (a
   ``KeyboardInterrupt``) so that every ``with`` block unwinds and removes its temporaries; a
   signal arriving while a temporary is being renamed into place or removed waits until that is
-  done.
+  done; inside :func:`native_call` (a native parse that may never return) it ends the process at once.
 
 Both give their files and folders the ordinary permissions of the user's umask (the
 ``tempfile`` functions they use make private ones).
@@ -62,6 +62,7 @@ __all__ = [
     "file_path",
     "is_json_number",
     "json_number",
+    "native_call",
     "read_input",
     "read_json",
     "recover",
@@ -182,6 +183,26 @@ def signals_held() -> Iterator[None]:
         if not _STATE.held and _STATE.pending:
             signum, _STATE.pending = _STATE.pending, 0
             raise Interrupted(signum)
+
+
+@contextmanager
+def native_call() -> Iterator[None]:
+    """Inside, a stop signal takes its default action (the process ends at once), where :func:`stop_on_signals`'
+    handler is installed: for a native call that may not return soon (Drake's parser on a user's file), in which
+    Python's handler could not run until it returned. Only for calls made while nothing is half-written (a
+    temporary a killed command leaves is removed by the next one: :func:`recover`). Elsewhere (another thread,
+    another handler: a library user's program) it changes nothing."""
+    if threading.current_thread() is not threading.main_thread() or any(
+            signal.getsignal(signum) is not _on_signal for signum in STOP_SIGNALS):
+        yield
+        return
+    for signum in STOP_SIGNALS:
+        signal.signal(signum, signal.SIG_DFL)
+    try:
+        yield
+    finally:
+        for signum in STOP_SIGNALS:
+            signal.signal(signum, _on_signal)
 
 
 def _remove(path: Path) -> None:

@@ -43,7 +43,7 @@ class NoGeometryError(ValueError):
     def of(cls, arm: Arm) -> NoGeometryError:
         """The error for ``arm``, saying how to give it collision geometry."""
         return cls(f"{arm.name} has no collision geometry, so nothing can be checked: give its DH table a radius "
-                   "column (a capsule per link) or its URDF <collision> elements")
+                   "column (a capsule per link) or its URDF or SDFormat <collision> elements (MJCF: <geom>s)")
 
 
 @dataclass(frozen=True)

@@ -138,9 +138,13 @@ def get_arm(name: str, tool: str | None = None, package_paths: Sequence[str | Pa
                          f"overridden ({takes}); write a DH table to change its numbers")
     path = Path(name)
     if path.suffix.lower() not in (".urdf", ".sdf", ".xml") or name in ARMS:
-        given = [option for option, value in (("tool", tool), ("package_paths", package_paths)) if value]
+        given = [f"{option} = {shown(value if isinstance(value, str) else [str(v) for v in value])}"
+                 for option, value in (("--tool (tool=)", tool), ("--package-path (package_paths=)", package_paths))
+                 if value]
         if given:
-            raise ValueError(f"{' and '.join(given)} apply to a URDF, SDFormat or MJCF file's arm, not to {name!r}")
+            raise ValueError(f"{' and '.join(given)}: {'these options are' if len(given) > 1 else 'the option is'} "
+                             f"for an arm from a URDF, SDFormat or MJCF file, and {shown(name)} is not one: give "
+                             "the arm's file, or leave the option out")
     if name in ARMS:
         for key, value in overrides.items():
             if key not in known:

@@ -34,7 +34,9 @@ from armlab.bounds import above, below
 from armlab.drives.train import COULOMB_SPEED
 from armlab.files import write_file
 from armlab.kinematics.locating import orientation_angles
+from armlab.models.meshes import parse_xml
 from armlab.models.read_dh import dh_base_tool, dh_inertials
+from armlab.values import shown
 
 if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
@@ -126,8 +128,8 @@ def dh_text(arm: Arm) -> str:
                          f"written in a DH table (it reads {COULOMB_SPEED:g} rad/s): export it with --urdf")
     colliding = [body.collides for body in arm.bodies]
     base, tool = dh_base_tool(arm)
-    lines = [f"# {arm.name}: exported by armlab from {arm.paper}", f"# convention: {table.convention}",
-             "# units: rad"]
+    lines = [" ".join(f"# {arm.name}: exported by armlab from {arm.paper}".splitlines()),  # one line, whatever the name
+             f"# convention: {table.convention}", "# units: rad"]
     for key, pose in (("base", base), ("tool", tool)):
         if np.abs(pose - np.eye(4)).max() > 0:
             values = [*pose[:3, 3], *orientation_angles(pose[:3, :3])]
@@ -159,6 +161,22 @@ def dh_text(arm: Arm) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _check_names(text: str, arm: Arm, path: str | Path) -> None:
+    """``ValueError`` naming the URDF file ``path`` unless the URDF ``text`` of ``arm`` is XML without a document type
+    (:func:`armlab.models.meshes.parse_xml`) that reads back the arm's name and joint names as they are (a name of
+    characters XML cannot hold is refused before anything is written)."""
+    try:
+        robot = parse_xml(text, f"URDF file {path}")
+    except ET.ParseError as error:
+        raise ValueError(f"URDF file {path}: a name of the arm {shown(arm.name)} or of its joints cannot be written "
+                         f"as XML ({error}): rename it") from None
+    names = [robot.get("name"), *(joint.get("name") for joint in robot.findall("joint")
+                                  if joint.get("type") != "fixed")]
+    if names != [arm.name, *arm.joint_names]:
+        raise ValueError(f"URDF file {path}: a name of the arm {shown(arm.name)} or of its joints does not read back "
+                         "from the URDF as it is: rename it")
+
+
 def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = None,
            drives: DriveTrain | None = None) -> list[Path]:
     """Write ``arm``'s URDF to ``urdf`` and/or its DH table to ``dh`` (module docstring); the files written.
@@ -179,8 +197,13 @@ def export(arm: Arm, urdf: str | Path | None = None, dh: str | Path | None = Non
     if dh is not None:
         texts.append((dh, dh_text(arm.with_drives(train))))
     if urdf is not None:
-        texts.insert(0, (urdf, arm.urdf(train, ros_limits=True)))
+        texts.insert(0, (urdf, arm.urdf(train, ros_limits=True, upright=True)))
+    if urdf is not None:
+        _check_names(texts[0][1], arm, urdf)
     written = [write_file(path, text) for path, text in texts]
+    for path, text in zip(written, (text for _, text in texts), strict=True):  # read back before saying "wrote"
+        if path.read_bytes() != text.encode():
+            raise ValueError(f"{path}: the file reads back other than it was written")
     refusal = None if urdf is None else mujoco_refusal(texts[0][1])
     if refusal is not None:
         warnings.warn(MujocoWarning(f"MuJoCo will not load {urdf} as it is: {arm.name}'s {refusal}, and MuJoCo needs "

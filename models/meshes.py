@@ -20,7 +20,6 @@ plane, an unreadable file) or is of another kind is left out, with one warning, 
 from __future__ import annotations
 
 import json
-import re
 import struct
 import warnings
 import xml.etree.ElementTree as ET
@@ -32,8 +31,21 @@ from urllib.parse import unquote
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["COLLISION_SUFFIXES", "HULL_SUFFIXES", "Hull", "MeshWarning", "Meshes", "check_meshes", "check_references",
-           "mesh_points", "without_doctype"]
+from armlab.values import shown
+
+__all__ = [
+    "COLLISION_SUFFIXES",
+    "HULL_SUFFIXES",
+    "MAX_XML_DEPTH",
+    "Hull",
+    "MeshWarning",
+    "Meshes",
+    "Shape",
+    "check_meshes",
+    "check_references",
+    "mesh_points",
+    "parse_xml",
+]
 
 #: Mesh files Drake makes collision geometry of (a convex hull) itself.
 COLLISION_SUFFIXES = (".obj", ".vtk", ".gltf")
@@ -58,6 +70,22 @@ class Hull:
 
 
 @dataclass(frozen=True)
+class Shape:
+    """A collision shape of an SDFormat or MJCF file's link, for the plant to register on the arm's link ``link``
+    (its generated URDF's name: ``base_link``, ``link1`` …) at ``pose`` (4×4 nested tuples, in that link's frame
+    {i}): ``kind`` ``"box"`` (``size``: its three edges, m), ``"sphere"`` (radius), ``"cylinder"`` and
+    ``"capsule"`` (radius, length along its z), ``"ellipsoid"`` (its three semi-axes) or ``"convex"`` (the convex
+    hull of the mesh ``file``, checked inside the file's folder, ``size`` its scale per axis); named ``name``."""
+
+    link: str
+    pose: tuple[tuple[float, ...], ...]
+    kind: str
+    size: tuple[float, ...]
+    name: str
+    file: str | None = None
+
+
+@dataclass(frozen=True)
 class Meshes:
     """What :func:`check_meshes` found: each usable ``<mesh>`` element's file, and the elements left out.
 
@@ -72,12 +100,44 @@ class Meshes:
     hulls: dict[ET.Element, NDArray[np.float64]] = field(default_factory=dict)
 
 
-def without_doctype(text: str, what: str) -> str:
-    """``text`` unless it defines a document type or entities (``<!DOCTYPE``, ``<!ENTITY``: entity expansion)
-    outside its comments: then a ``ValueError`` naming ``what``."""
-    if re.search(r"<!(DOCTYPE|ENTITY)", re.sub(r"<!--.*?-->", "", text, flags=re.DOTALL)):
-        raise ValueError(f"{what}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not allowed")
-    return text
+#: The deepest nesting of elements a user's XML file may have (an MJCF arm of 64 joints nests ~70 bodies): deeper,
+#: the file is refused before anything walks its tree (ElementTree writes a tree back recursively).
+MAX_XML_DEPTH = 256
+
+
+class _Refusing(ET.TreeBuilder):
+    """ElementTree's tree builder, refusing (``ValueError``) a document type (the parser's own DOCTYPE hook, called
+    at ``<!DOCTYPE``, before any entity of it is declared: without one no entity can be) and nesting deeper than
+    :data:`MAX_XML_DEPTH`."""
+
+    def __init__(self, what: str) -> None:
+        super().__init__()
+        self.what = what
+        self.depth = 0
+
+    def doctype(self, name: str, pubid: str | None, system: str | None) -> None:
+        raise ValueError(f"{self.what}: XML document-type or entity definitions (<!DOCTYPE, <!ENTITY) are not "
+                         "allowed")
+
+    def start(self, tag: str, attrs: dict[str, str]) -> ET.Element:
+        self.depth += 1
+        if self.depth > MAX_XML_DEPTH:
+            raise ValueError(f"{self.what}: elements nested more than {MAX_XML_DEPTH} deep are not allowed")
+        return super().start(tag, attrs)
+
+    def end(self, tag: str) -> ET.Element:
+        self.depth -= 1
+        return super().end(tag)
+
+
+def parse_xml(text: str, what: str) -> ET.Element:
+    """The root element of the XML ``text`` (a user's file, named ``what`` in errors): ``ValueError`` for a document
+    type or entity definitions (entity expansion, external entities; refused by the parser's own DOCTYPE hook, so
+    no comment, processing instruction or CDATA section can hide one) or nesting deeper than
+    :data:`MAX_XML_DEPTH`; ``xml.etree.ElementTree.ParseError`` for text that is not XML."""
+    parser = ET.XMLParser(target=_Refusing(what))
+    parser.feed(text)
+    return parser.close()
 
 
 def _inside(path: Path, folders: Sequence[Path], what: str) -> Path:
@@ -142,7 +202,7 @@ def _pulled_in(mesh: Path) -> list[str]:
 def _collada_images(mesh: Path) -> list[str]:
     """The image files a COLLADA (``.dae``) mesh names: its ``<init_from>`` paths (1.4) or their ``<ref>`` (1.5)."""
     try:
-        root = ET.fromstring(without_doctype(mesh.read_text(encoding="utf-8", errors="replace"), str(mesh)))
+        root = parse_xml(mesh.read_text(encoding="utf-8", errors="replace"), str(mesh))
     except ET.ParseError:  # not XML (an empty file, a Git LFS pointer): no viewer reads anything through it
         return []
     names = []
@@ -197,13 +257,13 @@ def check_meshes(path: Path, root: ET.Element, packages: dict[str, Path]) -> Mes
     if missing:
         warnings.warn(MeshWarning(
             f"{path}: {len(missing)} mesh(es) not found, their visuals and collisions left out (kinematics and "
-            f"dynamics do not need them): {_listed(missing)}"
+            f"dynamics do not need them): {listed(missing)}"
             + ("; a package:// mesh needs its package found: --package-path DIR or ROS_PACKAGE_PATH" if unfound
                else "")), stacklevel=3)
     if unusable:
         warnings.warn(MeshWarning(
             f"{path}: {len(unusable)} collision mesh(es) left out: a collision mesh is the convex hull of an "
-            f"{', '.join((*COLLISION_SUFFIXES, *HULL_SUFFIXES))} file's vertices: {_listed(unusable)}"), stacklevel=3)
+            f"{', '.join((*COLLISION_SUFFIXES, *HULL_SUFFIXES))} file's vertices: {listed(unusable)}"), stacklevel=3)
     return Meshes(files, dropped, hulls)
 
 
@@ -287,7 +347,7 @@ def _collada_points(data: bytes, what: str) -> NDArray[np.float64]:
     """A COLLADA document's vertices: each ``<instance_geometry>`` of its scene's nodes through the nodes'
     transforms (every geometry as it is, if the scene places none), times its ``<unit meter>``."""
     try:
-        root = ET.fromstring(without_doctype(data.decode("utf-8", errors="replace"), what))
+        root = parse_xml(data.decode("utf-8", errors="replace"), what)
     except ET.ParseError as error:
         raise ValueError(f"not a COLLADA file: {error}") from None
     elements = list(root.iter())
@@ -329,11 +389,12 @@ def _collada_points(data: bytes, what: str) -> NDArray[np.float64]:
     return np.unique(points * unit, axis=0)
 
 
-def _listed(references: list[str], most: int = 3) -> str:
-    """The first ``most`` distinct ``references``, and how many more."""
-    distinct = list(dict.fromkeys(references))
+def listed(names: Sequence[str], most: int = 3) -> str:
+    """The first ``most`` distinct ``names`` (each quoted and cut: :func:`armlab.values.shown`), and how many more:
+    a message names a few of a file's many, in one line of bounded length."""
+    distinct = list(dict.fromkeys(names))
     more = f" and {len(distinct) - most} more" if len(distinct) > most else ""
-    return ", ".join(map(repr, distinct[:most])) + more
+    return ", ".join(map(shown, distinct[:most])) + more
 
 
 def _check_pulled_in(path: Path, mesh: Path, folders: Sequence[Path]) -> None:
@@ -351,16 +412,22 @@ def _check_pulled_in(path: Path, mesh: Path, folders: Sequence[Path]) -> None:
             pending.append(named)
 
 
-def check_references(path: Path, references: Sequence[str], packages: dict[str, Path]) -> None:
-    """``ValueError`` naming the file unless every file ``references`` name (relative to the folder of ``path``, an
-    SDFormat or MJCF file, or ``package://`` of one of ``packages``), and every file those name, lies inside that
-    folder or the packages' (the rules of :func:`check_meshes`), and exists."""
+def check_references(path: Path, references: Sequence[str], packages: dict[str, Path],
+                     base: Path | None = None) -> list[Path]:
+    """The files ``references`` name (relative to the folder of ``base``, default ``path``, an SDFormat or MJCF file
+    or one it includes, or ``package://`` of one of ``packages``), resolved; ``ValueError`` naming the file unless
+    each, and every file those name, lies inside the folder of ``path`` or the packages' (the rules of
+    :func:`check_meshes`), and exists."""
     folders = [path.resolve().parent] + [folder.resolve() for folder in packages.values()]
+    base = path if base is None else base
+    out = []
     for reference in references:
-        what = f"{path}: {reference!r}"
-        file = _reference(reference, path.resolve().parent, packages, folders, what)
+        what = f"{base}: {reference!r}"
+        file = _reference(reference, base.resolve().parent, packages, folders, what)
         if file is None:
             raise ValueError(f"{what} names a ROS package that is not found: --package-path DIR or ROS_PACKAGE_PATH")
         if not file.is_file():
             raise ValueError(f"{what}: no such file {file}")
         _check_pulled_in(path, file, folders)
+        out.append(file)
+    return out

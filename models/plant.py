@@ -43,6 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.drives.train import DriveTrain
+from armlab.files import native_call
 from armlab.limits import check_positive
 from armlab.values import check_payload, gravity_vector
 
@@ -274,16 +275,27 @@ def _add_model(plant: MultibodyPlant, arm: Arm) -> Any:
 
 def _add_hulls(plant: MultibodyPlant, arm: Arm, instance: Any) -> None:
     """Register the arm's STL and COLLADA collision meshes (:attr:`~armlab.models.arm.Arm.collision_hulls`) as
-    Drake ``Convex`` shapes of their vertices (Drake makes the hull) on their links, before ``Finalize``; a plant
-    without a scene graph has no geometry to add them to."""
-    from pydrake.geometry import Convex, ProximityProperties
+    Drake ``Convex`` shapes of their vertices (Drake makes the hull) on their links, and an SDFormat or MJCF file's
+    collision shapes (:attr:`~armlab.models.arm.Arm.collision_shapes`), before ``Finalize``; a plant without a
+    scene graph has no geometry to add them to."""
+    from pydrake.geometry import Box, Capsule, Convex, Cylinder, Ellipsoid, ProximityProperties, Sphere
     from pydrake.math import RigidTransform
 
-    for hull in arm.collision_hulls if plant.geometry_source_is_registered() else ():
-        body = (plant.world_body() if hull.link == "world" and arm.base_link == "world"
-                else plant.GetBodyByName(hull.link, instance))
-        plant.RegisterCollisionGeometry(body, RigidTransform(np.array(hull.pose)),
+    def body(link: str) -> Any:
+        return (plant.world_body() if link == "world" and arm.base_link == "world"
+                else plant.GetBodyByName(link, instance))
+
+    if not plant.geometry_source_is_registered():
+        return
+    for hull in arm.collision_hulls:
+        plant.RegisterCollisionGeometry(body(hull.link), RigidTransform(np.array(hull.pose)),
                                         Convex(np.asfortranarray(hull.points.T), hull.name), hull.name,
+                                        ProximityProperties())
+    for shape in arm.collision_shapes:
+        made = (Convex(str(shape.file), np.array(shape.size)) if shape.kind == "convex" else
+                {"box": Box, "sphere": Sphere, "cylinder": Cylinder, "capsule": Capsule,
+                 "ellipsoid": Ellipsoid}[shape.kind](*shape.size))
+        plant.RegisterCollisionGeometry(body(shape.link), RigidTransform(np.array(shape.pose)), made, shape.name,
                                         ProximityProperties())
 
 
@@ -323,23 +335,27 @@ def _check_drivable(plant: MultibodyPlant, arm: Arm) -> None:
                          "inertia")
 
 
-def parse_model_file(path: Path, packages: dict[str, Path]) -> tuple[MultibodyPlant, Any]:
+def parse_model_file(path: Path, packages: dict[str, Path], scene_graph: Any = None) -> tuple[MultibodyPlant, Any]:
     """A user's SDFormat (``.sdf``) or MuJoCo MJCF (``.xml``) file parsed by Drake's own parser into a new plant,
     not finalized (:mod:`armlab.models.read_sdf` reads the arm out of it); ``(plant, model instance)``.
 
     ``packages``: ``{name: package folder}`` for ``package://`` URIs (:func:`armlab.models.read_urdf.package_roots`).
+    ``scene_graph``: a ``SceneGraph`` the plant registers its geometry with (the file's collision shapes), or none.
     ``ValueError`` (one line) if Drake cannot load the file or it holds more than one model.
     """
     from pydrake.multibody.parsing import Parser
     from pydrake.multibody.plant import MultibodyPlant
 
     plant = MultibodyPlant(0.0)
+    if scene_graph is not None:
+        plant.RegisterAsSourceForSceneGraph(scene_graph)
     parser = Parser(plant)
     for name, folder in packages.items():
         if not parser.package_map().Contains(name):
             parser.package_map().Add(name, str(folder))
     try:
-        instances = parser.AddModels(file_name=str(path))
+        with native_call():  # a stop signal ends the process even if Drake's parser never returns
+            instances = parser.AddModels(file_name=str(path))
     except RuntimeError as error:
         raise ValueError(f"{path}: Drake cannot load it: {str(error).strip().splitlines()[0]}") from None
     if len(instances) != 1:

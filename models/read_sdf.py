@@ -36,7 +36,7 @@ import numpy as np
 from armlab.arm_file import MAX_JOINTS
 from armlab.kinematics.locating import JointRow, LocatingTable
 from armlab.models.arm import Arm
-from armlab.models.meshes import check_references
+from armlab.models.meshes import Shape, check_references, listed
 from armlab.models.read_urdf import check_com_distances, package_roots, read_xml
 from armlab.models.write_urdf import Body, JointLimits, Point, check_inertia
 
@@ -44,6 +44,10 @@ __all__ = ["FORMATS", "from_model_file"]
 
 #: The formats by file suffix: (the format's name, its root element).
 FORMATS = {".sdf": ("SDFormat", "sdf"), ".xml": ("MJCF", "mujoco")}
+#: The most files one SDFormat or MJCF file may ``<include>``, all levels together, and how deep includes may nest
+#: (a file that includes itself, or one that includes it, is refused whatever the count).
+MAX_INCLUDES = 64
+MAX_INCLUDE_DEPTH = 8
 _ALLOWED_JOINTS = ("revolute", "prismatic", "weld")
 
 
@@ -66,6 +70,91 @@ def _references(root: ET.Element, suffix: str) -> list[str]:
     return out
 
 
+def _check_files(path: Path, root: ET.Element, packages: dict[str, Path]) -> None:
+    """``ValueError`` unless every file ``path`` (``root`` parsed) names, and every file the files it include
+    name, recursively, lies inside its folder or its ``packages`` (:func:`~armlab.models.meshes.check_references`):
+    each included file read as the file itself is (:func:`~armlab.models.read_urdf.read_xml`), before Drake parses
+    anything; a file included by itself or by one it includes (Drake's parsers recurse without end), more than
+    :data:`MAX_INCLUDES` included files or nesting deeper than :data:`MAX_INCLUDE_DEPTH` are refused. An SDFormat
+    file's ``<uri>`` is relative to the file naming it, its includes ``.sdf`` files; an MJCF ``<include file=>`` is
+    replaced in ``root`` by the included file's elements (as MuJoCo does), whose files are then relative to
+    ``path``'s folder and its ``<compiler>``'s."""
+    suffix = path.suffix.lower()
+    kind, tag = FORMATS[suffix]
+    count = 0
+
+    def visit(file: Path, tree: ET.Element, chain: tuple[Path, ...]) -> None:
+        nonlocal count
+        for parent in list(tree.iter()):
+            for include in [child for child in parent if child.tag == "include"]:
+                name = ((include.get("file") if tag == "mujoco" else include.findtext("uri")) or "").strip()
+                what = f"{file}: <include> {name!r}"
+                if not name:
+                    raise ValueError(f"{file}: an <include> names no file")
+                if tag == "sdf":
+                    name = name.replace("model://", "package://", 1)
+                base = path if tag == "mujoco" else file
+                (target,) = check_references(path, [name], packages, base=base)
+                typed = target if name.startswith("package://") else base.parent / name  # for messages
+                if target.resolve() in chain:
+                    itself = "itself" if target.resolve() == chain[-1] else f"{target.name}, which includes it"
+                    raise ValueError(f"{what} includes {itself}: recursive includes are not allowed")
+                if tag == "sdf" and target.suffix.lower() != ".sdf":
+                    raise ValueError(f"{what}: an SDFormat <include> names an SDFormat file (.sdf)")
+                count += 1
+                if count > MAX_INCLUDES or len(chain) > MAX_INCLUDE_DEPTH:
+                    raise ValueError(f"{what}: more than {MAX_INCLUDES} included files or includes nested more than "
+                                     f"{MAX_INCLUDE_DEPTH} deep are not allowed")
+                included = read_xml(typed, f"{kind} file")
+                if included.tag != tag:
+                    raise ValueError(f"{what}: its root element is <{included.tag}>, an {kind} file needs <{tag}>")
+                visit(typed, included, (*chain, target.resolve()))
+                if tag == "mujoco":  # the include's place takes the included file's elements
+                    at = list(parent).index(include)
+                    parent.remove(include)
+                    for k, child in enumerate(included):
+                        parent.insert(at + k, child)
+        if tag == "sdf":
+            check_references(path, _references(tree, suffix), packages, base=file)
+
+    visit(path, root, (path.resolve(),))
+    if tag == "mujoco":
+        check_references(path, _references(root, suffix), packages)
+
+
+def _shapes(plant: Any, inspector: Any, context: Any, groups: list[tuple[str, list[Any], Any]]) -> tuple[Shape, ...]:
+    """The collision shapes of each link's bodies (``groups``: the link's name in the arm's URDF, its bodies, its
+    frame's pose in the world at q = 0, 4×4), in the link's frame: boxes, spheres, cylinders, capsules, ellipsoids
+    and the convex hulls of meshes read from files (another shape, such as a half space on a body, left out)."""
+    from pydrake.geometry import Box, Capsule, Convex, Cylinder, Ellipsoid, Mesh, Sphere
+
+    out: list[Shape] = []
+    for name, bodies, X_WL in groups:
+        for index in bodies:
+            body = plant.get_body(index)
+            X_WB = plant.EvalBodyPoseInWorld(context, body).GetAsMatrix4()
+            for geometry in plant.GetCollisionGeometriesForBody(body):
+                shape = inspector.GetShape(geometry)
+                size: tuple[float, ...]
+                file = None
+                if isinstance(shape, Box):
+                    kind, size = "box", (shape.width(), shape.depth(), shape.height())
+                elif isinstance(shape, Sphere):
+                    kind, size = "sphere", (shape.radius(),)
+                elif isinstance(shape, Cylinder | Capsule):
+                    kind, size = type(shape).__name__.lower(), (shape.radius(), shape.length())
+                elif isinstance(shape, Ellipsoid):
+                    kind, size = "ellipsoid", (shape.a(), shape.b(), shape.c())
+                elif isinstance(shape, Convex | Mesh) and shape.source().is_path():
+                    kind, size, file = "convex", tuple(map(float, shape.scale3())), str(shape.source().path())
+                else:
+                    continue
+                pose = np.linalg.solve(X_WL, X_WB @ inspector.GetPoseInFrame(geometry).GetAsMatrix4())
+                out.append(Shape(name, tuple(map(tuple, pose.tolist())), kind, tuple(map(float, size)),
+                                 f"{name}_{inspector.GetName(geometry).rpartition('::')[2]}_{len(out) + 1}", file))
+    return tuple(out)
+
+
 def _group(joints_below: dict[Any, list[Any]], body: Any) -> list[Any]:
     """``body`` and every body welded to it below, not past a moving joint."""
     out, stack = [], [body]
@@ -79,6 +168,7 @@ def _group(joints_below: dict[Any, list[Any]], body: Any) -> list[Any]:
 def from_model_file(path: str | Path, tool: str | None = None, package_paths: Sequence[str | Path] = ()) -> Arm:
     """An arm from a user's SDFormat or MJCF file of one serial chain (module docstring); ``ValueError`` naming
     what is wrong."""
+    from pydrake.geometry import SceneGraph
     from pydrake.multibody.tree import JointActuatorIndex
 
     # lazy: the arm readers sit below armlab.diagrams (its plant module imports armlab.models.arm's package)
@@ -89,6 +179,8 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     root = read_xml(path, f"{kind} file")
     if root.tag != tag:
         raise ValueError(f"{path}: the root element is <{root.tag}>, an {kind} file ({path.suffix}) needs <{tag}>")
+    packages = package_roots(path, package_paths)
+    _check_files(path, root, packages)  # MJCF: its includes expanded into ``root``
     if tag == "sdf" and len(models := root.findall("model") + root.findall("world/model")) != 1:
         raise ValueError(f"{path} holds {len(models)} models: armlab takes one serial arm per file")
     free = [repr(element.get("name")) if element.get("name") else f"of body {body.get('name')!r}"
@@ -97,9 +189,8 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     if free:  # Drake leaves such a body free, with no joint to see
         raise ValueError(f"{path}: joint {free[0]} is a free joint (a floating base: armlab's arms stand on their "
                          "base); allowed: hinge, slide and fixed")
-    packages = package_roots(path, package_paths)
-    check_references(path, _references(root, path.suffix.lower()), packages)
-    plant, instance = parse_model_file(path, packages)
+    scene_graph = SceneGraph()
+    plant, instance = parse_model_file(path, packages, scene_graph)
 
     joints = [plant.get_joint(index) for index in plant.GetJointIndices(instance)]
     for joint in joints:
@@ -117,7 +208,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     on_world = any(joint.parent_body().index() == world for joint in joints)
     if len(roots) + on_world != 1:
         names = [body.name() for body in roots] + (["world"] if on_world else [])
-        raise ValueError(f"{path}: a serial arm has one root body, found {', '.join(map(repr, names))}")
+        raise ValueError(f"{path}: a serial arm has one root body, found {len(names)}: {listed(names)}")
     if roots:
         plant.WeldFrames(plant.world_frame(), roots[0].body_frame())  # as a URDF's root link: the base
     try:
@@ -146,6 +237,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
     bodies: list[Body] = []
     link = roots[0].index() if roots else world
     frame = np.eye(4) if not roots else roots[0].body_frame().CalcPoseInWorld(context).GetAsMatrix4()
+    groups = [] if not roots else [("base_link", _group(below, link), frame)]  # each link's bodies, its frame
     last_group: list[Any] = []
     while True:
         moving = [j for j in below.get(link, []) if j.type_name() != "weld" or moves(j.child_body().index())]
@@ -166,6 +258,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
                              tuple(map(tuple, T[:3, :3]))))
         limits.append(_limits(joint, actuated.get(joint.name())))
         last_group = _group(below, link)
+        groups.append((f"link{len(rows)}", last_group, X))
         inertia = plant.CalcSpatialInertia(context, joint.frame_on_child(), last_group)
         bodies.append(_body(inertia, f"{path}: link {plant.get_body(link).name()!r}"))
         frame = X
@@ -190,6 +283,7 @@ def from_model_file(path: str | Path, tool: str | None = None, package_paths: Se
         gravity=(0.0, 0.0, -9.81),
         has_dynamics=any(body.mass > 0 for body in bodies),
         tool_source="chosen (tool=, --tool)" if tool is not None else "the last body welded past the last joint",
+        collision_shapes=_shapes(plant, scene_graph.model_inspector(), context, groups),
     )
 
 

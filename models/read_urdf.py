@@ -41,7 +41,7 @@ from armlab.drives.train import DriveTrain
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.locating import JointRow, LocatingTable, homogeneous
 from armlab.models.arm import Arm
-from armlab.models.meshes import Hull, Meshes, check_meshes, without_doctype
+from armlab.models.meshes import Hull, Meshes, check_meshes, listed, parse_xml
 from armlab.models.write_urdf import DRAKE_NAMESPACE, Body, JointLimits, Point, check_inertia
 
 __all__ = ["check_com_distances", "check_numbers", "from_urdf", "package_roots", "read_xml"]
@@ -75,11 +75,11 @@ def _pose(element: ET.Element | None, what: str) -> np.ndarray:
 
 def _xml(path: Path, what: str) -> ET.Element:
     """The root element of an XML file; entity and document-type definitions (entity expansion) are refused."""
-    text = without_doctype(read_text(path, what), f"{path} ({what})")
+    text = read_text(path, what)
     if "drake:" in text and "xmlns:drake" not in text:  # Drake's own tags, their namespace undeclared as Drake allows
         text = re.sub(r"<robot\b", f'<robot xmlns:drake="{DRAKE_NAMESPACE}"', text, count=1)
     try:
-        return ET.fromstring(text)
+        return parse_xml(text, f"{path} ({what})")
     except ET.ParseError as error:
         raise ValueError(f"{path} is not valid XML: {error}") from None
 
@@ -174,7 +174,7 @@ def _tree(path: Path, links: dict[str, ET.Element],
     if len(roots) != 1:
         if not roots:
             raise ValueError(f"{path}: the joints form a cycle: every link has a parent, so there is no root link")
-        raise ValueError(f"{path}: a serial arm has one root link, found {roots}")
+        raise ValueError(f"{path}: a serial arm has one root link, found {len(roots)}: {listed(roots)}")
     reached, stack = {roots[0]}, [roots[0]]
     while stack:
         for below in children[stack.pop()]:
@@ -182,7 +182,7 @@ def _tree(path: Path, links: dict[str, ET.Element],
             stack.append(below.child)
     if len(reached) != len(links):
         cycle = sorted(set(links) - reached)
-        raise ValueError(f"{path}: the joints form a cycle through link(s) {', '.join(map(repr, cycle[:5]))}, "
+        raise ValueError(f"{path}: the joints form a cycle through link(s) {listed(cycle, 5)}, "
                          f"not connected to the root link {roots[0]!r}")
     return roots[0], children
 

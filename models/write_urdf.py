@@ -25,6 +25,7 @@ the links of a wrist whose frames coincide) are filtered by Drake collision filt
 from __future__ import annotations
 
 import itertools
+import re
 from dataclasses import dataclass
 from html import escape
 
@@ -36,7 +37,7 @@ from armlab.drives.train import DriveTrain
 from armlab.kinematics.locating import LocatingTable, orientation_angles
 
 __all__ = ["DRAKE_NAMESPACE", "Body", "JointLimits", "Point", "check_inertia", "cylinder_inertia", "link_axis",
-           "link_inertials", "touching_pairs", "urdf_text"]
+           "link_inertials", "touching_pairs", "upright", "urdf_text"]
 
 #: The namespace of Drake's URDF extensions (``<drake:rotor_inertia>``, …), declared as ``xmlns:drake``.
 DRAKE_NAMESPACE = "http://drake.mit.edu"
@@ -89,6 +90,20 @@ class Point:
     xyz: tuple[float, float, float]
 
 
+def _a(text: str) -> str:
+    """``text`` as an XML attribute value between double quotes: ``&``, ``<``, ``>``, ``"`` and ``'`` escaped (html's
+    escape, not xml.sax.saxutils': that imports urllib), tabs and line ends as character references (a parser reads
+    them back as they were, not as spaces)."""
+    return escape(text, quote=True).replace("\t", "&#9;").replace("\n", "&#10;").replace("\r", "&#13;")
+
+
+def _comment(text: str) -> str:
+    """``text`` as the content of an XML comment, which cannot hold ``--`` nor end in ``-``: each ``-`` of a run
+    parted by a space."""
+    text = re.sub(r"-(?=-)", "- ", text)
+    return text + " " if text.endswith("-") else text
+
+
 def _f(x: float) -> str:
     return repr(float(x)) if x != 0 else "0"
 
@@ -107,6 +122,22 @@ def _z_to(direction: NDArray) -> NDArray:
         return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
     K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]]) / s
     return np.eye(3) + s * K + (1 - c) * K @ K
+
+
+def upright(gravity: tuple[float, float, float]) -> NDArray[np.float64] | None:
+    """The pose (4×4, no translation) of a base frame in which gravity is ``gravity`` (m/s², ``(3,)``) within a
+    world frame in which it is −z: the smallest turn taking its direction to −z; ``None`` when it already is −z
+    or there is none (zero gravity: nothing to turn)."""
+    g = np.asarray(gravity, dtype=float)
+    norm = float(np.linalg.norm(g))
+    if norm == 0 or (g[0] == 0 and g[1] == 0 and g[2] < 0):  # exact: no turn at all
+        return None
+    d, down = g / norm, np.array([0.0, 0.0, -1.0])
+    v, c = np.cross(d, down), float(d @ down)
+    K = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    X = np.eye(4)
+    X[:3, :3] = np.diag([1.0, -1.0, -1.0]) if not above(c, -1.0) else np.eye(3) + K + K @ K / (1 + c)
+    return X
 
 
 def cylinder_inertia(mass: float, radius: float, length: float) -> NDArray:
@@ -286,6 +317,7 @@ def urdf_text(
     drives: DriveTrain | None = None,
     ros_limits: bool = False,
     collision_filters: tuple[tuple[str, str], ...] = (),
+    gravity: tuple[float, float, float] | None = None,
 ) -> str:
     """URDF of the chain: links ``base_link``, ``link1`` … ``linkN``, ``tool_name`` and the points.
     ``bodies`` has one entry per moving link (``n``); ``limits`` one per joint; ``drives`` the drive train
@@ -294,6 +326,9 @@ def urdf_text(
     ``collision_filters``: pairs of link names never checked against each other (beyond the adjacent ones and
     :func:`touching_pairs`, always filtered), written as Drake's ``<drake:collision_filter_group>`` (a group of the
     two that ignores itself).
+    ``gravity``: the arm's gravity (m/s², base frame) when it is not along −z, which every URDF reader assumes: the
+    URDF's root is then a ``world`` link, its ``base_link`` welded to it turned so that gravity is −z in ``world``
+    (:func:`upright`).
     """
     n = table.n
     if len(bodies) != n or len(limits) != n:
@@ -304,9 +339,9 @@ def urdf_text(
     filters = list(dict.fromkeys((*collision_filters, *touching_pairs(table, bodies, limits))))
     out = ['<?xml version="1.0"?>']
     if comment:
-        out.append(f"<!-- {comment} -->")
+        out.append(f"<!-- {_comment(comment)} -->")
     drake = f' xmlns:drake="{DRAKE_NAMESPACE}"' if drives is not None or filters else ""
-    out.append(f'<robot name="{escape(name, quote=True)}"{drake}>')  # html, not xml.sax.saxutils: that imports urllib
+    out.append(f'<robot name="{_a(name)}"{drake}>')
     out.append('  <material name="base"><color rgba="0.3 0.3 0.35 1"/></material>')
     out.append('  <material name="rail"><color rgba="0.7 0.72 0.75 1"/></material>')
     base_r = max(b.radius for b in bodies) * 2.5
@@ -325,6 +360,11 @@ def urdf_text(
             visuals[i - 1].append(_rail_visual(row.T_fixed, np.asarray(row.k, dtype=float), lim.lower, lim.upper,
                                                body.radius))
     ends = [row.P for row in table.rows[1:]] + [tuple(table.tool[:3, 3])]
+    turn = None if gravity is None else upright(gravity)
+    if turn is not None:
+        out.append('  <link name="world"/>')
+        out.append('  <joint name="world_base_link" type="fixed"><parent link="world"/><child link="base_link"/>'
+                   f"{_origin(turn)}</joint>")
     out.append('  <link name="base_link">')
     out.extend(f"    {visual}" for visual in visuals[0])
     out.append("  </link>")
@@ -357,8 +397,8 @@ def urdf_text(
         out.extend(f"    {visual}" for visual in visuals[i])
         out.append("  </link>")
         kind = "prismatic" if row.kind == "T" else ("continuous" if lim.lower is None else "revolute")
-        out.append(f'  <joint name="{row.name}" type="{kind}">')
-        out.append(f'    <parent link="{link_names[i - 1]}"/><child link="link{i}"/>')
+        out.append(f'  <joint name="{_a(row.name)}" type="{kind}">')
+        out.append(f'    <parent link="{_a(link_names[i - 1])}"/><child link="link{i}"/>')
         out.append(f"    {_origin(row.T_fixed)}")
         out.append(f'    <axis xyz="{" ".join(map(_f, row.k))}"/>')
         rates = [(key, 0.0 if value is None and ros_limits else value)
@@ -374,35 +414,35 @@ def urdf_text(
             friction = (drives.coulomb[i - 1] + drives.negative[i - 1]) / 2
             out.append(f'    <dynamics damping="{_f(drives.viscous[i - 1])}" friction="{_f(friction)}"/>')
         out.append("  </joint>")
-    out.append(f'  <link name="{tool_name}"><visual><geometry><sphere radius="{_f(bodies[-1].radius * 1.2)}"/>'
+    out.append(f'  <link name="{_a(tool_name)}"><visual><geometry><sphere radius="{_f(bodies[-1].radius * 1.2)}"/>'
                '</geometry><material name="tool"><color rgba="0.85 0.1 0.1 1"/></material></visual></link>')
-    out.append(f'  <joint name="{tool_name}_weld" type="fixed"><parent link="link{n}"/>'
-               f"<child link=\"{tool_name}\"/>{_origin(table.tool)}</joint>")
+    out.append(f'  <joint name="{_a(tool_name)}_weld" type="fixed"><parent link="link{n}"/>'
+               f"<child link=\"{_a(tool_name)}\"/>{_origin(table.tool)}</joint>")
     for point in points:
         if point.name in link_names:
             continue  # the point is already a link (e.g. the tool)
         # a point of the tool frame hangs from link n (the tool link stays the end of the chain, what a reader takes)
         parent, xyz = ((link_names[n], (table.tool @ np.array([*point.xyz, 1.0]))[:3]) if point.link == n + 1
                        else (link_names[point.link], point.xyz))
-        out.append(f'  <link name="{point.name}"/>')
-        out.append(f'  <joint name="{point.name}_weld" type="fixed"><parent link="{parent}"/>'
-                   f'<child link="{point.name}"/><origin xyz="{" ".join(map(_f, xyz))}"/></joint>')
+        out.append(f'  <link name="{_a(point.name)}"/>')
+        out.append(f'  <joint name="{_a(point.name)}_weld" type="fixed"><parent link="{_a(parent)}"/>'
+                   f'<child link="{_a(point.name)}"/><origin xyz="{" ".join(map(_f, xyz))}"/></joint>')
     for i, row in enumerate(table.rows):
         ratio, motor = "1", ""
         if drives is not None:
             ratio = _f(drives.gear_ratio[i])
             motor = (f'<drake:gear_ratio value="{ratio}"/><drake:rotor_inertia value="{_f(drives.rotor_inertia[i])}"/>'
                      f"<!-- gearbox efficiency {_f(drives.efficiency[i])} (no URDF or Drake tag) -->")
-        out.append(f'  <transmission name="{row.name}_transmission">'
+        out.append(f'  <transmission name="{_a(row.name)}_transmission">'
                    "<type>transmission_interface/SimpleTransmission</type>"
-                   f'<joint name="{row.name}"><hardwareInterface>hardware_interface/EffortJointInterface'
+                   f'<joint name="{_a(row.name)}"><hardwareInterface>hardware_interface/EffortJointInterface'
                    "</hardwareInterface></joint>"
-                   f'<actuator name="{row.name}_motor"><mechanicalReduction>{ratio}</mechanicalReduction>{motor}'
+                   f'<actuator name="{_a(row.name)}_motor"><mechanicalReduction>{ratio}</mechanicalReduction>{motor}'
                    "</actuator></transmission>")
     for a, b in filters:
         group = f"filter_{a}_{b}"
-        out.append(f'  <drake:collision_filter_group name="{group}"><drake:member link="{a}"/>'
-                   f'<drake:member link="{b}"/><drake:ignored_collision_filter_group name="{group}"/>'
+        out.append(f'  <drake:collision_filter_group name="{_a(group)}"><drake:member link="{_a(a)}"/>'
+                   f'<drake:member link="{_a(b)}"/><drake:ignored_collision_filter_group name="{_a(group)}"/>'
                    "</drake:collision_filter_group>")
     out.append("</robot>")
     return "\n".join(out) + "\n"

@@ -356,6 +356,8 @@ def test_study_files(box, content, code, fragment):
 # ---- arm files through the CLI (the models' own tables: tests/test_custom.py, test_security.py): --------------
 # (file name, content, argv with {} for the file, exit code, fragment)
 DH = "type,a,alpha,d,theta,lower,upper\n"
+DEEP_URDF = ('<robot name="x"><link name="a"/><link name="b"/><joint name="j" type="revolute"><parent link="a"/>'
+             '<child link="b"/><limit lower="-1" upper="1"/></joint>' + "<x>" * 5000 + "</x>" * 5000 + "</robot>")
 ARM_FILES = [
     ("empty.csv", DH, ("show", "{}"), 2, "empty.csv: the DH table has no rows"),
     ("nan.csv", DH + "R,nan,0,0,0,-1,1\n", ("fk", "{}", "--q", "0"), 2, "a = 'nan' is not a finite number"),
@@ -382,6 +384,12 @@ ARM_FILES = [
      'iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link><joint name="j" type="revolute"><parent link="a"/>'
      '<child link="b"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="0" upper="0"/></joint></robot>',
      ("workspace", "{}", "--samples", "1000"), 2, "the tool point does not move"),
+    # issue 36, item 17: elements nested deeper than Python's recursion limit
+    *[("deep.urdf", DEEP_URDF, argv, 2, "deep.urdf (URDF): elements nested more than 256 deep are not allowed")
+      for argv in (("show", "{}"), ("simulate", "{}", "--out", "run"))],
+    # issue 36, item 25: 150 000 unconnected links named in a line of bounded length
+    ("many.urdf", '<robot name="x">' + "".join(f'<link name="l{k}"/>' for k in range(150_000)) + "</robot>",
+     ("show", "{}"), 2, "a serial arm has one root link, found 150000: 'l0', 'l1', 'l2' and 149997 more"),
 ]
 
 

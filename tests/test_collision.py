@@ -201,7 +201,9 @@ def test_cli_check_reads_a_urdf_with_its_tool_option(tmp_path, capsys):
     assert out[0] == "rrrr: 3 pair(s) checked; 2 in contact; the 1 smallest clearances:"
     assert out[1].split()[:2] == ["link4–link1", "-60.0000"]
     assert main(["check", "rrrr", "--tool", "link4", "--q", "0,0,0,0"]) == 2
-    assert "tool apply to a URDF, SDFormat or MJCF file's arm, not to 'rrrr'" in capsys.readouterr().err
+    # issue 36, item 27: the option and its value named, in a sentence
+    assert ("armlab: error: --tool (tool=) = 'link4': the option is for an arm from a URDF, SDFormat or MJCF file, "
+            "and 'rrrr' is not one: give the arm's file, or leave the option out\n") == capsys.readouterr().err
 
 
 def _scene_file(tmp_path, text: str):

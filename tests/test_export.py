@@ -18,7 +18,7 @@ from helpers import DATA, armlab_main, random_q
 
 import armlab
 from armlab.drives.train import DRIVE_FIELDS, DriveTrain
-from armlab.models.meshes import MeshWarning
+from armlab.models.meshes import MeshWarning, parse_xml
 from armlab.models.read_dh import dh_inertials, read_dh_csv
 
 #: The arms sent out and read back: paper arms (revolute, prismatic), DH tables (with base and tool header lines,
@@ -48,14 +48,30 @@ def _states(arm: armlab.Arm, count: int = 5) -> tuple[np.ndarray, np.ndarray, np
     return random_q(arm, rng, count), rng.uniform(-1, 1, (count, arm.n)), rng.uniform(-2, 2, (count, arm.n))
 
 
+def _turned(original: armlab.Arm, copy: armlab.Arm) -> np.ndarray:
+    """The pose (4×4) of ``original``'s base in ``copy``'s: a turn taking the original's gravity to the copy's −z (a
+    URDF's readers all take gravity −z: rr's −y leaves turned), checked; the identity for an arm whose gravity is
+    −z already."""
+    q0 = random_q(original, np.random.default_rng(5), 1)[0]
+    X = copy.fk(q0) @ np.linalg.inv(original.fk(q0))
+    np.testing.assert_allclose(X[:3, :3] @ X[:3, :3].T, np.eye(3), atol=TOL, rtol=0)
+    np.testing.assert_allclose(X[:3, 3], 0, atol=TOL, rtol=0)
+    np.testing.assert_allclose(X[:3, :3] @ original.gravity, copy.gravity, atol=TOL, rtol=0)
+    np.testing.assert_allclose(copy.gravity, [0, 0, -9.81], atol=0, rtol=0)  # exact: what a URDF reader sets
+    return X
+
+
 def _assert_same_arm(original: armlab.Arm, copy: armlab.Arm) -> None:
-    """FK, Jacobian and inverse dynamics (gravity −z for both) of ``copy`` equal ``original``'s to 1e-9."""
+    """FK and Jacobian of ``copy`` equal ``original``'s, in the copy's turned base (:func:`_turned`), and the
+    inverse dynamics (each arm's own gravity) to 1e-9."""
     q, qd, qdd = _states(original)
-    np.testing.assert_allclose(copy.fk(q), original.fk(q), atol=TOL, rtol=0)
-    np.testing.assert_allclose(copy.jacobian(q), original.jacobian(q), atol=TOL, rtol=0)
+    X = _turned(original, copy)
+    R6 = np.kron(np.eye(2), X[:3, :3])
+    np.testing.assert_allclose(copy.fk(q), X @ original.fk(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose(copy.jacobian(q), R6 @ original.jacobian(q), atol=TOL, rtol=0)
     if original.has_dynamics:
-        np.testing.assert_allclose(copy.inverse_dynamics(q, qd, qdd, gravity="-z"),
-                                   original.inverse_dynamics(q, qd, qdd, gravity="-z"), atol=TOL, rtol=TOL)
+        np.testing.assert_allclose(copy.inverse_dynamics(q, qd, qdd), original.inverse_dynamics(q, qd, qdd),
+                                   atol=TOL, rtol=TOL)
 
 
 @pytest.mark.parametrize("key", list(ARMS))
@@ -66,18 +82,20 @@ def test_urdf_round_trip_armlab_drake_pinocchio(key, tmp_path):
     assert copy.joint_names == original.joint_names
     _assert_same_arm(original, copy)
     q, qd, qdd = _states(original)
+    X = _turned(original, copy)
+    R6 = np.kron(np.eye(2), X[:3, :3])
     gravity_z = np.array([0.0, 0.0, -9.81])
     pino = Pinocchio(copy, path.read_text())  # Pinocchio's parser on the file armlab wrote
     pino.model.gravity.linear = gravity_z
     qp = pino.configurations(q)
-    np.testing.assert_allclose(pino.forward(qp), original.fk(q), atol=TOL, rtol=0)
-    np.testing.assert_allclose([J[:, pino.v_index] for J in pino.jacobian(qp)], original.jacobian(q), atol=TOL,
-                               rtol=0)
+    np.testing.assert_allclose(pino.forward(qp), X @ original.fk(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose([J[:, pino.v_index] for J in pino.jacobian(qp)], R6 @ original.jacobian(q),
+                               atol=TOL, rtol=0)
     drake = Drake(copy)  # Drake's parser on the same text (the re-read arm's model text)
-    np.testing.assert_allclose(drake.forward(q), original.fk(q), atol=TOL, rtol=0)
-    np.testing.assert_allclose(drake.jacobian(q), original.jacobian(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose(drake.forward(q), X @ original.fk(q), atol=TOL, rtol=0)
+    np.testing.assert_allclose(drake.jacobian(q), R6 @ original.jacobian(q), atol=TOL, rtol=0)
     if original.has_dynamics:
-        tau = original.inverse_dynamics(q, qd, qdd, gravity="-z")
+        tau = original.inverse_dynamics(q, qd, qdd)  # the original's own gravity (rr's −y), the file's −z
         tau_pin = [t[pino.v_index] for t in pino.rnea(qp, pino.velocities(qd), pino.velocities(qdd))]
         np.testing.assert_allclose(tau_pin, tau, atol=TOL, rtol=TOL)
         np.testing.assert_allclose(drake.inverse_dynamics(q, qd, qdd), tau, atol=TOL, rtol=TOL)
@@ -226,3 +244,37 @@ def test_every_export_loads_in_mujoco_or_says_in_one_line_why_not(name, tmp_path
         assert len(err.splitlines()) == 1 and "MuJoCo will not load" in err, err
         assert "without mass" in err if kinematic else ("point masses" in err) == ("mjMINVAL" in reason)
     assert loads == (name != "ur5")  # ur10 loads now: its corrected inertia keeps a margin
+
+
+# issue 36, item 3: names are escaped in the URDF's attributes, kept out of its comments, and read back
+@pytest.mark.parametrize("name, joint", [
+    ("a--b", "j&1"),
+    ('x--><!DOCTYPE robot [<!ENTITY e SYSTEM "file:///etc/hostname">]><!--', "j'\"<>1"),
+    ("tab\tand\nline", "j\r2"),
+])
+def test_names_leave_as_they_are(tmp_path, name, joint):
+    rr = armlab.load("rr")
+    arm = replace(rr, name=name, table=replace(rr.table, rows=(replace(rr.table.rows[0], name=joint),
+                                                               *rr.table.rows[1:])))
+    (path,) = armlab.export(arm, urdf=tmp_path / "out.urdf")
+    assert parse_xml(path.read_text(), "out.urdf").get("name") == name  # exact: text; no DOCTYPE (refused)
+    copy = armlab.load(path)
+    assert copy.name == name and copy.joint_names == [joint, *rr.joint_names[1:]]
+
+
+def test_a_name_xml_cannot_hold_is_refused_before_writing(tmp_path):
+    arm = replace(armlab.load("rr"), name="a\x01b")
+    result = armlab_main("export", "rr", "--urdf", str(tmp_path / "ok.urdf"))
+    assert result.returncode == 0 and result.stdout.startswith("wrote ")
+    with pytest.raises(ValueError, match=r"out\.urdf: a name of the arm 'a\\x01b' or of its joints cannot be "
+                                         "written as XML"):
+        armlab.export(arm, urdf=tmp_path / "out.urdf")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ok.urdf"]
+
+
+def test_rr_leaves_with_its_gravity(tmp_path):
+    """Issue 36, item 10: rr's gravity is −y in its base; its URDF turns the base so that the readers' −z is it."""
+    (path,) = armlab.export(armlab.load("rr"), urdf=tmp_path / "rr.urdf")
+    copy = armlab.load(path)
+    np.testing.assert_allclose(copy.inverse_dynamics([0.3, 0.4], [0, 0], [0, 0]), [6.1486, 0.9004], atol=5e-5,
+                               rtol=0)

@@ -7,6 +7,9 @@ tool frame where the arm's forward kinematics does (two ways). Bad files get the
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from helpers import DATA, armlab_main
@@ -86,7 +89,7 @@ def _model(name: str = "m", extra: str = "") -> str:
      "joint of body 'a' is a free joint (a floating base"),
     ("ball.xml", '<mujoco model="m"><worldbody><body name="a"><joint name="b" type="ball"/><inertial pos="0 0 0" '
                  'mass="1" diaginertia="1 1 1"/></body></worldbody></mujoco>', "joint 'b' is a ball_rpy joint"),
-    ("roots.sdf", _sdf(_model(extra=_LINK.format("c"))), "a serial arm has one root body, found 'a', 'c'"),
+    ("roots.sdf", _sdf(_model(extra=_LINK.format("c"))), "a serial arm has one root body, found 2: 'a', 'c'"),
     ("branch.sdf", _sdf(_model(extra=_LINK.format("c") + _REVOLUTE.format("k", "a", "c"))),
      "body 'a' branches into 2 moving chains"),
     ("outside.sdf", _sdf(_model(extra='<link name="v"><visual name="v"><geometry><mesh><uri>../x.obj</uri></mesh>'
@@ -94,6 +97,11 @@ def _model(name: str = "m", extra: str = "") -> str:
     ("mesh.xml", '<mujoco model="m"><asset><mesh file="/etc/hostname"/></asset><worldbody/></mujoco>',
      "'/etc/hostname' is an absolute path"),
     ("doctype.sdf", '<?xml version="1.0"?><!DOCTYPE sdf [<!ENTITY x "y">]>' + _sdf(_model()), "entity definitions"),
+    # issue 36, item 2: a processing instruction holding "<!--" does not hide a DOCTYPE
+    ("pi.sdf", '<?xml version="1.0"?><?note <!-- ?><!DOCTYPE sdf [<!ENTITY x "y">]><!-- -->' + _sdf(_model())[21:],
+     "entity definitions"),
+    ("pi.xml", '<?note <!-- ?><!DOCTYPE mujoco [<!ENTITY x "y">]><!-- --><mujoco model="&x;"><worldbody/></mujoco>',
+     "entity definitions"),
     ("wrong.sdf", '<robot name="x"/>', "the root element is <robot>, an SDFormat file (.sdf) needs <sdf>"),
     ("inf.sdf", _sdf(_model().replace("<ixx>1</ixx>", "<ixx>inf</ixx>")), "not a finite number"),
 ])
@@ -105,3 +113,46 @@ def test_bad_files_get_one_line_refusals(tmp_path, name, text, message):
     result = armlab_main("show", str(path))
     assert result.returncode == 2
     assert result.stderr.count("\n") == 1 and message in result.stderr, result.stderr
+
+
+def test_drake_log_lines_only_after_success_each_once(tmp_path):
+    """Issue 36, item 26: Drake's warnings (attributes its MJCF parser ignores, on two joints, each said twice by
+    Drake) are dropped after an error, whose line stays the only one, and shown once each after a success."""
+    text = FILES[1].read_text().replace('type="hinge"', 'type="hinge" frictionloss="0.1"').replace(
+        "<worldbody>", '<option integrator="RK4"/><worldbody>')
+    path = _write(tmp_path, "attr.xml", text)
+    run = [sys.executable, "-m", "armlab"]
+    failed = subprocess.run([*run, "simulate", str(path), "--out", str(tmp_path / "run")], capture_output=True,
+                            text=True, timeout=300)
+    assert failed.returncode == 2 and failed.stderr.count("\n") == 1, failed.stderr
+    assert failed.stderr.startswith("armlab: error: two_link has no paper motion"), failed.stderr
+    shown = subprocess.run([*run, "show", str(path)], capture_output=True, text=True, timeout=300)
+    assert shown.returncode == 0, shown.stderr
+    lines = shown.stderr.splitlines()
+    assert len(lines) == len(set(lines)) == 3, lines  # integrator; frictionloss on lines 7 and 10
+    assert all("is currently unsupported and will be ignored" in line for line in lines)
+
+
+def test_collision_shapes_of_the_file_are_checked(tmp_path):
+    """Issue 36, "also": an SDFormat file's <collision> elements and an MJCF file's geoms are the arm's collision
+    geometry for ``armlab check`` (they were ignored: "no collision geometry")."""
+    sdf = FILES[0].read_text().replace(
+        '<link name="upper">', '<link name="upper"><collision name="c"><pose>0.25 0 0 0 1.5707963267948966 0</pose>'
+        "<geometry><capsule><radius>0.03</radius><length>0.4</length></capsule></geometry></collision>").replace(
+        '<link name="fore"><pose>0.5 0 0 0 0 0</pose>', '<link name="fore"><pose>0.5 0 0 0 0 0</pose><collision '
+        'name="c"><pose>0.2 0 0 0 0 0</pose><geometry><box><size>0.4 0.05 0.05</size></box></geometry></collision>')
+    mjcf = FILES[1].read_text().replace(
+        '<inertial pos="0.25 0 0"', '<geom type="capsule" fromto="0.05 0 0 0.45 0 0" size="0.03"/><inertial '
+        'pos="0.25 0 0"').replace('<inertial pos="0.2 0 0"', '<geom type="box" pos="0.2 0 0" size="0.2 0.025 0.025"/>'
+                                                             '<inertial pos="0.2 0 0"')
+    scene = _write(tmp_path, "scene.json", '{"obstacles": [{"name": "ball", "shape": "sphere", "radius": 0.05, '
+                                           '"xyz": [0.7, 0, 0.1]}]}')
+    for name, text in (("c.sdf", sdf), ("c.xml", mjcf)):
+        result = armlab_main("check", str(_write(tmp_path, name, text)), "--q", "0,0", "--scene", str(scene))
+        assert result.returncode == 0, result.stderr
+        lines = result.stdout.splitlines()
+        assert lines[0] == "two_link: 2 pair(s) checked; none in contact; the 2 smallest clearances:"
+        # the box's top at z = 0.025 m, the ball's bottom at 0.05 m; the capsule's end (0.45, 0, 0) to the ball's
+        # centre √(0.25² + 0.1²) m, less both radii
+        assert lines[1].split()[:2] == ["link2–ball", "+25.0000"]
+        assert lines[2].split()[:2] == ["link1–ball", f"{(np.hypot(0.25, 0.1) - 0.08) * 1000:+.4f}"]

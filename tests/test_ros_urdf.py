@@ -92,8 +92,9 @@ def test_tool_frame_is_the_users_choice():
         _ur(tool="forearm_link")
     with pytest.raises(ValueError, match="tool link 'nope' is not a link of the URDF"):
         armlab.load(UR, tool="nope")  # before the meshes are looked at
-    with pytest.raises(ValueError, match="tool and package_paths apply to a URDF, SDFormat or MJCF file's arm, "
-                                         "not to 'rr'"):
+    with pytest.raises(ValueError, match=r"^--tool \(tool=\) = 'x' and --package-path \(package_paths=\) = \['\.'\]: "
+                                         "these options are for an arm from a URDF, SDFormat or MJCF file, and 'rr' "
+                                         "is not one"):
         armlab.load("rr", tool="x", package_paths=["."])
 
 
@@ -131,6 +132,11 @@ def test_doctype_in_a_comment_is_only_a_comment(tmp_path):
     real = '<?xml version="1.0"?>\n<!DOCTYPE robot [<!ENTITY a "b">]>\n' + two_link_urdf()
     with pytest.raises(ValueError, match="document-type or entity definitions"):
         armlab.load(_write(tmp_path, real))
+    # issue 36, item 2: a processing instruction holding "<!--" before the DOCTYPE, a comment after it
+    hidden = two_link_urdf().replace("<robot", '<?note <!-- ?><!DOCTYPE robot [<!ENTITY inj "Injected">]><!-- -->'
+                                     "\n<robot").replace('"upper"', '"l&inj;"')
+    with pytest.raises(ValueError, match="document-type or entity definitions"):
+        armlab.load(_write(tmp_path, hidden))
 
 
 @pytest.mark.parametrize("text, message", [

@@ -237,3 +237,67 @@ def test_a_package_path_cannot_climb_out_of_its_package(tmp_path):
     (package / "urdf" / "two.urdf").write_text(two_link_urdf(mesh="../../outside.obj"))
     with pytest.raises(ValueError, match=r"outside\.obj lies outside"):
         get_arm(str(package / "urdf" / "two.urdf"))
+
+
+# ---- issue 36, items 1, 4 and 5: the files an <include>d file names are confined; an include cycle is refused
+_MJCF = (DATA_FORMATS := Path(__file__).parent / "data" / "formats") / "two_link.xml"
+_SDF = DATA_FORMATS / "two_link.sdf"
+_OBJ = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n"
+
+
+def _run_limited(args: list[str], cwd: Path) -> subprocess.CompletedProcess:
+    """``armlab ARGS`` as a process in ``cwd`` with 3 GB of address space (an include without end fails fast)."""
+    code = ("import resource, sys; resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30)); "
+            "from armlab.cli import main; sys.exit(main(sys.argv[1:]))")
+    return subprocess.run([sys.executable, "-c", code, *args], cwd=cwd, capture_output=True, text=True, timeout=120)
+
+
+@pytest.mark.parametrize(("main_file", "files", "refused"), [
+    ("a.xml", {"inc.xml": '<mujoco><asset><mesh name="o" file="../outside.obj"/></asset></mujoco>'},
+     "outside.obj lies outside"),
+    ("a.xml", {"inc.xml": '<mujoco><include file="inc2.xml"/></mujoco>',
+               "inc2.xml": '<mujoco><asset><mesh name="o" file="{outside}"/></asset></mujoco>'},
+     "is an absolute path"),
+    ("a.xml", {"inc.xml": '<mujoco><compiler meshdir=".."/><asset><mesh name="o" file="outside.obj"/></asset>'
+                          "</mujoco>"}, "outside.obj lies outside"),
+    ("a.sdf", {"sub/inc.sdf": '<sdf version="1.9"><model name="v"><link name="v"><visual name="v"><geometry><mesh>'
+                              "<uri>../../outside.obj</uri></mesh></geometry></visual></link></model></sdf>"},
+     "outside.obj lies outside"),
+    ("a.xml", {"inc.xml": '<mujoco><include file="a.xml"/></mujoco>'},
+     "<include> 'a.xml' includes a.xml, which includes it: recursive includes are not allowed"),
+])
+def test_an_included_file_names_no_file_from_elsewhere(tmp_path, main_file, files, refused):
+    """The outside mesh is a FIFO: a process that opened it would wait for a writer (the timeout); the refusal
+    comes before any parse, naming the file."""
+    os.mkfifo(tmp_path / "outside.obj")
+    folder = tmp_path / "m"
+    (folder / "sub").mkdir(parents=True)
+    (folder / "in.obj").write_text(_OBJ)
+    include = "inc.xml" if main_file.endswith(".xml") else "sub/inc.sdf"
+    text = (_MJCF.read_text().replace("<worldbody>", f'<include file="{include}"/><worldbody>') if main_file.endswith(
+        ".xml") else _SDF.read_text().replace("</model>", f"</model><include><uri>{include}</uri></include>", 1))
+    (folder / main_file).write_text(text)
+    for name, content in files.items():
+        (folder / name).write_text(content.replace("{outside}", str(tmp_path / "outside.obj")))
+    result = _run_limited(["show", f"m/{main_file}"], tmp_path)
+    assert result.returncode == 2 and result.stderr.count("\n") == 1, result.stderr
+    assert result.stderr.startswith("armlab: error: m/") and refused in result.stderr, result.stderr
+    if main_file.endswith(".xml") and "../outside.obj" in files[include]:  # the control: a mesh inside is read
+        (folder / include).write_text(files[include].replace("../outside.obj", "in.obj"))
+        assert _run_limited(["show", f"m/{main_file}"], tmp_path).returncode == 0
+
+
+@pytest.mark.parametrize("main_file", ["self.sdf", "self.xml"])
+def test_a_file_that_includes_itself_is_refused_before_drake_parses_it(tmp_path, main_file):
+    """Item 4: Drake's SDFormat parser crashed (SIGSEGV) on a file including itself through its ROS package; item 5:
+    Drake's MJCF parser grew without end."""
+    (tmp_path / "package.xml").write_text("<package><name>pk</name></package>")
+    name = main_file if main_file.endswith(".xml") else f"package://pk/{main_file}"
+    text = (_MJCF.read_text().replace("<worldbody>", f'<include file="{name}"/><worldbody>')
+            if main_file.endswith(".xml") else
+            _SDF.read_text().replace("</model>", f"</model><include><uri>{name}</uri></include>", 1))
+    (tmp_path / main_file).write_text(text)
+    result = _run_limited(["show", main_file], tmp_path)
+    assert result.returncode == 2, result.stderr[-300:]
+    assert result.stderr == (f"armlab: error: {main_file}: <include> {name!r} includes itself: recursive "
+                             "includes are not allowed\n")

@@ -304,3 +304,37 @@ def test_a_stop_signal_inside_a_weakref_callback_still_stops():
     finally:
         sys.unraisablehook = hook
     assert state.received == signal.SIGINT and printed == []
+
+
+_NATIVE = """
+import resource, sys
+resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))  # the parse grows without end: a bound for the test
+from pathlib import Path
+from armlab.files import stop_on_signals
+from armlab.models.plant import parse_model_file
+with stop_on_signals():
+    print("parsing", flush=True)
+    parse_model_file(Path(sys.argv[1]), {})  # Drake's own parser, past armlab's refusal of the include
+print("returned", flush=True)
+"""
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_a_stop_signal_ends_a_process_stuck_in_a_native_parse(box, signum):
+    """Issue 36, item 5: an MJCF file that includes itself keeps Drake's parser (native code, where Python's handler
+    cannot run) growing; a stop signal still ends the process at once (its default action)."""
+    model = Path(__file__).parent / "data" / "formats" / "two_link.xml"
+    (box.cwd / "self.xml").write_text(model.read_text().replace("<worldbody>",
+                                                                '<include file="self.xml"/><worldbody>'))
+    process = subprocess.Popen([os.sys.executable, "-c", _NATIVE, "self.xml"], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True, cwd=box.cwd, env=box.env(), start_new_session=True)
+    assert process.stdout.readline() == "parsing\n"
+    time.sleep(1.0)
+    start = time.monotonic()
+    process.send_signal(signum)
+    try:
+        process.wait(PROMPT)
+    finally:
+        process.kill()
+    assert process.returncode == -signum, process.stderr.read()[-300:]
+    assert time.monotonic() - start < PROMPT

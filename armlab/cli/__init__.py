@@ -16,10 +16,12 @@ each; `armlab COMMAND` imports only its module): :mod:`~armlab.cli.kinematics` (
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import sys
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from importlib import import_module
 from typing import Any
 
@@ -124,20 +126,46 @@ def _closed_stderr_to_devnull() -> None:
         sys.stderr = open(os.devnull, "w")  # open until the process ends
 
 
+class _HeldLog(logging.Handler):
+    """Drake's log lines (its ``drake`` logger: a file's unknown transmission joint, an MJCF attribute Drake ignores,
+    Meshcat's "does not display HalfSpace geometry") held during a command, each distinct message once."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.records: dict[str, logging.LogRecord] = {}
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.records.setdefault(record.getMessage(), record)
+
+
+@contextmanager
+def _drake_log_held() -> Iterator[_HeldLog]:
+    """Inside, Drake's log lines are held (:class:`_HeldLog`), not printed; its logger as it was on leaving."""
+    logger = logging.getLogger("drake")
+    handlers, propagate = logger.handlers[:], logger.propagate
+    held = _HeldLog()
+    logger.handlers, logger.propagate = [held], False
+    try:
+        yield held
+    finally:
+        logger.handlers, logger.propagate = handlers, propagate
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; returns the exit code.
 
     0: done; 2: bad input, told in one line ``armlab: error: …`` on stderr, and a closed standard output
     (``armlab list >&-``: nothing is run); 130 / 143: stopped by SIGINT / SIGTERM, every temporary removed
     (:func:`armlab.files.stop_on_signals`); 141: the reader of the output went away (``armlab … | head``),
-    quietly, as Unix tools do. A closed stderr changes no exit code. Warnings (numpy's overflow …) are shown
-    after a command that succeeded and dropped after an error, whose line stays the only one on stderr.
+    quietly, as Unix tools do. A closed stderr changes no exit code. Warnings (numpy's overflow …) and Drake's
+    log lines (each distinct one once) are shown after a command that succeeded and dropped after an error, whose
+    line stays the only one on stderr.
     """
     _closed_stderr_to_devnull()
     if sys.stdout is None:  # fd 1 closed when Python started
         write_error(STDOUT_CLOSED)
         return 2
-    with stop_on_signals() as signals, warnings.catch_warnings(record=True) as caught:
+    with stop_on_signals() as signals, warnings.catch_warnings(record=True) as caught, _drake_log_held() as log:
         try:
             try:
                 code = _run(sys.argv[1:] if argv is None else list(argv))
@@ -149,6 +177,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 141
         except (ValueError, OSError) as error:
             caught.clear()
+            log.records.clear()
             if not signals.received:
                 write_error(error_text(error))
             code = 2
@@ -160,6 +189,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             code = 130  # what the stop signal became on its way (e.g. an ImportError when it hit an import)
     if signals.received:
         return 128 + signals.received
+    for record in log.records.values():
+        logging.getLogger("drake").handle(record)
     for warning in caught:
         if type(warning.message).__module__.startswith("armlab."):  # armlab's own (graphviz's dot missing): one line
             write_warning(str(warning.message))
