@@ -42,10 +42,13 @@ This module imports nothing of armlab's (a base room, like :mod:`armlab.limits` 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["SLACK", "above", "allowance", "below", "clamp", "outside", "tolerated", "within"]
+__all__ = ["SLACK", "above", "above_value", "allowance", "below", "below_value", "clamp", "outside", "tolerated",
+           "within"]
 
 #: The one slack (dimensionless): a value within SLACK · max(1, |bound|) of a bound counts as on it.
 SLACK = 1e-9
@@ -71,6 +74,19 @@ def below(value: ArrayLike, bound: ArrayLike) -> NDArray[np.bool_]:
 def outside(value: ArrayLike, lower: ArrayLike, upper: ArrayLike) -> NDArray[np.bool_]:
     """``value`` is :func:`below` ``lower`` or :func:`above` ``upper`` (NaN: always), broadcast shape."""
     return np.logical_or(below(value, lower), above(value, upper))
+
+
+def above_value(value: float, bound: float) -> bool:
+    """:func:`above` of one Python float against one bound, without numpy's per-call cost (a closed form solving one
+    pose makes several such checks; each would cost more than its arithmetic): the same rule, a ``bool``."""
+    allowed = SLACK * max(1.0, abs(bound)) if math.isfinite(bound) else 0.0
+    return not value <= bound + allowed
+
+
+def below_value(value: float, bound: float) -> bool:
+    """:func:`below` of one Python float against one bound (as :func:`above_value`), a ``bool``."""
+    allowed = SLACK * max(1.0, abs(bound)) if math.isfinite(bound) else 0.0
+    return not value >= bound - allowed
 
 
 def within(value: ArrayLike, lower: ArrayLike, upper: ArrayLike) -> NDArray[np.bool_]:

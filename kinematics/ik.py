@@ -27,13 +27,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.bounds import tolerated
-from armlab.kinematics.ik_local import local_ik
+from armlab.kinematics.ik_local import chain_of, local_ik, tool_error
 from armlab.kinematics.ik_numeric import DISTINCT_TOL, SEEDS, numeric_ik
 from armlab.kinematics.ik_target import (
     ORIENTATION_TOL,
     POSITION_TOL,
     check_pose,
     fit_limits,
+    joint_constants,
     on_target,
     outside_limits_message,
     pose,
@@ -141,7 +142,8 @@ def solve_branch(arm: Arm, point: ArrayLike, branch: int) -> NDArray[np.float64]
 
 def _joint_difference(arm: Arm, q: NDArray, near: NDArray) -> NDArray[np.float64]:
     """``q − near``, for an unlimited revolute joint taken modulo 2π into [−π, π) (its angle is wrapped anyway)."""
-    unlimited = arm.revolute & np.isinf(arm.limit_arrays()[0])
+    joints = joint_constants(arm)
+    unlimited = joints.revolute & ~joints.limited
     d = q - near
     return np.where(unlimited, np.remainder(d + np.pi, 2 * np.pi) - np.pi, d)
 
@@ -219,6 +221,30 @@ def _numeric(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     return np.vstack([best[None, :], rest])
 
 
+def _checked_nearest(arm: Arm, candidates: NDArray, position: NDArray, rotation: NDArray | None,
+                     near: NDArray) -> NDArray[np.float64] | None:
+    """What :func:`solve` without ``all_solutions`` returns from ``candidates`` ``(k, n)``, checked only where it
+    decides: the candidate nearest ``near`` once fitted into the limits, if it is the only one that near (no tie
+    within :data:`ORDER_TOL`) and reaches the target by the arm's own FK; ``None`` otherwise (then :func:`solve`'s
+    whole path decides, and names what is wrong). The FK of a DH arm is its chain's (:func:`chain_of`: the same
+    frames as ``arm.forward``'s, multiplied out for one configuration, as :func:`local_ik` checks its own), of a paper
+    arm its own ``arm.forward``."""
+    fitted, violations = fit_limits(arm, candidates, near)
+    kept = fitted[[v is None for v in violations]]
+    if kept.shape[0] == 0:
+        return None
+    distance = np.linalg.norm(_joint_difference(arm, kept, near), axis=-1)
+    order = np.argsort(distance)
+    best = kept[order[0]]
+    if order.size > 1 and tolerated(distance[order[1]] - distance[order[0]], ORDER_TOL):
+        return None  # a tie: _ordered's rule breaks it
+    if arm.dh is not None or arm.forward_fn is None:  # a DH arm: its URDF frames' chain (tests/test_ik_local.py)
+        error = tool_error(position, rotation, chain_of(arm).pose(best))
+    else:
+        error = pose_error(arm, position, rotation, best)
+    return best if on_target(error) else None
+
+
 def solve(
     arm: Arm,
     target: ArrayLike,
@@ -272,7 +298,17 @@ def solve(
     if pitch is not None and np.isfinite(pitch):  # NaN/inf: the closed form names them as such
         check_range(pitch, "pitch", key="angle")
     form = arm.closed_form
-    if form is not None and (rotation is not None or not form.needs_pose):
+    closed = form is not None and (rotation is not None or not form.needs_pose)
+    if not all_solutions:  # one solution: only the nearest candidate is checked, if it decides alone
+        if form is not None and closed:
+            candidates = _closed_form(arm, form, position, rotation, options, near)
+        else:
+            local = local_ik(arm, position, rotation, near)
+            candidates = np.empty((0, arm.n)) if local is None else local[None, :]
+        best = _checked_nearest(arm, candidates, position, rotation, near) if candidates.shape[0] else None
+        if best is not None:
+            return [best]
+    if form is not None and closed:
         candidates, tol = _closed_form(arm, form, position, rotation, options, near), SAME_SOLUTION_TOL
     else:
         candidates, tol = _numeric(arm, position, rotation, near, all_solutions, seeds), DISTINCT_TOL

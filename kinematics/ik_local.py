@@ -21,6 +21,7 @@ from armlab.bounds import above, below
 from armlab.kinematics.ik_target import (
     fit_limits,
     on_target,
+    per_arm,
     project_into_limits,
     rotation_log,
 )
@@ -28,7 +29,7 @@ from armlab.kinematics.ik_target import (
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["LM_ITERATIONS", "NEWTON_STEPS", "ToolChain", "first_start", "local_ik"]
+__all__ = ["LM_ITERATIONS", "NEWTON_STEPS", "ToolChain", "chain_of", "first_start", "local_ik", "tool_error"]
 
 #: Levenberg–Marquardt iterations at most, then Newton polishing steps at most (here and in the batched search).
 LM_ITERATIONS, NEWTON_STEPS = 200, 8
@@ -68,6 +69,15 @@ class ToolChain:
         self._tool = arm.table.tool
         self._frames = np.empty((arm.n, 4, 4))
 
+    def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The tool pose ``(4, 4)`` at ``q`` ``(n,)`` (rad or m): :meth:`pose_jacobian`'s pose, without the Jacobian."""
+        weights = np.array([np.cos(q), np.sin(q), q, np.ones_like(q)])
+        links = np.einsum("kn,knij->nij", weights, self._K)
+        T = links[0]
+        for i in range(1, q.shape[0]):
+            T = T @ links[i]
+        return T @ self._tool
+
     def pose_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The tool pose ``(4, 4)`` and the geometric Jacobian ``(6, n)`` (rows [v; ω], world frame) at ``q`` ``(n,)``
         (rad or m): the values of ``arm.table``'s chain that :func:`armlab.kinematics.differential.jacobian` gives."""
@@ -87,7 +97,13 @@ class ToolChain:
         return tool, np.concatenate([np.where(turn, moment, z.T), np.where(turn, z.T, 0.0)])
 
 
-def _tool_error(position: NDArray, rotation: NDArray | None, tool: NDArray) -> NDArray[np.float64]:
+def chain_of(arm: Arm) -> ToolChain:
+    """``arm``'s :class:`ToolChain`, made once per arm (:func:`armlab.kinematics.ik_target.per_arm`: its constants
+    cost more than an iteration of the solver)."""
+    return per_arm(arm, "chain", ToolChain)
+
+
+def tool_error(position: NDArray, rotation: NDArray | None, tool: NDArray) -> NDArray[np.float64]:
     """[target − p; log(R* Rᵀ)] of one tool pose ``(4, 4)``: ``(3,)`` or ``(6,)`` (m, rad), as
     :func:`armlab.kinematics.ik_target.pose_error` has it."""
     error = position - tool[:3, 3]
@@ -114,13 +130,13 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     q ← q + J⁺e polish it.
     """
     lower, upper = arm.limit_arrays()
-    chain = ToolChain(arm)
+    chain = chain_of(arm)
     rows = 3 if rotation is None else 6
     identity = np.eye(rows if rows < arm.n else arm.n)
     q = first_start(arm, near)
     tool, J = chain.pose_jacobian(q)
     J = J[:rows]
-    error = _tool_error(position, rotation, tool)
+    error = tool_error(position, rotation, tool)
     cost = float(error @ error)
     damping = 1e-3
     for _ in range(LM_ITERATIONS):
@@ -137,7 +153,7 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
             step = np.linalg.solve(Jf.T @ Jf + damping * identity, gradient)
         trial = project_into_limits(arm, q + step, lower, upper)
         trial_tool, trial_J = chain.pose_jacobian(trial)
-        trial_error = _tool_error(position, rotation, trial_tool)
+        trial_error = tool_error(position, rotation, trial_tool)
         trial_cost = float(trial_error @ trial_error)
         if trial_cost < cost:
             q, J, error, cost, damping = trial, trial_J[:rows], trial_error, trial_cost, max(damping / 3, 1e-12)
@@ -152,7 +168,7 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
             break
         trial = project_into_limits(arm, q + np.linalg.pinv(J, rcond=1e-10) @ error, lower, upper)
         trial_tool, trial_J = chain.pose_jacobian(trial)
-        trial_error = _tool_error(position, rotation, trial_tool)
+        trial_error = tool_error(position, rotation, trial_tool)
         if trial_error @ trial_error >= error @ error:
             break
         q, J, error = trial, trial_J[:rows], trial_error

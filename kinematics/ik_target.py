@@ -14,7 +14,8 @@ Used by the closed forms (:mod:`armlab.kinematics.ik_closed_form`), the numerica
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -31,11 +32,14 @@ if TYPE_CHECKING:
 __all__ = [
     "ORIENTATION_TOL",
     "POSITION_TOL",
+    "JointConstants",
     "check_pose",
     "fit_limits",
     "fmt",
+    "joint_constants",
     "on_target",
     "outside_limits_message",
+    "per_arm",
     "pose",
     "pose_error",
     "project_into_limits",
@@ -50,6 +54,48 @@ POSITION_TOL = 1e-9
 ORIENTATION_TOL = 1e-9
 #: Indices of R's entries (2, 1), (0, 2), (1, 0) and their transposes: vee(R − Rᵀ) in two fancy-indexing reads.
 _LOWER, _UPPER = np.array([2, 0, 1]), np.array([1, 2, 0])
+
+
+#: What :func:`per_arm` made lately: (arm id, what) → (the arm itself, so that its id is not reused while kept; it).
+_MADE: dict[tuple[int, str], tuple[Arm, object]] = {}
+#: How many are kept.
+_MADE_KEPT = 32
+
+
+def per_arm[Made](arm: Arm, what: str, make: Callable[[Arm], Made]) -> Made:
+    """``make(arm)``, made once per arm and ``what`` and kept for the next calls (an arm is frozen): constants that
+    cost more to make than a one-configuration solve spends on its arithmetic."""
+    key = (id(arm), what)
+    entry = _MADE.get(key)
+    if entry is not None and entry[0] is arm:
+        return entry[1]  # type: ignore[return-value]
+    if len(_MADE) >= _MADE_KEPT:
+        _MADE.pop(next(iter(_MADE)))
+    made = make(arm)
+    _MADE[key] = (arm, made)
+    return made
+
+
+class JointConstants(NamedTuple):
+    """An arm's joint limits as :func:`fit_limits` uses them, each ``(n,)``."""
+
+    lower: NDArray[np.float64]  #: ``arm.limit_arrays()``'s (rad or m; −inf: unlimited)
+    upper: NDArray[np.float64]
+    revolute: NDArray[np.bool_]
+    limited: NDArray[np.bool_]  #: a URDF limits both ends or neither
+    lowest: NDArray[np.float64]  #: what counts as within the limits: each widened by :func:`armlab.bounds.allowance`
+    highest: NDArray[np.float64]
+
+
+def _joint_constants(arm: Arm) -> JointConstants:
+    lower, upper = arm.limit_arrays()
+    return JointConstants(lower, upper, arm.revolute, np.isfinite(lower) & np.isfinite(upper),
+                          lower - allowance(lower), upper + allowance(upper))
+
+
+def joint_constants(arm: Arm) -> JointConstants:
+    """``arm``'s :class:`JointConstants` (made once per arm, :func:`per_arm`)."""
+    return per_arm(arm, "joints", _joint_constants)
 
 
 def fmt(v: ArrayLike) -> str:
@@ -162,18 +208,19 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
     """
     q = np.array(q, dtype=float, ndmin=2)
     near = np.zeros(arm.n) if near is None else np.asarray(near, dtype=float)
-    lower, upper = arm.limit_arrays()
-    limited = np.isfinite(lower) & np.isfinite(upper)  # a URDF limits both or neither
+    lower, upper, revolute, limited, lo, hi = joint_constants(arm)
     two_pi = 2 * np.pi
-    wrapped = q - two_pi * np.ceil((q - np.pi) / two_pi)  # (−π, π] up to round-off:
-    wrapped = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi, wrapped))
-    lo, hi = lower - allowance(lower), upper + allowance(upper)  # what counts as within the limits
+    if limited.all():  # no joint wrapped instead
+        wrapped = q
+    else:
+        wrapped = q - two_pi * np.ceil((q - np.pi) / two_pi)  # (−π, π] up to round-off:
+        wrapped = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi, wrapped))
     m_lo, m_hi = np.ceil((lo - q) / two_pi), np.floor((hi - q) / two_pi)  # the 2π shifts that fit (±inf: unlimited)
     m = np.clip(np.round((near - q) / two_pi), m_lo, m_hi)
-    fits = np.where(arm.revolute, m_lo <= m_hi, ~outside(q, lower, upper)) | ~limited  # not a bound: shift counts
-    shifted = np.where(arm.revolute, q + two_pi * np.where(fits, m, 0.0), q)
+    fits = np.where(revolute, m_lo <= m_hi, ~outside(q, lower, upper)) | ~limited  # not a bound: shift counts
+    shifted = np.where(revolute, q + two_pi * np.where(fits, m, 0.0), q)
     inside = np.where(fits, np.clip(shifted, lower, upper), q)
-    fitted = np.where(limited, inside, np.where(arm.revolute, wrapped, q))
+    fitted = np.where(limited, inside, np.where(revolute, wrapped, q))
     first: list[tuple | None] = [None] * q.shape[0]
     bad = ~fits
     for k in np.flatnonzero(bad.any(axis=-1)):
