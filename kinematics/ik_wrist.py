@@ -51,12 +51,6 @@ def _offsets(table: DHTable) -> NDArray[np.float64]:
     return np.array([row.theta for row in table.rows])
 
 
-def _rows_or_raise(solutions: list[list[float]], table: DHTable, what: str) -> NDArray[np.float64]:
-    if not solutions:
-        raise ValueError(f"{what} is out of reach: no branch of the closed form reaches it")
-    return np.array(solutions) - _offsets(table)  # DH angles θ = q + offset
-
-
 #: Rz(θ) = cos θ·_COS + sin θ·_SIN + _ONE (4×4).
 _COS, _SIN, _ONE = np.diag([1.0, 1.0, 0.0, 0.0]), np.zeros((4, 4)), np.diag([0.0, 0.0, 1.0, 1.0])
 _SIN[0, 1], _SIN[1, 0] = -1.0, 1.0
@@ -225,15 +219,22 @@ _RIGHT_ANGLE = 1e-12
 
 def _spherical_layout(table: DHTable) -> str | None:
     """Why ``table`` is not of the spherical-wrist layout :func:`spherical_wrist_ik` solves, or ``None`` if it is:
-    six revolute joints; axes 2 and 3 parallel (α2 = 0); α1, α3, α4 right angles, α5 = −α4; a4 = a5 = a6 = d5 = 0."""
+    six joints in standard DH, all revolute but joint 3, which may slide (the Stanford arm's boom); α1 = ±90°;
+    joint 3 revolute with axes 2 and 3 parallel (α2 = 0), or prismatic with α2 = ±90° and d4 = 0; a spherical wrist:
+    α4 = ±90°, α5 = −α4, a4 = a5 = a6 = d5 = 0."""
     rows = table.rows
-    if len(rows) != 6 or any(row.kind != "R" for row in rows) or table.convention != "standard":
-        return "it takes six revolute joints in standard DH"
-    if abs(math.sin(rows[1].alpha)) > _RIGHT_ANGLE or math.cos(rows[1].alpha) < 0:  # not a bound: a layout
+    if (len(rows) != 6 or table.convention != "standard"
+            or any(row.kind != "R" for k, row in enumerate(rows) if k != 2)):
+        return "it takes six joints in standard DH, all revolute but joint 3"
+    right = [abs(abs(math.sin(row.alpha)) - 1.0) <= _RIGHT_ANGLE for row in rows]
+    if not (right[0] and right[3]):
+        return "α1 and α4 must be ±90°"
+    if rows[2].kind == "R" and (abs(math.sin(rows[1].alpha)) > _RIGHT_ANGLE
+                                or math.cos(rows[1].alpha) < 0):
         return "axes 2 and 3 must be parallel (α2 = 0)"
-    if any(abs(abs(math.sin(rows[i].alpha)) - 1.0) > _RIGHT_ANGLE for i in (0, 2, 3)):  # not a bound: a layout
-        return "α1, α3 and α4 must be ±90°"
-    if abs(math.sin(rows[4].alpha) + math.sin(rows[3].alpha)) > _RIGHT_ANGLE:  # not a bound: a layout
+    if rows[2].kind == "T" and not (right[1] and rows[3].d == 0.0):
+        return "a sliding joint 3 takes α2 = ±90° and d4 = 0"
+    if abs(math.sin(rows[4].alpha) + math.sin(rows[3].alpha)) > _RIGHT_ANGLE:
         return "α5 must be −α4"
     if any(value != 0.0 for value in (rows[3].a, rows[4].a, rows[5].a, rows[4].d)):
         return "a spherical wrist has a4 = a5 = a6 = d5 = 0"
@@ -241,51 +242,74 @@ def _spherical_layout(table: DHTable) -> str | None:
 
 
 def spherical_wrist_ik(table: DHTable, position: NDArray, rotation: NDArray, near: NDArray) -> NDArray[np.float64]:
-    """Every branch (k ≤ 8, 6) of a spherical-wrist arm (:func:`_spherical_layout`: Puma 560, IRB 140, KR 5) reaching
-    the tool pose (``position`` m, ``rotation`` (3, 3)), the tool being DH frame 6; joint values q (rad) = DH angle −
-    offset, in the order shoulder × elbow × wrist flip. In scalars (one pose: numpy's per-call cost would exceed the
-    arithmetic).
+    """Every branch (k ≤ 8, 6) of a spherical-wrist arm (:func:`_spherical_layout`: Puma 560, IRB 140, KR 5, the
+    Stanford arm) reaching the tool pose (``position`` m, ``rotation`` (3, 3)), the tool being DH frame 6; joint
+    values q = DH angle − offset (rad; a sliding joint 3: d − offset, m), in the order shoulder × elbow (or boom
+    sign) × wrist flip. In scalars (one pose: numpy's per-call cost would exceed the arithmetic).
 
-    The wrist centre c = p − d6·z5 (z5 = R·(0, sin α6, cos α6)) is frame 4's origin; in frame 1 its z coordinate is
-    the constant w = d2 + d3 + d4 cos α3, which gives θ1 (two roots), and its x, y are a planar two-link chain
-    a2, (a3, −d4 sin α3) turned by θ2, θ3 (two elbows). The wrist's M = R03ᵀ·R·Rx(−α6) = Rz(θ4)·Ry(σθ5)·Rz(θ6),
-    σ = −sin α4, is read as ZYZ angles (two flips); at a wrist singularity (sin θ5 = 0) θ4 is ``near``'s.
+    The wrist centre c = p − d6·z5 (z5 = R·(0, sin α6, cos α6)) is frame 4's origin; in frame 1 its z coordinate is a
+    constant w (d2 + d3 + d4 cos α3; with a sliding joint 3, d2 + a3 sin α2 sin θ3), which gives θ1 (two roots), and
+    its x, y are a planar chain turned by θ2: the links a2, (a3, −d4 sin α3) turned by θ3 (two elbows), or
+    (a2 + a3 cos θ3, −sin α2 (d3 + q3)) (two signs of the boom). The wrist's M = R03ᵀ·R·Rx(−α6) = Rz(θ4)·Ry(σθ5)·Rz(θ6),
+    σ = −sin α4, is read as ZYZ angles (two flips); at a wrist singularity (sin θ5 = 0) θ4 is ``near``'s. On the base
+    axis with w = 0, θ1 is ``near``'s.
     """
     rows = table.rows
     a1, d1, ca1, sa1 = rows[0].a, rows[0].d, math.cos(rows[0].alpha), math.sin(rows[0].alpha)
     a2, a3, d4 = rows[1].a, rows[2].a, rows[3].d
+    ca2, sa2 = math.cos(rows[1].alpha), math.sin(rows[1].alpha)
     ca3, sa3 = math.cos(rows[2].alpha), math.sin(rows[2].alpha)
     ca6, sa6, d6 = math.cos(rows[5].alpha), math.sin(rows[5].alpha), rows[5].d
     sigma = -math.sin(rows[3].alpha)
-    b = -d4 * sa3
-    rho, beta = math.hypot(a3, b), math.atan2(b, a3)
-    w = rows[1].d + rows[2].d + d4 * ca3
+    sliding = rows[2].kind == "T"
+    if sliding:  # θ3 fixed at its offset; the boom's length d3 + q3 the unknown
+        boom = a2 + a3 * math.cos(rows[2].theta)
+        w = rows[1].d + a3 * sa2 * math.sin(rows[2].theta)
+    else:
+        b = -d4 * sa3
+        rho, beta = math.hypot(a3, b), math.atan2(b, a3)
+        w = rows[1].d + rows[2].d + d4 * ca3
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = rotation.tolist()
     px, py, pz = position.tolist()
     g0 = (r00, r10, r20)  # R·Rx(−α6): its first column, and its third (z5)
     g2 = (sa6 * r01 + ca6 * r02, sa6 * r11 + ca6 * r12, sa6 * r21 + ca6 * r22)
     cx, cy, cz = px - d6 * g2[0], py - d6 * g2[1], pz - d6 * g2[2]
     r = math.hypot(cx, cy)
-    if r == 0.0 or below_value(r, abs(w)):
+    if below_value(r, abs(w)):
         _shoulder(np.array([cx, cy]), w, target_text(position, rotation))  # its own message
-    phi, k = math.atan2(cy, cx), math.asin(min(1.0, max(-1.0, -w * sa1 / r)))
+    if r == 0.0:  # on the base axis, w = 0: θ1 is free
+        phi, k = float(near[0]) + rows[0].theta, 0.0
+    else:
+        phi, k = math.atan2(cy, cx), math.asin(min(1.0, max(-1.0, -w * sa1 / r)))
     near4 = float(near[3]) + rows[3].theta
     solutions: list[list[float]] = []
     for t1 in (phi - k, phi + math.pi + k):
         s1, c1 = math.sin(t1), math.cos(t1)
         u, v = c1 * cx + s1 * cy - a1, ca1 * (c1 * cy - s1 * cx) + sa1 * (cz - d1)  # the wrist centre in frame 1
-        elbow = _acos((u * u + v * v - a2 * a2 - rho * rho) / (2 * a2 * rho))
-        if elbow is None:
-            continue
-        for t3 in (-beta + elbow, -beta - elbow):
-            s3, c3 = math.sin(t3), math.cos(t3)
-            t2 = math.atan2(v, u) - math.atan2(a3 * s3 + b * c3, a2 + a3 * c3 - b * s3)
-            s23, c23 = math.sin(t2 + t3), math.cos(t2 + t3)
+        chains: list[tuple[float, float, float]] = []  # (θ2, θ3, joint 3's value)
+        if sliding:
+            if below_value(math.hypot(u, v), abs(boom)):
+                continue
+            length = math.sqrt(max(u * u + v * v - boom * boom, 0.0))
+            chains = [(math.atan2(v, u) - math.atan2(-sa2 * reach, boom), rows[2].theta, reach - rows[2].d)
+                      for reach in (length, -length)]
+        else:
+            elbow = _acos((u * u + v * v - a2 * a2 - rho * rho) / (2 * a2 * rho))
+            if elbow is None:
+                continue
+            for t3 in (-beta + elbow, -beta - elbow):
+                s3, c3 = math.sin(t3), math.cos(t3)
+                chains.append((math.atan2(v, u) - math.atan2(a3 * s3 + b * c3, a2 + a3 * c3 - b * s3), t3,
+                               t3 - rows[2].theta))
+        for t2, t3, joint3 in chains:
+            s2, c2, s3, c3 = math.sin(t2), math.cos(t2), math.sin(t3), math.cos(t3)
             m = []
-            for gx, gy, gz in (g0, g2):  # M's columns 0 and 2: Rx(−α3)·Rz(−θ23)·Rx(−α1)·Rz(−θ1) of G's
+            for gx, gy, gz in (g0, g2):  # M's columns 0 and 2: Rx(−α3)·Rz(−θ3)·Rx(−α2)·Rz(−θ2)·Rx(−α1)·Rz(−θ1) of G's
                 x, y = c1 * gx + s1 * gy, c1 * gy - s1 * gx
                 y, z = ca1 * y + sa1 * gz, ca1 * gz - sa1 * y
-                x, y = c23 * x + s23 * y, c23 * y - s23 * x
+                x, y = c2 * x + s2 * y, c2 * y - s2 * x
+                y, z = ca2 * y + sa2 * z, ca2 * z - sa2 * y
+                x, y = c3 * x + s3 * y, c3 * y - s3 * x
                 m.append((x, ca3 * y + sa3 * z, ca3 * z - sa3 * y))
             (m00, m10, m20), (m02, m12, m22) = m
             bend = math.atan2(math.hypot(m02, m12), m22)
@@ -294,8 +318,11 @@ def spherical_wrist_ik(table: DHTable, position: NDArray, rotation: NDArray, nea
                 t4 = near4 if abs(sb) < SINGULAR_SIN else math.atan2(m12 / sb, m02 / sb)  # not a bound: as ur_ik
                 s4, c4 = math.sin(t4), math.cos(t4)
                 t6 = math.atan2(c4 * m10 - s4 * m00, cb * (c4 * m00 + s4 * m10) - sb * m20)  # Ry(−b)·Rz(−θ4)·M
-                solutions.append([t1, t2, t3, t4, sigma * bs, t6])
-    return _rows_or_raise(solutions, table, target_text(position, rotation) if not solutions else "")
+                solutions.append([t1 - rows[0].theta, t2 - rows[1].theta, joint3, t4 - rows[3].theta,
+                                  sigma * bs - rows[4].theta, t6 - rows[5].theta])
+    if not solutions:
+        raise ValueError(f"{target_text(position, rotation)} is out of reach: no branch of the closed form reaches it")
+    return np.array(solutions)
 
 
 _BRANCHES = tuple(f"shoulder {s}, wrist {w}, elbow {e}" for s in ("right", "left") for w in ("+", "−")
@@ -317,7 +344,8 @@ def spherical_wrist_closed_form(table: DHTable) -> ClosedForm:
         raise ValueError(f"no spherical-wrist closed form for this DH table: {why}")
     def solve(position: NDArray, rotation: NDArray | None, near: NDArray) -> NDArray[np.float64]:
         return spherical_wrist_ik(table, position, _pose_only(rotation), near)
-    return ClosedForm(solve, tuple(f"shoulder {s}, elbow {e}, wrist {w}" for s in ("right", "left")
+    elbow = "boom" if table.rows[2].kind == "T" else "elbow"
+    return ClosedForm(solve, tuple(f"shoulder {s}, {elbow} {e}, wrist {w}" for s in ("right", "left")
                                    for e in ("+", "−") for w in ("+", "−")), needs_pose=True)
 
 
