@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.bounds import above, below
 from armlab.kinematics.ik_target import (
     fit_limits,
+    joint_constants,
     on_target,
     per_arm,
     project_into_limits,
@@ -114,7 +114,8 @@ def tool_error(position: NDArray, rotation: NDArray | None, tool: NDArray) -> ND
 
 def first_start(arm: Arm, q0: NDArray) -> NDArray[np.float64]:
     """The numerical solver's start from ``q0`` ``(n,)``: fitted into the joint limits by 2π shifts, else clipped."""
-    return project_into_limits(arm, fit_limits(arm, q0[None, :], q0)[0][0], *arm.limit_arrays())
+    joints = joint_constants(arm)
+    return project_into_limits(arm, fit_limits(arm, q0[None, :], q0)[0][0], joints.lower, joints.upper, joints.interval)
 
 
 def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArray) -> NDArray[np.float64] | None:
@@ -129,7 +130,8 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     λ = 1e10, after :data:`LM_ITERATIONS` at most. Within |e| < 1e-5, up to :data:`NEWTON_STEPS` steps
     q ← q + J⁺e polish it.
     """
-    lower, upper = arm.limit_arrays()
+    joints = joint_constants(arm)
+    lower, upper, limits = joints.lower, joints.upper, joints.interval
     chain = chain_of(arm)
     rows = 3 if rotation is None else 6
     identity = np.eye(rows if rows < arm.n else arm.n)
@@ -141,17 +143,17 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     damping = 1e-3
     for _ in range(LM_ITERATIONS):
         gradient = J.T @ error
-        held = (~above(q, lower) & (gradient < 0)) | (~below(q, upper) & (gradient > 0))  # by a limit
+        held = (~limits.above_lower(q) & (gradient < 0)) | (~limits.below_upper(q) & (gradient > 0))  # by a limit
         Jf = J
         if held.any():
             gradient[held] = 0.0
             Jf = np.where(held, 0.0, J)  # a joint held by its limit takes no part in the step
-        stationary = math.sqrt(gradient @ gradient) <= 1e-6 * math.sqrt(float(np.sum(J * J)) * cost)
+        stationary = math.sqrt(gradient @ gradient) <= 1e-6 * math.sqrt(float(np.vdot(J, J)) * cost)
         if rows < arm.n:
             step = Jf.T @ np.linalg.solve(Jf @ Jf.T + damping * identity, error)
         else:
             step = np.linalg.solve(Jf.T @ Jf + damping * identity, gradient)
-        trial = project_into_limits(arm, q + step, lower, upper)
+        trial = project_into_limits(arm, q + step, lower, upper, limits)
         trial_tool, trial_J = chain.pose_jacobian(trial)
         trial_error = tool_error(position, rotation, trial_tool)
         trial_cost = float(trial_error @ trial_error)
@@ -166,7 +168,7 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     for _ in range(NEWTON_STEPS):
         if np.abs(error).max() < 1e-15:
             break
-        trial = project_into_limits(arm, q + np.linalg.pinv(J, rcond=1e-10) @ error, lower, upper)
+        trial = project_into_limits(arm, q + np.linalg.pinv(J, rcond=1e-10) @ error, lower, upper, limits)
         trial_tool, trial_J = chain.pose_jacobian(trial)
         trial_error = tool_error(position, rotation, trial_tool)
         if trial_error @ trial_error >= error @ error:

@@ -14,13 +14,14 @@ Used by the closed forms (:mod:`armlab.kinematics.ik_closed_form`), the numerica
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.bounds import above, allowance, outside, tolerated
+from armlab.bounds import Interval, above, allowance, outside, tolerated
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.locating import homogeneous, orientation_angles
@@ -85,12 +86,13 @@ class JointConstants(NamedTuple):
     limited: NDArray[np.bool_]  #: a URDF limits both ends or neither
     lowest: NDArray[np.float64]  #: what counts as within the limits: each widened by :func:`armlab.bounds.allowance`
     highest: NDArray[np.float64]
+    interval: Interval  #: the limits, their allowances made once
 
 
 def _joint_constants(arm: Arm) -> JointConstants:
     lower, upper = arm.limit_arrays()
     return JointConstants(lower, upper, arm.revolute, np.isfinite(lower) & np.isfinite(upper),
-                          lower - allowance(lower), upper + allowance(upper))
+                          lower - allowance(lower), upper + allowance(upper), Interval(lower, upper))
 
 
 def joint_constants(arm: Arm) -> JointConstants:
@@ -133,6 +135,8 @@ def rotation_log(R: ArrayLike) -> NDArray[np.float64]:
     Accurate to round-off for every angle, including θ → 0 and θ → π.
     """
     R = np.asarray(R, dtype=float)
+    if R.shape == (3, 3):  # one rotation: the same formulas in scalars (numpy's per-call cost exceeds them)
+        return _rotation_log_one(R)
     v = 0.5 * (R[..., _LOWER, _UPPER] - R[..., _UPPER, _LOWER])  # (R21 − R12, R02 − R20, R10 − R01) / 2
     s = np.linalg.norm(v, axis=-1)
     c = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
@@ -147,6 +151,25 @@ def rotation_log(R: ArrayLike) -> NDArray[np.float64]:
     u = column / np.sqrt(np.take_along_axis(np.diagonal(M, axis1=-2, axis2=-1), k[..., None], axis=-1))
     u = np.where((np.sum(u * v, axis=-1) < 0)[..., None], -u, u)
     return np.where((c < 0)[..., None], theta[..., None] * u, regular)
+
+
+def _rotation_log_one(R: NDArray) -> NDArray[np.float64]:
+    """:func:`rotation_log` of one rotation ``(3, 3)``, in scalars: ``(3,)``."""
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
+    v = (0.5 * (r21 - r12), 0.5 * (r02 - r20), 0.5 * (r10 - r01))
+    s = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    c = min(1.0, max(-1.0, (r00 + r11 + r22 - 1.0) / 2.0))
+    theta = math.atan2(s, c)
+    if c >= 0:  # not beyond π/2: (θ / sin θ)·v, → v as θ → 0
+        scale = theta / s if s > 0 else 1.0
+        return np.array([scale * v[0], scale * v[1], scale * v[2]])
+    M = np.array(R)  # beyond π/2: u from R + Rᵀ = 2 cos θ·I + 2 (1 − cos θ) u uᵀ, its column of largest diagonal
+    M = (M + M.T - 2.0 * c * np.eye(3)) / (2.0 * (1.0 - c))
+    k = int(np.argmax(np.diagonal(M)))
+    u = M[:, k] / math.sqrt(M[k, k])
+    if u[0] * v[0] + u[1] * v[1] + u[2] * v[2] < 0:
+        u = -u
+    return theta * u
 
 
 def pose_error(arm: Arm, position: NDArray, rotation: NDArray | None, q: NDArray) -> NDArray[np.float64]:
@@ -166,12 +189,17 @@ def on_target(error: NDArray) -> NDArray[np.bool_]:
             & tolerated(np.linalg.norm(error[..., 3:], axis=-1), ORIENTATION_TOL))
 
 
-def project_into_limits(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray) -> NDArray[np.float64]:
-    """``q`` moved into the limits: a revolute angle by a 2π shift when one fits, else clipped onto the limit."""
+def project_into_limits(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray,
+                        interval: Interval | None = None) -> NDArray[np.float64]:
+    """``q`` moved into the limits: a revolute angle by a 2π shift when one fits, else clipped onto the limit.
+    ``interval``: ``lower`` and ``upper`` with their allowances made (:class:`armlab.bounds.Interval`), for a loop."""
     base = np.where(np.isfinite(lower), lower, 0.0)
     shifted = base + np.mod(q - base, 2 * np.pi)  # in [lower, lower + 2π)
-    shift = arm.revolute & outside(q, lower, upper) & ~above(shifted, upper)
-    return np.clip(np.where(shift, shifted, q), lower, upper)
+    if interval is None:
+        shift = arm.revolute & outside(q, lower, upper) & ~above(shifted, upper)
+    else:
+        shift = joint_constants(arm).revolute & interval.outside(q) & ~interval.above_upper(shifted)
+    return np.minimum(np.maximum(np.where(shift, shifted, q), lower), upper)
 
 
 def check_pose(T: NDArray) -> tuple[NDArray, NDArray]:
@@ -208,7 +236,7 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
     """
     q = np.array(q, dtype=float, ndmin=2)
     near = np.zeros(arm.n) if near is None else np.asarray(near, dtype=float)
-    lower, upper, revolute, limited, lo, hi = joint_constants(arm)
+    lower, upper, revolute, limited, lo, hi, _ = joint_constants(arm)
     two_pi = 2 * np.pi
     if limited.all():  # no joint wrapped instead
         wrapped = q
