@@ -76,8 +76,12 @@ def _target(arm: Arm, target: ArrayLike) -> tuple[NDArray, NDArray | None]:
     t = np.asarray(target, dtype=float)
     position, rotation = check_pose(t) if t.shape == (4, 4) else (t, None)
     position = single(_coordinates(arm, position), 3)
-    for axis, value in zip("xyz", position, strict=True):
-        check_range(value, f"target {axis}", key="coordinate")
+    try:
+        check_range(position, "target", key="coordinate")  # all three at once; the message names the axis:
+    except ValueError:
+        for axis, value in zip("xyz", position, strict=True):
+            check_range(value, f"target {axis}", key="coordinate")
+        raise
     return position, rotation
 
 
