@@ -269,7 +269,9 @@ def solve(
       simulation); r2t :func:`~armlab.kinematics.ik_closed_form.r2t_ik`, 2 branches. For a pose the
       branches are kept whose orientation matches (:func:`_closed_form`).
       A library arm with a closed form for a full pose (UR5, UR10: :func:`~armlab.kinematics.ik_wrist.ur_ik`;
-      Puma 560: :func:`~armlab.kinematics.ik_wrist.spherical_wrist_ik`) solves a pose by it, 8 branches.
+      Puma 560, IRB 140, KR5, Stanford: :func:`~armlab.kinematics.ik_wrist.spherical_wrist_ik`) solves a pose by it,
+      8 branches. Without ``all_solutions``, only the branch nearest ``near`` is checked by FK
+      (:func:`_checked_nearest`; the whole path below if it does not decide alone).
     * any other arm (urm6, rrrr, users' arms, Panda, …), and a position target of an arm whose closed form
       needs a pose: :func:`~armlab.kinematics.ik_numeric.numeric_ik`. Without ``all_solutions``, the
       solution reached from ``near`` alone (one start, :func:`~armlab.kinematics.ik_local.local_ik`: a few ms; the
@@ -278,7 +280,7 @@ def solve(
       solution and every distinct solution ``seeds`` starts find; a request with fewer constraints than
       joints has a continuum of solutions, so what is returned is the finite set at its parameter held at the
       local solution's (:func:`_numeric`): a **position** target of an arm of more than three joints, the
-      solutions with the tool orientation of the local solution (the 8 branches of a UR or Puma closed form);
+      solutions with the tool orientation of the local solution (the 8 branches of a UR or spherical-wrist closed form);
       a **pose** target of an arm of more than six joints (Panda), the solutions with joints 7 … n at the
       local solution's values.
 
