@@ -135,9 +135,8 @@ def test_library_arm_simulates_and_its_torques_are_the_inverse_dynamics(name: st
 
 
 # ------------------------------------------------------------------ closed forms and what ik returns
-@pytest.mark.parametrize("name", ["ur5", pytest.param("ur10", marks=pytest.mark.slow),
-                                  *(pytest.param(name, marks=pytest.mark.slow) for name in ("puma560", "irb140", "kr5", "stanford"))
-                                  ])  # multi-start IK: seconds
+@pytest.mark.parametrize("name", ["ur5", *(pytest.param(name, marks=pytest.mark.slow)  # multi-start IK: seconds
+                                           for name in ("ur10", "puma560", "irb140", "kr5", "stanford"))])
 def test_closed_form_branches_are_the_numerical_solvers(name: str, rng: np.random.Generator) -> None:
     """Without its closed form the arm is solved by the multi-start numerical solver: the same set of solutions
     (each numerical one within 1e-6 of a branch, every branch within the limits found), and 8 branches before the
