@@ -15,11 +15,12 @@ Then (``--closed-form-poses``, default 20000; 0 skips it) the UR closed form alo
 ≤ 50 µs; a batch of poses in one call, goal ≥ 1e5 poses/s), beside the arm's batched FK of as many configurations.
 
 Then (``--single-poses``, default 50; 0 skips it) the cost of **one** solution nearest ``near`` on the seven library
-arms (UR5, UR10, Puma 560 by closed forms; the others numerically, one start), issue 34's goal ≤ 0.5 × the Robotics
-Toolbox's ``ik_LM`` on every arm (issue 22's: ≤ 5 ms for a 6-DOF arm): for random
-in-limit q and near = q + 0.2 rad noise (a tracking step), ``solve(arm, FK(q), near=near)`` beside Drake's
-``InverseKinematics`` from the one start ``near``, and the Robotics Toolbox's ``ik_LM`` from ``near`` where it is
-installed; median times, their ratios, and how many calls each solved (armlab's to 1e-9 by its own FK).
+arms (UR5, UR10 by the UR closed form; Puma 560, IRB 140, KR5, Stanford by the spherical-wrist one; the Panda
+numerically, one start), issue 34's goal ≤ 0.5 × the Robotics Toolbox's ``ik_LM`` on every arm (issue 22's: ≤ 5 ms
+for a 6-DOF arm): for random in-limit q and near = q + 0.2 rad noise (a tracking step), ``solve(arm, FK(q),
+near=near)`` beside Drake's ``InverseKinematics`` from the one start ``near``, and the Robotics Toolbox's ``ik_LM``
+from ``near`` where it is installed; median wall times (armlab's and ik_LM's CPU times beside them), their ratios, and
+how many calls each solved (armlab's to 1e-9 by its own FK, checked outside the timing, as ik_LM's ``success``).
 """
 
 from __future__ import annotations
