@@ -238,17 +238,18 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
     near = np.zeros(arm.n) if near is None else np.asarray(near, dtype=float)
     lower, upper, revolute, limited, lo, hi, interval = joint_constants(arm)
     two_pi = 2 * np.pi
-    if limited.all():  # no joint wrapped instead
-        wrapped = q
+    m_lo, m_hi = np.ceil((lo - q) / two_pi), np.floor((hi - q) / two_pi)  # the 2π shifts that fit (±inf: unlimited)
+    m = np.minimum(np.maximum(np.round((near - q) / two_pi), m_lo), m_hi)  # np.clip's, without its wrapper
+    if interval.lower.size and limited.all() and revolute.all():  # every joint a limited revolute one (fewer calls)
+        fits = m_lo <= m_hi  # not a bound: shift counts
+        fitted = np.where(fits, np.minimum(np.maximum(q + two_pi * np.where(fits, m, 0.0), lower), upper), q)
     else:
         wrapped = q - two_pi * np.ceil((q - np.pi) / two_pi)  # (−π, π] up to round-off:
         wrapped = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi, wrapped))
-    m_lo, m_hi = np.ceil((lo - q) / two_pi), np.floor((hi - q) / two_pi)  # the 2π shifts that fit (±inf: unlimited)
-    m = np.minimum(np.maximum(np.round((near - q) / two_pi), m_lo), m_hi)  # np.clip's, without its wrapper
-    fits = np.where(revolute, m_lo <= m_hi, ~interval.outside(q)) | ~limited  # not a bound: shift counts
-    shifted = np.where(revolute, q + two_pi * np.where(fits, m, 0.0), q)
-    inside = np.where(fits, np.minimum(np.maximum(shifted, lower), upper), q)
-    fitted = np.where(limited, inside, np.where(revolute, wrapped, q))
+        fits = np.where(revolute, m_lo <= m_hi, ~interval.outside(q)) | ~limited  # not a bound: shift counts
+        shifted = np.where(revolute, q + two_pi * np.where(fits, m, 0.0), q)
+        inside = np.where(fits, np.minimum(np.maximum(shifted, lower), upper), q)
+        fitted = np.where(limited, inside, np.where(revolute, wrapped, q))
     first: list[tuple | None] = [None] * q.shape[0]
     bad = ~fits
     for k in np.flatnonzero(bad.any(axis=-1)):
