@@ -71,7 +71,7 @@ def per_arm[Made](arm: Arm, what: str, make: Callable[[Arm], Made]) -> Made:
     if entry is not None and entry[0] is arm:
         return entry[1]  # type: ignore[return-value]
     if len(_MADE) >= _MADE_KEPT:
-        _MADE.pop(next(iter(_MADE)))
+        _MADE.clear()  # start afresh (one call, safe under threads: no iteration over a dict another thread changes)
     made = make(arm)
     _MADE[key] = (arm, made)
     return made

@@ -147,7 +147,7 @@ def _ur_constants(table: DHTable) -> tuple[float, ...]:
     if entry is not None and entry[0] is table:
         return entry[1]
     if len(_UR_CONSTANTS) >= 16:
-        _UR_CONSTANTS.pop(next(iter(_UR_CONSTANTS)))
+        _UR_CONSTANTS.clear()  # start afresh (as ik_target.per_arm)
     rows = table.rows
     r5, r6, r1 = rows[4], rows[5], rows[0]
     c5, s5 = math.cos(r5.alpha), math.sin(r5.alpha)
