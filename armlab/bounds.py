@@ -42,10 +42,13 @@ This module imports nothing of armlab's (a base room, like :mod:`armlab.limits` 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["SLACK", "above", "allowance", "below", "clamp", "outside", "tolerated", "within"]
+__all__ = ["SLACK", "Interval", "above", "above_value", "allowance", "below", "below_value", "clamp", "outside",
+           "tolerated", "within"]
 
 #: The one slack (dimensionless): a value within SLACK · max(1, |bound|) of a bound counts as on it.
 SLACK = 1e-9
@@ -71,6 +74,52 @@ def below(value: ArrayLike, bound: ArrayLike) -> NDArray[np.bool_]:
 def outside(value: ArrayLike, lower: ArrayLike, upper: ArrayLike) -> NDArray[np.bool_]:
     """``value`` is :func:`below` ``lower`` or :func:`above` ``upper`` (NaN: always), broadcast shape."""
     return np.logical_or(below(value, lower), above(value, upper))
+
+
+def above_value(value: float, bound: float) -> bool:
+    """:func:`above` of one Python float against one bound, without numpy's per-call cost (a closed form solving one
+    pose makes several such checks; each would cost more than its arithmetic): the same rule, a ``bool``."""
+    allowed = SLACK * max(1.0, abs(bound)) if math.isfinite(bound) else 0.0
+    return not value <= bound + allowed
+
+
+def below_value(value: float, bound: float) -> bool:
+    """:func:`below` of one Python float against one bound (as :func:`above_value`), a ``bool``."""
+    allowed = SLACK * max(1.0, abs(bound)) if math.isfinite(bound) else 0.0
+    return not value >= bound - allowed
+
+
+class Interval:
+    """[``lower``, ``upper``] (numbers or arrays, e.g. per joint) with each end's allowance made once: its methods are
+    the functions of the same names against these bounds (the same rule and results), for code that compares many
+    values with the same bounds one at a time (a solver's iterations), where making the allowances would cost more
+    than the comparisons."""
+
+    __slots__ = ("_highest", "_lower_up", "_lowest", "_upper_down", "lower", "upper")
+
+    def __init__(self, lower: ArrayLike, upper: ArrayLike) -> None:
+        self.lower, self.upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+        self._lowest = np.subtract(self.lower, allowance(self.lower))  # below(·, lower): beyond this
+        self._highest = np.add(self.upper, allowance(self.upper))  # above(·, upper)
+        self._lower_up = np.add(self.lower, allowance(self.lower))  # above(·, lower)
+        self._upper_down = np.subtract(self.upper, allowance(self.upper))  # below(·, upper)
+
+    def outside(self, value: ArrayLike) -> NDArray[np.bool_]:
+        """:func:`outside` ``(value, lower, upper)``."""
+        return np.logical_or(np.logical_not(np.greater_equal(value, self._lowest)),
+                             np.logical_not(np.less_equal(value, self._highest)))
+
+    def above_upper(self, value: ArrayLike) -> NDArray[np.bool_]:
+        """:func:`above` ``(value, upper)``."""
+        return np.logical_not(np.less_equal(value, self._highest))
+
+    def above_lower(self, value: ArrayLike) -> NDArray[np.bool_]:
+        """:func:`above` ``(value, lower)``: off the lower bound, inwards (or NaN)."""
+        return np.logical_not(np.less_equal(value, self._lower_up))
+
+    def below_upper(self, value: ArrayLike) -> NDArray[np.bool_]:
+        """:func:`below` ``(value, upper)``: off the upper bound, inwards (or NaN)."""
+        return np.logical_not(np.greater_equal(value, self._upper_down))
 
 
 def within(value: ArrayLike, lower: ArrayLike, upper: ArrayLike) -> NDArray[np.bool_]:

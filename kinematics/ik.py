@@ -27,13 +27,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from armlab.bounds import tolerated
-from armlab.kinematics.ik_local import local_ik
+from armlab.kinematics.ik_local import chain_of, local_ik, tool_error
 from armlab.kinematics.ik_numeric import DISTINCT_TOL, SEEDS, numeric_ik
 from armlab.kinematics.ik_target import (
     ORIENTATION_TOL,
     POSITION_TOL,
     check_pose,
     fit_limits,
+    joint_constants,
     on_target,
     outside_limits_message,
     pose,
@@ -75,8 +76,12 @@ def _target(arm: Arm, target: ArrayLike) -> tuple[NDArray, NDArray | None]:
     t = np.asarray(target, dtype=float)
     position, rotation = check_pose(t) if t.shape == (4, 4) else (t, None)
     position = single(_coordinates(arm, position), 3)
-    for axis, value in zip("xyz", position, strict=True):
-        check_range(value, f"target {axis}", key="coordinate")
+    try:
+        check_range(position, "target", key="coordinate")  # all three at once; the message names the axis:
+    except ValueError:
+        for axis, value in zip("xyz", position, strict=True):
+            check_range(value, f"target {axis}", key="coordinate")
+        raise
     return position, rotation
 
 
@@ -141,7 +146,8 @@ def solve_branch(arm: Arm, point: ArrayLike, branch: int) -> NDArray[np.float64]
 
 def _joint_difference(arm: Arm, q: NDArray, near: NDArray) -> NDArray[np.float64]:
     """``q − near``, for an unlimited revolute joint taken modulo 2π into [−π, π) (its angle is wrapped anyway)."""
-    unlimited = arm.revolute & np.isinf(arm.limit_arrays()[0])
+    joints = joint_constants(arm)
+    unlimited = joints.revolute & ~joints.limited
     d = q - near
     return np.where(unlimited, np.remainder(d + np.pi, 2 * np.pi) - np.pi, d)
 
@@ -219,6 +225,30 @@ def _numeric(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     return np.vstack([best[None, :], rest])
 
 
+def _checked_nearest(arm: Arm, candidates: NDArray, position: NDArray, rotation: NDArray | None,
+                     near: NDArray) -> NDArray[np.float64] | None:
+    """What :func:`solve` without ``all_solutions`` returns from ``candidates`` ``(k, n)``, checked only where it
+    decides: the candidate nearest ``near`` once fitted into the limits, if it is the only one that near (no tie
+    within :data:`ORDER_TOL`) and reaches the target by the arm's own FK; ``None`` otherwise (then :func:`solve`'s
+    whole path decides, and names what is wrong). The FK of a DH arm is its chain's (:func:`chain_of`: the same
+    frames as ``arm.forward``'s, multiplied out for one configuration, as :func:`local_ik` checks its own), of a paper
+    arm its own ``arm.forward``."""
+    fitted, violations = fit_limits(arm, candidates, near)
+    kept = fitted[[v is None for v in violations]]
+    if kept.shape[0] == 0:
+        return None
+    distance = np.linalg.norm(_joint_difference(arm, kept, near), axis=-1)
+    order = np.argsort(distance)
+    best = kept[order[0]]
+    if order.size > 1 and tolerated(distance[order[1]] - distance[order[0]], ORDER_TOL):
+        return None  # a tie: _ordered's rule breaks it
+    if arm.dh is not None or arm.forward_fn is None:  # a DH arm: its URDF frames' chain (tests/test_ik_local.py)
+        error = tool_error(position, rotation, chain_of(arm).pose(best))
+    else:
+        error = pose_error(arm, position, rotation, best)
+    return best if on_target(error) else None
+
+
 def solve(
     arm: Arm,
     target: ArrayLike,
@@ -239,7 +269,9 @@ def solve(
       simulation); r2t :func:`~armlab.kinematics.ik_closed_form.r2t_ik`, 2 branches. For a pose the
       branches are kept whose orientation matches (:func:`_closed_form`).
       A library arm with a closed form for a full pose (UR5, UR10: :func:`~armlab.kinematics.ik_wrist.ur_ik`;
-      Puma 560: :func:`~armlab.kinematics.ik_wrist.spherical_wrist_ik`) solves a pose by it, 8 branches.
+      Puma 560, IRB 140, KR5, Stanford: :func:`~armlab.kinematics.ik_wrist.spherical_wrist_ik`) solves a pose by it,
+      8 branches. Without ``all_solutions``, only the branch nearest ``near`` is checked by FK
+      (:func:`_checked_nearest`; the whole path below if it does not decide alone).
     * any other arm (urm6, rrrr, users' arms, Panda, …), and a position target of an arm whose closed form
       needs a pose: :func:`~armlab.kinematics.ik_numeric.numeric_ik`. Without ``all_solutions``, the
       solution reached from ``near`` alone (one start, :func:`~armlab.kinematics.ik_local.local_ik`: a few ms; the
@@ -248,7 +280,7 @@ def solve(
       solution and every distinct solution ``seeds`` starts find; a request with fewer constraints than
       joints has a continuum of solutions, so what is returned is the finite set at its parameter held at the
       local solution's (:func:`_numeric`): a **position** target of an arm of more than three joints, the
-      solutions with the tool orientation of the local solution (the 8 branches of a UR or Puma closed form);
+      solutions with the tool orientation of the local solution (the 8 branches of a UR or spherical-wrist closed form);
       a **pose** target of an arm of more than six joints (Panda), the solutions with joints 7 … n at the
       local solution's values.
 
@@ -272,7 +304,17 @@ def solve(
     if pitch is not None and np.isfinite(pitch):  # NaN/inf: the closed form names them as such
         check_range(pitch, "pitch", key="angle")
     form = arm.closed_form
-    if form is not None and (rotation is not None or not form.needs_pose):
+    closed = form is not None and (rotation is not None or not form.needs_pose)
+    if not all_solutions:  # one solution: only the nearest candidate is checked, if it decides alone
+        if form is not None and closed:
+            candidates = _closed_form(arm, form, position, rotation, options, near)
+        else:
+            local = local_ik(arm, position, rotation, near)
+            candidates = np.empty((0, arm.n)) if local is None else local[None, :]
+        best = _checked_nearest(arm, candidates, position, rotation, near) if candidates.shape[0] else None
+        if best is not None:
+            return [best]
+    if form is not None and closed:
         candidates, tol = _closed_form(arm, form, position, rotation, options, near), SAME_SOLUTION_TOL
     else:
         candidates, tol = _numeric(arm, position, rotation, near, all_solutions, seeds), DISTINCT_TOL

@@ -17,10 +17,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.bounds import above, below
 from armlab.kinematics.ik_target import (
     fit_limits,
+    joint_constants,
     on_target,
+    per_arm,
     project_into_limits,
     rotation_log,
 )
@@ -28,7 +29,7 @@ from armlab.kinematics.ik_target import (
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
-__all__ = ["LM_ITERATIONS", "NEWTON_STEPS", "ToolChain", "first_start", "local_ik"]
+__all__ = ["LM_ITERATIONS", "NEWTON_STEPS", "ToolChain", "chain_of", "first_start", "local_ik", "tool_error"]
 
 #: Levenberg–Marquardt iterations at most, then Newton polishing steps at most (here and in the batched search).
 LM_ITERATIONS, NEWTON_STEPS = 200, 8
@@ -68,6 +69,15 @@ class ToolChain:
         self._tool = arm.table.tool
         self._frames = np.empty((arm.n, 4, 4))
 
+    def pose(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The tool pose ``(4, 4)`` at ``q`` ``(n,)`` (rad or m): :meth:`pose_jacobian`'s pose, without the Jacobian."""
+        weights = np.array([np.cos(q), np.sin(q), q, np.ones_like(q)])
+        links = np.einsum("kn,knij->nij", weights, self._K)
+        T = links[0]
+        for i in range(1, q.shape[0]):
+            T = T @ links[i]
+        return T @ self._tool
+
     def pose_jacobian(self, q: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The tool pose ``(4, 4)`` and the geometric Jacobian ``(6, n)`` (rows [v; ω], world frame) at ``q`` ``(n,)``
         (rad or m): the values of ``arm.table``'s chain that :func:`armlab.kinematics.differential.jacobian` gives."""
@@ -87,7 +97,13 @@ class ToolChain:
         return tool, np.concatenate([np.where(turn, moment, z.T), np.where(turn, z.T, 0.0)])
 
 
-def _tool_error(position: NDArray, rotation: NDArray | None, tool: NDArray) -> NDArray[np.float64]:
+def chain_of(arm: Arm) -> ToolChain:
+    """``arm``'s :class:`ToolChain`, made once per arm (:func:`armlab.kinematics.ik_target.per_arm`: its constants
+    cost more than an iteration of the solver)."""
+    return per_arm(arm, "chain", ToolChain)
+
+
+def tool_error(position: NDArray, rotation: NDArray | None, tool: NDArray) -> NDArray[np.float64]:
     """[target − p; log(R* Rᵀ)] of one tool pose ``(4, 4)``: ``(3,)`` or ``(6,)`` (m, rad), as
     :func:`armlab.kinematics.ik_target.pose_error` has it."""
     error = position - tool[:3, 3]
@@ -98,7 +114,8 @@ def _tool_error(position: NDArray, rotation: NDArray | None, tool: NDArray) -> N
 
 def first_start(arm: Arm, q0: NDArray) -> NDArray[np.float64]:
     """The numerical solver's start from ``q0`` ``(n,)``: fitted into the joint limits by 2π shifts, else clipped."""
-    return project_into_limits(arm, fit_limits(arm, q0[None, :], q0)[0][0], *arm.limit_arrays())
+    joints = joint_constants(arm)
+    return project_into_limits(arm, fit_limits(arm, q0[None, :], q0)[0][0], joints.lower, joints.upper, joints.interval)
 
 
 def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArray) -> NDArray[np.float64] | None:
@@ -113,31 +130,32 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     λ = 1e10, after :data:`LM_ITERATIONS` at most. Within |e| < 1e-5, up to :data:`NEWTON_STEPS` steps
     q ← q + J⁺e polish it.
     """
-    lower, upper = arm.limit_arrays()
-    chain = ToolChain(arm)
+    joints = joint_constants(arm)
+    lower, upper, limits = joints.lower, joints.upper, joints.interval
+    chain = chain_of(arm)
     rows = 3 if rotation is None else 6
     identity = np.eye(rows if rows < arm.n else arm.n)
     q = first_start(arm, near)
     tool, J = chain.pose_jacobian(q)
     J = J[:rows]
-    error = _tool_error(position, rotation, tool)
+    error = tool_error(position, rotation, tool)
     cost = float(error @ error)
     damping = 1e-3
     for _ in range(LM_ITERATIONS):
         gradient = J.T @ error
-        held = (~above(q, lower) & (gradient < 0)) | (~below(q, upper) & (gradient > 0))  # by a limit
+        held = (~limits.above_lower(q) & (gradient < 0)) | (~limits.below_upper(q) & (gradient > 0))  # by a limit
         Jf = J
         if held.any():
             gradient[held] = 0.0
             Jf = np.where(held, 0.0, J)  # a joint held by its limit takes no part in the step
-        stationary = math.sqrt(gradient @ gradient) <= 1e-6 * math.sqrt(float(np.sum(J * J)) * cost)
+        stationary = math.sqrt(gradient @ gradient) <= 1e-6 * math.sqrt(float(np.vdot(J, J)) * cost)
         if rows < arm.n:
             step = Jf.T @ np.linalg.solve(Jf @ Jf.T + damping * identity, error)
         else:
             step = np.linalg.solve(Jf.T @ Jf + damping * identity, gradient)
-        trial = project_into_limits(arm, q + step, lower, upper)
+        trial = project_into_limits(arm, q + step, lower, upper, limits)
         trial_tool, trial_J = chain.pose_jacobian(trial)
-        trial_error = _tool_error(position, rotation, trial_tool)
+        trial_error = tool_error(position, rotation, trial_tool)
         trial_cost = float(trial_error @ trial_error)
         if trial_cost < cost:
             q, J, error, cost, damping = trial, trial_J[:rows], trial_error, trial_cost, max(damping / 3, 1e-12)
@@ -150,9 +168,9 @@ def local_ik(arm: Arm, position: NDArray, rotation: NDArray | None, near: NDArra
     for _ in range(NEWTON_STEPS):
         if np.abs(error).max() < 1e-15:
             break
-        trial = project_into_limits(arm, q + np.linalg.pinv(J, rcond=1e-10) @ error, lower, upper)
+        trial = project_into_limits(arm, q + np.linalg.pinv(J, rcond=1e-10) @ error, lower, upper, limits)
         trial_tool, trial_J = chain.pose_jacobian(trial)
-        trial_error = _tool_error(position, rotation, trial_tool)
+        trial_error = tool_error(position, rotation, trial_tool)
         if trial_error @ trial_error >= error @ error:
             break
         q, J, error = trial, trial_J[:rows], trial_error

@@ -14,12 +14,14 @@ Used by the closed forms (:mod:`armlab.kinematics.ik_closed_form`), the numerica
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from armlab.bounds import above, allowance, outside, tolerated
+from armlab.bounds import Interval, above, allowance, outside, tolerated
 from armlab.kinematics.basic_movements import T_Z4, T_Z5, T_Z6
 from armlab.kinematics.batch import as_batch
 from armlab.kinematics.locating import homogeneous, orientation_angles
@@ -31,11 +33,14 @@ if TYPE_CHECKING:
 __all__ = [
     "ORIENTATION_TOL",
     "POSITION_TOL",
+    "JointConstants",
     "check_pose",
     "fit_limits",
     "fmt",
+    "joint_constants",
     "on_target",
     "outside_limits_message",
+    "per_arm",
     "pose",
     "pose_error",
     "project_into_limits",
@@ -50,6 +55,49 @@ POSITION_TOL = 1e-9
 ORIENTATION_TOL = 1e-9
 #: Indices of R's entries (2, 1), (0, 2), (1, 0) and their transposes: vee(R − Rᵀ) in two fancy-indexing reads.
 _LOWER, _UPPER = np.array([2, 0, 1]), np.array([1, 2, 0])
+
+
+#: What :func:`per_arm` made lately: (arm id, what) → (the arm itself, so that its id is not reused while kept; it).
+_MADE: dict[tuple[int, str], tuple[Arm, object]] = {}
+#: How many are kept.
+_MADE_KEPT = 32
+
+
+def per_arm[Made](arm: Arm, what: str, make: Callable[[Arm], Made]) -> Made:
+    """``make(arm)``, made once per arm and ``what`` and kept for the next calls (an arm is frozen): constants that
+    cost more to make than a one-configuration solve spends on its arithmetic."""
+    key = (id(arm), what)
+    entry = _MADE.get(key)
+    if entry is not None and entry[0] is arm:
+        return entry[1]  # type: ignore[return-value]
+    if len(_MADE) >= _MADE_KEPT:
+        _MADE.clear()  # start afresh (one call, safe under threads: no iteration over a dict another thread changes)
+    made = make(arm)
+    _MADE[key] = (arm, made)
+    return made
+
+
+class JointConstants(NamedTuple):
+    """An arm's joint limits as :func:`fit_limits` uses them, each ``(n,)``."""
+
+    lower: NDArray[np.float64]  #: ``arm.limit_arrays()``'s (rad or m; −inf: unlimited)
+    upper: NDArray[np.float64]
+    revolute: NDArray[np.bool_]
+    limited: NDArray[np.bool_]  #: a URDF limits both ends or neither
+    lowest: NDArray[np.float64]  #: what counts as within the limits: each widened by :func:`armlab.bounds.allowance`
+    highest: NDArray[np.float64]
+    interval: Interval  #: the limits, their allowances made once
+
+
+def _joint_constants(arm: Arm) -> JointConstants:
+    lower, upper = arm.limit_arrays()
+    return JointConstants(lower, upper, arm.revolute, np.isfinite(lower) & np.isfinite(upper),
+                          lower - allowance(lower), upper + allowance(upper), Interval(lower, upper))
+
+
+def joint_constants(arm: Arm) -> JointConstants:
+    """``arm``'s :class:`JointConstants` (made once per arm, :func:`per_arm`)."""
+    return per_arm(arm, "joints", _joint_constants)
 
 
 def fmt(v: ArrayLike) -> str:
@@ -87,6 +135,8 @@ def rotation_log(R: ArrayLike) -> NDArray[np.float64]:
     Accurate to round-off for every angle, including θ → 0 and θ → π.
     """
     R = np.asarray(R, dtype=float)
+    if R.shape == (3, 3):  # one rotation: the same formulas in scalars (numpy's per-call cost exceeds them)
+        return _rotation_log_one(R)
     v = 0.5 * (R[..., _LOWER, _UPPER] - R[..., _UPPER, _LOWER])  # (R21 − R12, R02 − R20, R10 − R01) / 2
     s = np.linalg.norm(v, axis=-1)
     c = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1.0) / 2.0, -1.0, 1.0)
@@ -101,6 +151,25 @@ def rotation_log(R: ArrayLike) -> NDArray[np.float64]:
     u = column / np.sqrt(np.take_along_axis(np.diagonal(M, axis1=-2, axis2=-1), k[..., None], axis=-1))
     u = np.where((np.sum(u * v, axis=-1) < 0)[..., None], -u, u)
     return np.where((c < 0)[..., None], theta[..., None] * u, regular)
+
+
+def _rotation_log_one(R: NDArray) -> NDArray[np.float64]:
+    """:func:`rotation_log` of one rotation ``(3, 3)``, in scalars: ``(3,)``."""
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
+    v = (0.5 * (r21 - r12), 0.5 * (r02 - r20), 0.5 * (r10 - r01))
+    s = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    c = min(1.0, max(-1.0, (r00 + r11 + r22 - 1.0) / 2.0))
+    theta = math.atan2(s, c)
+    if c >= 0:  # not beyond π/2: (θ / sin θ)·v, → v as θ → 0
+        scale = theta / s if s > 0 else 1.0
+        return np.array([scale * v[0], scale * v[1], scale * v[2]])
+    M = np.array(R)  # beyond π/2: u from R + Rᵀ = 2 cos θ·I + 2 (1 − cos θ) u uᵀ, its column of largest diagonal
+    M = (M + M.T - 2.0 * c * np.eye(3)) / (2.0 * (1.0 - c))
+    k = int(np.argmax(np.diagonal(M)))
+    u = M[:, k] / math.sqrt(M[k, k])
+    if u[0] * v[0] + u[1] * v[1] + u[2] * v[2] < 0:
+        u = -u
+    return theta * u
 
 
 def pose_error(arm: Arm, position: NDArray, rotation: NDArray | None, q: NDArray) -> NDArray[np.float64]:
@@ -120,12 +189,17 @@ def on_target(error: NDArray) -> NDArray[np.bool_]:
             & tolerated(np.linalg.norm(error[..., 3:], axis=-1), ORIENTATION_TOL))
 
 
-def project_into_limits(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray) -> NDArray[np.float64]:
-    """``q`` moved into the limits: a revolute angle by a 2π shift when one fits, else clipped onto the limit."""
+def project_into_limits(arm: Arm, q: NDArray, lower: NDArray, upper: NDArray,
+                        interval: Interval | None = None) -> NDArray[np.float64]:
+    """``q`` moved into the limits: a revolute angle by a 2π shift when one fits, else clipped onto the limit.
+    ``interval``: ``lower`` and ``upper`` with their allowances made (:class:`armlab.bounds.Interval`), for a loop."""
     base = np.where(np.isfinite(lower), lower, 0.0)
     shifted = base + np.mod(q - base, 2 * np.pi)  # in [lower, lower + 2π)
-    shift = arm.revolute & outside(q, lower, upper) & ~above(shifted, upper)
-    return np.clip(np.where(shift, shifted, q), lower, upper)
+    if interval is None:
+        shift = arm.revolute & outside(q, lower, upper) & ~above(shifted, upper)
+    else:
+        shift = joint_constants(arm).revolute & interval.outside(q) & ~interval.above_upper(shifted)
+    return np.minimum(np.maximum(np.where(shift, shifted, q), lower), upper)
 
 
 def check_pose(T: NDArray) -> tuple[NDArray, NDArray]:
@@ -162,18 +236,20 @@ def fit_limits(arm: Arm, q: ArrayLike, near: ArrayLike | None = None) -> tuple[N
     """
     q = np.array(q, dtype=float, ndmin=2)
     near = np.zeros(arm.n) if near is None else np.asarray(near, dtype=float)
-    lower, upper = arm.limit_arrays()
-    limited = np.isfinite(lower) & np.isfinite(upper)  # a URDF limits both or neither
+    lower, upper, revolute, limited, lo, hi, interval = joint_constants(arm)
     two_pi = 2 * np.pi
-    wrapped = q - two_pi * np.ceil((q - np.pi) / two_pi)  # (−π, π] up to round-off:
-    wrapped = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi, wrapped))
-    lo, hi = lower - allowance(lower), upper + allowance(upper)  # what counts as within the limits
     m_lo, m_hi = np.ceil((lo - q) / two_pi), np.floor((hi - q) / two_pi)  # the 2π shifts that fit (±inf: unlimited)
-    m = np.clip(np.round((near - q) / two_pi), m_lo, m_hi)
-    fits = np.where(arm.revolute, m_lo <= m_hi, ~outside(q, lower, upper)) | ~limited  # not a bound: shift counts
-    shifted = np.where(arm.revolute, q + two_pi * np.where(fits, m, 0.0), q)
-    inside = np.where(fits, np.clip(shifted, lower, upper), q)
-    fitted = np.where(limited, inside, np.where(arm.revolute, wrapped, q))
+    m = np.minimum(np.maximum(np.round((near - q) / two_pi), m_lo), m_hi)  # np.clip's, without its wrapper
+    if interval.lower.size and limited.all() and revolute.all():  # every joint a limited revolute one (fewer calls)
+        fits = m_lo <= m_hi  # not a bound: shift counts
+        fitted = np.where(fits, np.minimum(np.maximum(q + two_pi * np.where(fits, m, 0.0), lower), upper), q)
+    else:
+        wrapped = q - two_pi * np.ceil((q - np.pi) / two_pi)  # (−π, π] up to round-off:
+        wrapped = np.where(wrapped > np.pi, wrapped - two_pi, np.where(wrapped <= -np.pi, wrapped + two_pi, wrapped))
+        fits = np.where(revolute, m_lo <= m_hi, ~interval.outside(q)) | ~limited  # not a bound: shift counts
+        shifted = np.where(revolute, q + two_pi * np.where(fits, m, 0.0), q)
+        inside = np.where(fits, np.minimum(np.maximum(shifted, lower), upper), q)
+        fitted = np.where(limited, inside, np.where(revolute, wrapped, q))
     first: list[tuple | None] = [None] * q.shape[0]
     bad = ~fits
     for k in np.flatnonzero(bad.any(axis=-1)):

@@ -186,6 +186,28 @@ def test_nan_passes_no_bound_and_an_infinite_bound_bounds_nothing_finite(check, 
     assert check() == expected
 
 
+@given(st.floats(-1e6, 1e6), st.floats(0.0, 0.5), st.floats(2.0, 1e6))
+def test_one_number_and_an_interval_follow_the_same_rule(bound, share, beyond):
+    """above_value/below_value (one float) and Interval's methods (allowances made once) answer as above/below/
+    outside, on a bound, within its allowance, beyond it, for NaN and against infinite bounds."""
+    from armlab.bounds import Interval, above_value, below_value
+
+    a = float(allowance(bound))
+    values = [bound, bound + share * a, bound - share * a, bound + beyond * a, bound - beyond * a, np.nan, np.inf]
+    for other in (bound, np.inf, -np.inf):
+        for value in values:
+            assert above_value(value, other) == bool(above(value, other))
+            assert below_value(value, other) == bool(below(value, other))
+    interval = Interval([bound, -np.inf], [bound + 1.0, np.inf])
+    for value in values:
+        v = np.array([value, value])
+        for ours, theirs in ((interval.outside(v), outside(v, interval.lower, interval.upper)),
+                             (interval.above_upper(v), above(v, interval.upper)),
+                             (interval.above_lower(v), above(v, interval.lower)),
+                             (interval.below_upper(v), below(v, interval.upper))):
+            assert not np.logical_xor(ours, theirs).any()  # booleans: the same answers
+
+
 def test_the_functions_broadcast_a_batch_against_per_joint_bounds():
     lower, upper = np.array([-1.0, 0.0]), np.array([1.0, 2e9])
     q = np.array([[-1.0 - 1e-10, 2e9 * (1 + 5e-10)], [-1.0 - 1e-8, 2e9 * (1 + 5e-9)]])

@@ -554,6 +554,12 @@ def test_pose_and_rotation_log_against_drake(rng: np.random.Generator) -> None:
                                    R, rtol=0, atol=1e-15)
     batch = rotation_about([0.0, 0.0, 1.0], np.linspace(-3, 3, 7))
     np.testing.assert_allclose(rotation_log(batch)[:, 2], np.linspace(-3, 3, 7), rtol=0, atol=1e-15)
+    # one rotation (in scalars) as the same rotation in a batch (numpy), at every angle above, about random axes
+    axes = rng.normal(size=(10, 3))
+    batch = np.array([rotation_about(k / np.linalg.norm(k), angle) for k, angle in
+                      zip(axes, [0.0, 1e-12, 1e-7, 0.3, np.pi / 2, 2.0, 3.0, np.pi - 1e-7, np.pi - 1e-12, np.pi],
+                          strict=True)])
+    np.testing.assert_allclose(np.array([rotation_log(R) for R in batch]), rotation_log(batch), rtol=0, atol=1e-15)
 
 
 def test_arm4r_pose_sets_the_pitch() -> None:

@@ -135,8 +135,8 @@ def test_library_arm_simulates_and_its_torques_are_the_inverse_dynamics(name: st
 
 
 # ------------------------------------------------------------------ closed forms and what ik returns
-@pytest.mark.parametrize("name", ["ur5", pytest.param("ur10", marks=pytest.mark.slow),
-                                  pytest.param("puma560", marks=pytest.mark.slow)])  # multi-start IK: seconds
+@pytest.mark.parametrize("name", ["ur5", *(pytest.param(name, marks=pytest.mark.slow)  # multi-start IK: seconds
+                                           for name in ("ur10", "puma560", "irb140", "kr5", "stanford"))])
 def test_closed_form_branches_are_the_numerical_solvers(name: str, rng: np.random.Generator) -> None:
     """Without its closed form the arm is solved by the multi-start numerical solver: the same set of solutions
     (each numerical one within 1e-6 of a branch, every branch within the limits found), and 8 branches before the
@@ -186,6 +186,52 @@ def test_ur_branches_of_a_batch_are_each_poses_closed_form(name: str, rng: np.ra
         one = arm.closed_form.solve(targets[k, :3, 3], targets[k, :3, :3], near[k])
         np.testing.assert_allclose(batch[k, exists], one, atol=1e-12, rtol=0)
         assert np.abs(arm.forward(batch[k, exists]).tool - targets[k]).max() <= TOL
+
+
+@pytest.mark.parametrize("name", ["puma560", "irb140", "kr5", "stanford"])
+def test_spherical_wrist_closed_form_reaches_every_pose_and_finds_its_configuration(name: str,
+                                                                                   rng: np.random.Generator) -> None:
+    """The spherical-wrist closed form (Puma 560; the IRB 140's and KR 5's shoulder offsets a1; the Stanford arm's
+    sliding boom): every branch of random poses (one at a wrist singularity, θ5 = 0) reaches its pose to 1e-9 by the
+    arm's own FK, and the configuration the pose came from is among the branches (modulo 2π)."""
+    arm = get_arm(name)
+    assert arm.closed_form is not None and arm.closed_form.needs_pose
+    q = _inside(arm, rng, 30)
+    q[0, 4] = 0.0
+    for k, target in enumerate(arm.fk(q)):
+        branches = arm.closed_form.solve(target[:3, 3], target[:3, :3], q[k])
+        assert 1 <= len(branches) <= 8
+        assert np.abs(arm.forward(branches).tool - target).max() <= TOL
+        d = np.where(arm.revolute, (branches - q[k] + np.pi) % (2 * np.pi) - np.pi, branches - q[k])
+        assert np.abs(d).max(axis=1).min() < 1e-9
+
+
+def test_the_spherical_wrist_closed_form_refuses_another_layout() -> None:
+    """A table whose wrist is not spherical (the UR5's, a5 … offsets along z) or whose axes 2, 3 are not parallel
+    has no such closed form: ValueError saying why."""
+    from armlab.kinematics.dh import DHRow, DHTable
+    from armlab.kinematics.ik_wrist import spherical_wrist_closed_form
+    from armlab.models.library import puma560, ur5
+
+    with pytest.raises(ValueError, match="spherical wrist has a4 = a5 = a6 = d5 = 0"):
+        spherical_wrist_closed_form(DHTable(tuple(DHRow(a, alpha, d, 0.0) for a, alpha, d in ur5.DH)))
+    rows = [DHRow(a, alpha, d, theta) for a, alpha, d, theta in puma560.DH]
+    rows[1] = replace(rows[1], alpha=0.3)
+    with pytest.raises(ValueError, match="axes 2 and 3 must be parallel"):
+        spherical_wrist_closed_form(DHTable(tuple(rows)))
+
+
+@pytest.mark.parametrize("name", ["ur5", "puma560", "irb140", "kr5", "stanford"])
+def test_one_solution_is_the_nearest_of_every_solution(name: str, rng: np.random.Generator) -> None:
+    """solve() without all_solutions (the nearest branch, checked alone by FK) returns the first of what it returns
+    with all_solutions (every branch fitted, checked and ordered), for near the pose's own q and elsewhere."""
+    arm = get_arm(name)
+    q = _inside(arm, rng, 12)
+    for k, target in enumerate(arm.fk(q)):
+        for near in (q[k], q[(k + 1) % len(q)]):
+            (one,) = solve(arm, target, near=near)
+            every = solve(arm, target, near=near, all_solutions=True)
+            np.testing.assert_allclose(one, every[0], rtol=0, atol=1e-12)
 
 
 def test_position_target_of_a_six_axis_arm_is_its_branches_at_one_orientation(rng: np.random.Generator) -> None:

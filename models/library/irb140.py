@@ -8,7 +8,8 @@ wrist massless, so the mass matrix would be singular and nothing could be simula
 are unit slips — link 2's at (198.29, 9.73, 92.43)·10³ m (198 km; the ×1e03 was meant as ×1e-3, millimetres) and
 link 3's at (−4.56, −79.96, −5.86) m (80 m; millimetres without the ×1e-3). ARTE's own IRB 140 dynamics say they
 "do not correspond to the actual IRB 140". armlab invents none: ``has_dynamics`` False, torques and simulations are
-refused with a message saying so. Joint 6 turns ±400°. No closed form here: solved numerically.
+refused with a message saying so. Joint 6 turns ±400°. Its closed form (a spherical wrist, a1 = 70 mm):
+:func:`armlab.kinematics.ik_wrist.spherical_wrist_ik`, 8 branches.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from armlab.kinematics.dh import DHRow
+from armlab.kinematics.ik_wrist import spherical_wrist_closed_form
 from armlab.models.arm import Arm
 from armlab.models.library._dh_arm import degrees, library_dh_arm
 
@@ -44,4 +46,4 @@ def build() -> Arm:
                        "the wrist; a kinematic arm"}
     limits = [degrees(lo, hi, velocity_deg=v) for (lo, hi), v in zip(LIMITS_DEG, VELOCITY_DEG, strict=True)]
     return library_dh_arm("irb140", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH], limits,
-                          None, notes, RADII, HOME)
+                          None, notes, RADII, HOME, spherical_wrist_closed_form)

@@ -4,8 +4,8 @@ robots/KUKA/KR5_arc/parameters.m; numbers cross-checked there).
 
 A kinematic arm: the toolbox gives no mass data and none is invented (``has_dynamics`` False: torques and
 simulations are refused with a message saying so). The toolbox's last row includes its 11.5 cm tool along z
-(d6 = −0.115 m with α6 = 180°): armlab's tool frame is that DH frame 6, as the toolbox's ``fkine``. No closed form
-here: solved numerically.
+(d6 = −0.115 m with α6 = 180°): armlab's tool frame is that DH frame 6, as the toolbox's ``fkine``. Its closed form
+(a spherical wrist): :func:`armlab.kinematics.ik_wrist.spherical_wrist_ik`, 8 branches.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from armlab.kinematics.dh import DHRow
+from armlab.kinematics.ik_wrist import spherical_wrist_closed_form
 from armlab.models.arm import Arm
 from armlab.models.library._dh_arm import degrees, library_dh_arm
 
@@ -38,4 +39,5 @@ def build() -> Arm:
              "limits": "the toolbox's qlim; effort and velocity limits not in the source",
              "masses": "none published: a kinematic arm"}
     return library_dh_arm("kr5", SOURCE, "standard", [DHRow(a, alpha, d, 0.0) for a, alpha, d in DH],
-                          [degrees(lo, hi) for lo, hi in LIMITS_DEG], None, notes, RADII, HOME)
+                          [degrees(lo, hi) for lo, hi in LIMITS_DEG], None, notes, RADII, HOME,
+                          spherical_wrist_closed_form)

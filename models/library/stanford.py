@@ -15,7 +15,8 @@ link's DH frame, as the toolbox gives them, with one correction and one caveat:
   are the toolbox's Stanford arm, not a measured one.
 
 Motor inertias (the toolbox's Jm with G = 1, "reflected armature inertia") are left out: they are a drive train,
-not the links' mass data. No closed form here: solved numerically.
+not the links' mass data. Its closed form (a spherical wrist on a sliding boom):
+:func:`armlab.kinematics.ik_wrist.spherical_wrist_ik`, 8 branches (4 with the boom's length positive).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from armlab.kinematics.dh import DHRow
+from armlab.kinematics.ik_wrist import spherical_wrist_closed_form
 from armlab.models.arm import Arm
 from armlab.models.library._dh_arm import degrees, library_dh_arm
 from armlab.models.read_dh import DHInertial
@@ -68,4 +70,5 @@ def build() -> Arm:
                   "toolbox's though 0.57-6.45 m from their frames (not a measured arm)",
         "correction link 5": "Izz 0 → 0.0026 kg·m² (triangle inequality); gravity torques unchanged",
     }
-    return library_dh_arm("stanford", SOURCE, "standard", rows, limits, inertials, notes, RADII, HOME)
+    return library_dh_arm("stanford", SOURCE, "standard", rows, limits, inertials, notes, RADII, HOME,
+                          spherical_wrist_closed_form)
