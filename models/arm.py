@@ -400,9 +400,9 @@ class Arm:
 
         ``target``: a tool position ``(3,)`` (rr: ``(2,)``) or a pose ``(4, 4)``. ``all``: every solution (the
         closed-form branches of rr, arm4r, r2t and of a pose of a UR arm or of a spherical wrist: Puma 560, IRB 140,
-        KR 5, Stanford; for other arms every distinct solution
-        a multi-start search finds; a continuum — a position on more than three joints, a pose on more than six —
-        its solutions at the parameter of the local solution: its tool orientation, or its joints 7 … n), else one:
+        KR 5, Stanford; for other arms every distinct solution a multi-start search finds; a continuum — a position
+        on more than three joints, a pose on more than six — its solutions at the parameter of the local solution:
+        its tool orientation, or its joints 7 … n), else one:
         the nearest branch, or the numerical solver's from ``near`` (default q = 0; one start, a few ms).
         ``pitch``: arm4r's tool pitch θ2+θ3+θ4 (rad).
         ``ValueError`` for an unreachable target (with the closest distance) or one outside the joint limits.
