@@ -506,7 +506,7 @@ def run_simulator(run: RunDiagram, accuracy: float = DEFAULT_ACCURACY,
     dense = run.sampling == "dense"
     if dense:
         integrator.StartDenseIntegration()
-    for end in motion.breaks[1:]:  # stop at each join: q̈_d may jump there, and no step should straddle a jump
+    for end in motion.jumps()[1:]:  # stop where q̈_d may jump (joins, a timing's knots): no step straddles a jump
         simulator.AdvanceTo(end)
     if not dense:
         if run.loggers["state"].FindLog(context).sample_times()[-1] < motion.duration - 1e-9 * run.log_period:

@@ -65,6 +65,9 @@ __all__ = [
 DEFAULT_LOG_PERIOD = 1e-3
 #: A trajectory segment's limits are checked at its knots and this many points between each two.
 KNOT_SAMPLES = 8
+#: Knots of a motion closer than this (relative to its duration, at least 1 s) are one time to step to
+#: (:meth:`Motion.jumps`): far below any piece of a path or a timing, far above the round-off of their times.
+JUMP_SEPARATION = 1e-12
 
 #: Powers of τ for the coefficients [a1 … a6]: θ = Σ a_k τ^(6 − k).
 _POWERS = np.arange(5, -1, -1)
@@ -543,6 +546,19 @@ class Motion:
         breaks = self.breaks
         return [(float(breaks[g[0]]), Motion(tuple(self.segments[k] for k in g), self.description, self.figures))
                 for g in groups]
+
+    def jumps(self) -> NDArray[np.float64]:
+        """Times (s) where q̈ may jump, sorted, ``(k,)``, from 0 to the duration: the segments' joins and a trajectory
+        segment's knots (its pieces' joins, where a time-optimal timing switches its s̈). A simulation steps to each,
+        so that no integrator step straddles a jump (its error control would meet it as a large local error)."""
+        breaks = self.breaks
+        times = [breaks] + [start + segment.knots() for segment, start in zip(self.segments, breaks, strict=False)
+                            if isinstance(segment, TrajectorySegment)]
+        t = np.unique(np.clip(np.concatenate(times), 0.0, breaks[-1]))
+        # knots closer than round-off of the times (a path knot mapped onto a knot of the timing) are one
+        keep = np.concatenate([np.diff(t) > JUMP_SEPARATION * max(1.0, float(breaks[-1])), [True]])
+        keep[0] = True
+        return t[keep]
 
     def check_times(self, k: int) -> NDArray[np.float64]:
         """Local times of segment ``k`` that bound its joint values: for a polynomial the ends and the roots of
