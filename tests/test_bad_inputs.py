@@ -51,7 +51,7 @@ CLI_NUMBERS = [
     (("fk", "rr", "--q", "-1e308,0"), 2, "joint1 = -1e+308 rad is outside its limits"),
     (("fk", "r2t", "--q", "0,1e308,0"), 2, "joint2 = 1e+308 m is outside its limits"),
     (("fk", "rr", "--q", "0,0,0"), 2, "rr has 2 joints, got 3 values"),
-    (("simulate", "rr", "--tf", "1e308", "--out", "run"), 2, "tf 1e308 is out of range: allowed 0 ≤ tf ≤ 1e6 s"),
+    (("simulate", "rr", "--tf", "1e308", "--out", "run"), 2, "--tf 1e308 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),
     (("fk", "rrrr", "--q", "1e308,0,0,0"), 2, "--q 1e308 is out of range: allowed -1e6 ≤ q ≤ 1e6 rad or m"),
     (("fk", "rr", "--q", "0,0", "--qd", "1e308,1e308"), 2, "--qd 1e308 is out of range: allowed -10000 ≤ q̇"),
     (("fk", "rr", "--q", "0,0", "--qdd", "0,-1e7"), 2, "--qdd -1e7 is out of range: allowed -1e6 ≤ q̈ ≤ 1e6"),

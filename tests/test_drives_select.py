@@ -242,7 +242,7 @@ def test_bad_options_of_a_sizing():
     cycle = DutyCycle.of(arm.motion(arm, None))
     for kwargs, message in (({"safety_factor": 0.9}, "safety factor 0.9 is not allowed: a finite number ≥ 1"),
                             ({"rank": "cost"}, "rank 'cost' is not allowed: one of mass, margin, inertia"),
-                            ({"rate": 0.0}, "sample rate 0.0 /s is not allowed")):
+                            ({"rate": 0.0}, "rate 0 is out of range: allowed 1 ≤ rate ≤ 10000 Hz")):
         with pytest.raises(ValueError, match=message):
             size(arm, cycle, (LoadCase(0.0),), read_motors(), read_gearboxes(), **kwargs)
 
