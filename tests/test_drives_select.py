@@ -203,6 +203,9 @@ CATALOGUE_ERRORS = [
                 "mass_kg\ng,0,0.9,5,10,6000,0.01,1\n", "ratio = '0' is not allowed: a finite number > 0"),
     ("gearbox", "name,ratio,efficiency,rated_torque_Nm,peak_torque_Nm,max_input_speed_rpm,input_inertia_kgcm2,"
                 "mass_kg\ng,10,0.9,5,10,nan,0.01,1\n", "max_input_speed_rpm = 'nan' is not allowed"),
+    # issue 36 item 11: a cell is a plain decimal, as every number read from text (float() reads 0_32 as 32)
+    ("motor", "name,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2,mass_kg\n"
+              "a,1,3,3000,5000,0_32,1\n", "rotor_inertia_kgcm2 = '0_32' is not allowed"),
 ]
 
 
