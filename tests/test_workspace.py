@@ -233,8 +233,14 @@ def test_no_negative_area_in_the_convergence_or_the_result(capsys) -> None:
 def test_the_default_resolution_of_the_most_samples_fits_the_grid() -> None:
     """Issue 36 item 28: ``armlab workspace urm6 --samples 1e9`` (the documented maximum) was refused by its own
     default resolution (more than MAX_CELLS cells): the default edge is no finer than the grid allows."""
-    from armlab.analysis.workspace import MAX_CELLS, MAX_SAMPLES, _Occupancy, default_resolution, reach_bound
-    from armlab.analysis.workspace import tool_positions
+    from armlab.analysis.workspace import (
+        MAX_CELLS,
+        MAX_SAMPLES,
+        _Occupancy,
+        default_resolution,
+        reach_bound,
+        tool_positions,
+    )
 
     arm = get_arm("urm6")
     q = sample_joints(arm, 1 << 16, np.random.default_rng(0))
