@@ -10,8 +10,6 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-from armlab.values import NOT_FINITE, decimal
-
 __all__ = ["ARM_HELP", "Parser", "add_arm", "add_drives", "arm_of", "error_text", "integer",
            "join_negative_values", "number", "positive_int", "silence", "write_error", "write_warning"]
 
@@ -83,6 +81,9 @@ def number(text: str) -> float:
     """An argparse type: a number as a plain decimal (:func:`armlab.values.decimal`: not ``1_0``, ``0x1``, ``ten``);
     else the one-line error argparse prints. A non-finite one (``nan``, ``-inf``, ``1e400``) is returned as such, for
     the option's own check to refuse with its range."""
+    # lazy: armlab --help imports this module but not numpy, which armlab.values does (start-up time)
+    from armlab.values import NOT_FINITE, decimal
+
     try:
         return decimal(text)
     except ValueError as reason:
@@ -94,6 +95,9 @@ def number(text: str) -> float:
 def integer(text: str) -> int:
     """An argparse type: a whole number in plain digits (``"42"``, ``"-1"``; :func:`armlab.values.decimal` without
     a point or an exponent: not ``1_000``, ``1e3`` or ``4.0``); else the one-line error argparse prints."""
+    # lazy: armlab --help imports this module but not numpy, which armlab.values does (start-up time)
+    from armlab.values import decimal
+
     try:
         decimal(text)
     except ValueError:
