@@ -180,6 +180,15 @@ def test_option_help_states_the_ranges(box):
         assert fragment in text
 
 
+def test_plan_and_size_help_state_the_ranges(box):
+    """Issue 36 items 6, 15, 22: the maxima of the counts and the rate, and the smallest duration, quoted in --help."""
+    for command, fragments in ((("plan", "--help"), ("2 ≤ samples ≤ 100000", "3 ≤ grid ≤ 100000", "1e-6 ≤ tf ≤ 1e6 s")),
+                               (("size", "--help"), ("1 ≤ rate ≤ 10000 Hz",))):
+        text = " ".join(box.main(*command).out.split())
+        for fragment in fragments:
+            assert fragment in text
+
+
 # ---- the Python API: the same checks, as ValueError: (keyword arguments of armlab.simulate, message fragment) ------
 API_SIMULATE = [
     ({"kp": 1e308}, "kp 1e308 is out of range: allowed 0 ≤ kp ≤ 1e6"),
@@ -365,6 +374,9 @@ SEGMENT_FILES = [
     (json.dumps({"segments": [{"tf": 1, "from": [0, 0], "to_point": [0.4, 0.3], "to_pitch": "x"}]}), 2,
      'to_pitch = "x" must be a finite number'),
     (_seg(label=["a"] * 3), 0, "segments from seg.json"),
+    # issue 36 item 6: a tool path's IK samples are bounded (1e8: gigabytes)
+    (json.dumps({"segments": [{"tf": 1, "from_point": [0.5, 0.3], "line_to": [0.3, 0.5], "samples": 100_000_000}]}),
+     2, "segment 1: samples 1e8 is out of range: allowed 2 ≤ samples ≤ 100000"),
 ]
 
 
