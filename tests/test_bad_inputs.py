@@ -432,8 +432,9 @@ STUDY_FILES = [
     (_study(resolution=1e308), 2, "resolution 1e308 is out of range: allowed 1e-6 ≤ h ≤ 100 m"),
     (_study(evaluate=["peak_torque"], vary={"tf": {"values": [1, 1e308]}}), 2, "tf 1e308 is out of range"),
     (_study(evaluate=["peak_torque"], vary={"payload": {"values": [1e6]}}), 2, "payload 1e6 is out of range"),
-    (_study(evaluate=["peak_torque"], tf=1e-9), 2, "log period = 0.001 s is longer than the motion (1e-09 s)"),
-    (_study(evaluate=["peak_torque"], tf=1e-9, simulate=True), 2, "log period = 0.001 s is longer than the motion"),
+    (_study(evaluate=["peak_torque"], tf=1e-5), 2, "log period = 0.001 s is longer than the motion (1e-05 s)"),
+    (_study(evaluate=["peak_torque"], tf=1e-5, simulate=True), 2, "log period = 0.001 s is longer than the motion"),
+    (_study(evaluate=["peak_torque"], tf=1e-9), 2, "tf 1e-9 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),  # issue 36
     (_study(evaluate=["peak_torque"], tf=1e5, simulate=True), 2, "100,000,001 log samples, more than the 1,000,000"),
 ]
 
