@@ -161,7 +161,8 @@ def _check_measurable(arm: Arm, bound: float, motions: int) -> None:
 
 
 def default_resolution(coords: ArrayLike, samples: int, bound: float) -> float:
-    """Voxel edge h (m) for ``samples`` samples: about :data:`SAMPLES_PER_CELL` samples per occupied cell.
+    """Voxel edge h (m) for ``samples`` samples: about :data:`SAMPLES_PER_CELL` samples per occupied cell, and no
+    finer than a grid of :data:`MAX_CELLS` cells over ±``bound`` allows.
 
     The occupied measure is estimated from a pilot set of points ``coords`` (M, d) (in the workspace's
     own coordinates, within ±``bound``): the cells of a coarse grid holding about 10 pilot points per
@@ -173,7 +174,11 @@ def default_resolution(coords: ArrayLike, samples: int, bound: float) -> float:
     pilot = (10 * ball / m) ** (1.0 / dim)
     index = np.floor((coords + bound) / pilot).astype(np.int64)
     flat = np.ravel_multi_index(tuple(index.T), (math.ceil(2 * bound / pilot) + 1,) * dim)
-    return (SAMPLES_PER_CELL * np.unique(flat).size * pilot**dim / samples) ** (1.0 / dim)
+    h = (SAMPLES_PER_CELL * np.unique(flat).size * pilot**dim / samples) ** (1.0 / dim)
+    # no finer than MAX_CELLS cells over ±bound allow (urm6 at 1e9 samples would ask for more): _Occupancy makes
+    # ceil(2 bound / h) + 1 cells a side, at most `side` + 1 for this h (one more for ceil's round-off)
+    side = math.floor(MAX_CELLS ** (1.0 / dim)) - 2
+    return max(h, 2 * bound / side)
 
 
 @dataclass

@@ -9,13 +9,11 @@ link's centre of mass lies within reach of the arm (:func:`check_com_distance`).
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
-
-import numpy as np
 
 from armlab.bounds import above
 from armlab.files import read_input
+from armlab.values import DECIMAL, NOT_FINITE, decimal
 
 __all__ = ["COM_REACH", "MAX_FILE_NUMBER", "MAX_JOINTS", "check_com_distance", "file_number", "read_text"]
 
@@ -33,24 +31,20 @@ MAX_FILE_NUMBER = 1e12
 #: no link's mass lies kilometres from its joint (the Robotics Toolbox's IRB 140 data has one 198 km away, a typo).
 COM_REACH = 10.0
 
-#: A plain decimal number: what a number in an arm file may be (``float`` also takes ``0_5``, ``1_000``, ``nan``).
-_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")  # ASCII digits (re's \d: any script)
-
 
 def file_number(text: str | None, what: str) -> float:
-    """``text`` as a plain decimal (:data:`_DECIMAL`), finite and of magnitude ≤ :data:`MAX_FILE_NUMBER`;
-    ``what`` names it in the error."""
-    stripped = (text or "").strip()
-    if not _DECIMAL.fullmatch(stripped):
-        try:
-            finite = np.isfinite(float(stripped))
-        except ValueError:
-            finite = True
-        if not finite:
-            raise ValueError(f"{what} = {text!r} is not a finite number")
-        raise ValueError(f"{what} = {text!r} is not a number: numbers in arm files are plain decimals "
-                         "(e.g. 0.5, -2, 1e-3)")
-    value = float(stripped)
+    """``text`` as a plain decimal (:func:`armlab.values.decimal`), finite and of magnitude ≤
+    :data:`MAX_FILE_NUMBER`; ``what`` names it in the error."""
+    try:
+        value = decimal(text or "")
+    except ValueError as reason:
+        if DECIMAL.fullmatch((text or "").strip()):  # plain, but too large to be finite (400 digits)
+            value = float("inf")
+        elif str(reason) == NOT_FINITE:
+            raise ValueError(f"{what} = {text!r} {reason}") from None
+        else:
+            raise ValueError(f"{what} = {text!r} is not a number: numbers in arm files are plain decimals "
+                             "(e.g. 0.5, -2, 1e-3)") from None
     if abs(value) > MAX_FILE_NUMBER:
         raise ValueError(f"{what} = {text!r} is out of range: allowed |value| ≤ {MAX_FILE_NUMBER:g}")
     return value

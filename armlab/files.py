@@ -113,9 +113,18 @@ def _importing(frame: FrameType | None) -> bool:
     return False
 
 
+#: The timers of :func:`_send_again` not yet fired: cancelled when :func:`stop_on_signals` is left (the signal is in
+#: ``received`` already; sent after the handlers are restored, it would hit the interpreter's exit and print
+#: "Exception ignored in: <module 'threading'> … KeyboardInterrupt").
+_RESENDS: list[threading.Timer] = []
+
+
 def _send_again(signum: int) -> None:
     """Send ``signum`` to this process again shortly (from a timer thread): it arrived where it cannot stop us."""
-    threading.Timer(0.05, os.kill, (os.getpid(), signum)).start()
+    timer = threading.Timer(0.05, os.kill, (os.getpid(), signum))
+    timer.daemon = True  # never holds the interpreter's exit
+    _RESENDS.append(timer)
+    timer.start()
 
 
 def _on_signal(signum: int, frame: FrameType | None) -> None:
@@ -162,6 +171,8 @@ def stop_on_signals() -> Iterator[SignalState]:
     try:
         yield _STATE
     finally:
+        while _RESENDS:
+            _RESENDS.pop().cancel()
         for signum, handler in previous.items():
             signal.signal(signum, handler)
         sys.unraisablehook = previous_hook

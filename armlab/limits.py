@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LIMITS", "Limit", "NotRealError", "allowed", "check_positive", "check_range", "real_array",
+__all__ = ["LIMITS", "Limit", "NotRealError", "allowed", "check_count", "check_positive", "check_range", "real_array",
            "real_number",
            "whole_text"]
 
@@ -88,13 +88,21 @@ LIMITS: dict[str, Limit] = {
     "qd": Limit(-1e4, 1e4, "rad/s or m/s", "beyond any drive's speed", "q̇"),
     "qdd": Limit(-1e6, 1e6, "rad/s² or m/s²", "beyond any drive's acceleration", "q̈"),
     "resolution": Limit(1e-6, 100.0, "m", "a workspace's voxel edge, a micrometre to 100 m", "h"),
-    "tf": Limit(0.0, 1e6, "s", "a motion's duration, up to 11 days", "tf"),
+    "tf": Limit(1e-6, 1e6, "s", "a motion's duration, a microsecond to 11 days", "tf"),
     "rate": Limit(1.0, 1e6, "Hz", "a sampled controller's rate, 1 Hz to 1 MHz"),
     "bandwidth": Limit(1e-3, 1e5, "Hz", "a control loop's bandwidth"),
     "encoder": Limit(2.0, 2.0**31 - 1, "counts/rev", "an encoder's counts per revolution"),
     "noise": Limit(0.0, 1.0, "rad or m", "a position sensor's noise, standard deviation"),
     "delay": Limit(0.0, 1000.0, "samples", "a measurement's delay, in controller samples"),
     "seed": Limit(0.0, 2.0**32 - 1, "", "a random generator's seed"),
+    "samples": Limit(2.0, 1e5, "", "IK points along a tool path; 1e5 take about 5 s"),
+    "grid": Limit(3.0, 1e5, "", "Toppra's grid points along a path; 1e5 take about 25 s"),
+    "velocity_limit": Limit(1e-6, 1e4, "rad/s or m/s", "a joint's speed limit, as q̇'s range", "limit"),
+    "acceleration_limit": Limit(1e-6, 1e6, "rad/s² or m/s²", "a joint's acceleration limit, as q̈'s range", "limit"),
+    "effort_limit": Limit(1e-6, 1e9, "N·m or N", "a joint's effort limit, a micro- to a giganewton(-metre)", "limit"),
+    "motor_speed_limit": Limit(1e-6, 1e5, "rad/s", "a motor's speed limit, up to about 1e6 rpm", "limit"),
+    "motor_torque_limit": Limit(1e-6, 1e6, "N·m", "a motor's torque limit", "limit"),
+    "sample_rate": Limit(1.0, 1e4, "Hz", "samples per second of motion for sizing drives", "rate"),
 }
 
 
@@ -134,10 +142,27 @@ def check_range(value: ArrayLike, name: str, size: ArrayLike | None = None, key:
     limit = LIMITS[_key(key)]
     bad = ~(np.isfinite(measured) & (measured >= limit.low) & (measured <= limit.high))  # not a bound: a user's value
     if np.any(bad):
-        first = _num(measured[np.argmax(bad)])
+        worst = float(measured[np.argmax(bad)])
+        first = _num(worst)
+        if limit.low <= float(first) <= limit.high:  # not a bound: rounded onto or into the range (1000.001 → 1000)
+            first = repr(worst)  # shown in full, so that the value refused never reads as an allowed one
         given = first if size is None else f"{','.join(_num(v) for v in np.ravel(values))} ({limit.symbol} = {first})"
         raise ValueError(f"{name} {given} is out of range: allowed {allowed(key)} ({limit.why})")
     return values
+
+
+def check_count(value: Any, name: str, key: str | None = None) -> int:
+    """``value`` as an int if it is a whole number (an int or a float without a fraction, numpy's too; not a bool)
+    within its range in :data:`LIMITS` (``name``'s, or ``key``'s as :func:`check_range` reads them): a count such as
+    IK samples or grid points, bounded so that the work and memory it sets stay bounded. ``ValueError`` naming
+    ``name``, the value and the range (:class:`NotRealError` for what is not a number)."""
+    number = real_number(value, name)
+    if not number.is_integer():  # NaN and ±inf are not whole either
+        limit = LIMITS[_key(name if key is None else key)]
+        raise ValueError(f"{name} {_num(number)} is not a whole number: allowed {allowed(name if key is None else key)}"
+                         f" ({limit.why})")
+    check_range(number, name, key=key)
+    return int(number)
 
 
 def check_positive(value: Any, what: str, unit: str, allowed_text: str) -> float:

@@ -7,6 +7,7 @@ caller calls the value (an option such as ``"--q"``), quoted in the message.
 from __future__ import annotations
 
 import math
+import re
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -18,11 +19,15 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = [
+    "DECIMAL",
     "GRAVITY_NAMES",
+    "NOT_A_NUMBER",
+    "NOT_FINITE",
     "SHOWN",
     "G",
     "check_payload",
     "cut",
+    "decimal",
     "gravity_vector",
     "joint_rates",
     "joint_values",
@@ -46,17 +51,46 @@ def shown(value: object, limit: int = SHOWN) -> str:
     return cut(repr(value), limit)
 
 
+#: A plain decimal number (``-0.5``, ``2``, ``1e-3``, ``.5``): what every number armlab reads from text may be (an
+#: option, a DH table, a drive file, a catalogue cell). ``float`` also takes ``1_0`` (= 10), ``nan``, ``inf`` and other
+#: scripts' digits (``١``); these are refused. ASCII digits (re's ``\d``: any script).
+DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+#: The reasons :func:`decimal` gives.
+NOT_A_NUMBER = "is not a number"
+NOT_FINITE = "is not a finite number"
+
+
+def decimal(text: str) -> float:
+    """``text`` (white space around it ignored) as a float if it is a plain decimal (:data:`DECIMAL`) and finite:
+    the one rule for a number given as text. Else a ``ValueError`` whose text is the reason, :data:`NOT_FINITE`
+    (``nan``, ``-inf``, ``1e309``) or :data:`NOT_A_NUMBER` (``1_0``, ``0x1``, ``ten``, not a string), for the caller
+    to prefix with the value's name and the text as typed."""
+    stripped = text.strip() if isinstance(text, str) else ""
+    if not DECIMAL.fullmatch(stripped):
+        try:
+            finite = math.isfinite(float(stripped))
+        except ValueError:
+            finite = True
+        raise ValueError(NOT_A_NUMBER if finite else NOT_FINITE)
+    value = float(stripped)
+    if not math.isfinite(value):  # 1e309, 400 digits
+        raise ValueError(NOT_FINITE)
+    return value
+
+
 def parse_floats(text: str, name: str) -> list[float]:
-    """``"1,2.5,-3"`` → ``[1.0, 2.5, -3.0]``; ValueError naming the bad item (text, NaN, inf)."""
+    """``"1,2.5,-3"`` → ``[1.0, 2.5, -3.0]``: comma-separated plain decimals (:func:`decimal`); ValueError naming
+    ``name`` and the bad item (text, ``1_0``, NaN, inf), or ``text`` if it is not a string."""
+    if not isinstance(text, str):
+        raise ValueError(f"{name}: {shown(text)} is not text: give comma-separated numbers")
     values = []
     for item in text.split(","):
         try:
-            value = float(item)
-        except ValueError:
-            raise ValueError(f"{name}: {item.strip()!r} is not a number (expected comma-separated numbers)") from None
-        if not math.isfinite(value):
-            raise ValueError(f"{name}: {item.strip()!r} is not a finite number")
-        values.append(value)
+            values.append(decimal(item))
+        except ValueError as reason:
+            hint = " (expected comma-separated plain decimals, e.g. 0.5,-2,1e-3)" if str(reason) == NOT_A_NUMBER else ""
+            raise ValueError(f"{name}: {item.strip()!r} {reason}{hint}") from None
     return values
 
 

@@ -9,6 +9,7 @@ every output into a folder completely or not at all.
 from __future__ import annotations
 
 import html
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -34,6 +35,7 @@ from armlab.presentation.output import run_folder, write_log_csv, write_summary
 from armlab.presentation.plots import clearance_figure, figures, save_figures
 from armlab.presentation.replay import log_page, replay_log
 from armlab.presentation.servo_plots import bode_figure, servo_figure
+from armlab.values import shown as shown_value
 
 if TYPE_CHECKING:
     from armlab.collision.model import Clearances
@@ -210,8 +212,12 @@ class Run:
         """Write every output of the run (:meth:`write`) into folder ``out``, completely or not at all.
 
         ``out`` may be new, empty or an earlier run (which is replaced); ``ValueError`` otherwise.
-        Returns the names written; ``deg``: the replay shows revolute angles in degrees.
+        Returns the names written; ``deg``: the replay shows revolute angles in degrees. ``TypeError`` naming
+        ``out`` if it is not a folder's name (a ``str`` or a path).
         """
+        if not isinstance(out, str | os.PathLike):
+            raise TypeError(f"out: expected a folder's name (a str or a pathlib.Path), got {type(out).__name__} "
+                            f"{shown_value(out)}")
         with run_folder(out) as folder:
             return self.write(folder, deg)
 

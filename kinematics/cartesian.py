@@ -36,7 +36,7 @@ from armlab.kinematics.profiles import (
     trapezoid_profile,
 )
 from armlab.kinematics.quintic import Motion, TrajectorySegment, polynomial_matrix
-from armlab.limits import check_positive
+from armlab.limits import check_count, check_positive, check_range
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial
@@ -111,7 +111,7 @@ def _position(point: ArrayLike, name: str) -> tuple[NDArray[np.float64], NDArray
         a = np.append(a, 0.0)
     if a.shape != (3,) or not np.all(np.isfinite(a)):
         raise ValueError(f"{name} = {np.ravel(a).tolist()} must be a point (x, y, z) in m or a 4×4 pose")
-    return a, None
+    return check_range(a, name, key="coordinate"), None  # a point at 1e308 m would overflow the IK
 
 
 def line_path(start: ArrayLike, end: ArrayLike) -> ToolPath:
@@ -137,6 +137,7 @@ def arc_path(centre: ArrayLike, axis: ArrayLike, start: ArrayLike, angle: float,
     u = u / np.linalg.norm(u)
     if not np.isfinite(angle) or abs(angle) < MIN_LENGTH:
         raise ValueError(f"arc angle = {angle} rad is not allowed: a finite nonzero angle")
+    angle = float(check_range(angle, "arc angle", key="angle"))  # 1e308 rad would overflow the timing
     r = p0 - c
     if np.linalg.norm(r) < MIN_LENGTH:
         raise ValueError(f"the arc's start {p0.tolist()} is its centre: the radius is zero")
@@ -246,8 +247,7 @@ def tool_joint_path(arm: Arm, path: ToolPath, q0: ArrayLike | None = None, branc
     :data:`~armlab.kinematics.ik_path.PATH_TOL`; between them, the quintic Hermite interpolant's error (the
     Panda's 0.45 m line from its ready pose: 4.2e-8 m and 1.6e-7 rad at 201 samples, 3.4e-9 m and 1.3e-8 rad
     at 801; ``tests/test_plan.py`` holds it to 2e-7 and 2e-8)."""
-    if not isinstance(samples, int) or isinstance(samples, bool) or samples < 2:
-        raise ValueError(f"samples = {samples!r} is not allowed: a whole number ≥ 2")
+    samples = check_count(samples, "samples")  # bounded: the IK's work and memory grow with it
     start = start_joints(arm, path, q0, branch)
     if arm.n >= 6 and path.R0 is None:
         held = arm.fk(start)[:3, :3]

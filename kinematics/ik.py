@@ -42,7 +42,7 @@ from armlab.kinematics.ik_target import (
     single,
     target_text,
 )
-from armlab.limits import check_range
+from armlab.limits import check_range, real_array
 from armlab.values import shown
 
 if TYPE_CHECKING:
@@ -73,7 +73,7 @@ def _coordinates(arm: Arm, position: NDArray) -> NDArray[np.float64]:
 
 def _target(arm: Arm, target: ArrayLike) -> tuple[NDArray, NDArray | None]:
     """(position (3,), rotation (3, 3) or None) of a position or 4×4 pose target, checked."""
-    t = np.asarray(target, dtype=float)
+    t = real_array(target, "target")  # not bools, text or complex numbers: as fk and jacobian refuse them
     position, rotation = check_pose(t) if t.shape == (4, 4) else (t, None)
     position = single(_coordinates(arm, position), 3)
     try:

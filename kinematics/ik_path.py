@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.bounds import above, clamp, outside, tolerated
+from armlab.bounds import above, below, clamp, outside, tolerated
 from armlab.kinematics.differential import jacobian, tool_motion
 from armlab.kinematics.ik import solve
 from armlab.kinematics.ik_target import pose_error, rotation_log
@@ -229,9 +229,13 @@ def _check(arm: Arm, what: str, s: NDArray, p: NDArray, R: NDArray | None, q: ND
     beyond = np.argwhere(outside(q, lower, upper))
     if beyond.size:
         j, k = beyond[0]
+        unit = "rad" if arm.revolute[k] else "m"
+        low = bool(below(q[j, k], lower[k]))
+        past = lower[k] - q[j, k] if low else q[j, k] - upper[k]  # beyond the limit's slack: no round-off
         raise ValueError(f"{what} takes joint {arm.joint_names[k]} of {arm.name} out of its limits "
-                         f"[{lower[k]:.4g}, {upper[k]:.4g}] at s = {s[j]:.4g}, {_point(p[j])} "
-                         f"({arm.joint_names[k]} = {q[j, k]:.6g})")
+                         f"[{lower[k]:.4g}, {upper[k]:.4g}] {unit} at s = {s[j]:.4g}, {_point(p[j])} "
+                         f"({arm.joint_names[k]} = {q[j, k]:.6g} {unit}, {past:.3g} {unit} "
+                         f"{'below its lower' if low else 'above its upper'} limit)")
     for j in np.flatnonzero(tolerated(sigma[1:-1, rank - 1], SINGULAR_TOL)) + 1:  # a path may start or end at one
         u = np.linalg.svd(J[j])[0][:, rank - 1]  # the direction the tool cannot move in there
         if not tolerated(abs(u @ xd[j]), 1e-3 * np.linalg.norm(xd[j])):  # the path goes that way: unbounded rates

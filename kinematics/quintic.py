@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from armlab.bounds import outside, within
 from armlab.kinematics.batch import as_batch
-from armlab.limits import check_positive, check_range, real_number
+from armlab.limits import LIMITS, NotRealError, check_positive, check_range, real_array, real_number
 
 if TYPE_CHECKING:
     from pydrake.trajectories import PiecewisePolynomial, Trajectory
@@ -82,7 +82,11 @@ def check_duration(tf: float, name: str = "tf") -> float:
 
 
 def _joint_vector(q: ArrayLike, name: str) -> NDArray[np.float64]:
-    a = np.asarray(q, dtype=float)
+    """``q`` as one vector of joint values ``(n,)``; ``ValueError`` naming ``name`` (:class:`NotRealError` for
+    ``None``, bools, text)."""
+    if q is None:
+        raise NotRealError(f"{name} is None: give the joint values, one per joint (rad, m)")
+    a = real_array(q, name)
     if a.ndim != 1 or a.size == 0:
         raise ValueError(f"{name} has shape {a.shape}; expected one vector of joint values")
     return as_batch(a, a.size, name)
@@ -580,10 +584,11 @@ class Motion:
         if self.n != arm.n:
             raise ValueError(f"the motion has {self.n} joints; {arm.name} has {arm.n}")
         lower, upper = arm.limit_arrays()
+        held = LIMITS["q"]  # an unlimited joint is held to ±1e6 (rad, m), as arm.check_q holds it
         for k, (label, start) in enumerate(zip(self.labels, self.breaks, strict=False)):
             tau = self.check_times(k)
             q = self.evaluate(start + np.clip(tau, 0.0, self.segments[k].duration), 1)[0]
-            beyond = np.flatnonzero(np.any(outside(q, lower, upper), axis=1)
+            beyond = np.flatnonzero(np.any(outside(q, lower, upper) | outside(q, held.low, held.high), axis=1)
                                     | ~np.all(np.isfinite(q), axis=1))  # the rule arm.check_q applies
             if beyond.size == 0:
                 continue

@@ -53,7 +53,7 @@ from numpy.typing import ArrayLike, NDArray
 from armlab.bounds import above, below, outside, tolerated
 from armlab.kinematics.quintic import DEFAULT_LOG_PERIOD, Motion, TrajectorySegment, to_trajectory
 from armlab.kinematics.rnea import inverse_dynamics
-from armlab.limits import check_positive, per_joint
+from armlab.limits import check_count, check_positive, check_range, per_joint
 from armlab.models.plant import PlantOptions, make_plant
 
 if TYPE_CHECKING:
@@ -65,7 +65,8 @@ if TYPE_CHECKING:
     from armlab.drives.train import DriveTrain
     from armlab.models.arm import Arm
 
-__all__ = ["ACTIVE_TOL", "CHECK_MARGIN", "DEFAULT_GRID", "MARGIN", "Fastest", "Limits", "fastest", "limit_curve"]
+__all__ = ["ACTIVE_TOL", "CHECK_MARGIN", "DEFAULT_GRID", "MARGIN", "MAX_TIMED_DURATION", "Fastest", "Limits", "fastest",
+           "limit_curve"]
 
 #: Grid points of s by default.
 DEFAULT_GRID = 500
@@ -85,6 +86,10 @@ CHECK_MARGIN = MARGIN / 2
 CHECK_POINTS = 4
 #: Points per grid interval at which a slowed-down interval holds its constraints, at least and at most.
 LIMITED_POINTS = 8
+#: The longest time-optimal timing (s): its check every :data:`~armlab.kinematics.quintic.DEFAULT_LOG_PERIOD` s
+#: makes a million samples, as many as a simulation may log; a longer one (limits of 1e-5 rad/s) is refused before
+#: the check would fill the memory.
+MAX_TIMED_DURATION = 1000.0
 MAX_LIMITED_POINTS = 128
 #: The margin of an interval the slow-down changes outside the zone (its ramp into and out of a slowed interval):
 #: half Toppra's, so that Toppra's profile, on its limits less :data:`MARGIN` at the grid points, meets it again
@@ -113,6 +118,7 @@ def _limit(value: float | ArrayLike | None, default: NDArray[np.float64], name: 
     for v in a:
         if not np.isinf(v):
             check_positive(float(v), f"{name} limit", unit, f"a {name} limit must be a positive number (or inf)")
+            check_range(v, f"{name} limit", key=f"{name.replace(' ', '_')}_limit")  # 1e-300: no timing, no end
     return a.astype(float)
 
 
@@ -317,8 +323,8 @@ def _infeasible(arm: Arm, s: NDArray, c: NDArray, lo: NDArray, hi: NDArray, name
         less = f" (the effort limit less its friction {kept:.6g} {unit})" if kept > 0 else ""
         return ValueError(f"the limits cannot be met: {names[k]} needs {c[i, k]:.6g} {unit} against gravity at "
                           f"s = {s[i]:.4g} of the path, beyond its limit {limit:.6g} {unit}{less}")
-    return ValueError(f"the limits cannot be met anywhere on the path by Toppra ({arm.name}); raise the acceleration "
-                      "or effort limits")
+    return ValueError(f"the limits cannot be met anywhere on the path by Toppra ({arm.name}); raise the velocity, "
+                      "acceleration or effort limits")
 
 
 def _toppra(path: Trajectory, plant: MultibodyPlant, s: NDArray, limits: Limits) -> PiecewisePolynomial | None:
@@ -583,8 +589,7 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
     ``gravity``, ``payload``: as the plant's (:class:`~armlab.models.plant.PlantOptions`). ``ValueError`` for a
     bad limit, or limits no timing meets (naming the joint, the point and the two numbers).
     """
-    if not isinstance(grid, int) or isinstance(grid, bool) or grid < 3:
-        raise ValueError(f"grid = {grid!r} is not allowed: a whole number ≥ 3")
+    grid = check_count(grid, "grid")  # bounded: Toppra's work grows with it
     train = arm.drives if drives is None else drives
     limits = arm_limits(arm, velocity, acceleration, effort, train, motor_speed, motor_torque)
     if np.all(np.isinf(np.concatenate([limits.velocity, limits.acceleration, limits.effort]))):
@@ -625,6 +630,10 @@ def fastest(arm: Arm, path: Motion | Trajectory, velocity: float | ArrayLike | N
         scaling = _toppra(q_path, plant, s, given)
     if scaling is None:
         raise _infeasible(arm, s, c, lo, hi, names, friction)
+    took = scaling.end_time() - scaling.start_time()
+    if above(took, MAX_TIMED_DURATION):
+        raise ValueError(f"the time-optimal timing takes {took:.6g} s, more than the {MAX_TIMED_DURATION:g} s allowed "
+                         "(checked, and simulated, every 1 ms): raise the velocity, acceleration or effort limits")
     timed = _TimedPath(rigid, q_path, s, a, b, c, lo, hi, names, friction, gravity, payload)
     segment, timing, slowed = timed.within(arm, train, limits, _Timing.of(scaling, s))
     motion = Motion((segment,), f"time-optimal timing (Toppra) of "

@@ -55,6 +55,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from armlab.files import read_input
+from armlab.values import decimal
 
 __all__ = ["EXAMPLE_GEARBOXES", "EXAMPLE_MOTORS", "GEARBOX_COLUMNS", "LIFE_BASES", "MOTOR_COLUMNS", "Gearboxes",
            "Motors", "read_gearboxes", "read_motors"]
@@ -247,7 +248,7 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
                     values[r] = LIFE_BASES[cell]
                     continue
                 try:
-                    value = float(cell)
+                    value = decimal(cell)  # a plain decimal, as every number read from text
                 except ValueError:
                     value = math.nan
                 if not math.isfinite(value) or value < 0 or (positive and value == 0):

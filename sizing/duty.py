@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from armlab.files import is_json_number, json_number, read_json
 from armlab.kinematics.quintic import Motion
-from armlab.limits import allowed, check_range
+from armlab.limits import allowed, check_range, real_number
 from armlab.models.write_urdf import check_inertia
 
 if TYPE_CHECKING:
@@ -218,8 +218,7 @@ def _simpson(tf: float, rate: float) -> tuple[NDArray[np.float64], NDArray[np.fl
 
 def sample(cycle: DutyCycle, rate: float = DEFAULT_RATE) -> CycleSamples:
     """The weighted samples of one cycle (see the module docstring); ``rate`` samples per second of motion."""
-    if not (math.isfinite(rate) and rate > 0):
-        raise ValueError(f"sample rate {rate!r} /s is not allowed: a positive finite number of samples per second")
+    rate = float(check_range(real_number(rate, "rate"), "rate", key="sample_rate"))  # bounded: memory grows with it
     parts: list[tuple[Any, ...]] = []
     where = np.asarray(cycle.start, dtype=float)
     now = 0.0

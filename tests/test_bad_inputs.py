@@ -35,6 +35,7 @@ def box(tmp_path, monkeypatch, capsys) -> Sandbox:
 
 # ---- CLI numbers: (argv, exit code, fragment of the error line, or of stdout on success) -------------------------
 SIM = ("simulate", "rr", "--out", "run")
+LINE = ("plan", "rr", "line", "--from", "0.5,0.3", "--to", "0.3,0.5")
 CLI_NUMBERS = [
     (("fk", "rr", "--q", "1e309,0"), 2, "--q: '1e309' is not a finite number"),
     (("fk", "rr", "--q", "-1e309,0"), 2, "'-1e309' is not a finite number"),
@@ -51,7 +52,7 @@ CLI_NUMBERS = [
     (("fk", "rr", "--q", "-1e308,0"), 2, "joint1 = -1e+308 rad is outside its limits"),
     (("fk", "r2t", "--q", "0,1e308,0"), 2, "joint2 = 1e+308 m is outside its limits"),
     (("fk", "rr", "--q", "0,0,0"), 2, "rr has 2 joints, got 3 values"),
-    (("simulate", "rr", "--tf", "1e308", "--out", "run"), 2, "tf 1e308 is out of range: allowed 0 ≤ tf ≤ 1e6 s"),
+    (("simulate", "rr", "--tf", "1e308", "--out", "run"), 2, "--tf 1e308 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),
     (("fk", "rrrr", "--q", "1e308,0,0,0"), 2, "--q 1e308 is out of range: allowed -1e6 ≤ q ≤ 1e6 rad or m"),
     (("fk", "rr", "--q", "0,0", "--qd", "1e308,1e308"), 2, "--qd 1e308 is out of range: allowed -10000 ≤ q̇"),
     (("fk", "rr", "--q", "0,0", "--qdd", "0,-1e7"), 2, "--qdd -1e7 is out of range: allowed -1e6 ≤ q̈ ≤ 1e6"),
@@ -113,12 +114,54 @@ CLI_NUMBERS = [
     (("workspace", "rr", "--seed", "1e308"), 2, "--seed: invalid int value: '1e308'"),
     (("workspace", "rr", "--seed", "-1"), 2, "--seed -1 is not allowed: give a whole number 0 … 4294967295"),
     (("workspace", "rr", "--seed", "4294967296"), 2, "--seed 4294967296 is not allowed"),
+    # issue 36 item 6: counts bounded in the range table, before any work
+    ((*LINE, "--tf", "1", "--samples", "100000000"), 2, "--samples 1e8 is out of range: allowed 2 ≤ samples ≤ 100000"),
+    ((*LINE, "--fastest", "--grid", "1000000"), 2, "--grid 1e6 is out of range: allowed 3 ≤ grid ≤ 100000"),
+    # issue 36 item 11: one plain-decimal rule for every number given as text
+    ((*SIM, "--payload", "1_0"), 2, "--payload: invalid float value: '1_0'"),
+    (("fk", "rr", "--q", "1_0,0"), 2, "--q: '1_0' is not a number"),
+    (("size", "rr", "--safety-factor", "1_5"), 2, "--safety-factor: invalid float value: '1_5'"),
+    (("workspace", "rr", "--samples", "1_000_000"), 2, "--samples: '1_000_000' is not a number"),
+    ((*LINE, "--tf", "1", "--samples", "1_000"), 2, "--samples: invalid int value: '1_000'"),
+    (("fk", "rr", "--q", "\u0661,0"), 2, "--q: '\u0661' is not a number"),
+    # issue 36 item 15
+    (("size", "rr", "--rate", "1e9"), 2, "--rate 1e9 is out of range: allowed 1 ≤ rate ≤ 10000 Hz"),
+    # issue 36 item 16
+    ((*LINE, "--tf", "1e-300"), 2, "--tf 1e-300 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),
+    (("plan", "rr", "arc", "--centre", "0,0", "--axis", "0,0,1", "--from", "0.5,0", "--angle", "1e308", "--tf", "1"), 2,
+     "--angle 1e308 is out of range: allowed -1e6 ≤ angle ≤ 1e6 rad"),
+    # issue 36 item 19: argparse gave parse_floats a list
+    (("fk", "rr", "--q=--"), 2, "--q: '--' is not a number"),
+    # issue 36 item 22: the option and its value, not numpy's words
+    (("simulate", "rr", "--from", "0,0", "--to", "1,1", "--tf", "1e-300", "--out", "run"), 2,
+     "--tf 1e-300 is out of range"),
+    (("simulate", "rr", "--from", "0,0", "--to", "1,1", "--tf", "1e-100", "--out", "run"), 2,
+     "--tf 1e-100 is out of range"),
+    (("plan", "rr", "line", "--from", "0.5,0.3", "--to", "1e308,0.5", "--tf", "1"), 2,
+     "--to 1e308 is out of range: allowed -1e6 ≤ x, y, z ≤ 1e6 m"),
+    ((*LINE, "--fastest", "--velocity=1e-300"), 2, "--velocity 1e-300 is out of range: allowed 1e-6 ≤ limit ≤ 10000"),
+    ((*LINE, "--fastest", "--velocity=1e-5"), 2, "the time-optimal timing takes 49281.8 s, more than the 1000 s"),
+    (("size", "rr", "--payload=1000.001"), 2, "--payload 1000.001 is out of range: allowed 0 ≤ payload ≤ 1000 kg"),
+    # issue 36 item 23: empty or inapplicable options are errors, one duration rule for plan and simulate
+    (("size", "rr", "--out", ""), 2, "--out '': give a folder name"),
+    ((*LINE, "--tf", "1", "--simulate", ""), 2, "--simulate '': give a folder name"),
+    (("fk", "rr", "--q", "0,0", "--tool", ""), 2, "--tool '': give a link's name"),
+    ((*LINE, "--tf", "1e-9"), 2, "--tf 1e-9 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),
+    (("simulate", "rr", "--from", "0,0", "--to", "1,1", "--tf", "1e-9", "--dt", "1e-10", "--out", "run"), 2,
+     "--tf 1e-9 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),
+    ((*LINE, "--tf", "1", "--through", "1,1", "2,2", "3,3"), 2, "--through: not an option of 'plan ARM line'"),
+    # issue 36, also: a tool path's limit violation says by how much, in the joint's unit
+    (("plan", "r2t", "line", "--from", "0.3,0.2,0.9", "--to", "0.3,0.2,0.5", "--tf", "1"), 2,
+     "(joint2 = -0.002 m, 0.002 m below its lower limit)"),
 ]
 #: Values at the ends of the allowed ranges: a result.
 CLI_NUMBERS_ACCEPTED = [
     (("diagram", "rr", "--kp", "1e6", "--kd", "1e4", "--ki", "1e8", "--gravity", "0,0,-100", "--payload", "1000",
       "--out", "d.dot"), 0, "wrote d.dot"),
     (("diagram", "rr", "--kp", "0", "--kd", "0", "--gravity", "off", "--payload", "0", "--out", "d.dot"), 0, "wrote"),
+    # issue 36 item 21: a negative value among --through's three points
+    (("plan", "rr", "arc", "--through", "0.5,0.3", "0.2,0.5", "-0.3,0.5", "--tf", "1"), 0, "joints to"),
+    ((*LINE, "--tf", "1e-6"), 0, "joints to"),  # the smallest duration
 ]
 
 
@@ -135,6 +178,15 @@ def test_option_help_states_the_ranges(box):
     for fragment in ("0 ≤ kp ≤ 1e6 1/s²", "0 ≤ kd ≤ 10000 1/s", "0 ≤ ki ≤ 1e8 1/s³", "0 ≤ |g| ≤ 100 m/s²",
                      "0 ≤ payload ≤ 1000 kg", "1e-12 ≤ accuracy ≤ 0.1"):
         assert fragment in text
+
+
+def test_plan_and_size_help_state_the_ranges(box):
+    """Issue 36 items 6, 15, 22: the maxima of the counts and the rate, and the smallest duration, quoted in --help."""
+    for command, fragments in ((("plan", "--help"), ("2 ≤ samples ≤ 100000", "3 ≤ grid ≤ 100000", "1e-6 ≤ tf ≤ 1e6 s")),
+                               (("size", "--help"), ("1 ≤ rate ≤ 10000 Hz",))):
+        text = " ".join(box.main(*command).out.split())
+        for fragment in fragments:
+            assert fragment in text
 
 
 # ---- the Python API: the same checks, as ValueError: (keyword arguments of armlab.simulate, message fragment) ------
@@ -185,6 +237,10 @@ API_TYPES = [
     (lambda armlab, arm: armlab.load("urm6", r1=True), "urm6: parameter r1 = True: expected a real number, got bool"),
     (lambda armlab, arm: armlab.load("urm6", theta3="x"),
      "urm6: parameter theta3 = 'x': expected a real number, got str"),
+    # issue 36 items 29 and 32: ik refuses bools as fk does; None is named as None
+    (lambda armlab, arm: arm.ik([True, False]), "target: expected real numbers, got dtype bool"),
+    (lambda armlab, arm: armlab.quintic(arm, None, [1, 1], 1), "segment: start is None: give the joint values"),
+    (lambda armlab, arm: armlab.quintic(arm, [0, 0], [True, False], 1), "end: expected real numbers, got dtype bool"),
 ]
 
 
@@ -227,6 +283,40 @@ API_ARM = [
     ("ik", ([1e308, 0],), "out of range"),
     ("ik", ([0.9, 0],), "out of reach"),
 ]
+
+
+#: The API's motions (issue 36 items 22 and 30): (call, message fragment of the one-line ValueError).
+API_MOTIONS = [
+    (lambda armlab: armlab.quintic(armlab.load("rr"), [0, 0], [1, 1], 1e-300),
+     "tf 1e-300 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),  # numpy's LinAlgError before
+    (lambda armlab: armlab.quintic(armlab.load("urm6"), np.zeros(6), np.full(6, 2e6), 1),
+     "q 2e6 is out of range: allowed -1e6 ≤ q ≤ 1e6"),  # an unlimited joint held to ±1e6, as fk holds it
+    (lambda armlab: armlab.line(armlab.load("rr"), [0.5, 0.3], [1e308, 0.5], 1), "line end 1e308"),
+    (lambda armlab: armlab.arc(armlab.load("rr"), centre=[0, 0], axis=[0, 0, 1], start=[0.5, 0], angle=1e308, tf=1),
+     "arc angle 1e308 is out of range"),
+    (lambda armlab: armlab.line(armlab.load("rr"), [0.5, 0.3], [0.3, 0.5], 1, samples=10**8),
+     "samples 1e8 is out of range: allowed 2 ≤ samples ≤ 100000"),
+]
+
+
+@pytest.mark.parametrize(("call", "fragment"), API_MOTIONS, ids=lambda v: v if isinstance(v, str) else None)
+def test_api_motions(call, fragment):
+    import armlab
+
+    with pytest.raises(ValueError) as error:
+        call(armlab)
+    _one_line_error(error.value, fragment)
+
+
+def test_a_run_saved_to_a_number_names_the_argument():
+    """Issue 36 item 32: ``run.save(5)`` raised pathlib's TypeError text."""
+    import armlab
+
+    arm = armlab.load("rr")
+    run = armlab.simulate(arm, armlab.quintic(arm, [0, 0], [0.1, 0.1], 0.05), log_period=0.01)
+    with pytest.raises(TypeError) as error:
+        run.save(5)
+    _one_line_error(error.value, "out: expected a folder's name (a str or a pathlib.Path), got int 5")
 
 
 @pytest.mark.parametrize(("method", "args", "fragment"), API_ARM, ids=str)
@@ -284,6 +374,9 @@ SEGMENT_FILES = [
     (json.dumps({"segments": [{"tf": 1, "from": [0, 0], "to_point": [0.4, 0.3], "to_pitch": "x"}]}), 2,
      'to_pitch = "x" must be a finite number'),
     (_seg(label=["a"] * 3), 0, "segments from seg.json"),
+    # issue 36 item 6: a tool path's IK samples are bounded (1e8: gigabytes)
+    (json.dumps({"segments": [{"tf": 1, "from_point": [0.5, 0.3], "line_to": [0.3, 0.5], "samples": 100_000_000}]}),
+     2, "segment 1: samples 1e8 is out of range: allowed 2 ≤ samples ≤ 100000"),
 ]
 
 
@@ -339,8 +432,9 @@ STUDY_FILES = [
     (_study(resolution=1e308), 2, "resolution 1e308 is out of range: allowed 1e-6 ≤ h ≤ 100 m"),
     (_study(evaluate=["peak_torque"], vary={"tf": {"values": [1, 1e308]}}), 2, "tf 1e308 is out of range"),
     (_study(evaluate=["peak_torque"], vary={"payload": {"values": [1e6]}}), 2, "payload 1e6 is out of range"),
-    (_study(evaluate=["peak_torque"], tf=1e-9), 2, "log period = 0.001 s is longer than the motion (1e-09 s)"),
-    (_study(evaluate=["peak_torque"], tf=1e-9, simulate=True), 2, "log period = 0.001 s is longer than the motion"),
+    (_study(evaluate=["peak_torque"], tf=1e-5), 2, "log period = 0.001 s is longer than the motion (1e-05 s)"),
+    (_study(evaluate=["peak_torque"], tf=1e-5, simulate=True), 2, "log period = 0.001 s is longer than the motion"),
+    (_study(evaluate=["peak_torque"], tf=1e-9), 2, "tf 1e-9 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),  # issue 36
     (_study(evaluate=["peak_torque"], tf=1e5, simulate=True), 2, "100,000,001 log samples, more than the 1,000,000"),
 ]
 

@@ -107,7 +107,7 @@ def test_load_cases_from_a_file(tmp_path):
 
 @pytest.mark.parametrize(("argv", "message"), [
     (["--safety-factor", "0.5"], "safety factor 0.5 is not allowed"),
-    (["--payload", "-1"], "load case -1 kg mass -1 is out of range"),
+    (["--payload", "-1"], "--payload -1 is out of range: allowed 0 ≤ payload ≤ 1000 kg"),  # the option, issue 36
     (["--motors", "missing.csv"], "missing.csv"),
     (["--duty-cycle", "CYCLE", "--tf", "2"], "--duty-cycle gives the whole cycle"),
     (["--rank", "price"], "invalid choice: 'price'"),

@@ -203,6 +203,9 @@ CATALOGUE_ERRORS = [
                 "mass_kg\ng,0,0.9,5,10,6000,0.01,1\n", "ratio = '0' is not allowed: a finite number > 0"),
     ("gearbox", "name,ratio,efficiency,rated_torque_Nm,peak_torque_Nm,max_input_speed_rpm,input_inertia_kgcm2,"
                 "mass_kg\ng,10,0.9,5,10,nan,0.01,1\n", "max_input_speed_rpm = 'nan' is not allowed"),
+    # issue 36 item 11: a cell is a plain decimal, as every number read from text (float() reads 0_32 as 32)
+    ("motor", "name,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2,mass_kg\n"
+              "a,1,3,3000,5000,0_32,1\n", "rotor_inertia_kgcm2 = '0_32' is not allowed"),
 ]
 
 
@@ -242,7 +245,7 @@ def test_bad_options_of_a_sizing():
     cycle = DutyCycle.of(arm.motion(arm, None))
     for kwargs, message in (({"safety_factor": 0.9}, "safety factor 0.9 is not allowed: a finite number ≥ 1"),
                             ({"rank": "cost"}, "rank 'cost' is not allowed: one of mass, margin, inertia"),
-                            ({"rate": 0.0}, "sample rate 0.0 /s is not allowed")):
+                            ({"rate": 0.0}, "rate 0 is out of range: allowed 1 ≤ rate ≤ 10000 Hz")):
         with pytest.raises(ValueError, match=message):
             size(arm, cycle, (LoadCase(0.0),), read_motors(), read_gearboxes(), **kwargs)
 

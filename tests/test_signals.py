@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
@@ -338,3 +339,16 @@ def test_a_stop_signal_ends_a_process_stuck_in_a_native_parse(box, signum):
         process.kill()
     assert process.returncode == -signum, process.stderr.read()[-300:]
     assert time.monotonic() - start < PROMPT
+
+
+def test_a_signal_sent_again_after_the_work_prints_nothing_at_exit():
+    """Issue 36 item 19: a stop signal that arrived inside an import (Ctrl-C early in ``armlab export``) is sent
+    again from a timer; when the command has ended first, the timer fired into the interpreter's exit, which printed
+    "Exception ignored in: <module 'threading'> … KeyboardInterrupt". Leaving stop_on_signals cancels it."""
+    code = ("import signal, sys\n"
+            "from armlab import files\n"
+            "with files.stop_on_signals():\n"
+            "    files._send_again(signal.SIGINT)  # as for a signal that arrived inside an import\n"
+            "sys.exit(0)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert (done.returncode, done.stderr) == (0, "")

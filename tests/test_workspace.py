@@ -228,3 +228,25 @@ def test_no_negative_area_in_the_convergence_or_the_result(capsys) -> None:
     row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("area vs samples"))
     values = [v.split()[0] for v in row.split(": ")[2:]]
     assert "— (cells not filled)" in row and all(v == "—" or float(v) > 0 for v in values)
+
+
+def test_the_default_resolution_of_the_most_samples_fits_the_grid() -> None:
+    """Issue 36 item 28: ``armlab workspace urm6 --samples 1e9`` (the documented maximum) was refused by its own
+    default resolution (more than MAX_CELLS cells): the default edge is no finer than the grid allows."""
+    from armlab.analysis.workspace import (
+        MAX_CELLS,
+        MAX_SAMPLES,
+        _Occupancy,
+        default_resolution,
+        reach_bound,
+        tool_positions,
+    )
+
+    arm = get_arm("urm6")
+    q = sample_joints(arm, 1 << 16, np.random.default_rng(0))
+    points = tool_positions(arm, q)
+    origin, basis = workspace_plane(points)
+    bound = reach_bound(arm) + float(np.linalg.norm(origin))
+    h = default_resolution((points - origin) @ basis.T, MAX_SAMPLES, bound)
+    grid = _Occupancy(h, bound, basis.shape[0])  # refused before the fix: "resolution … is too fine"
+    assert grid.cells ** basis.shape[0] <= MAX_CELLS

@@ -32,7 +32,7 @@ from armlab.analysis.workspace import (
     check_seed,
     workspace,
 )
-from armlab.cli.args import add_arm, arm_of, positive_int
+from armlab.cli.args import add_arm, arm_of, integer, number, positive_int
 from armlab.cli.collide import SCENE_HELP
 from armlab.limits import allowed, whole_text
 
@@ -131,10 +131,10 @@ def register(subparsers: Any) -> None:
     p.add_argument("--samples", type=positive_int, default=DEFAULT_SAMPLES, metavar="N",
                    help=f"joint-space samples, 1000 … {whole_text(MAX_SAMPLES)} "
                         f"(default {whole_text(DEFAULT_SAMPLES)})")
-    p.add_argument("--resolution", type=float, metavar="H",
+    p.add_argument("--resolution", type=number, metavar="H",
                    help=f"voxel edge in metres, {allowed('resolution')} (default: about {SAMPLES_PER_CELL} samples "
                         "per occupied cell)")
-    p.add_argument("--seed", type=int, default=0, help=f"seed of the random samples, 0 … {MAX_SEED} (default 0)")
+    p.add_argument("--seed", type=integer, default=0, help=f"seed of the random samples, 0 … {MAX_SEED} (default 0)")
     p.add_argument("--collision-free", action="store_true",
                    help="also the collision-free volume: from the samples in which the arm touches neither itself "
                         "nor an obstacle of --scene (and collisions.png: where the two differ)")

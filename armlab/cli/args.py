@@ -10,8 +10,8 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-__all__ = ["ARM_HELP", "Parser", "add_arm", "add_drives", "arm_of", "error_text", "join_negative_values",
-           "positive_int", "silence", "write_error", "write_warning"]
+__all__ = ["ARM_HELP", "Parser", "add_arm", "add_drives", "arm_of", "error_text", "integer",
+           "join_negative_values", "number", "positive_int", "silence", "write_error", "write_warning"]
 
 #: The help of every command's ARM argument.
 ARM_HELP = "arm name (armlab list: paper and library arms), or a .urdf, .sdf, MJCF .xml or DH .csv file"
@@ -41,33 +41,86 @@ def arm_of(args: argparse.Namespace) -> Any:
     # lazy: armlab --help imports this module, not the arms (start-up time)
     from armlab.models import get_arm
 
+    if args.tool is not None and not args.tool.strip():
+        raise ValueError(f"--tool {args.tool!r}: give a link's name (armlab show lists the choices)")
     return get_arm(args.arm, args.tool, args.package_path)
 
 
+#: An item that starts like a negative number: ``-1e-6``, ``-.5,2``, ``-inf`` (argparse knows only ``-1``, ``-0.5``).
+_NEGATIVE = re.compile(r"-(\.?\d|inf|nan)", re.IGNORECASE)
+
+
 class Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line on stderr and exit code 2."""
+    """An argument parser whose errors are one line on stderr and exit code 2; an item that starts like a negative
+    number (:data:`_NEGATIVE`) is a value, and a one-value option takes ``--`` as its value (``--q=--``: the value
+    ``"--"``, refused as a number is; argparse would give ``[]``)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        # an item that starts like a negative number is a value, not an option, wherever it stands: the third point
+        # of --through P1 P2 P3 too (argparse 3.12 knows only -1 and -0.5; 3.13 reads -\.?\d as this does)
+        self._negative_number_matcher = _NEGATIVE
+
+    def _get_values(self, action: argparse.Action, arg_strings: list[str]) -> Any:
+        if action.option_strings and action.nargs is None and arg_strings == ["--"]:
+            value = self._get_value(action, "--")
+            self._check_value(action, value)
+            return value
+        return super()._get_values(action, arg_strings)
 
     def error(self, message: str) -> NoReturn:
         write_error(message)
         raise SystemExit(2)
 
 
-def positive_int(text: str) -> int:
-    """An argparse type: a whole number ≥ 1 (``"4"``, ``"4.0"``); else the one-line error argparse prints."""
+#: What a number option's error adds: the one rule for numbers as text (:func:`armlab.values.decimal`).
+_PLAIN = "a plain decimal, e.g. 0.5, -2, 1e-3"
+
+
+def number(text: str) -> float:
+    """An argparse type: a number as a plain decimal (:func:`armlab.values.decimal`: not ``1_0``, ``0x1``, ``ten``);
+    else the one-line error argparse prints. A non-finite one (``nan``, ``-inf``, ``1e400``) is returned as such, for
+    the option's own check to refuse with its range."""
+    # lazy: armlab --help imports this module but not numpy, which armlab.values does (start-up time)
+    from armlab.values import NOT_FINITE, decimal
+
     try:
-        value = float(text)
+        return decimal(text)
+    except ValueError as reason:
+        if str(reason) == NOT_FINITE:
+            return float(text)
+        raise argparse.ArgumentTypeError(f"invalid float value: {text!r} ({_PLAIN})") from None
+
+
+def integer(text: str) -> int:
+    """An argparse type: a whole number in plain digits (``"42"``, ``"-1"``; :func:`armlab.values.decimal` without
+    a point or an exponent: not ``1_000``, ``1e3`` or ``4.0``); else the one-line error argparse prints."""
+    # lazy: armlab --help imports this module but not numpy, which armlab.values does (start-up time)
+    from armlab.values import decimal
+
+    try:
+        decimal(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        pass
+    else:
+        if text.strip().lstrip("+-").isdecimal():
+            return int(text)
+    raise argparse.ArgumentTypeError(f"invalid int value: {text!r} (a whole number in digits, e.g. 42)")
+
+
+def positive_int(text: str) -> int:
+    """An argparse type: a whole number ≥ 1 as a plain decimal (``"4"``, ``"4.0"``, ``"1e9"``: :func:`number`); else
+    the one-line error argparse prints."""
+    try:
+        value = number(text)
+    except argparse.ArgumentTypeError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number ({_PLAIN})") from None
     if not value.is_integer() or value < 1:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number ≥ 1")
     return int(value)
 
 
 _VALUE_OPTIONS = ("--q", "--qd", "--qdd", "--target", "--rpy", "--near", "--from", "--to", "--pitch", "--gravity")
-
-
-#: An item that starts like a negative number: ``-1e-6``, ``-.5,2``, ``-inf`` (argparse knows only ``-1``, ``-0.5``).
-_NEGATIVE = re.compile(r"-(\.?\d|inf|nan)", re.IGNORECASE)
 
 
 def join_negative_values(argv: Sequence[str]) -> list[str]:
@@ -77,7 +130,8 @@ def join_negative_values(argv: Sequence[str]) -> list[str]:
     out: list[str] = []
     for item in argv:
         previous = out[-1] if out else ""
-        takes = previous in _VALUE_OPTIONS or (previous[:2] == "--" and "=" not in previous and _NEGATIVE.match(item))
+        takes = previous in _VALUE_OPTIONS or (previous[:2] == "--" and previous != "--" and "=" not in previous
+                                                and _NEGATIVE.match(item))
         if takes and item[:1] == "-" and item[:2] != "--":
             out[-1] = f"{previous}={item}"
         else:

@@ -22,13 +22,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from armlab.cli.args import add_arm, add_drives, arm_of
+from armlab.cli.args import add_arm, add_drives, arm_of, integer, number
 from armlab.cli.collide import SCENE_HELP
 from armlab.cli.simulate import run_status
 from armlab.drives.read import with_drives
 from armlab.files import write_file
 from armlab.kinematics.cartesian import DEFAULT_SAMPLES, PROFILES
-from armlab.limits import allowed, per_joint
+from armlab.kinematics.quintic import check_duration
+from armlab.limits import allowed, check_count, check_range, per_joint
 from armlab.presentation.figures import DPI
 from armlab.values import check_payload, joint_values, parse_floats
 
@@ -41,10 +42,11 @@ __all__ = ["register"]
 
 
 def _point(text: str, name: str) -> list[float]:
+    """A point option ``x,y`` or ``x,y,z`` (m), each coordinate within :data:`armlab.limits.LIMITS`' range."""
     values = parse_floats(text, name)
     if len(values) not in (2, 3):
         raise ValueError(f"{name} {text!r} must be a point x,y or x,y,z in m")
-    return values
+    return check_range(values, name, key="coordinate").tolist()
 
 
 def _motion(arm: Arm, args: argparse.Namespace) -> Motion:
@@ -70,8 +72,12 @@ def _motion(arm: Arm, args: argparse.Namespace) -> Motion:
 
 
 def _limits(arm: Arm, text: str | None, name: str) -> np.ndarray | None:
-    """A limit option: one value for every joint, or one per joint (its count checked here to name the option)."""
-    return None if text is None else per_joint(parse_floats(text, name), arm.n, name)
+    """A limit option: one value for every joint, or one per joint (its count and range checked here to name the
+    option; :data:`armlab.limits.LIMITS`' ``velocity_limit`` … ``motor_torque_limit``)."""
+    if text is None:
+        return None
+    return check_range(per_joint(parse_floats(text, name), arm.n, name), name,
+                       key=f"{name.removeprefix('--').replace('-', '_')}_limit")
 
 
 def _plot(best: Fastest, arm: Arm, path: str) -> None:
@@ -113,7 +119,7 @@ def _cmd_plan_to(arm: Arm, args: argparse.Namespace) -> int:
         "closest_pair": plan.closest_pair, "length": plan.length, "planning_time": plan.planning_time,
         "duration": plan.duration, "waypoints": plan.waypoints.tolist(), "nodes": plan.nodes,
         "configurations_checked": plan.samples_checked, "most_active": plan.timed.most_active}
-    if args.simulate:
+    if args.simulate is not None:
         # lazy: the simulation loads Drake's systems
         from armlab.api import simulate
 
@@ -144,15 +150,33 @@ _PATH_ONLY = ("through", "centre", "axis", "angle", "tf", "speed", "tool_acceler
               "plot")
 
 
+#: The options of ``plan ARM arc`` only (given for a line: an error, not ignored).
+_ARC_ONLY = ("through", "centre", "axis", "angle")
+
+
 def _check_options(args: argparse.Namespace, defaults: dict[str, Any]) -> None:
-    """A ``ValueError`` naming the options given that the path kind ignores."""
-    given = [name for name in (_PATH_ONLY if args.path == "to" else (*_TO_ONLY, "clearance"))
-             if getattr(args, name) != defaults[name]]
+    """A ``ValueError`` naming the options given that the path kind ignores, or an output given as empty text;
+    the counts and the duration checked against their ranges (:data:`armlab.limits.LIMITS`), before any work."""
+    for name in ("simulate", "plot"):
+        if getattr(args, name) is not None and not getattr(args, name).strip():
+            raise ValueError(f"--{name} {getattr(args, name)!r}: give a {'folder' if name == 'simulate' else 'file'} "
+                             "name")
+    ignored = _PATH_ONLY if args.path == "to" else (*_TO_ONLY, "clearance", *(_ARC_ONLY if args.path == "line" else ()))
+    given = [name for name in ignored if getattr(args, name) != defaults[name]]
     if given:
         shown = ", ".join("--" + name.replace("_", "-") for name in given)
         why = ("it times the planned path as fast as the limits allow" if args.path == "to" else
-               "--scene, --clearance, --seed and --budget plan a motion around obstacles: 'plan ARM to'")
+               "--scene, --clearance, --seed and --budget plan a motion around obstacles: 'plan ARM to'"
+               if any(name in (*_TO_ONLY, "clearance") for name in given) else
+               "--through, --centre, --axis and --angle give an arc: 'plan ARM arc'")
         raise ValueError(f"{shown}: not an option of 'plan ARM {args.path}' ({why})")
+    check_count(args.grid, "--grid", key="grid")
+    if args.path != "to":
+        check_count(args.samples, "--samples", key="samples")
+        if args.tf is not None:
+            check_duration(args.tf, "--tf")
+        if args.angle is not None:
+            check_range(args.angle, "--angle", key="angle")
 
 
 def _error_unit(arm: Arm) -> str:
@@ -188,13 +212,13 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                               "effort_limits": best.limits.effort.tolist(),
                               "friction_kept_free": best.friction.tolist(),
                               "slowed_intervals": best.slowed}
-        if args.plot:
+        if args.plot is not None:
             _plot(best, arm, args.plot)
         motion = best.motion
-    elif args.plot:
+    elif args.plot is not None:
         raise ValueError("--plot draws the time-optimal path rate: give --fastest too")
     status = 0
-    if args.simulate:
+    if args.simulate is not None:
         # lazy: the simulation loads Drake's systems
         from armlab.api import simulate
 
@@ -244,22 +268,24 @@ def register(subparsers: Any) -> None:
                    "--centre); to: start joint values (default the arm's home pose)")
     p.add_argument("--to", dest="end", help="line: end point x,y(,z) m; to: goal joint values")
     p.add_argument("--scene", help=SCENE_HELP)
-    p.add_argument("--clearance", type=float, default=0.0, help="to: the least distance (m) kept from every obstacle "
+    p.add_argument("--clearance", type=number, default=0.0, help="to: the least distance (m) kept from every obstacle "
                    "and between the arm's links (default 0)")
-    p.add_argument("--seed", type=int, default=0, help="to: the random search's seed (default 0)")
-    p.add_argument("--budget", type=float, default=5.0, help="to: the search's time budget in s (default 5)")
+    p.add_argument("--seed", type=integer, default=0, help="to: the random search's seed (default 0)")
+    p.add_argument("--budget", type=number, default=5.0, help="to: the search's time budget in s (default 5)")
     p.add_argument("--through", nargs=3, metavar="P", help="arc: three points x,y(,z), from the first by the second "
                    "to the third")
     p.add_argument("--centre", help="arc: centre x,y(,z) m")
     p.add_argument("--axis", help="arc: axis x,y,z (right-handed)")
-    p.add_argument("--angle", type=float, help="arc: angle (rad; deg with --deg)")
-    p.add_argument("--tf", type=float, help="duration (s) of the profile (not needed with --fastest)")
+    p.add_argument("--angle", type=number, help="arc: angle (rad; deg with --deg)")
+    p.add_argument("--tf", type=number,
+                   help=f"duration (s) of the profile (not needed with --fastest; {allowed('tf')})")
     p.add_argument("--profile", default="minimum-jerk", choices=PROFILES, help="time profile (default minimum-jerk)")
-    p.add_argument("--speed", type=float, help="trapezoid: the tool's peak speed along the path (m/s)")
-    p.add_argument("--tool-acceleration", type=float, help="trapezoid: the tool's peak acceleration (m/s²)")
+    p.add_argument("--speed", type=number, help="trapezoid: the tool's peak speed along the path (m/s)")
+    p.add_argument("--tool-acceleration", type=number, help="trapezoid: the tool's peak acceleration (m/s²)")
     p.add_argument("--q0", help="start joints v1,v2,… (default: the IK solution nearest zero, or --branch)")
-    p.add_argument("--branch", type=int, help="closed-form IK branch at the start (rr: 0 θ2 ≥ 0, 1 θ2 ≤ 0)")
-    p.add_argument("--samples", type=int, default=DEFAULT_SAMPLES, help=f"IK samples (default {DEFAULT_SAMPLES})")
+    p.add_argument("--branch", type=integer, help="closed-form IK branch at the start (rr: 0 θ2 ≥ 0, 1 θ2 ≤ 0)")
+    p.add_argument("--samples", type=integer, default=DEFAULT_SAMPLES,
+                   help=f"IK samples along the path (default {DEFAULT_SAMPLES}; {allowed('samples')})")
     p.add_argument("--fastest", action="store_true", help="time-optimal timing by Drake's Toppra within the limits")
     p.add_argument("--velocity", help="--fastest, to: joint velocity limits (one, or one per joint; default the "
                    "file's)")
@@ -270,11 +296,12 @@ def register(subparsers: Any) -> None:
     p.add_argument("--motor-torque", help="--fastest: motor torque limits, N·m (through the gear ratios and "
                    "efficiencies)")
     add_drives(p)
-    p.add_argument("--grid", type=int, default=500, help="--fastest: Toppra's grid points (default 500)")
+    p.add_argument("--grid", type=integer, default=500,
+                   help=f"--fastest, to: Toppra's grid points (default 500; {allowed('grid')})")
     p.add_argument("--plot", help="--fastest: write ṡ against its limit curve to this .png/.svg")
     p.add_argument("--simulate", metavar="DIR", help="simulate the plan (the time-optimal one with --fastest) "
                    "through paper 000's Fig. 6 diagram and write the run into DIR, as armlab simulate does")
-    p.add_argument("--payload", type=float, default=0.0, metavar="KG",
+    p.add_argument("--payload", type=number, default=0.0, metavar="KG",
                    help=f"point mass at the tool point, kg: the simulated run carries it and --fastest times the "
                         f"path with it (default 0; {allowed('payload')})")
     p.add_argument("--strict-limits", action="store_true",
@@ -283,4 +310,4 @@ def register(subparsers: Any) -> None:
     p.add_argument("--deg", action="store_true", help="--q0, --angle and the printed joints in degrees")
     p.add_argument("--json", action="store_true", help="JSON output")
     p.set_defaults(func=_cmd_plan)
-    p.set_defaults(defaults={name: p.get_default(name) for name in (*_TO_ONLY, *_PATH_ONLY, "clearance")})
+    p.set_defaults(defaults={name: p.get_default(name) for name in (*_TO_ONLY, *_PATH_ONLY, "clearance", *_ARC_ONLY)})

@@ -20,14 +20,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from armlab.cli.args import add_arm, add_drives, arm_of
+from armlab.cli.args import add_arm, add_drives, arm_of, integer, number
 from armlab.cli.collide import SCENE_HELP
 from armlab.controllers.sensors import ENCODER_SIDES, VELOCITY_SOURCES
 from armlab.controllers.servo import CONTROLLERS
 from armlab.diagrams.drives import DIVERGENCE_TOLERANCE, check_tolerance, format_violation
 from armlab.drives.motor import DEFAULT_CURRENT_BANDWIDTH
 from armlab.drives.read import with_drives
-from armlab.kinematics.quintic import Motion, QuinticSegment
+from armlab.kinematics.quintic import Motion, QuinticSegment, check_duration
 from armlab.limits import allowed, check_range
 from armlab.planning.motions import SEGMENTS_FILE_HELP, paper_motion, quintic_motion, read_segments
 from armlab.values import joint_values, parse_floats
@@ -63,7 +63,7 @@ def motion_from_args(arm: Arm, args: argparse.Namespace, payload: float = 0.0,
         values = parse_floats(args.tf, "--tf") if isinstance(args.tf, str) else [args.tf]
         if len(values) != 1:
             raise ValueError(f"--tf {args.tf}: give one duration in seconds")
-        tf = values[0]
+        tf = check_duration(values[0], "--tf")
     if args.segments is not None:
         if args.q_from or args.q_to or args.path or tf is not None:
             raise ValueError("--segments gives the whole motion: do not combine it with --from, --to, --path or --tf")
@@ -228,7 +228,7 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--gravity", default="default",
                    help="default (the arm's: rr -y, others -z), off, +x/-x/+y/-y/+z/-z (9.81 m/s²), or gx,gy,gz in "
                         f"m/s², {allowed('gravity')}")
-    p.add_argument("--payload", type=float, default=0.0, metavar="KG",
+    p.add_argument("--payload", type=number, default=0.0, metavar="KG",
                    help=f"point mass at the tool point, kg (default 0; r2t's nominal payload is 20 kg; "
                         f"{allowed('payload')})")
     p.add_argument("--kp", help=f"position gain(s), 1/s²: one value or one per joint (default 100; {allowed('kp')})")
@@ -241,34 +241,34 @@ def _diagram_options(p: argparse.ArgumentParser) -> None:
     servo.add_argument("--controller", choices=CONTROLLERS, default="computed-torque",
                        help="computed-torque (default), pid (independent joints, no model), pd+feedforward "
                             "(PD plus the inverse dynamics of the reference)")
-    servo.add_argument("--rate", type=float, metavar="HZ",
+    servo.add_argument("--rate", type=number, metavar="HZ",
                        help=f"a sampled controller at this rate, its inputs held (default: continuous; "
                             f"{allowed('rate')})")
-    servo.add_argument("--bandwidth", type=float, metavar="HZ",
+    servo.add_argument("--bandwidth", type=number, metavar="HZ",
                        help="the gains by the tuning rule: the position loop's -3 dB bandwidth (PD with a double "
                             "pole; pid: PID with a triple pole) instead of --kp/--kd/--ki")
     servo.add_argument("--saturate", action="store_true",
                        help="clamp the torque command at each joint's effort limit (and the drive's peak current)")
     servo.add_argument("--no-anti-windup", action="store_true",
                        help="let the integral wind up while saturated (default: back-calculation)")
-    servo.add_argument("--encoder", type=int, metavar="COUNTS",
+    servo.add_argument("--encoder", type=integer, metavar="COUNTS",
                        help="encoder counts per revolution (needs --rate; default: the exact position)")
     servo.add_argument("--encoder-side", choices=ENCODER_SIDES, default="motor",
                        help="the encoder on the motor (default: resolution 2π/(counts·G) at the joint) or the joint")
     servo.add_argument("--velocity", choices=VELOCITY_SOURCES, default="state",
                        help="the measured velocity: state (a tachometer, default) or difference (of the positions)")
-    servo.add_argument("--velocity-cutoff", type=float, metavar="HZ",
+    servo.add_argument("--velocity-cutoff", type=number, metavar="HZ",
                        help="first-order low-pass of the velocity by difference")
-    servo.add_argument("--noise", type=float, default=0.0, metavar="SIGMA",
+    servo.add_argument("--noise", type=number, default=0.0, metavar="SIGMA",
                        help="position measurement noise, standard deviation, rad or m (default 0)")
-    servo.add_argument("--seed", type=int, default=0, help="the noise's seed (default 0)")
-    servo.add_argument("--delay", type=int, default=0, metavar="K", help="the measurement delayed K samples")
+    servo.add_argument("--seed", type=integer, default=0, help="the noise's seed (default 0)")
+    servo.add_argument("--delay", type=integer, default=0, metavar="K", help="the measurement delayed K samples")
     servo.add_argument("--electrics", action="store_true",
                        help="simulate each motor's current loop and winding (the drive file's resistance, "
                             "inductance, torque_constant, bus_voltage columns): current and voltage logged")
-    servo.add_argument("--current-rate", type=float, metavar="HZ",
+    servo.add_argument("--current-rate", type=number, metavar="HZ",
                        help="the current loop sampled at this rate (default: continuous)")
-    servo.add_argument("--current-bandwidth", type=float, default=DEFAULT_CURRENT_BANDWIDTH, metavar="HZ",
+    servo.add_argument("--current-bandwidth", type=number, default=DEFAULT_CURRENT_BANDWIDTH, metavar="HZ",
                        help=f"the current loop's bandwidth (default {DEFAULT_CURRENT_BANDWIDTH:g} Hz)")
     servo.add_argument("--elastic", action="store_true",
                        help="elastic joints: each rotor coupled to its link by the drive file's stiffness (N·m/rad) "
@@ -298,15 +298,15 @@ def register(subparsers: Any) -> None:
     p.add_argument("--deg", action="store_true", help="revolute joint values in degrees")
     p.add_argument("--path", choices=("abcd",), help="rr: paper 000's A-B-C-D-A path (Figs. 8-10)")
     p.add_argument("--segments", metavar="FILE", help="a JSON file of segments (see below)")
-    p.add_argument("--dt", type=float, default=1e-3, metavar="S", help="log period, s (default 0.001)")
-    p.add_argument("--accuracy", type=float,
+    p.add_argument("--dt", type=number, default=1e-3, metavar="S", help="log period, s (default 0.001)")
+    p.add_argument("--accuracy", type=number,
                    help=f"integrator target accuracy (default 1e-6, Runge-Kutta 5; {allowed('accuracy')})")
     p.add_argument("--strict-limits", action="store_true",
                    help="exit with status 3 when the run passes a position, velocity or effort limit or a pair "
                         "collides (always a warning on stderr and an entry in summary.json's limit_violations or "
                         "collisions)")
     p.add_argument("--scene", help=SCENE_HELP)
-    p.add_argument("--divergence-tolerance", type=float, default=DIVERGENCE_TOLERANCE, metavar="E",
+    p.add_argument("--divergence-tolerance", type=number, default=DIVERGENCE_TOLERANCE, metavar="E",
                    help=f"tracking error (rad or m) past which the run has diverged: exit status 3 "
                         f"(default {DIVERGENCE_TOLERANCE:g})")
     _diagram_options(p)

@@ -14,14 +14,15 @@ import argparse
 import textwrap
 from typing import Any
 
-from armlab.cli.args import add_arm, arm_of
+from armlab.cli.args import add_arm, arm_of, number
 from armlab.cli.simulate import motion_from_args
+from armlab.limits import allowed, check_range
 from armlab.planning.motions import SEGMENTS_FILE_HELP
 from armlab.sizing.catalogue import GEARBOX_COLUMNS, MOTOR_COLUMNS
 from armlab.sizing.checks import Conditions
 from armlab.sizing.duty import DEFAULT_RATE, DUTY_FILE_HELP, LOAD_CASES_HELP
 from armlab.sizing.select import RANKS
-from armlab.values import parse_floats
+from armlab.values import check_payload, parse_floats
 
 __all__ = ["EXIT_INFEASIBLE", "cmd_size", "register"]
 
@@ -36,6 +37,9 @@ def cmd_size(args: argparse.Namespace) -> int:
     from armlab.sizing.duty import DutyCycle, load_cases_of, read_load_cases
     from armlab.sizing.report import sizing_folder, summary_lines, write_sizing
 
+    check_range(args.rate, "--rate", key="sample_rate")  # before any work: 1e9 samples a second fill the memory
+    if args.out is not None and not args.out.strip():
+        raise ValueError(f"--out {args.out!r}: give a folder name (written completely or not at all)")
     arm = arm_of(args)
     arm.require_dynamics("armlab size")
     if args.duty_cycle is not None:
@@ -45,11 +49,13 @@ def cmd_size(args: argparse.Namespace) -> int:
         cycle: Any = args.duty_cycle
     else:
         cycle = DutyCycle.of(motion_from_args(arm, args))
-    cases = list(load_cases_of(parse_floats(args.payload, "--payload"))) if args.payload is not None else []
+    payloads = [] if args.payload is None else [check_payload(m, "--payload") for m in parse_floats(args.payload,
+                                                                                                   "--payload")]
+    cases = list(load_cases_of(payloads)) if args.payload is not None else []
     if args.load_cases is not None:
         cases += read_load_cases(args.load_cases)
     conditions = Conditions(args.ambient, args.bus_voltage, args.brake_factor, args.required_life)
-    folder = sizing_folder(args.out) if args.out else None  # an unwritable --out is an error before the work
+    folder = sizing_folder(args.out) if args.out is not None else None  # an unwritable --out: an error before
     sizing = size_drives(arm, cycle, cases or 0.0, args.motors, args.gearboxes, args.safety_factor, args.rank,
                          not args.no_mass_iteration, args.rate, conditions)
     print("\n".join(summary_lines(sizing)))
@@ -100,22 +106,22 @@ def register(subparsers: Any) -> None:
     p.add_argument("--load-cases", metavar="FILE", help="load cases with offset and inertia (JSON, see below)")
     p.add_argument("--motors", metavar="CSV", help="motor catalogue (default: armlab's example)")
     p.add_argument("--gearboxes", metavar="CSV", help="gearbox catalogue (default: armlab's example)")
-    p.add_argument("--safety-factor", type=float, default=1.0, metavar="S",
+    p.add_argument("--safety-factor", type=number, default=1.0, metavar="S",
                    help="on every torque, ≥ 1 (default 1)")
     p.add_argument("--rank", choices=RANKS, default="mass",
                    help="order of the feasible pairs: lightest, largest margin or smallest inertia ratio first "
                         "(default mass)")
     p.add_argument("--no-mass-iteration", action="store_true",
                    help="size for the arm alone (do not put the chosen drives' masses on the links)")
-    p.add_argument("--ambient", type=float, default=Conditions.ambient, metavar="°C",
+    p.add_argument("--ambient", type=number, default=Conditions.ambient, metavar="°C",
                    help=f"ambient temperature of the motors (default {Conditions.ambient:g} °C, IEC 60034-1)")
-    p.add_argument("--bus-voltage", type=float, metavar="V",
+    p.add_argument("--bus-voltage", type=number, metavar="V",
                    help="DC bus voltage of every drive (default: each drive's bus_voltage_V in the catalogue)")
-    p.add_argument("--brake-factor", type=float, default=Conditions.brake_factor, metavar="K",
+    p.add_argument("--brake-factor", type=number, default=Conditions.brake_factor, metavar="K",
                    help=f"holding brake safety factor: T_H ≥ K·T_static/G (default {Conditions.brake_factor:g})")
-    p.add_argument("--required-life", type=float, default=Conditions.required_life, metavar="H",
+    p.add_argument("--required-life", type=number, default=Conditions.required_life, metavar="H",
                    help=f"gearbox life required, L10 hours (default {Conditions.required_life:g})")
-    p.add_argument("--rate", type=float, default=DEFAULT_RATE, metavar="HZ",
-                   help=f"samples per second of motion (default {DEFAULT_RATE:g})")
+    p.add_argument("--rate", type=number, default=DEFAULT_RATE, metavar="HZ",
+                   help=f"samples per second of motion (default {DEFAULT_RATE:g}; {allowed('sample_rate')})")
     p.add_argument("--out", metavar="DIR", help="output folder (written completely or not at all)")
     p.set_defaults(func=cmd_size)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from armlab.cli.args import add_arm, arm_of
+from armlab.cli.args import add_arm, arm_of, integer, number
 from armlab.presentation.view import PORT_TRIES, run_view
 from armlab.values import joint_values
 
@@ -25,7 +25,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--q", help="initial joint values v1,v2,… (rad and m; see --deg); default: zeros within limits")
     p.add_argument("--deg", action="store_true", help="revolute values in degrees: --q, the sliders and the "
                                                       "printed joints")
-    p.add_argument("--port", type=int, help=f"first port to try (then the next {PORT_TRIES - 1}); default: "
+    p.add_argument("--port", type=integer, help=f"first port to try (then the next {PORT_TRIES - 1}); default: "
                    "the first free one from 7000")
-    p.add_argument("--duration", type=float, help="stop after this many seconds (default: run until Ctrl-C)")
+    p.add_argument("--duration", type=number, help="stop after this many seconds (default: run until Ctrl-C)")
     p.set_defaults(func=_cmd_view)
