@@ -95,6 +95,10 @@ LIMITS: dict[str, Limit] = {
     "noise": Limit(0.0, 1.0, "rad or m", "a position sensor's noise, standard deviation"),
     "delay": Limit(0.0, 1000.0, "samples", "a measurement's delay, in controller samples"),
     "seed": Limit(0.0, 2.0**32 - 1, "", "a random generator's seed"),
+    "safety_factor": Limit(1.0, 100.0, "", "a sizing's oversizing of every torque, 1: none", "S"),
+    "inertia": Limit(0.0, 1e6, "kg·m²", "a payload's inertia, its largest element; a tonne at a metre is 1e3",
+                     "|I|"),
+    "catalogue": Limit(1e-12, 1e12, "", "a datasheet's number > 0, in its column's unit", "value"),
 }
 
 
