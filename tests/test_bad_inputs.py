@@ -332,7 +332,8 @@ SIZING_FILES = [
      "201 segments and dwells, more than the 200 allowed"),
     ({"m.csv": MOTORS + "m1,10,30,3000,5000,1e308,2\n"}, ("--motors", "m.csv"),
      "rotor_inertia_kgcm2 1e308 is out of range: allowed 1e-12 ≤ value ≤ 1e12"),
-    ({"g.csv": GEARBOXES + "g1,1e-300,0.9,100,200,5000,1,1\n"}, ("--gearboxes", "g.csv"), "ratio 1e-300 is out of range"),
+    ({"g.csv": GEARBOXES + "g1,1e-300,0.9,100,200,5000,1,1\n"}, ("--gearboxes", "g.csv"),
+     "ratio 1e-300 is out of range"),
     ({"m.csv": MOTORS.replace("\n", ",mass_kg\n") + "m1,10,30,3000,5000,1,2,3\n"}, ("--motors", "m.csv"),
      "column 'mass_kg' is given twice"),
     ({"m.csv": MOTORS + "x" * 131_073 + ",10,30,3000,5000,1,2\n"}, ("--motors", "m.csv"),
@@ -402,6 +403,9 @@ STUDY_FILES = [
     (_study(evaluate=["peak_torque"], tf=1e-9), 2, "log period = 0.001 s is longer than the motion (1e-09 s)"),
     (_study(evaluate=["peak_torque"], tf=1e-9, simulate=True), 2, "log period = 0.001 s is longer than the motion"),
     (_study(evaluate=["peak_torque"], tf=1e5, simulate=True), 2, "100,000,001 log samples, more than the 1,000,000"),
+    # issue 36 item 31: a long value is echoed cut (the list was echoed whole, a 9 KB line)
+    (_study(evaluate=["reach"] * 1000), 2, '"reach", "reach", "rea… repeats an objective'),
+    (_study(evaluate=["x" * 10_000]), 2, "evaluate: unknown objective 'xxxxxxxx"),
 ]
 
 
@@ -409,7 +413,9 @@ STUDY_FILES = [
 @pytest.mark.timeout(60)
 def test_study_files(box, content, code, fragment):
     box.write("study.json", content)
-    check(box.main("sweep", "study.json", "--out", "out"), code, fragment)
+    outcome = box.main("sweep", "study.json", "--out", "out")
+    check(outcome, code, fragment)
+    assert len(outcome.err) < 400, outcome.err  # the value as typed, cut (issue 36 item 31)
     assert box.debris() == []
 
 
