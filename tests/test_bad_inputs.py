@@ -448,6 +448,14 @@ ARM_FILES = [
      'iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link><joint name="j" type="revolute"><parent link="a"/>'
      '<child link="b"/><origin xyz="0.5 0 0"/><axis xyz="0 0 1"/><limit lower="0" upper="0"/></joint></robot>',
      ("workspace", "{}", "--samples", "1000"), 2, "the tool point does not move"),
+    # issue 36 item 18: a damper stiffer than the explicit integrator follows is refused up front (1e12 ended in
+    # Drake's "Detected NaN in the actuation input port"; open loop, 1e6 in "Times must be at least 2.2e-16 apart")
+    ("d.csv", "gear_ratio,viscous\n100,1e12\n80,0\n", ("simulate", "rr", "--tf", "0.5", "--drives", "{}", "--out",
+                                                       "run"), 2,
+     "d.csv: viscous 1e12 is out of range: allowed 0 ≤ B ≤ 10000 N·m·s/rad"),
+    ("d.csv", "gear_ratio,viscous_motor\n100,10\n80,0\n", ("simulate", "rr", "--mode", "inverse_dynamics", "--drives",
+                                                            "{}", "--out", "run"), 2,
+     "viscous_motor (joint side: G²·B_m) 100000 is out of range"),
 ]
 
 
