@@ -379,7 +379,10 @@ def _quiet_distributed() -> Iterator[None]:
     Not by a level on the ``distributed`` logger alone: its children with their own level (``distributed.client``:
     warning) pass their records on to its handler whatever its level, and ``silence_logging_cmgr`` (a cluster's,
     a worker's) sets its handlers' levels back when it closes. A filter on each of those loggers' handlers drops
-    every record, and each logger is set above critical, while this lasts."""
+    every record, and each logger is set above critical, while this lasts. distributed is imported first: its import
+    sets those levels and handlers up (a level set before it would be undone, and no handler would be seen)."""
+    import distributed  # noqa: F401  # lazy: Dask; imported here for its logging set-up, before it is changed
+
     loggers = [logging.getLogger(name) for name in _DASK_LOGGERS]
     handlers = {handler for logger in loggers for handler in logger.handlers}
     levels = [(logger, logger.level) for logger in loggers]
@@ -427,7 +430,12 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
             try:
                 answer = future.result()
             except Exception as error:  # e.g. KilledWorker: the task killed every worker it ran on
-                answer = {"error": f"{type(error).__name__}: {error}", "worker": ""}
+                if client.status != "running" or "connection-lost" in str(error):
+                    where = f"--scheduler {scheduler}" if scheduler else "the sweep's local cluster"
+                    raise ValueError(f"{where}: the connection to the scheduler was lost after {result.computed} of "
+                                     f"{len(todo)} candidates; the rows computed are kept in {out / RESULTS}: run the "
+                                     "sweep again to go on") from None
+                answer = {"error": " ".join(f"{type(error).__name__}: {error}".split()), "worker": ""}
             values = candidates[index]
             if "error" in answer:
                 shown = ", ".join(f"{v.name} = {x:g}{' ' + v.unit if v.unit else ''}"
