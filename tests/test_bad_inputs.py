@@ -313,6 +313,9 @@ def _cases(**case) -> dict[str, str]:
 
 
 SIZING_FILES = [
+    # item 24: an error during the sizing (the catalogues are read there) left .sz.PID.X.tmp behind
+    ({"m.csv": MOTORS.replace("mass_kg", "weight_kg") + "m1,10,30,3000,5000,1,2\n"}, ("--motors", "m.csv"),
+     "unknown column 'weight_kg'"),
     (_cases(inertia=5), ("--load-cases", "cases.json"), '"inertia" = 5 must be a list of 3 rows of 3 numbers'),
     (_cases(offset=5), ("--load-cases", "cases.json"), '"offset" = 5 must be a list of 3 numbers'),
     (_cases(inertia=[1, 2, 3]), ("--load-cases", "cases.json"), '"inertia" = [1, 2, 3] must be a list of 3 rows'),
@@ -351,7 +354,7 @@ def test_sizing_files(box, files, options, fragment):
         box.write(name, content)
     outcome = box.main("size", "rr", *options, "--out", "sz")
     check(outcome, 2, fragment)
-    assert len(outcome.err) < 400, outcome.err
+    assert len(outcome.err) < 800, outcome.err  # the values as typed cut (a catalogue's allowed columns: 650)
     assert box.debris() == []
 
 
