@@ -259,7 +259,7 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
                     allowed_text = "a finite number > 0" if positive else "a finite number ≥ 0"
                     raise ValueError(f"{where} line {line} ({names[r]}): {column} = {shown(cell)} is not allowed: "
                                      f"{allowed_text}")
-                if value > 0:  # not a bound: a user's value, against its range
+                if value > 0:  # zero: a column that may be 0 (mass, input inertia), not a datasheet number
                     check_range(value, f"{where} line {line} ({names[r]}): {column}", key="catalogue")
                 values[r] = value * factor
         out[column] = values
