@@ -71,7 +71,7 @@ from armlab.sizing.catalogue import read_gearboxes, read_motors
 from armlab.sizing.duty import DutyCycle, LoadCase
 from armlab.sizing.select import check_safety_factor
 from armlab.sizing.sizing import size
-from armlab.values import check_payload, shown
+from armlab.values import check_payload, cut, shown
 
 if TYPE_CHECKING:
     from armlab.kinematics.quintic import Motion
@@ -240,14 +240,15 @@ def load_study(path: str | Path) -> Study:
 
 def _variable(name: str, spec: Any, known: list[str]) -> Variable:
     if name not in known:
-        raise ValueError(f"vary: unknown parameter {name!r}; allowed: {', '.join(known)}")
+        raise ValueError(f"vary: unknown parameter {shown(name)}; allowed: {', '.join(known)}")
     if not isinstance(spec, dict):
-        raise ValueError(f"vary.{name} = {json.dumps(spec)} must be an object {{\"from\", \"to\", \"steps\"}} or "
+        raise ValueError(f"vary.{name} = {cut(json.dumps(spec))} must be an object {{\"from\", \"to\", \"steps\"}} or "
                          "{\"values\"}")
     unit = spec.get("unit", "")
     allowed_units = _OWN_UNITS.get(name, tuple(UNITS))
     if unit and unit not in allowed_units:
-        raise ValueError(f"vary.{name}: unit {json.dumps(unit)} is not allowed; allowed: {', '.join(allowed_units)}")
+        raise ValueError(f"vary.{name}: unit {cut(json.dumps(unit))} is not allowed; allowed: "
+                         f"{', '.join(allowed_units)}")
     extra = set(spec) - {"from", "to", "steps", "values", "unit"}
     if extra:
         raise ValueError(f"vary.{shown(name)}: unknown key {shown(sorted(extra)[0])}; allowed: from, to, steps, "
@@ -257,10 +258,10 @@ def _variable(name: str, spec: Any, known: list[str]) -> Variable:
             raise ValueError(f"vary.{name}: give \"values\" or \"from\"/\"to\"/\"steps\", not both")
         raw = spec["values"]
         if not isinstance(raw, list) or not raw:
-            raise ValueError(f"vary.{name}.values = {json.dumps(raw)}: the range is empty; give a non-empty list")
+            raise ValueError(f"vary.{name}.values = {cut(json.dumps(raw))}: the range is empty; give a non-empty list")
         values = [json_number(v, f"vary.{name}.values[{i}]") for i, v in enumerate(raw)]
         if len(set(values)) != len(values):
-            raise ValueError(f"vary.{name}.values = {json.dumps(raw)} repeats a value")
+            raise ValueError(f"vary.{name}.values = {cut(json.dumps(raw))} repeats a value")
     else:
         missing = [k for k in ("from", "to", "steps") if k not in spec]
         if missing:
@@ -268,7 +269,8 @@ def _variable(name: str, spec: Any, known: list[str]) -> Variable:
         lo, hi = json_number(spec["from"], f"vary.{name}.from"), json_number(spec["to"], f"vary.{name}.to")
         steps = spec["steps"]
         if isinstance(steps, bool) or not isinstance(steps, int):
-            raise ValueError(f"vary.{name}.steps = {json.dumps(steps)} must be a whole number 1 … {MAX_CANDIDATES:,}")
+            raise ValueError(f"vary.{name}.steps = {cut(json.dumps(steps))} must be a whole number 1 … "
+                             f"{MAX_CANDIDATES:,}")
         if steps < 1:
             raise ValueError(f"vary.{name}.steps = {steps}: the range is empty; give a whole number ≥ 1")
         if steps == 1 and lo != hi:
@@ -299,10 +301,10 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
         raise ValueError(f"unknown key {shown(extra[0])}; allowed: {', '.join(_KEYS)}")
     for key in ("arm", "vary", "evaluate"):
         if key not in data:
-            raise ValueError(f"missing {key!r}")
+            raise ValueError(f"missing {shown(key)}")
     name = data["arm"]
     if not isinstance(name, str):
-        raise ValueError(f"arm = {json.dumps(name)} must be a name or a file")
+        raise ValueError(f"arm = {cut(json.dumps(name))} must be a name or a file")
     if name not in ARMS and Path(name).suffix:  # a file: relative to the study's folder (get_arm says what it is)
         name = str((base / name).resolve())
     nominal = get_arm(name)
@@ -317,12 +319,12 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
                          f"than the {MAX_CANDIDATES:,} a study may have; vary fewer values")
     evaluate = data["evaluate"]
     if not isinstance(evaluate, list) or not evaluate or not all(isinstance(e, str) for e in evaluate):
-        raise ValueError(f"evaluate = {json.dumps(evaluate)} must be a non-empty list of objectives")
+        raise ValueError(f"evaluate = {cut(json.dumps(evaluate))} must be a non-empty list of objectives")
     for objective in evaluate:
         if objective not in OBJECTIVES:
-            raise ValueError(f"evaluate: unknown objective {objective!r}; allowed: {', '.join(OBJECTIVES)}")
+            raise ValueError(f"evaluate: unknown objective {shown(objective)}; allowed: {', '.join(OBJECTIVES)}")
     if len(set(evaluate)) != len(evaluate):
-        raise ValueError(f"evaluate = {json.dumps(evaluate)} repeats an objective")
+        raise ValueError(f"evaluate = {cut(json.dumps(evaluate))} repeats an objective")
     dynamics = any(e in DYNAMICS or e in DRIVES or e in SERVO for e in evaluate)
     if dynamics:
         nominal.require_dynamics("torque objectives")
@@ -342,7 +344,7 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     for key in ("motors", "gearboxes"):
         file = data.get(key)
         if file is not None and not isinstance(file, str):
-            raise ValueError(f"{key} = {json.dumps(file)} must be a file name")
+            raise ValueError(f"{key} = {cut(json.dumps(file))} must be a file name")
         catalogues.append(None if file is None else str((base / file).resolve()))
     if drives:
         read_motors(catalogues[0]), read_gearboxes(catalogues[1])  # checked before any work
@@ -352,11 +354,11 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
     tf = None if data.get("tf") is None else json_number(data["tf"], "tf")
     simulate = data.get("simulate", False)
     if not isinstance(simulate, bool):
-        raise ValueError(f"simulate = {json.dumps(simulate)} must be true or false")
+        raise ValueError(f"simulate = {cut(json.dumps(simulate))} must be true or false")
     segments = data.get("segments")
     if segments is not None:
         if not isinstance(segments, str):
-            raise ValueError(f"segments = {json.dumps(segments)} must be a file name")
+            raise ValueError(f"segments = {cut(json.dumps(segments))} must be a file name")
         if tf is not None or any(v.name == "tf" for v in vary):
             raise ValueError("segments gives the motion's times: do not give or vary tf with it")
         segments = str((base / segments).resolve())
@@ -367,7 +369,7 @@ def parse_study(data: Any, base: Path = Path()) -> Study:
         resolution = check_resolution(json_number(resolution, "resolution"))
     drive_file = data.get("drives")
     if drive_file is not None and not isinstance(drive_file, str):
-        raise ValueError(f"drives = {json.dumps(drive_file)} must be a file name")
+        raise ValueError(f"drives = {cut(json.dumps(drive_file))} must be a file name")
     study = Study(name, vary, tuple(evaluate), samples, resolution, seed, payload, tf, simulate, segments,
                   nominal.n, dim, safety_factor, motors=catalogues[0], gearboxes=catalogues[1], servo=servo,
                   drives=None if drive_file is None else str((base / drive_file).resolve()))
@@ -385,7 +387,7 @@ def _servo(data: dict[str, Any], evaluated: bool) -> tuple[tuple[str, Any], ...]
     settings or variables without a servo objective (the values themselves: checked with each candidate)."""
     settings = data.get("servo", {})
     if not isinstance(settings, dict):
-        raise ValueError(f"servo = {json.dumps(settings)} must be an object of servo settings")
+        raise ValueError(f"servo = {cut(json.dumps(settings))} must be an object of servo settings")
     unknown = [k for k in settings if k not in SERVO_SETTINGS]
     if unknown:
         raise ValueError(f"servo: unknown setting {shown(unknown[0])}; allowed: {', '.join(SERVO_SETTINGS)}")

@@ -254,11 +254,16 @@ def dask_client(stack: ExitStack, workers: int | None, scheduler: str | None) ->
     # candidate's CPU time (half of it in the kernel).
     stack.enter_context(dask.config.set({"temporary-directory": scratch,
                                          "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}))
+    # The workers write their stderr to a log in the scratch folder, as long as the cluster lives (the log is
+    # removed with the folder): Ctrl-C reaches the terminal's whole process group, and each worker would print its
+    # KeyboardInterrupt's traceback; this process stops and closes them. A worker the nanny starts again after the
+    # signal killed it (before the close reached the nanny) inherits this process' file descriptor 2 then, so it
+    # stays on the log until the cluster is closed (``stack`` undoes it after closing the cluster); this process'
+    # own messages go to its stderr through ``sys.stderr``, kept on the real one meanwhile.
+    stack.enter_context(_stderr_to(os.path.join(scratch, "workers.log")))
     # A stop signal during the start waits until the cluster is on ``stack`` (else Dask's atexit hook meets a
-    # half-started cluster). The workers write their stderr to a log in the scratch folder: Ctrl-C reaches the
-    # terminal's whole process group, and each worker would print its KeyboardInterrupt's traceback; this process
-    # stops and closes them.
-    with signals_held(), _stderr_to(os.path.join(scratch, "workers.log")):
+    # half-started cluster).
+    with signals_held():
         # No dashboard; the scheduler's own HTTP endpoint (health, metrics) on a free port of 127.0.0.1, not 8787.
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
@@ -271,19 +276,32 @@ def dask_client(stack: ExitStack, workers: int | None, scheduler: str | None) ->
 
 @contextmanager
 def _stderr_to(path: str) -> Iterator[None]:
-    """File descriptor 2 writes to the file ``path`` (made private, mode 0600) meanwhile; the processes started
-    meanwhile keep it as their stderr."""
-    sys.stderr.flush()
+    """File descriptor 2 writes to the file ``path`` (made private, mode 0600) meanwhile: the processes started
+    meanwhile keep it as their stderr, and so do the log handlers that hold the original ``sys.stderr`` object
+    (distributed's). ``sys.stderr`` itself is a new stream on the original stderr meanwhile: what this process
+    prints (a failed candidate's line, the progress bar, an error) still reaches the user."""
+    stream = sys.stderr
+    stream.flush()
     saved = os.dup(2)
     log = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_APPEND, 0o600)
+    kept = None
     try:
+        kept = open(os.dup(saved), "w", encoding=getattr(stream, "encoding", None) or "utf-8",
+                    errors=getattr(stream, "errors", None) or "backslashreplace", buffering=1)
         os.dup2(log, 2)
+        sys.stderr = kept
         yield
     finally:
-        sys.stderr.flush()
+        if kept is not None:
+            kept.flush()
+            if sys.stderr is kept:
+                sys.stderr = stream
+        stream.flush()
         os.dup2(saved, 2)
         os.close(saved)
         os.close(log)
+        if kept is not None:
+            kept.close()
 
 
 def default_workers() -> int:
@@ -347,17 +365,39 @@ def run_sweep(
     return result
 
 
+#: The loggers distributed gives its own stream handler (``distributed.config``, its default logging set-up), and
+#: asyncio's (an event loop's "Task exception was never retrieved" goes to Python's last-resort handler on stderr).
+_DASK_LOGGERS = ("distributed", "distributed.client", "distributed.gc", "bokeh", "tornado", "tornado.application",
+                 "asyncio")
+
+
 @contextmanager
 def _quiet_distributed() -> Iterator[None]:
-    """distributed's own log lines (a lost scheduler's reconnect traceback) are not shown meanwhile: the sweep
-    reports what matters itself, in one line."""
-    logger = logging.getLogger("distributed")
-    level = logger.level
-    logger.setLevel(logging.CRITICAL)
+    """distributed's own log lines (a lost scheduler's reconnect traceback, a closed comm's) are not shown
+    meanwhile: the sweep reports what matters itself, in one line.
+
+    Not by a level on the ``distributed`` logger alone: its children with their own level (``distributed.client``:
+    warning) pass their records on to its handler whatever its level, and ``silence_logging_cmgr`` (a cluster's,
+    a worker's) sets its handlers' levels back when it closes. A filter on each of those loggers' handlers drops
+    every record, and each logger is set above critical, while this lasts. distributed is imported first: its import
+    sets those levels and handlers up (a level set before it would be undone, and no handler would be seen)."""
+    import distributed  # noqa: F401  # lazy: Dask; imported here for its logging set-up, before it is changed
+
+    loggers = [logging.getLogger(name) for name in _DASK_LOGGERS]
+    handlers = {handler for logger in loggers for handler in logger.handlers}
+    levels = [(logger, logger.level) for logger in loggers]
+    silent = logging.Filter("\0")  # no logger has this name: every record is dropped
+    for handler in handlers:
+        handler.addFilter(silent)
+    for logger in loggers:
+        logger.setLevel(logging.CRITICAL + 1)
     try:
         yield
     finally:
-        logger.setLevel(level)
+        for logger, level in levels:
+            logger.setLevel(level)
+        for handler in handlers:
+            handler.removeFilter(silent)
 
 
 def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int], out: Path, client: Any,
@@ -390,7 +430,12 @@ def _compute(study: Study, candidates: list[tuple[float, ...]], todo: list[int],
             try:
                 answer = future.result()
             except Exception as error:  # e.g. KilledWorker: the task killed every worker it ran on
-                answer = {"error": f"{type(error).__name__}: {error}", "worker": ""}
+                if client.status != "running" or "connection-lost" in str(error):
+                    where = f"--scheduler {scheduler}" if scheduler else "the sweep's local cluster"
+                    raise ValueError(f"{where}: the connection to the scheduler was lost after {result.computed} of "
+                                     f"{len(todo)} candidates; the rows computed are kept in {out / RESULTS}: run the "
+                                     "sweep again to go on") from None
+                answer = {"error": " ".join(f"{type(error).__name__}: {error}".split()), "worker": ""}
             values = candidates[index]
             if "error" in answer:
                 shown = ", ".join(f"{v.name} = {x:g}{' ' + v.unit if v.unit else ''}"

@@ -42,6 +42,7 @@ import stat
 import sys
 import tempfile
 import threading
+import unicodedata
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
@@ -49,14 +50,19 @@ from pathlib import Path
 from types import FrameType, TracebackType
 from typing import Any
 
+from armlab.values import shown
+
 __all__ = [
     "MAX_INPUT_BYTES",
+    "MAX_LABEL",
     "MAX_NAME",
     "Interrupted",
     "OutputFolder",
     "RecoveredWarning",
     "SignalState",
+    "check_name",
     "csv_cell",
+    "csv_rows",
     "csv_table",
     "csv_text",
     "file_path",
@@ -258,6 +264,24 @@ def read_json(path: str | Path, what: str) -> Any:
         raise ValueError(f"{what} {path}: not valid JSON: nested too deeply") from None
     except ValueError as error:
         raise ValueError(f"{what} {path}: not valid JSON: {error}") from None
+
+
+#: The longest name a user's file may give a thing it lists (an obstacle, a load case, a motor): messages and
+#: tables print it whole.
+MAX_LABEL = 100
+
+
+def check_name(raw: Any, what: str, limit: int = MAX_LABEL) -> str:
+    """``raw`` if it is a name that prints on one line: text of at most ``limit`` characters without control
+    characters (a newline, a tab, an escape; Unicode's line and paragraph separators). Else a one-line
+    ``ValueError`` naming ``what`` and the value cut (:func:`armlab.values.shown`)."""
+    if not isinstance(raw, str):
+        raise ValueError(f"{what} {shown(raw)} is not allowed: a name is text")
+    if len(raw) > limit:  # not a bound: a count of characters
+        raise ValueError(f"{what} {shown(raw)} ({len(raw):,} characters) is not allowed: at most {limit}")
+    if any(unicodedata.category(c) in ("Cc", "Zl", "Zp") for c in raw):
+        raise ValueError(f"{what} {shown(raw)} is not allowed: a name holds no control characters (newline, tab …)")
+    return raw
 
 
 def _umask() -> int:
@@ -518,17 +542,23 @@ def csv_cell(value: Any) -> str:
     raise ValueError(f"CSV cell {value!r} ({type(value).__name__}) is not allowed: a number, a string or None")
 
 
+def csv_rows(lines: Iterable[str], where: str) -> list[list[str]]:
+    """Every record (a list of cells, as text) of a user's CSV text ``lines``; a one-line ``ValueError`` starting
+    with ``where`` for text CSV cannot read (a cell over csv's 131072-character limit)."""
+    try:
+        return list(csv.reader(lines))
+    except csv.Error as error:
+        raise ValueError(f"{where} cannot be read as CSV: {error}: a cell holds one number") from None
+
+
 def csv_table(lines: Iterable[str], where: str) -> tuple[list[str], list[tuple[int, list[str]]]]:
     """A user's CSV table: its header's names (stripped; the empty ones at its end, a spreadsheet's trailing commas,
     dropped; ``[]`` for no header) and its rows, each with its number (1 the row after the header; blank and
     whitespace-only ones are no rows) and its cells without the empty ones past the header's (trailing commas).
-    ``ValueError`` starting with ``where`` for text CSV cannot read (a cell over csv's 131072-character limit)."""
-    reader = csv.reader(lines)
-    try:
-        header = [name.strip() for name in next(reader, [])]
-        rows = [(number, cells) for number, cells in enumerate(reader, start=1) if any(c.strip() for c in cells)]
-    except csv.Error as error:
-        raise ValueError(f"{where} cannot be read as CSV: {error}: a cell holds one number") from None
+    ``ValueError`` starting with ``where`` for text CSV cannot read (:func:`csv_rows`)."""
+    records = csv_rows(lines, where)
+    header = [name.strip() for name in records[0]] if records else []
+    rows = [(number, cells) for number, cells in enumerate(records[1:], start=1) if any(c.strip() for c in cells)]
     while header and not header[-1]:
         header.pop()
     for _, cells in rows:

@@ -103,6 +103,12 @@ LIMITS: dict[str, Limit] = {
     "motor_speed_limit": Limit(1e-6, 1e5, "rad/s", "a motor's speed limit, up to about 1e6 rpm", "limit"),
     "motor_torque_limit": Limit(1e-6, 1e6, "N·m", "a motor's torque limit", "limit"),
     "sample_rate": Limit(1.0, 1e4, "Hz", "samples per second of motion for sizing drives", "rate"),
+    "safety_factor": Limit(1.0, 100.0, "", "a sizing's oversizing of every torque, 1: none", "S"),
+    "inertia": Limit(0.0, 1e6, "kg·m²", "a payload's inertia, its largest element; a tonne at a metre is 1e3",
+                     "|I|"),
+    "viscous": Limit(0.0, 1e4, "N·m·s/rad", "a joint's viscous friction, joint side: a stiffer damper than the "
+                     "simulation's explicit integrator can follow", "B"),
+    "catalogue": Limit(1e-12, 1e12, "", "a datasheet's number > 0, in its column's unit", "value"),
 }
 
 

@@ -12,12 +12,15 @@ The format (the README's section "Collisions: the scene file")::
 Poses are in the arm's base (world) frame: ``xyz`` (m) the shape's centre, ``rpy`` (rad, roll-pitch-yaw
 as a URDF ``origin``; default 0); a box's ``size`` is its full edges (m), a cylinder's axis is its own z.
 The floor is the plane z = ``z`` (m, default 0), everything below it solid. Names are unique and say
-which obstacle a clearance is to. Anything else is a one-line ``ValueError`` naming the bad value.
+which obstacle a clearance is to (at most 100 characters, no control characters). At most
+:data:`MAX_OBSTACLES` obstacles, checked before any is read: Drake's scene graph registers them one by one
+and its time grows faster than their count. Anything else is a one-line ``ValueError`` naming the bad value.
 """
 
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -25,15 +28,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.files import is_json_number, read_json
+from armlab.files import check_name, is_json_number, read_json
 from armlab.kinematics.ik_target import pose
 from armlab.limits import LIMITS
+from armlab.values import cut, shown
 
-__all__ = ["SHAPES", "Obstacle", "Scene", "read_scene", "scene_from_dict"]
+__all__ = ["MAX_OBSTACLES", "SHAPES", "Obstacle", "Scene", "read_scene", "scene_from_dict"]
 
 #: Each shape's keys beyond ``name``, ``shape``, ``xyz`` and ``rpy``.
 SHAPES: dict[str, tuple[str, ...]] = {"box": ("size",), "cylinder": ("radius", "length"), "sphere": ("radius",),
                                       "floor": ("z",)}
+#: The most obstacles a scene may have (1 000 spheres take about 3 s to set up).
+MAX_OBSTACLES = 1000
 #: The largest obstacle size or coordinate (m): :data:`~armlab.limits.LIMITS`' coordinate bound.
 _LARGEST = LIMITS["coordinate"].high
 
@@ -65,30 +71,32 @@ class Scene:
 def _number(raw: Any, what: str, positive: bool = False) -> float:
     if not is_json_number(raw) or not math.isfinite(raw) or abs(raw) > _LARGEST or (positive and raw <= 0):
         need = "a finite number > 0 (m)" if positive else f"a finite number within ±{_LARGEST:g}"
-        raise ValueError(f"{what} = {raw!r} is not allowed: give {need}")
+        raise ValueError(f"{what} = {shown(raw)} is not allowed: give {need}")
     return float(raw)
 
 
 def _triple(raw: Any, what: str, positive: bool = False) -> NDArray[np.float64]:
     if not isinstance(raw, list) or len(raw) != 3:
-        raise ValueError(f"{what} = {raw!r} is not allowed: give a list of 3 numbers")
+        raise ValueError(f"{what} = {shown(raw)} is not allowed: give a list of 3 numbers")
     return np.array([_number(v, f"{what}[{k}]", positive) for k, v in enumerate(raw)])
 
 
 def _obstacle(raw: Any, where: str) -> Obstacle:
     if not isinstance(raw, dict):
-        raise ValueError(f"{where}: an obstacle is a JSON object with name, shape and pose, not {raw!r}")
+        raise ValueError(f"{where}: an obstacle is a JSON object with name, shape and pose, not {shown(raw)}")
     shape = raw.get("shape")
     if shape not in SHAPES:
-        raise ValueError(f"{where}: shape {shape!r} is not allowed: give one of {', '.join(SHAPES)}")
+        raise ValueError(f"{where}: shape {shown(shape)} is not allowed: give one of {', '.join(SHAPES)}")
     name = raw.get("name")
-    if not isinstance(name, str) or not name.strip() or len(name) > 100:
-        raise ValueError(f"{where}: name {name!r} is not allowed: give each obstacle a name (text, ≤ 100 characters)")
+    if not isinstance(name, str) or not name.strip():
+        raise ValueError(f"{where}: name {shown(name)} is not allowed: give each obstacle a name (text, ≤ 100 "
+                         "characters)")
+    check_name(name, f"{where}: name")
     where = f"{where} ({name})"
     pose_keys = ("z",) if shape == "floor" else ("xyz", "rpy")
     unknown = sorted(set(raw) - {"name", "shape", *SHAPES[shape], *pose_keys})
     if unknown:
-        raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; a {shape} takes name, shape, "
+        raise ValueError(f"{where}: unknown key(s) {cut(', '.join(unknown))}; a {shape} takes name, shape, "
                          + ", ".join(dict.fromkeys((*SHAPES[shape], *pose_keys))))
     if shape == "floor":
         X = np.eye(4)
@@ -112,11 +120,14 @@ def scene_from_dict(data: Any, source: str = "scene") -> Scene:
     """The :class:`Scene` of a parsed scene file's JSON ``data``; ``ValueError`` (naming ``source``) if malformed."""
     if not isinstance(data, dict) or set(data) != {"obstacles"} or not isinstance(data["obstacles"], list):
         raise ValueError(f"{source}: a scene is a JSON object with one key, \"obstacles\", a list of obstacles")
+    if len(data["obstacles"]) > MAX_OBSTACLES:
+        raise ValueError(f"{source}: {len(data['obstacles']):,} obstacles, more than the {MAX_OBSTACLES:,} allowed "
+                         "(armlab.collision.scene.MAX_OBSTACLES)")
     obstacles = tuple(_obstacle(raw, f"{source}: obstacle {k + 1}") for k, raw in enumerate(data["obstacles"]))
-    names = [o.name for o in obstacles]
-    repeated = sorted({n for n in names if names.count(n) > 1})
+    repeated = sorted(name for name, count in Counter(o.name for o in obstacles).items() if count > 1)
     if repeated:
-        raise ValueError(f"{source}: obstacle name(s) {', '.join(repeated)} appear more than once: names are unique")
+        raise ValueError(f"{source}: obstacle name(s) {cut(', '.join(repeated))} appear more than once: names are "
+                         "unique")
     return Scene(obstacles, source)
 
 

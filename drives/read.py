@@ -39,6 +39,7 @@ from armlab.drives.elastic import ELASTIC_COLUMNS, Elasticity
 from armlab.drives.motor import ELECTRIC_COLUMNS, REQUIRED_ELECTRIC_COLUMNS, MotorElectrics
 from armlab.drives.train import DRIVE_FIELDS, DriveTrain
 from armlab.files import csv_table
+from armlab.limits import check_range
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -87,13 +88,15 @@ def drive_train(cells: Mapping[str, Sequence[str]], n: int, where: str) -> Drive
                       if "stiffness" in values else None)
         train = DriveTrain(**{name: getattr(ideal, name) for name in DRIVE_FIELDS[:-1]} | given,
                            electrics=electrics, elasticity=elasticity)
-        if not motor:
-            return train
-        converted = DriveTrain.from_motor_side(train.gear_ratio, train.rotor_inertia, train.efficiency,
-                                               values.get("viscous_motor", ideal.viscous),
-                                               values.get("coulomb_motor", ideal.coulomb), train.coulomb_speed,
-                                               values.get("coulomb_negative_motor"))
-        return replace(train, **{name: getattr(converted, name) for name in motor})  # T_c− left out: T_c
+        if motor:
+            converted = DriveTrain.from_motor_side(train.gear_ratio, train.rotor_inertia, train.efficiency,
+                                                   values.get("viscous_motor", ideal.viscous),
+                                                   values.get("coulomb_motor", ideal.coulomb), train.coulomb_speed,
+                                                   values.get("coulomb_negative_motor"))
+            train = replace(train, **{name: getattr(converted, name) for name in motor})  # T_c− left out: T_c
+        check_range(train.viscous, "viscous" if "viscous" not in motor else "viscous_motor (joint side: G²·B_m)",
+                    key="viscous")
+        return train
     except ValueError as error:
         raise ValueError(f"{where}: {error}") from None
 

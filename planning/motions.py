@@ -43,6 +43,7 @@ if TYPE_CHECKING:
     from armlab.models.arm import Arm
 
 __all__ = [
+    "MAX_SEGMENTS",
     "SEGMENTS_FILE_HELP",
     "paper_motion",
     "parse_segments",
@@ -50,6 +51,11 @@ __all__ = [
     "quintic_motion",
     "read_segments",
 ]
+
+#: The most segments a segments file (or a duty cycle, all its moves together) may list: checked before any is read.
+#: The run's checks, summary and figures go through every segment (a label per segment on the figures), so their
+#: time grows faster than the count; 200 segments run in seconds.
+MAX_SEGMENTS = 200
 
 SEGMENTS_FILE_HELP = """\
 A segments file is JSON: {"deg": false, "segments": [SEGMENT, ...]}. Each SEGMENT has "tf" (s) and
@@ -77,7 +83,8 @@ A segments file is JSON: {"deg": false, "segments": [SEGMENT, ...]}. Each SEGMEN
            (every key optional; the scene file relative to the segments file): a collision-free path
            around the scene's obstacles and the arm itself, timed as fast as the limits allow (as
            armlab plan ARM to; "velocity", "acceleration", "effort" as for "fastest"), no "tf".
-With "deg": true, revolute joint values and rates are in degrees (prismatic ones stay m)."""
+With "deg": true, revolute joint values and rates are in degrees (prismatic ones stay m).
+At most 200 segments (MAX_SEGMENTS) in a file."""
 
 
 def quintic_motion(arm: Arm, q0: ArrayLike, qf: ArrayLike, tf: float, description: str = "") -> Motion:
@@ -285,6 +292,9 @@ def read_segments(arm: Arm, path: str | Path, payload: float = 0.0, gravity: str
     data = read_json(path, "--segments")
     if not isinstance(data, dict) or not isinstance(data.get("segments"), list) or not data["segments"]:
         raise ValueError(f"--segments {path}: expected an object with a non-empty list \"segments\"")
+    unknown = sorted(set(data) - {"deg", "segments"})
+    if unknown:
+        raise ValueError(f"--segments {path}: unknown key(s) {cut(', '.join(unknown))}; allowed: deg, segments")
     deg = data.get("deg", False)
     if not isinstance(deg, bool):
         raise ValueError(f"--segments {path}: \"deg\" = {json.dumps(deg)} must be true or false")
@@ -345,6 +355,9 @@ def parse_segments(arm: Arm, specs: list[Any], deg: bool, where_file: str, descr
     load = _Load(payload, gravity)
     if not isinstance(specs, list) or not specs:
         raise ValueError(f"{where_file}: expected a non-empty list of segments")
+    if len(specs) > MAX_SEGMENTS:
+        raise ValueError(f"{where_file}: {len(specs):,} segments, more than the {MAX_SEGMENTS} allowed "
+                         "(armlab.planning.motions.MAX_SEGMENTS)")
     segments: list[Segment] = []
     known = {"label", "tf", "from", "from_point", "from_branch", "from_pitch", "to", "to_point", "to_branch",
              "to_pitch", "rate", "profile"}

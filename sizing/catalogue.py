@@ -43,7 +43,6 @@ field names): ``scripts/examples/catalogues/README.md``.
 
 from __future__ import annotations
 
-import csv
 import io
 import math
 from dataclasses import dataclass, field, fields
@@ -54,8 +53,9 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.files import read_input
-from armlab.values import decimal
+from armlab.files import check_name, csv_rows, read_input
+from armlab.limits import check_range
+from armlab.values import decimal, shown
 
 __all__ = ["EXAMPLE_GEARBOXES", "EXAMPLE_MOTORS", "GEARBOX_COLUMNS", "LIFE_BASES", "MOTOR_COLUMNS", "Gearboxes",
            "Motors", "read_gearboxes", "read_motors"]
@@ -211,15 +211,18 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
     path = Path(path)
     where = f"{kind} catalogue {path.name}"
     text = read_input(path, f"--{kind}s {path}").decode("utf-8-sig")
-    numbered = [(line, r) for line, r in enumerate(csv.reader(io.StringIO(text)), start=1)
+    numbered = [(line, r) for line, r in enumerate(csv_rows(io.StringIO(text), where), start=1)
                 if any(cell.strip() for cell in r) and not r[0].lstrip().startswith("#")]  # "#": a comment
     if not numbered:
         raise ValueError(f"{where}: empty; expected a header row: name,{','.join(columns)}")
     header = [h.strip() for h in numbered[0][1]]
     allowed = ["name", *columns]
+    twice = [h for k, h in enumerate(header) if h in header[:k]]
+    if twice:
+        raise ValueError(f"{where}: column {shown(twice[0])} is given twice; give each column once")
     unknown = [h for h in header if h not in allowed]
     if unknown:
-        raise ValueError(f"{where}: unknown column {unknown[0]!r}; allowed: {', '.join(allowed)}")
+        raise ValueError(f"{where}: unknown column {shown(unknown[0])}; allowed: {', '.join(allowed)}")
     missing = [c for c in allowed if c not in header and (c == "name" or columns[c][0])]
     if missing:
         raise ValueError(f"{where}: missing column {missing[0]!r} (required: "
@@ -231,7 +234,8 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
     for line, row in body:
         if len(row) != len(header):
             raise ValueError(f"{where} line {line}: {len(row)} cells; the header has {len(header)}")
-        names.append(row[header.index("name")].strip() or f"{kind} {len(names) + 1}")
+        names.append(check_name(row[header.index("name")].strip(), f"{where} line {line}: name")
+                     or f"{kind} {len(names) + 1}")
     out: dict[str, Any] = {"name": names, "line": np.array([line for line, _ in body])}
     for column, (required, factor, positive, _) in columns.items():
         values = np.full(len(body), np.nan)
@@ -243,8 +247,8 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
                     continue  # an optional value left out
                 if column in _TEXT:
                     if cell not in LIFE_BASES:
-                        raise ValueError(f"{where} line {line} ({names[r]}): {column} = {cell!r} is not allowed: "
-                                         f"one of {', '.join(LIFE_BASES)} (or empty)")
+                        raise ValueError(f"{where} line {line} ({names[r]}): {column} = {shown(cell)} is not "
+                                         f"allowed: one of {', '.join(LIFE_BASES)} (or empty)")
                     values[r] = LIFE_BASES[cell]
                     continue
                 try:
@@ -253,8 +257,10 @@ def _read(path: str | Path, kind: str, columns: dict[str, tuple[bool, float, boo
                     value = math.nan
                 if not math.isfinite(value) or value < 0 or (positive and value == 0):
                     allowed_text = "a finite number > 0" if positive else "a finite number ≥ 0"
-                    raise ValueError(f"{where} line {line} ({names[r]}): {column} = {cell!r} is not allowed: "
+                    raise ValueError(f"{where} line {line} ({names[r]}): {column} = {shown(cell)} is not allowed: "
                                      f"{allowed_text}")
+                if value > 0:  # zero: a column that may be 0 (mass, input inertia), not a datasheet number
+                    check_range(value, f"{where} line {line} ({names[r]}): {column}", key="catalogue")
                 values[r] = value * factor
         out[column] = values
     return out

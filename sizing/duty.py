@@ -30,10 +30,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from armlab.files import is_json_number, json_number, read_json
+from armlab.files import check_name, is_json_number, json_number, read_json
 from armlab.kinematics.quintic import Motion
 from armlab.limits import allowed, check_range, real_number
 from armlab.models.write_urdf import check_inertia
+from armlab.values import cut, shown
 
 if TYPE_CHECKING:
     from armlab.models.arm import Arm
@@ -42,11 +43,13 @@ __all__ = [
     "DEFAULT_RATE",
     "DUTY_FILE_HELP",
     "LOAD_CASES_HELP",
+    "MAX_LOAD_CASES",
     "CycleSamples",
     "DutyCycle",
     "Dwell",
     "LoadCase",
     "Move",
+    "check_count",
     "load_cases_of",
     "read_duty_cycle",
     "read_load_cases",
@@ -55,6 +58,10 @@ __all__ = [
 
 #: Samples per second of motion (each segment gets at least 16 intervals).
 DEFAULT_RATE = 500.0
+
+#: The most load cases a sizing evaluates (``--payload`` and ``--load-cases`` together), checked before any is
+#: read: every candidate pair is checked at every sample of every case (the working arrays grow with their product).
+MAX_LOAD_CASES = 100
 
 DUTY_FILE_HELP = """\
 A duty-cycle file is JSON: {"deg": false, "start": [q1, ...], "steps": [STEP, ...]}; the cycle repeats.
@@ -67,13 +74,16 @@ A duty-cycle file is JSON: {"deg": false, "start": [q1, ...], "steps": [STEP, ..
 LOAD_CASES_HELP = """\
 A load-case file is JSON: [{"name": "box", "mass": 2.0, "offset": [0, 0, 0.05],
   "inertia": [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]}, ...]: mass (kg); optional offset
-  (m) of its centre of mass from the tool point and inertia (kg·m², about that centre), tool frame."""
+  (m) of its centre of mass from the tool point and inertia (kg·m², symmetric, about that centre), tool
+  frame. At most 100 load cases (MAX_LOAD_CASES)."""
 
 
 @dataclass(frozen=True)
 class LoadCase:
     """A payload: ``mass`` (kg) at ``offset`` (m, ``(3,)``, tool frame) from the tool point, with ``inertia``
-    (kg·m², ``(3, 3)`` about its centre of mass, tool-frame axes; default none: a point mass)."""
+    (kg·m², ``(3, 3)``, symmetric, about its centre of mass, tool-frame axes; default none: a point mass); ``name``
+    at most 100 characters without control characters (:func:`~armlab.files.check_name`). Each in its range of
+    :data:`~armlab.limits.LIMITS` (payload, coordinate, inertia); ``ValueError`` otherwise."""
 
     mass: float
     offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
@@ -81,18 +91,30 @@ class LoadCase:
     name: str = ""
 
     def __post_init__(self) -> None:
+        check_name(self.name, "load case name")
         try:
             mass = float(self.mass)
         except (TypeError, ValueError):
-            raise ValueError(f"load case mass {self.mass!r} is not allowed: a mass, {allowed('payload')}") from None
+            raise ValueError(f"load case mass {shown(self.mass)} is not allowed: a mass, "
+                             f"{allowed('payload')}") from None
         mass = float(check_range(mass, f"load case {self.label} mass", key="payload"))
-        offset = np.asarray(self.offset, dtype=float)
+        try:
+            offset = np.asarray(self.offset, dtype=float)
+            inertia = np.asarray(self.inertia, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"load case {self.label}: offset {shown(self.offset)} and inertia {shown(self.inertia)}"
+                             " must be 3 and 3×3 numbers") from None
         if offset.shape != (3,) or not np.all(np.isfinite(offset)):
-            raise ValueError(f"load case {self.label} offset {np.ravel(offset).tolist()} is not allowed: "
+            raise ValueError(f"load case {self.label} offset {cut(str(np.ravel(offset).tolist()))} is not allowed: "
                              "3 finite numbers (m, tool frame)")
-        inertia = np.asarray(self.inertia, dtype=float)
+        check_range(offset, f"load case {self.label} offset", key="coordinate")
         if inertia.shape != (3, 3):
             raise ValueError(f"load case {self.label} inertia has shape {inertia.shape}; expected 3×3 (kg·m²)")
+        if np.all(np.isfinite(inertia)):
+            check_range(inertia, f"load case {self.label} inertia", np.abs(inertia).max(), key="inertia")
+        if not np.array_equal(inertia, inertia.T):  # exact: the user's own numbers, Ixy given twice
+            raise ValueError(f"load case {self.label} inertia {cut(str(inertia.tolist()))} is not symmetric: "
+                             "its element (i, j) is its element (j, i)")
         check_inertia(mass, inertia, f"load case {self.label}")
         object.__setattr__(self, "mass", mass)
         object.__setattr__(self, "offset", tuple(float(v) for v in offset))
@@ -112,8 +134,17 @@ def load_cases_of(payloads: float | Sequence[float] | LoadCase | Sequence[LoadCa
         return tuple(payloads)
     masses = np.atleast_1d(np.asarray(payloads, dtype=float))
     if masses.ndim != 1 or masses.size == 0:
-        raise ValueError(f"payloads {np.ravel(masses).tolist()} are not allowed: give at least one mass (kg)")
+        raise ValueError(f"payloads {cut(str(np.ravel(masses).tolist()))} are not allowed: give at least one mass "
+                         "(kg)")
+    check_count(masses.size)
     return tuple(LoadCase(float(m)) for m in masses)
+
+
+def check_count(cases: int) -> None:
+    """``ValueError`` for more than :data:`MAX_LOAD_CASES` load cases (``cases`` of them)."""
+    if cases > MAX_LOAD_CASES:
+        raise ValueError(f"{cases:,} load cases, more than the {MAX_LOAD_CASES} allowed (armlab.sizing.duty."
+                         "MAX_LOAD_CASES)")
 
 
 @dataclass(frozen=True)
@@ -135,7 +166,7 @@ class Dwell:
         d = float(self.duration)
         if not (math.isfinite(d) and d >= 0):
             raise ValueError(f"dwell {self.duration!r} s is not allowed: a dwell is a finite duration ≥ 0 s")
-        object.__setattr__(self, "duration", d)
+        object.__setattr__(self, "duration", float(check_range(d, "dwell", key="tf")))
 
 
 @dataclass(frozen=True)
@@ -254,16 +285,21 @@ def _flag(raw: Any, where: str) -> bool:
 def read_duty_cycle(arm: Arm, path: str | Path) -> DutyCycle:
     """The duty cycle in a file (JSON, :data:`DUTY_FILE_HELP`), every move's ends checked against the limits."""
     # lazy: armlab --help loads armlab.sizing.duty but not the IK (start-up time)
-    from armlab.planning.motions import parse_segments
+    from armlab.planning.motions import MAX_SEGMENTS, parse_segments
 
     path = Path(path)
     name = f"--duty-cycle {path.name}"
     data = read_json(path, "--duty-cycle")
     if not isinstance(data, dict) or not isinstance(data.get("steps"), list) or not data["steps"]:
         raise ValueError(f"{name}: expected an object with a non-empty list \"steps\"")
+    parts = sum(len(spec["segments"]) if isinstance(spec, dict) and isinstance(spec.get("segments"), list) else 1
+                for spec in data["steps"])
+    if parts > MAX_SEGMENTS:
+        raise ValueError(f"{name}: {parts:,} segments and dwells, more than the {MAX_SEGMENTS} allowed "
+                         "(armlab.planning.motions.MAX_SEGMENTS)")
     unknown = sorted(set(data) - {"deg", "start", "steps"})
     if unknown:
-        raise ValueError(f"{name}: unknown key(s) {', '.join(unknown)}; allowed: deg, start, steps")
+        raise ValueError(f"{name}: unknown key(s) {cut(', '.join(unknown))}; allowed: deg, start, steps")
     deg = data.get("deg", False)
     if not isinstance(deg, bool):
         raise ValueError(f"{name}: \"deg\" = {json.dumps(deg)} must be true or false")
@@ -283,7 +319,8 @@ def read_duty_cycle(arm: Arm, path: str | Path) -> DutyCycle:
             raise ValueError(f"{where}: expected an object with \"segments\" (a move) or \"dwell\" (s)")
         unknown = sorted(set(spec) - {"dwell", "segments", "payload", "label"})
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: dwell, segments, payload, label")
+            raise ValueError(f"{where}: unknown key(s) {cut(', '.join(unknown))}; allowed: dwell, segments, payload, "
+                             "label")
         payload = _flag(spec.get("payload", False), where)
         if "dwell" in spec:
             steps.append(Dwell(json_number(spec["dwell"], f"{where} dwell"), payload))
@@ -303,6 +340,10 @@ def read_load_cases(path: str | Path) -> tuple[LoadCase, ...]:
     data = read_json(path, "--load-cases")
     if not isinstance(data, list) or not data:
         raise ValueError(f"{name}: expected a non-empty list of load cases")
+    try:
+        check_count(len(data))
+    except ValueError as error:
+        raise ValueError(f"{name}: {error}") from None
     cases = []
     for k, spec in enumerate(data, start=1):
         where = f"{name} case {k}"
@@ -310,12 +351,16 @@ def read_load_cases(path: str | Path) -> tuple[LoadCase, ...]:
             raise ValueError(f"{where}: expected an object with \"mass\" (kg)")
         unknown = sorted(set(spec) - {"name", "mass", "offset", "inertia"})
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; allowed: name, mass, offset, inertia")
-        offset = spec.get("offset", [0.0, 0.0, 0.0])
+            raise ValueError(f"{where}: unknown key(s) {cut(', '.join(unknown))}; allowed: name, mass, offset, "
+                             "inertia")
+        offset = spec.get("offset", [0.0] * 3)
+        if not (isinstance(offset, list) and len(offset) == 3 and all(is_json_number(v) for v in offset)):
+            raise ValueError(f"{where}: \"offset\" = {cut(json.dumps(offset))} must be a list of 3 numbers (m)")
         inertia = spec.get("inertia", [[0.0] * 3] * 3)
-        for key, value in (("offset", offset), ("inertia", np.ravel(np.asarray(inertia, dtype=object)).tolist())):
-            if not all(is_json_number(v) for v in (value if isinstance(value, list) else [value])):
-                raise ValueError(f"{where}: \"{key}\" = {json.dumps(spec.get(key))} must be numbers")
+        if not (isinstance(inertia, list) and len(inertia) == 3 and all(
+                isinstance(row, list) and len(row) == 3 and all(is_json_number(v) for v in row) for row in inertia)):
+            raise ValueError(f"{where}: \"inertia\" = {cut(json.dumps(inertia))} must be a list of 3 rows of 3 "
+                             "numbers (kg·m²)")
         cases.append(LoadCase(json_number(spec["mass"], f"{where} mass"), tuple(offset),
-                              tuple(tuple(row) for row in inertia), str(spec.get("name", ""))))
+                              tuple(tuple(row) for row in inertia), check_name(spec.get("name", ""), f"{where} name")))
     return tuple(cases)

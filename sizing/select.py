@@ -41,7 +41,9 @@ from numpy.typing import NDArray
 
 from armlab.bounds import above, below
 from armlab.drives.train import DriveTrain, motor_speed, motor_torque
+from armlab.limits import LIMITS, allowed
 from armlab.sizing.checks import DRIVE_CHECKS, Conditions, drive_checks, missing_column, number, screen_bounds, within
+from armlab.values import shown
 
 if TYPE_CHECKING:
     from armlab.sizing.catalogue import Gearboxes, Motors
@@ -66,13 +68,16 @@ NEAREST = 5
 
 
 def check_safety_factor(value: float) -> float:
-    """The safety factor as a float; ``ValueError`` unless a finite number ≥ 1."""
+    """The safety factor as a float; ``ValueError`` unless a number in :data:`~armlab.limits.LIMITS`' range
+    (1 … 100)."""
     try:
         s = float(value)
     except (TypeError, ValueError):
         s = float("nan")
-    if not (np.isfinite(s) and s >= 1):
-        raise ValueError(f"safety factor {value!r} is not allowed: a finite number ≥ 1 (1: no oversizing)")
+    limit = LIMITS["safety_factor"]
+    if not (np.isfinite(s) and limit.low <= s <= limit.high):  # not a bound: a user's value, against its range
+        raise ValueError(f"safety factor {shown(value)} is not allowed: {allowed('safety_factor')} (1: no "
+                         "oversizing)")
     return s
 
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from armlab.drives.train import DriveTrain
 from armlab.sizing.checks import Conditions
-from armlab.sizing.duty import DEFAULT_RATE, CycleSamples, DutyCycle, LoadCase, sample
+from armlab.sizing.duty import DEFAULT_RATE, CycleSamples, DutyCycle, LoadCase, check_count, sample
 from armlab.sizing.loads import Loads, joint_loads, with_link_masses
 from armlab.sizing.select import JointSelection, JointTask, check_rank, check_safety_factor, select_joint
 
@@ -128,6 +128,7 @@ def size(arm: Arm, cycle: DutyCycle, cases: tuple[LoadCase, ...], motors: Motors
         raise ValueError(f"the duty cycle moves {cycle.n} joints; {arm.name} has {arm.n}")
     if not cases:
         raise ValueError("no load case: give at least one payload (0 kg for none)")
+    check_count(len(cases))
     samples = sample(cycle, rate)
     arm.check_q(samples.q)
     seen: list[tuple] = []

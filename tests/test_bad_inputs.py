@@ -377,6 +377,13 @@ SEGMENT_FILES = [
     # issue 36 item 6: a tool path's IK samples are bounded (1e8: gigabytes)
     (json.dumps({"segments": [{"tf": 1, "from_point": [0.5, 0.3], "line_to": [0.3, 0.5], "samples": 100_000_000}]}),
      2, "segment 1: samples 1e8 is out of range: allowed 2 ≤ samples ≤ 100000"),
+    # issue 36 item 9: a misspelt top-level key is refused, as a segment's are (it simulated radians)
+    (json.dumps({"degs": True, "segments": [{"from": [1, 2], "to": [2, 1], "tf": 2}]}), 2,
+     "unknown key(s) degs; allowed: deg, segments"),
+    # issue 36 item 8: a documented maximum, checked before any segment is read (1 000 took 41 s)
+    (json.dumps({"segments": [{"from": [0, 0], "to": [0.1, 0.1], "tf": 0.05}]
+                 + [{"to": [0.1 * (k % 2), 0.1 * (k % 2)], "tf": 0.05} for k in range(200)]}), 2,
+     "201 segments, more than the 200 allowed"),
 ]
 
 
@@ -385,6 +392,63 @@ def test_segments_files(box, content, code, fragment):
     box.write("seg.json", content)
     check(box.main("simulate", "rr", "--segments", "seg.json", "--dt", "0.01", "--out", "run"), code, fragment)
     assert box.debris(*(["run"] if code == 0 else [])) == []
+
+
+# ---- sizing inputs (issue 36 items 8, 12, 13, 14, 24, 25): (files, options, fragment) -- `armlab size rr … --out sz`:
+# one line, exit 2, and no sz/ nor its temporary left (the output folder is made before the catalogues are read)
+MOTORS = "name,rated_torque_Nm,peak_torque_Nm,rated_speed_rpm,max_speed_rpm,rotor_inertia_kgcm2,mass_kg\n"
+GEARBOXES = "name,ratio,efficiency,rated_torque_Nm,peak_torque_Nm,max_input_speed_rpm,input_inertia_kgcm2,mass_kg\n"
+CYCLE = {"steps": [{"segments": [{"from": [0, 0], "to": [1, 1], "tf": 1}]}]}
+
+
+def _cases(**case) -> dict[str, str]:
+    return {"cases.json": json.dumps([{"mass": 1.0} | case])}
+
+
+SIZING_FILES = [
+    # item 24: an error during the sizing (the catalogues are read there) left .sz.PID.X.tmp behind
+    ({"m.csv": MOTORS.replace("mass_kg", "weight_kg") + "m1,10,30,3000,5000,1,2\n"}, ("--motors", "m.csv"),
+     "unknown column 'weight_kg'"),
+    (_cases(inertia=5), ("--load-cases", "cases.json"), '"inertia" = 5 must be a list of 3 rows of 3 numbers'),
+    (_cases(offset=5), ("--load-cases", "cases.json"), '"offset" = 5 must be a list of 3 numbers'),
+    (_cases(inertia=[1, 2, 3]), ("--load-cases", "cases.json"), '"inertia" = [1, 2, 3] must be a list of 3 rows'),
+    (_cases(offset=[1e300, 0, 0]), ("--load-cases", "cases.json"), "offset 1e300 is out of range"),
+    (_cases(inertia=[[1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300]]), ("--load-cases", "cases.json"),
+     "(|I| = 1e300) is out of range: allowed 0 ≤ |I| ≤ 1e6 kg·m²"),
+    (_cases(inertia=[[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]), ("--load-cases", "cases.json"), "is not symmetric"),
+    (_cases(name="a\nb"), ("--load-cases", "cases.json"), "name 'a\\nb' is not allowed: a name holds no control"),
+    (_cases(name="x" * 100_000), ("--load-cases", "cases.json"), "(100,000 characters) is not allowed: at most 100"),
+    ({"cases.json": json.dumps([{"mass": 1.0}] * 101)}, ("--load-cases", "cases.json"),
+     "101 load cases, more than the 100 allowed"),
+    ({}, ("--payload", ",".join(["1"] * 101)), "101 load cases, more than the 100 allowed"),
+    ({}, ("--safety-factor", "1e308"), "safety factor 1e+308 is not allowed: 1 ≤ S ≤ 100"),
+    ({"cycle.json": json.dumps({"steps": [*CYCLE["steps"], {"dwell": 1e308}]})}, ("--duty-cycle", "cycle.json"),
+     "dwell 1e308 is out of range: allowed 0 ≤ tf ≤ 1e6 s"),
+    ({"cycle.json": json.dumps({"steps": [*CYCLE["steps"], *[{"dwell": 0.1}] * 200]})}, ("--duty-cycle", "cycle.json"),
+     "201 segments and dwells, more than the 200 allowed"),
+    ({"m.csv": MOTORS + "m1,10,30,3000,5000,1e308,2\n"}, ("--motors", "m.csv"),
+     "rotor_inertia_kgcm2 1e308 is out of range: allowed 1e-12 ≤ value ≤ 1e12"),
+    ({"g.csv": GEARBOXES + "g1,1e-300,0.9,100,200,5000,1,1\n"}, ("--gearboxes", "g.csv"),
+     "ratio 1e-300 is out of range"),
+    ({"m.csv": MOTORS.replace("\n", ",mass_kg\n") + "m1,10,30,3000,5000,1,2,3\n"}, ("--motors", "m.csv"),
+     "column 'mass_kg' is given twice"),
+    ({"m.csv": MOTORS + "x" * 131_073 + ",10,30,3000,5000,1,2\n"}, ("--motors", "m.csv"),
+     "m.csv cannot be read as CSV: field larger than field limit (131072)"),
+    ({"m.csv": MOTORS + '"m\n1",10,30,3000,5000,1,2\n'}, ("--motors", "m.csv"), "name 'm\\n1' is not allowed"),
+    ({"m.csv": MOTORS + "x" * 100_000 + ",10,30,3000,5000,1,2\n"}, ("--motors", "m.csv"), "at most 100"),
+    ({"m.csv": MOTORS + "m1,10,30,3000,5000," + "1" * 1000 + "x,2\n"}, ("--motors", "m.csv"),
+     "rotor_inertia_kgcm2 = '1111111111"),
+]
+
+
+@pytest.mark.parametrize(("files", "options", "fragment"), SIZING_FILES, ids=lambda v: str(v)[:40])
+def test_sizing_files(box, files, options, fragment):
+    for name, content in files.items():
+        box.write(name, content)
+    outcome = box.main("size", "rr", *options, "--out", "sz")
+    check(outcome, 2, fragment)
+    assert len(outcome.err) < 800, outcome.err  # the values as typed cut (a catalogue's allowed columns: 650)
+    assert box.debris() == []
 
 
 # ---- sweep options (issue 24, items 14, 18, 20, 21): (options, fragment) -- refused before the folder is made
@@ -436,6 +500,9 @@ STUDY_FILES = [
     (_study(evaluate=["peak_torque"], tf=1e-5, simulate=True), 2, "log period = 0.001 s is longer than the motion"),
     (_study(evaluate=["peak_torque"], tf=1e-9), 2, "tf 1e-9 is out of range: allowed 1e-6 ≤ tf ≤ 1e6 s"),  # issue 36
     (_study(evaluate=["peak_torque"], tf=1e5, simulate=True), 2, "100,000,001 log samples, more than the 1,000,000"),
+    # issue 36 item 31: a long value is echoed cut (the list was echoed whole, a 9 KB line)
+    (_study(evaluate=["reach"] * 1000), 2, '"reach", "reach", "rea… repeats an objective'),
+    (_study(evaluate=["x" * 10_000]), 2, "evaluate: unknown objective 'xxxxxxxx"),
 ]
 
 
@@ -443,7 +510,9 @@ STUDY_FILES = [
 @pytest.mark.timeout(60)
 def test_study_files(box, content, code, fragment):
     box.write("study.json", content)
-    check(box.main("sweep", "study.json", "--out", "out"), code, fragment)
+    outcome = box.main("sweep", "study.json", "--out", "out")
+    check(outcome, code, fragment)
+    assert len(outcome.err) < 400, outcome.err  # the value as typed, cut (issue 36 item 31)
     assert box.debris() == []
 
 
@@ -484,6 +553,14 @@ ARM_FILES = [
     # issue 36, item 25: 150 000 unconnected links named in a line of bounded length
     ("many.urdf", '<robot name="x">' + "".join(f'<link name="l{k}"/>' for k in range(150_000)) + "</robot>",
      ("show", "{}"), 2, "a serial arm has one root link, found 150000: 'l0', 'l1', 'l2' and 149997 more"),
+    # issue 36 item 18: a damper stiffer than the explicit integrator follows is refused up front (1e12 ended in
+    # Drake's "Detected NaN in the actuation input port"; open loop, 1e6 in "Times must be at least 2.2e-16 apart")
+    ("d.csv", "gear_ratio,viscous\n100,1e12\n80,0\n", ("simulate", "rr", "--tf", "0.5", "--drives", "{}", "--out",
+                                                       "run"), 2,
+     "d.csv: viscous 1e12 is out of range: allowed 0 ≤ B ≤ 10000 N·m·s/rad"),
+    ("d.csv", "gear_ratio,viscous_motor\n100,10\n80,0\n", ("simulate", "rr", "--mode", "inverse_dynamics", "--drives",
+                                                            "{}", "--out", "run"), 2,
+     "viscous_motor (joint side: G²·B_m) 100000 is out of range"),
 ]
 
 

@@ -222,6 +222,14 @@ def _scene_file(tmp_path, text: str):
     ('{"obstacles": [{"name": "b", "shape": "sphere", "xyz": [0, 0, 0]}]}', "a sphere needs radius"),
     ('{"obstacles": [{"name": "f", "shape": "floor", "z": 0, "colour": 1}]}', "unknown key(s) colour"),
     ('{"walls": []}', 'one key, "obstacles"'),
+    # issue 36 item 7: a documented maximum, checked before any obstacle is read (10 000 took > 60 s)
+    (json.dumps({"obstacles": [{"name": f"s{k}", "shape": "sphere", "radius": 0.01, "xyz": [5, 5, 0.03 * k]}
+                               for k in range(1001)]}), "1,001 obstacles, more than the 1,000 allowed"),
+    # issue 36 item 25: a name prints on one line, and not whole when it is long
+    ('{"obstacles": [{"name": "a\\nb", "shape": "sphere", "radius": 0.1, "xyz": [5, 5, 5]}]}',
+     "name 'a\\nb' is not allowed: a name holds no control characters"),
+    (json.dumps({"obstacles": [{"name": "x" * 100_000, "shape": "sphere", "radius": 0.1, "xyz": [5, 5, 5]}]}),
+     "(100,000 characters) is not allowed: at most 100"),
 ])
 def test_bad_scene_is_one_line_exit_2(tmp_path, capsys, text, message):
     path = _scene_file(tmp_path, text)
@@ -230,6 +238,7 @@ def test_bad_scene_is_one_line_exit_2(tmp_path, capsys, text, message):
     assert main(["check", "urm6", "--q", "0,0,0,0,0,0", "--scene", path]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("armlab: error: --scene ") and message in err, err
+    assert len(err) < 400, err
 
 
 def test_dh_radius_column(tmp_path, capsys):

@@ -7,6 +7,7 @@ import json
 import os
 import signal
 import subprocess
+import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -211,3 +212,30 @@ def test_a_scheduler_without_workers_is_a_bounded_wait_that_makes_nothing(tmp_pa
         assert not (tmp_path / "sw").exists()
     finally:
         lonely.close()
+
+
+def test_a_killed_scheduler_ends_the_sweep_in_one_line(tmp_path: Path) -> None:
+    """Issue 36 item 20: the scheduler killed mid-sweep gave 123 lines of distributed's tracebacks (distributed's
+    logging, set up when it is imported, undid the sweep's quieting) and a failure line per candidate left. Now: one
+    line naming the scheduler, exit 2, the rows computed kept (the same command goes on)."""
+    study = str(Path(__file__).resolve().parents[1] / "analysis" / "studies" / "urm6_theta3_theta5.json")
+    lost = Cluster(tmp_path / "lost")
+    out = tmp_path / "sw"
+    try:
+        lost.add_worker("w1")
+        lost.wait_for_workers(1)
+        process = subprocess.Popen([sys.executable, "-m", "armlab", "sweep", study, "--out", str(out), "--scheduler",
+                                    lost.address], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                   cwd=tmp_path)
+        deadline = time.monotonic() + 300
+        while not ((out / RESULTS).exists() and (out / RESULTS).read_text().count("\n") >= 3):  # header + 2 rows
+            assert time.monotonic() < deadline and process.poll() is None, "the sweep made no progress"
+            time.sleep(0.05)
+        lost.kill(lost.procs[0])
+        _, err = process.communicate(timeout=300)
+    finally:
+        lost.close()
+    assert process.returncode == 2, err[-3000:]
+    assert err.count("\n") == 1 and err.startswith(f"armlab: error: --scheduler {lost.address}: the connection to "
+                                                   "the scheduler was lost after "), err[-3000:]
+    assert (out / RESULTS).read_text().count("\n") >= 3  # the rows computed are kept

@@ -243,7 +243,7 @@ def test_bad_cycles_and_load_cases_are_one_line_errors(make, message):
 def test_bad_options_of_a_sizing():
     arm = get_arm("rr")
     cycle = DutyCycle.of(arm.motion(arm, None))
-    for kwargs, message in (({"safety_factor": 0.9}, "safety factor 0.9 is not allowed: a finite number ≥ 1"),
+    for kwargs, message in (({"safety_factor": 0.9}, "safety factor 0.9 is not allowed: 1 ≤ S ≤ 100"),
                             ({"rank": "cost"}, "rank 'cost' is not allowed: one of mass, margin, inertia"),
                             ({"rate": 0.0}, "rate 0 is out of range: allowed 1 ≤ rate ≤ 10000 Hz")):
         with pytest.raises(ValueError, match=message):

@@ -27,6 +27,7 @@ PROMPT = 15.0
 SIMULATE = ("simulate", "rrrr", "--out", "run")  # paper 000's 15 s constant-rate run: several seconds of work
 REPRODUCE = ("reproduce", "--paper", "000", "--fast", "--out", "rep")
 VIEW = ("view", "rr", "--port", "7390")
+SIZE = ("size", "rr", "--payload", "0,1,2,3,4,5", "--rate", "5000", "--out", "sz")  # seconds of sizing
 
 # (argv, text of the line to wait for ("" : the start), seconds after it)
 MOMENTS = [
@@ -40,6 +41,7 @@ MOMENTS = [
     (VIEW, "", 1.5),  # importing Drake, starting Meshcat
     (VIEW, "open http", 0.0),
     (VIEW, "open http", 1.0),
+    (SIZE, "", 4.0),  # issue 36 item 24: inside the sizing, its output folder's temporary made
 ]
 
 

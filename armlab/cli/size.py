@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import textwrap
+from contextlib import nullcontext
 from typing import Any
 
 from armlab.cli.args import add_arm, arm_of, number
@@ -56,12 +57,14 @@ def cmd_size(args: argparse.Namespace) -> int:
         cases += read_load_cases(args.load_cases)
     conditions = Conditions(args.ambient, args.bus_voltage, args.brake_factor, args.required_life)
     folder = sizing_folder(args.out) if args.out is not None else None  # an unwritable --out: an error before
-    sizing = size_drives(arm, cycle, cases or 0.0, args.motors, args.gearboxes, args.safety_factor, args.rank,
-                         not args.no_mass_iteration, args.rate, conditions)
-    print("\n".join(summary_lines(sizing)))
+    # The temporary folder goes on any exit from here (an error or a stop signal during the sizing too).
+    with folder if folder is not None else nullcontext() as tmp:
+        sizing = size_drives(arm, cycle, cases or 0.0, args.motors, args.gearboxes, args.safety_factor, args.rank,
+                             not args.no_mass_iteration, args.rate, conditions)
+        lines = summary_lines(sizing)
+        written = write_sizing(sizing, tmp) if tmp is not None else []
+    print("\n".join(lines))
     if folder is not None:
-        with folder as tmp:
-            written = write_sizing(sizing, tmp)
         print(f"wrote {args.out}: {' '.join(written)}")
     return 0 if sizing.feasible else EXIT_INFEASIBLE
 
