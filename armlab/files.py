@@ -50,8 +50,6 @@ from pathlib import Path
 from types import FrameType, TracebackType
 from typing import Any
 
-from armlab.values import shown
-
 __all__ = [
     "MAX_INPUT_BYTES",
     "MAX_LABEL",
@@ -275,6 +273,9 @@ def check_name(raw: Any, what: str, limit: int = MAX_LABEL) -> str:
     """``raw`` if it is a name that prints on one line: text of at most ``limit`` characters without control
     characters (a newline, a tab, an escape; Unicode's line and paragraph separators). Else a one-line
     ``ValueError`` naming ``what`` and the value cut (:func:`armlab.values.shown`)."""
+    # lazy: armlab.values loads numpy, which `armlab --help` (importing this module) does without (start-up time)
+    from armlab.values import shown
+
     if not isinstance(raw, str):
         raise ValueError(f"{what} {shown(raw)} is not allowed: a name is text")
     if len(raw) > limit:  # not a bound: a count of characters

@@ -89,6 +89,7 @@ LIMITS: dict[str, Limit] = {
     "qdd": Limit(-1e6, 1e6, "rad/s² or m/s²", "beyond any drive's acceleration", "q̈"),
     "resolution": Limit(1e-6, 100.0, "m", "a workspace's voxel edge, a micrometre to 100 m", "h"),
     "tf": Limit(1e-6, 1e6, "s", "a motion's duration, a microsecond to 11 days", "tf"),
+    "dwell": Limit(0.0, 1e6, "s", "a rest in a duty cycle, none to 11 days", "dwell"),
     "rate": Limit(1.0, 1e6, "Hz", "a sampled controller's rate, 1 Hz to 1 MHz"),
     "bandwidth": Limit(1e-3, 1e5, "Hz", "a control loop's bandwidth"),
     "encoder": Limit(2.0, 2.0**31 - 1, "counts/rev", "an encoder's counts per revolution"),

@@ -166,7 +166,7 @@ class Dwell:
         d = float(self.duration)
         if not (math.isfinite(d) and d >= 0):
             raise ValueError(f"dwell {self.duration!r} s is not allowed: a dwell is a finite duration ≥ 0 s")
-        object.__setattr__(self, "duration", float(check_range(d, "dwell", key="tf")))
+        object.__setattr__(self, "duration", float(check_range(d, "dwell", key="dwell")))
 
 
 @dataclass(frozen=True)

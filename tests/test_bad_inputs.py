@@ -423,7 +423,7 @@ SIZING_FILES = [
     ({}, ("--payload", ",".join(["1"] * 101)), "101 load cases, more than the 100 allowed"),
     ({}, ("--safety-factor", "1e308"), "safety factor 1e+308 is not allowed: 1 ≤ S ≤ 100"),
     ({"cycle.json": json.dumps({"steps": [*CYCLE["steps"], {"dwell": 1e308}]})}, ("--duty-cycle", "cycle.json"),
-     "dwell 1e308 is out of range: allowed 0 ≤ tf ≤ 1e6 s"),
+     "dwell 1e308 is out of range: allowed 0 ≤ dwell ≤ 1e6 s"),
     ({"cycle.json": json.dumps({"steps": [*CYCLE["steps"], *[{"dwell": 0.1}] * 200]})}, ("--duty-cycle", "cycle.json"),
      "201 segments and dwells, more than the 200 allowed"),
     ({"m.csv": MOTORS + "m1,10,30,3000,5000,1e308,2\n"}, ("--motors", "m.csv"),

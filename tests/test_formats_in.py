@@ -155,4 +155,5 @@ def test_collision_shapes_of_the_file_are_checked(tmp_path):
         # the box's top at z = 0.025 m, the ball's bottom at 0.05 m; the capsule's end (0.45, 0, 0) to the ball's
         # centre √(0.25² + 0.1²) m, less both radii
         assert lines[1].split()[:2] == ["link2–ball", "+25.0000"]
+        # exact: printed text, 189.25824… mm to four decimals (the fifth, 4, is far from a rounding boundary)
         assert lines[2].split()[:2] == ["link1–ball", f"{(np.hypot(0.25, 0.1) - 0.08) * 1000:+.4f}"]

@@ -495,7 +495,8 @@ def test_cli_single_paper_and_unwritable_out(tmp_path, capsys):
     assert len(err) == 1 and "cannot write in" in err[0]
     assert main(["reproduce", "--paper", "002", "--out", str(out)]) == 2
     capsys.readouterr()
-    for jobs, why in (("0", "'0' is not a whole number ≥ 1"), ("two", "'two' is not a number")):
+    for jobs, why in (("0", "'0' is not a whole number ≥ 1"),
+                      ("two", "'two' is not a number (a plain decimal, e.g. 0.5, -2, 1e-3)")):
         assert main(["reproduce", "--jobs", jobs, "--out", str(out)]) == 2
         assert capsys.readouterr().err.strip().splitlines() == [f"armlab: error: argument --jobs: {why}"]
 
