@@ -98,13 +98,16 @@ class RunDiagram:
     servo: ServoLoop | None = None  # a servo run's designs (None: the ideal loop)
 
 
-def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = None) -> RunDiagram:
+def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = None, *,
+                  limits_checked: bool = False) -> RunDiagram:
     """Build Fig. 6 for ``arm`` following ``motion`` (one continuous run, see :meth:`Motion.runs`).
 
     ``options`` (default :class:`~armlab.diagrams.simulate.SimulationOptions`'): the plant's (gravity,
     payload), ``mode`` (one of :data:`MODES`), the gains, ``log_period`` (s, the period of every logger's
     samples; at most the motion's duration), ``sampling`` (one of :data:`SAMPLINGS`, see the module docstring) and
-    the servo loop's (the module docstring; its gains' inertia at the run's start pose).
+    the servo loop's (the module docstring; its gains' inertia at the run's start pose). The motion is checked
+    against the arm's joint limits (:meth:`Motion.check_limits`) unless ``limits_checked`` says the caller
+    has checked it (:func:`~armlab.diagrams.simulate.simulate`, which checks the whole motion once).
     """
     from pydrake.systems.framework import DiagramBuilder, TriggerType
     from pydrake.systems.primitives import Demultiplexer, LogVectorOutput, TrajectorySource
@@ -117,7 +120,8 @@ def build_diagram(arm: Arm, motion: Motion, options: SimulationOptions | None = 
     options = SimulationOptions() if options is None else options
     if len(motion.runs()) != 1:
         raise ValueError("build_diagram takes one continuous run; split the motion with Motion.runs()")
-    motion.check_limits(arm)
+    if not limits_checked:
+        motion.check_limits(arm)
     log_period = check_log_period(options.log_period, motion.duration)
     mode, sampling = options.mode, options.sampling
     assert sampling is not None  # resolved by SimulationOptions

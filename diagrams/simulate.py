@@ -31,6 +31,7 @@ than :data:`MAX_STEPS`.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import sys
 import time
@@ -382,12 +383,16 @@ class _Watch:
     """The simulator's monitor over all runs: progress on a terminal, Ctrl-C and the step budget checked per step."""
 
     def __init__(self, name: str, duration: float, accuracy: float) -> None:
-        from tqdm import tqdm
-
         self.duration, self.accuracy, self.steps, self.offset = duration, accuracy, 0, 0.0
-        self.bar = tqdm(total=duration, desc=f"simulating {name}", unit="s", disable=None, delay=0.2, leave=False,
-                        file=sys.stderr,
-                        bar_format="{desc}: {n:.2f}/{total:g} s |{bar}| {elapsed}<{remaining}, {rate_fmt}")
+        self.tqdm: Any = None  # the progress bar, on a terminal only (made off one, tqdm alone costs 1 ms a run)
+        self.bar: contextlib.AbstractContextManager[Any] = contextlib.nullcontext()
+        isatty = getattr(sys.stderr, "isatty", None)
+        if isatty is not None and isatty():
+            from tqdm import tqdm
+
+            self.tqdm = self.bar = tqdm(
+                total=duration, desc=f"simulating {name}", unit="s", delay=0.2, leave=False, file=sys.stderr,
+                bar_format="{desc}: {n:.2f}/{total:g} s |{bar}| {elapsed}<{remaining}, {rate_fmt}")
 
     def __call__(self, context: Context) -> None:
         self.steps += 1
@@ -396,7 +401,8 @@ class _Watch:
             raise ValueError(f"the integrator took more than {MAX_STEPS:,} steps and reached only t = {t:.4g} s of "
                              f"{self.duration:g} s: the arm cannot follow this motion at accuracy {self.accuracy:g}; "
                              "give it more time (--tf) or less joint travel")
-        self.bar.update(t - self.bar.n)
+        if self.tqdm is not None:
+            self.tqdm.update(t - self.tqdm.n)
 
 
 # ---------------------------------------------------------------------------------- the samples
@@ -543,7 +549,7 @@ def simulate(arm: Arm, motion: Motion, options: SimulationOptions | None = None)
     watch = _Watch(arm.name, motion.duration, accuracy)
     with watch.bar:
         for k, (start, piece) in enumerate(motion.runs()):
-            run = build_diagram(arm, piece, options)
+            run = build_diagram(arm, piece, options, limits_checked=True)  # the whole motion's checked above
             if k == 0:
                 diagrams.append(run.diagram)
                 designs.append(run.servo.describe() if run.servo is not None else {})

@@ -13,6 +13,7 @@ import hashlib
 import html
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
+from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -242,6 +243,13 @@ class Arm:
         built from. ``ValueError`` for a kinematic arm.
         """
         self.require_dynamics("the mass properties")
+        masses, coms, inertias = self._mass_arrays
+        return masses.copy(), coms.copy(), inertias.copy()  # copies: callers may change theirs
+
+    @cached_property
+    def _mass_arrays(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """:meth:`mass_properties`, made once per arm (the arm's fields do not change; every batch of inverse
+        dynamics asks for them)."""
         masses, coms, inertias = zip(*link_inertials(self.table, self.bodies), strict=True)
         return np.array(masses), np.array(coms), np.array(inertias)
 

@@ -62,8 +62,15 @@ def dh_table(p: Parameters) -> DHTable:
 
 def forward(q: NDArray, p: Parameters) -> Forward:
     """T_{0,i} by the modified DH chain: elbow O3, wrist O4; the tool frame is {4}."""
+    return forward_by_table(q, dh_table(p))
+
+
+def forward_by_table(q: NDArray, table: DHTable) -> Forward:
+    """:func:`forward` by ``table`` (:func:`dh_table` of the parameters): an arm keeps its own, made once, so that
+    its chain's steps (:attr:`~armlab.kinematics.dh.DHTable.steps`, cached by the table) are not made again at
+    every call."""
     origin = (0.0, 0.0, 0.0)
-    T04, points = chain_points(q, dh_table(p).steps, {"O3": (3, origin), "O4": (4, origin)})
+    T04, points = chain_points(q, table.steps, {"O3": (3, origin), "O4": (4, origin)})
     return Forward(T04, points)
 
 
@@ -108,6 +115,7 @@ def section3_motion(arm: Arm, tf: float | None = None) -> Motion:
 def build(**overrides: float) -> Arm:
     """The 4R arm; keyword arguments override :class:`Parameters` by name."""
     p = Parameters(**overrides)
+    table = dh_table(p)  # the arm's, with the overrides: its steps made once (forward runs in every log sample)
     limits = tuple(JointLimits(np.radians(lo), np.radians(hi), effort=200.0, velocity=5.0) for lo, hi in LIMITS_DEG)
     colors = [(0.5, 0.5, 0.55, 1), (0.85, 0.45, 0.1, 1), (0.2, 0.45, 0.8, 1), (0.2, 0.7, 0.3, 1)]
     radii = (0.08, 0.05, 0.04, 0.03)
@@ -117,16 +125,16 @@ def build(**overrides: float) -> Arm:
         paper=PAPER,
         parameters=asdict(p),
         notes=parameter_notes(p),
-        table=dh_table(p).locating_table(),
+        table=table.locating_table(),
         bodies=tuple(Body(m, r, c, collides=True) for m, r, c in zip(masses, radii, colors, strict=True)),
         limits=limits,
         points=(Point("O3", 3, (0.0, 0.0, 0.0)), Point("O4", 5, (0.0, 0.0, 0.0))),
         tool_name="O4",
         gravity=(0.0, 0.0, -9.81),
-        forward_fn=lambda q: forward(q, p),
+        forward_fn=partial(forward_by_table, table=table),
         urdf_file=MODELS_DIR / "arm4r.urdf" if not overrides else None,
         closed_form=ClosedForm(partial(inverse, p), ("θ1 root +, θ3 +", "θ1 root +, θ3 −", "θ1 root −, θ3 +",
                                                      "θ1 root −, θ3 −"), {"pitch": "its tool pitch θ2+θ3+θ4"}),
         motion=section3_motion,
-        scheme=PaperScheme("001 Figs. 1-2", motion_start, dh_table(p)),
+        scheme=PaperScheme("001 Figs. 1-2", motion_start, table),
     )

@@ -78,6 +78,37 @@ def test_parameters_are_the_papers_names_and_overridable():
     )
 
 
+def test_arm4r_keeps_its_own_dh_table_with_its_overrides():
+    """arm4r's forward runs on the DH table made once when the arm is built (not again at every call): with
+    overrides it is the overridden table's, and the tool point is the plant's (its URDF made from the same table)."""
+    from armlab.models.arm4r import Parameters, dh_table
+
+    q = np.random.default_rng(4).uniform(-1.5, 1.5, (20, 4))
+    default, other = get_arm("arm4r"), get_arm("arm4r", a2=0.7, a3=1.3, d2=0.1)
+    table = other.forward_fn.keywords["table"]
+    assert table == dh_table(Parameters(a2=0.7, a3=1.3, d2=0.1)) != default.forward_fn.keywords["table"]
+    assert other.forward_fn.keywords["table"] is table  # the same object at every call: its steps made once
+    np.testing.assert_allclose(other.forward(q).tool, table.frames(q)[:, -1], atol=1e-12)
+    np.testing.assert_allclose(other.forward(np.zeros(4)).points["O4"], [2.0, 0.1, 0.0], atol=1e-12)
+    plant = other.make_plant()
+    ctx = plant.CreateDefaultContext()
+    for row in q[:5]:
+        plant.SetPositions(ctx, row)
+        pose = plant.CalcRelativeTransform(ctx, plant.world_frame(), plant.GetFrameByName("O4")).GetAsMatrix4()
+        np.testing.assert_allclose(other.forward(row).tool, pose, atol=1e-12)
+
+
+def test_mass_properties_are_made_once_and_handed_out_as_copies():
+    arm = get_arm("arm4r")
+    mass, com, inertia = arm.mass_properties()
+    mass[:], com[:], inertia[:] = 0.0, 0.0, 0.0  # a caller changing its arrays changes nothing of the arm's
+    again = arm.mass_properties()
+    np.testing.assert_allclose(again[0], [4.0, 3.0, 2.0, 0.5], rtol=1e-15)  # the parameters as given
+    assert np.all(np.linalg.eigvalsh(again[2]) > 0)
+    heavier = get_arm("arm4r", m4=1.5)
+    np.testing.assert_allclose(heavier.mass_properties()[0], [4.0, 3.0, 2.0, 1.5], rtol=1e-15)
+
+
 def test_chosen_values_are_marked():
     for name in ARMS:
         notes = get_arm(name).notes

@@ -430,6 +430,23 @@ def test_dot_names_the_fig6_blocks():
         build_diagram(arm, paper_motion(arm), SimulationOptions(log_period=3))
 
 
+def test_the_motion_is_checked_against_the_limits_once(monkeypatch):
+    """simulate checks the whole motion once (not again in each run's build_diagram); build_diagram alone checks."""
+    arm = get_arm("rr")
+    motion = paper_motion(arm, "abcd")
+    calls = []
+    check = Motion.check_limits
+    monkeypatch.setattr(Motion, "check_limits", lambda self, a: calls.append(self) or check(self, a))
+    simulate(arm, motion, SimulationOptions(log_period=0.01))
+    assert calls == [motion] and len(motion.runs()) > 1
+    run = motion.runs()[0][1]
+    build_diagram(arm, run)
+    assert calls == [motion, run]
+    beyond = Motion((QuinticSegment(np.zeros(2), np.array([0.0, 9.0]), 1.0, "far"),), "past q2's limit")
+    with pytest.raises(ValueError, match="segment far end"):
+        build_diagram(arm, beyond)
+
+
 # --------------------------------------------------------------------------------------------- the CLI
 def cli(*argv: str) -> int:
     """``armlab ARGV`` in this process: its exit code (argparse's own errors exit 2 too)."""

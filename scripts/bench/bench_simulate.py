@@ -6,8 +6,10 @@ integration and the log samples, not building the diagram) and, as a reference m
 same machine, a bare plant (no controller, no loggers, zero actuation, same integrator, accuracy and largest
 step) over the same duration from the same start. The real-time factor is simulated time / wall time; the ratio
 says what the diagram costs over integrating the arm alone (goal: ≤ 3×). ``simulate()`` is the whole call,
-building the diagrams included. Best of ``--repeat`` runs each. With ``--clock cpu`` every time is the process's
-CPU time (steadier on a busy machine) and the diagram's column is the whole ``simulate()`` call.
+building the diagrams included. The two are run in turns, ``--repeat`` times each; every column is the median of
+its runs and the ratio the median of the ratios of the turns (on a loaded machine the load drifts between turns
+less than over the whole run). With ``--clock cpu`` every time is the process's CPU time (steadier on a busy
+machine) and the diagram's column is the whole ``simulate()`` call.
 
 Then the whole-process wall time of ``armlab --help`` (goal ≤ 0.2 s) and ``armlab fk urm6 --q 0,0,0,0,0,0``
 (goal ≤ 0.5 s), the median of ``--repeat`` runs each (after one unmeasured run, so the files are cached), each
@@ -89,22 +91,29 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=5, help="runs per measurement (default 5)")
     parser.add_argument("--clock", choices=("wall", "cpu"), default="wall",
                         help="wall-clock time (default) or the process's CPU time (steadier on a busy machine)")
+    parser.add_argument("--startup", action=argparse.BooleanOptionalAction, default=True,
+                        help="time the CLI's start-up too (default; --no-startup: the motions alone)")
     args = parser.parse_args(argv)
     clock = time.perf_counter if args.clock == "wall" else time.process_time
     print(f"log period {DEFAULT_LOG_PERIOD * 1e3:g} ms, {DEFAULT_INTEGRATOR} at accuracy {DEFAULT_ACCURACY:g}, "
-          f"largest step {MAX_STEP:g} s; {args.clock} clock, best of {args.repeat}")
+          f"largest step {MAX_STEP:g} s; {args.clock} clock, median of {args.repeat} in turns")
     print(f"{'motion':12s} {'T [s]':>6s} {'diagram [s]':>12s} {'× real time':>12s} {'bare plant [s]':>15s} "
           f"{'× real time':>12s} {'diagram/plant':>14s} {'simulate() [s]':>15s}")
     for name, path in MOTIONS:
         arm = get_arm(name)
         motion = paper_motion(arm, path)
-        wall, whole = (min(column) for column in zip(*(simulate_seconds(arm, motion, clock)
-                                                       for _ in range(args.repeat)), strict=True))
-        bare = min(plant_only_seconds(arm, motion, clock) for _ in range(args.repeat))
+        simulate(arm, motion)  # one unmeasured run of each: the code paths loaded, numpy's caches warm
+        plant_only_seconds(arm, motion, clock)
+        turns = [(*simulate_seconds(arm, motion, clock), plant_only_seconds(arm, motion, clock))
+                 for _ in range(args.repeat)]
+        wall, whole, bare = (statistics.median(column) for column in zip(*turns, strict=True))
+        ratio = statistics.median(w / b for w, _, b in turns)
         label = f"{name} {path}" if path else name
         T = motion.duration
-        print(f"{label:12s} {T:6g} {wall:12.4f} {T / wall:12.1f} {bare:15.4f} {T / bare:12.1f} {wall / bare:14.2f} "
+        print(f"{label:12s} {T:6g} {wall:12.4f} {T / wall:12.1f} {bare:15.4f} {T / bare:12.1f} {ratio:14.2f} "
               f"{whole:15.4f}")
+    if not args.startup:
+        return 0
     print(f"\nstart-up (whole process, median of {args.repeat}; reference: python -c pass, in turns):")
     for command, goal in COMMANDS:
         seconds, bare = command_seconds(command, args.repeat)
