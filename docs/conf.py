@@ -13,6 +13,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from jupyter_client.connect import ConnectionFileMixin
+
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
@@ -36,7 +38,11 @@ suppress_warnings = [
     "ref.python",
 ]
 
-# The notebooks run once in the build (their outputs are never committed); any error fails the build.
+# The notebooks run once in the build (their outputs are never committed); any error fails the build. Their kernels
+# talk over IPC (socket files), not TCP: no port is opened, and ipykernel does not warn once per notebook of a kernel
+# "running over TCP without encryption". MyST-NB gives its kernel manager no options, so the default of the trait
+# every jupyter_client kernel manager reads is set.
+ConnectionFileMixin.class_traits()["transport"].default_value = "ipc"
 nb_execution_mode = "force"
 nb_execution_timeout = 300
 nb_execution_raise_on_error = True

@@ -204,3 +204,15 @@ def test_the_mathematics_keeps_its_size_on_the_site(site):
     page = (site / "_generated" / "papers" / "000.html").read_text()
     assert 'table class="mat"' in page and f"<style>{MATH_CSS}</style>" in page
     assert "max-width:none" in MATH_CSS and "table.mat{" in MATH_CSS
+
+
+def test_the_builds_notebook_kernels_talk_over_ipc():
+    """``make docs`` executes the notebooks (MyST-NB, which gives its kernel manager no options): docs/conf.py makes
+    their kernels talk over IPC, so no TCP port is opened and ipykernel prints no warning of an unencrypted one per
+    notebook (issue 33: four of them in every build)."""
+    code = ("import runpy, sys; runpy.run_path(sys.argv[1]); from jupyter_client.manager import KernelManager; "
+            "print(KernelManager(kernel_name='python3').transport)")
+    done = subprocess.run([sys.executable, "-c", code, str(ROOT / "docs" / "conf.py")], capture_output=True, text=True,
+                          timeout=120, cwd=ROOT / "docs")
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.splitlines()[-1] == "ipc"

@@ -23,14 +23,18 @@ def test_there_are_notebooks_and_none_holds_outputs():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
-def test_notebook_runs(path, tmp_path, monkeypatch):
+def test_notebook_runs(path, tmp_path, monkeypatch, capfd):
     import nbformat
+    from jupyter_client.manager import KernelManager
     from nbclient import NotebookClient
 
     monkeypatch.chdir(tmp_path)  # a notebook writes nothing into the repository
     notebook = nbformat.read(path, as_version=4)
-    NotebookClient(notebook, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
+    # over IPC, as docs/conf.py runs them: no TCP port, no warning of an unencrypted one
+    kernel = KernelManager(kernel_name="python3", transport="ipc")
+    NotebookClient(notebook, km=kernel, timeout=600, resources={"metadata": {"path": str(tmp_path)}}
                    ).execute()  # raises CellExecutionError, naming the cell, on any error
+    assert "without encryption" not in capfd.readouterr().err
     figures = 0
     for cell in notebook.cells:
         if cell.cell_type != "code":
