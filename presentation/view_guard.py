@@ -210,10 +210,17 @@ class _Relay(WebSocketHandler):
     def initialize(self, guard: Guard) -> None:  # tornado's per-request set-up
         self.guard = guard
 
-    def prepare(self) -> None:  # before any handling: the Host check (DNS rebinding)
+    def prepare(self) -> None:  # before any handling: the Host check (DNS rebinding) and a WebSocket's Origin
         host = self.request.headers.get("Host", "")
         if host not in self.guard.hosts:
             self.guard.note(f"refused a request for Host {shown(host)} (only {' or '.join(sorted(self.guard.hosts))})")
+            self.send_error(403)
+            return
+        # Tornado skips check_origin for an Origin whose host and port are the Host's whatever its scheme
+        # (https://…, ws://…) and for a "Sec-Fetch-Site: same-origin" header: the page's own origin is checked here.
+        origin = self.request.headers.get("Origin")
+        if (self.request.headers.get("Upgrade", "").lower() == "websocket" and origin is not None
+                and not self.check_origin(origin)):
             self.send_error(403)
 
     def check_origin(self, origin: str) -> bool:

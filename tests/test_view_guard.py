@@ -111,6 +111,16 @@ def test_a_websocket_from_another_origin_is_refused(viewer, origin):
     assert f"refused a WebSocket from origin {origin!r}" in viewer.log.getvalue()
 
 
+@pytest.mark.parametrize("scheme_host", ["https://127.0.0.1", "ws://127.0.0.1", "wss://localhost", "https://localhost"])
+def test_a_websocket_from_the_same_host_with_another_scheme_is_refused(viewer, scheme_host):
+    """Issue 36 (also): the viewer's own host and port under another scheme is another origin (tornado's same-host
+    rule would pass it); only http://localhost:PORT and http://127.0.0.1:PORT are the page's."""
+    origin = f"{scheme_host}:{viewer.guard.port}"
+    with pytest.raises(HTTPClientError, match="403"):
+        asyncio.run(_socket(viewer, origin))
+    assert f"refused a WebSocket from origin {origin!r}" in viewer.log.getvalue()
+
+
 def test_a_websocket_for_another_host_is_refused(viewer):
     own = f"http://localhost:{viewer.guard.port}"
     with pytest.raises(HTTPClientError, match="403"):
