@@ -76,17 +76,20 @@ def outside(value: ArrayLike, lower: ArrayLike, upper: ArrayLike) -> NDArray[np.
     return np.logical_or(below(value, lower), above(value, upper))
 
 
+def _allowance_value(bound: float) -> float:
+    """:func:`allowance` of one Python float, without numpy's per-call cost."""
+    return SLACK * max(1.0, abs(bound)) if math.isfinite(bound) else 0.0
+
+
 def above_value(value: float, bound: float) -> bool:
     """:func:`above` of one Python float against one bound, without numpy's per-call cost (a closed form solving one
     pose makes several such checks; each would cost more than its arithmetic): the same rule, a ``bool``."""
-    allowed = SLACK * max(1.0, abs(bound)) if math.isfinite(bound) else 0.0
-    return not value <= bound + allowed
+    return not value <= bound + _allowance_value(bound)
 
 
 def below_value(value: float, bound: float) -> bool:
     """:func:`below` of one Python float against one bound (as :func:`above_value`), a ``bool``."""
-    allowed = SLACK * max(1.0, abs(bound)) if math.isfinite(bound) else 0.0
-    return not value >= bound - allowed
+    return not value >= bound - _allowance_value(bound)
 
 
 class Interval:

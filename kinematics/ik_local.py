@@ -20,8 +20,8 @@ from numpy.typing import NDArray
 from armlab.kinematics.ik_target import (
     fit_limits,
     joint_constants,
+    made_once,
     on_target,
-    per_arm,
     project_into_limits,
     rotation_log,
 )
@@ -98,9 +98,9 @@ class ToolChain:
 
 
 def chain_of(arm: Arm) -> ToolChain:
-    """``arm``'s :class:`ToolChain`, made once per arm (:func:`armlab.kinematics.ik_target.per_arm`: its constants
+    """``arm``'s :class:`ToolChain`, made once per arm (:func:`armlab.kinematics.ik_target.made_once`: its constants
     cost more than an iteration of the solver)."""
-    return per_arm(arm, "chain", ToolChain)
+    return made_once(arm, "chain", ToolChain)
 
 
 def tool_error(position: NDArray, rotation: NDArray | None, tool: NDArray) -> NDArray[np.float64]:

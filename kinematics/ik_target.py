@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,9 +38,9 @@ __all__ = [
     "fit_limits",
     "fmt",
     "joint_constants",
+    "made_once",
     "on_target",
     "outside_limits_message",
-    "per_arm",
     "pose",
     "pose_error",
     "project_into_limits",
@@ -57,24 +57,15 @@ ORIENTATION_TOL = 1e-9
 _LOWER, _UPPER = np.array([2, 0, 1]), np.array([1, 2, 0])
 
 
-#: What :func:`per_arm` made lately: (arm id, what) → (the arm itself, so that its id is not reused while kept; it).
-_MADE: dict[tuple[int, str], tuple[Arm, object]] = {}
-#: How many are kept.
-_MADE_KEPT = 32
-
-
-def per_arm[Made](arm: Arm, what: str, make: Callable[[Arm], Made]) -> Made:
-    """``make(arm)``, made once per arm and ``what`` and kept for the next calls (an arm is frozen): constants that
-    cost more to make than a one-configuration solve spends on its arithmetic."""
-    key = (id(arm), what)
-    entry = _MADE.get(key)
-    if entry is not None and entry[0] is arm:
-        return entry[1]  # type: ignore[return-value]
-    if len(_MADE) >= _MADE_KEPT:
-        _MADE.clear()  # start afresh (one call, safe under threads: no iteration over a dict another thread changes)
-    made = make(arm)
-    _MADE[key] = (arm, made)
-    return made
+def made_once[Made](owner: object, what: str, make: Callable[[Any], Made]) -> Made:
+    """``make(owner)``, made once per frozen ``owner`` (an :class:`~armlab.models.arm.Arm`, a
+    :class:`~armlab.kinematics.dh.DHTable`) and ``what``, kept in the owner's own ``__dict__`` as
+    ``functools.cached_property`` keeps its value (and gone with it; a ``dataclasses.replace`` copy starts
+    afresh): constants that cost more to make than a one-configuration solve spends on its arithmetic."""
+    made: dict[str, Any] = owner.__dict__.setdefault("_made_once", {})
+    if what not in made:
+        made[what] = make(owner)
+    return made[what]
 
 
 class JointConstants(NamedTuple):
@@ -96,8 +87,8 @@ def _joint_constants(arm: Arm) -> JointConstants:
 
 
 def joint_constants(arm: Arm) -> JointConstants:
-    """``arm``'s :class:`JointConstants` (made once per arm, :func:`per_arm`)."""
-    return per_arm(arm, "joints", _joint_constants)
+    """``arm``'s :class:`JointConstants` (made once per arm, :func:`made_once`)."""
+    return made_once(arm, "joints", _joint_constants)
 
 
 def fmt(v: ArrayLike) -> str:

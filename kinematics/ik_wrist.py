@@ -29,7 +29,7 @@ from armlab.bounds import above, above_value, below, below_value
 from armlab.kinematics.basic_movements import T_Z1, T_Z3, T_Z4
 from armlab.kinematics.dh import DHRow, DHTable
 from armlab.kinematics.ik_closed_form import ClosedForm
-from armlab.kinematics.ik_target import target_text
+from armlab.kinematics.ik_target import made_once, target_text
 
 __all__ = ["spherical_wrist_closed_form", "spherical_wrist_ik", "ur_branches", "ur_closed_form", "ur_ik"]
 
@@ -134,26 +134,19 @@ def _acos(c: float) -> float | None:
     return math.acos(min(1.0, max(-1.0, c)))
 
 
-#: :func:`_ur_constants` of the tables solved lately, by ``id`` (with the table, so that the id is not reused while
-#: kept): hashing a table's rows would cost more than the closed form's arithmetic.
-_UR_CONSTANTS: dict[int, tuple[DHTable, tuple[float, ...]]] = {}
-
-
 def _ur_constants(table: DHTable) -> tuple[float, ...]:
     """What :func:`_ur_pose` reads off ``table``: a2, a3, the shoulder offset d2 + d3 + d4, d6, frame 4's origin in
     frame 5 (x, y, z: the inverse of row 5 applied to the origin, which no turn about z moves), cos α5, sin α5, and
     row 6's and row 1's a, d, cos α, sin α."""
-    entry = _UR_CONSTANTS.get(id(table))
-    if entry is not None and entry[0] is table:
-        return entry[1]
-    if len(_UR_CONSTANTS) >= 16:
-        _UR_CONSTANTS.clear()  # start afresh (as ik_target.per_arm)
+    return made_once(table, "ur", _make_ur_constants)
+
+
+def _make_ur_constants(table: DHTable) -> tuple[float, ...]:
     rows = table.rows
     r5, r6, r1 = rows[4], rows[5], rows[0]
     c5, s5 = math.cos(r5.alpha), math.sin(r5.alpha)
     made = (rows[1].a, rows[2].a, rows[1].d + rows[2].d + rows[3].d, r6.d, -r5.a, -s5 * r5.d, -c5 * r5.d, c5, s5,
             r6.a, r6.d, math.cos(r6.alpha), math.sin(r6.alpha), r1.a, r1.d, math.cos(r1.alpha), math.sin(r1.alpha))
-    _UR_CONSTANTS[id(table)] = (table, made)
     return made
 
 
